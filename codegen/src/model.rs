@@ -1,0 +1,85 @@
+//! The parsed declaration of a mechanism: what the user wrote, as expressions in one arena.
+
+use crate::error::Location;
+use crate::expr::{Arena, Id};
+
+/// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
+#[derive(Clone, Debug)]
+pub struct Parameter {
+    /// Name, as written.
+    pub name: String,
+    /// Its symbol node.
+    pub symbol: Id,
+    /// Default value (the declared constant expression, evaluated).
+    pub default: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// A generalised coordinate q_i with its rate and acceleration symbols.
+#[derive(Clone, Debug)]
+pub struct Coordinate {
+    /// Name, as written.
+    pub name: String,
+    /// q_i.
+    pub q: Id,
+    /// q_i' (`der(name)`).
+    pub qd: Id,
+    /// q_i'' (`der2(name)`).
+    pub qdd: Id,
+    /// Initial guess for the assembly Newton iteration.
+    pub guess: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// An independent coordinate: set by the user at t = 0.
+#[derive(Clone, Debug)]
+pub struct IndependentSpec {
+    /// Index into [`Model::coordinates`].
+    pub coordinate: usize,
+    /// q_k(0).
+    pub position: f64,
+    /// q_k'(0) (0 when not given).
+    pub velocity: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// One scalar constraint row Phi_i(q, t) = 0.
+#[derive(Clone, Debug)]
+pub struct Constraint {
+    /// The residual expression.
+    pub expr: Id,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// A whole declaration.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Struct name (`SpatialCrankSlider`).
+    pub name: String,
+    /// Doc comment lines (without the `///`).
+    pub doc: Vec<String>,
+    /// True when declared `pub struct`.
+    pub public: bool,
+    /// The expression arena holding every expression below.
+    pub arena: Arena,
+    /// The time symbol t.
+    pub time: Id,
+    /// Parameters, in declaration order.
+    pub parameters: Vec<Parameter>,
+    /// Coordinates q, in declaration order.
+    pub coordinates: Vec<Coordinate>,
+    /// Independent coordinates and their initial values.
+    pub independent: Vec<IndependentSpec>,
+    /// Kinetic energy T(q, q', t).
+    pub kinetic: Id,
+    /// Potential energy Pi(q, t).
+    pub potential: Id,
+    /// Constraint rows Phi(q, t).
+    pub constraints: Vec<Constraint>,
+    /// Generalised forces tau(t, q, q'), one per coordinate (0 where none is declared).
+    pub forces: Vec<Id>,
+}

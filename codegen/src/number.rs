@@ -1,0 +1,189 @@
+//! Numeric constants: exact rationals while they fit in i64, floats otherwise.
+
+use std::cmp::Ordering;
+use std::fmt;
+use std::hash::{Hash, Hasher};
+
+/// A numeric constant of an expression: an exact rational num/den (den > 0, reduced) or a
+/// float (from a decimal literal or from mixing with one).
+#[derive(Clone, Copy, Debug)]
+pub enum Number {
+    /// Exact rational num/den, reduced, den > 0.
+    Rational(i64, i64),
+    /// A finite floating-point value (never NaN or infinite; -0.0 is stored as 0.0).
+    Float(f64),
+}
+
+fn gcd(mut a: i128, mut b: i128) -> i128 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a.abs()
+}
+
+impl Number {
+    /// The integer n.
+    pub fn int(n: i64) -> Self {
+        Number::Rational(n, 1)
+    }
+
+    /// num/den reduced; `None` when den is 0.
+    pub fn rational(num: i64, den: i64) -> Option<Self> {
+        Self::from_i128(num as i128, den as i128)
+    }
+
+    fn from_i128(num: i128, den: i128) -> Option<Self> {
+        if den == 0 {
+            return None;
+        }
+        let g = gcd(num, den).max(1);
+        let (mut n, mut d) = (num / g, den / g);
+        if d < 0 {
+            n = -n;
+            d = -d;
+        }
+        match (i64::try_from(n), i64::try_from(d)) {
+            (Ok(n), Ok(d)) => Some(Number::Rational(n, d)),
+            _ => Some(Number::Float(n as f64 / d as f64)),
+        }
+    }
+
+    /// A float constant; `None` when not finite. -0.0 becomes 0.0.
+    pub fn float(x: f64) -> Option<Self> {
+        x.is_finite().then_some(Number::Float(if x == 0.0 { 0.0 } else { x }))
+    }
+
+    /// The value as f64.
+    pub fn to_f64(self) -> f64 {
+        match self {
+            Number::Rational(n, d) => n as f64 / d as f64,
+            Number::Float(x) => x,
+        }
+    }
+
+    /// True for exact or float zero.
+    pub fn is_zero(self) -> bool {
+        self.to_f64() == 0.0
+    }
+
+    /// True for exact or float one.
+    pub fn is_one(self) -> bool {
+        self.to_f64() == 1.0
+    }
+
+    /// True when the value is below zero.
+    pub fn is_negative(self) -> bool {
+        self.to_f64() < 0.0
+    }
+
+    /// The integer value, when this is an exact integer.
+    pub fn as_integer(self) -> Option<i64> {
+        match self {
+            Number::Rational(n, 1) => Some(n),
+            _ => None,
+        }
+    }
+
+    /// a + b (exact when both are rational and the result fits).
+    pub fn add(self, o: Number) -> Number {
+        match (self, o) {
+            (Number::Rational(a, b), Number::Rational(c, d)) => {
+                Self::from_i128(a as i128 * d as i128 + c as i128 * b as i128, b as i128 * d as i128)
+                    .unwrap_or(Number::Float(0.0))
+            }
+            _ => Number::float(self.to_f64() + o.to_f64()).unwrap_or(Number::Float(0.0)),
+        }
+    }
+
+    /// a * b (exact when both are rational and the result fits).
+    pub fn mul(self, o: Number) -> Number {
+        match (self, o) {
+            (Number::Rational(a, b), Number::Rational(c, d)) => {
+                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128).unwrap_or(Number::Float(0.0))
+            }
+            _ => Number::float(self.to_f64() * o.to_f64()).unwrap_or(Number::Float(0.0)),
+        }
+    }
+
+    /// -a.
+    pub fn neg(self) -> Number {
+        self.mul(Number::int(-1))
+    }
+
+    /// 1/a; `None` for zero.
+    pub fn recip(self) -> Option<Number> {
+        match self {
+            Number::Rational(n, d) => Self::from_i128(d as i128, n as i128),
+            Number::Float(x) => Number::float(1.0 / x),
+        }
+    }
+
+    /// a^e for an integer e, exact for rationals while it fits; `None` for 0^negative or
+    /// an overflowing float.
+    pub fn powi(self, e: i64) -> Option<Number> {
+        if e < 0 {
+            return self.recip()?.powi(-e);
+        }
+        match self {
+            Number::Rational(n, d) => {
+                let e32 = u32::try_from(e).ok()?;
+                match ((n as i128).checked_pow(e32), (d as i128).checked_pow(e32)) {
+                    (Some(a), Some(b)) => Self::from_i128(a, b),
+                    _ => Number::float((n as f64 / d as f64).powf(e as f64)),
+                }
+            }
+            Number::Float(x) => Number::float(x.powi(e.clamp(i32::MIN as i64, i32::MAX as i64) as i32)),
+        }
+    }
+
+    /// True when this is a float (inexact) constant.
+    pub fn is_float(self) -> bool {
+        matches!(self, Number::Float(_))
+    }
+}
+
+impl PartialEq for Number {
+    fn eq(&self, o: &Self) -> bool {
+        match (self, o) {
+            (Number::Rational(a, b), Number::Rational(c, d)) => a == c && b == d,
+            (Number::Float(a), Number::Float(b)) => a.to_bits() == b.to_bits(),
+            _ => false,
+        }
+    }
+}
+impl Eq for Number {}
+
+impl Hash for Number {
+    fn hash<H: Hasher>(&self, h: &mut H) {
+        match self {
+            Number::Rational(a, b) => (0u8, a, b).hash(h),
+            Number::Float(x) => (1u8, x.to_bits()).hash(h),
+        }
+    }
+}
+
+impl PartialOrd for Number {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Number {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.to_f64().total_cmp(&o.to_f64())
+    }
+}
+
+impl fmt::Display for Number {
+    /// Rationals as `n` or `n/d`; floats in Rust's shortest round-trip form, always with a
+    /// decimal point or exponent so they read back as floats.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Number::Rational(n, 1) => write!(f, "{n}"),
+            Number::Rational(n, d) => write!(f, "{n}/{d}"),
+            Number::Float(x) => {
+                let s = format!("{x:?}");
+                write!(f, "{s}")
+            }
+        }
+    }
+}

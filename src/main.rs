@@ -1,0 +1,4 @@
+//! The `mechanism` command-line tool.
+fn main() {
+    println!("mechanism: CLI under construction");
+}
