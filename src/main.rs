@@ -1,4 +1,4 @@
-//! The `mechanism` command-line tool.
-fn main() {
-    println!("mechanism: CLI under construction");
+//! The `mechanism` command-line tool (see `mechanism --help`).
+fn main() -> std::process::ExitCode {
+    mechanism::cli::main_with_args(std::env::args_os())
 }

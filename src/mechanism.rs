@@ -196,6 +196,32 @@ pub trait System: Send + Sync {
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
     /// Phi_q (m x n) and Phi_t (m) at (q, t).
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
+    /// Exact tangent matrices of the dynamic residual
+    /// F = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q(q, t)^T lambda:
+    /// `out.stiffness` = dF/dq and `out.damping` = dF/dq' (n x n), for the Newton iteration of
+    /// implicit integrators (HHT). Returns `None` when not provided (the default); the
+    /// solver then uses finite differences. The codegen crate will emit these symbolically.
+    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
+        let _ = (t, q, qd, qdd, lambda, out);
+        None
+    }
+}
+
+/// dF/dq and dF/dq' of the dynamic residual F = M q'' + C q' + g - tau + Phi_q^T lambda
+/// (see [`System::tangent`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tangent {
+    /// dF/dq, n x n ("stiffness").
+    pub stiffness: DMatrix<f64>,
+    /// dF/dq', n x n ("damping").
+    pub damping: DMatrix<f64>,
+}
+
+impl Tangent {
+    /// Zero matrices for n coordinates.
+    pub fn zeros(n: usize) -> Self {
+        Self { stiffness: DMatrix::zeros(n, n), damping: DMatrix::zeros(n, n) }
+    }
 }
 
 /// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.

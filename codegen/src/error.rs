@@ -32,7 +32,7 @@ pub enum Error {
         location: Location,
     },
     /// A call to a function the language does not have.
-    #[error("unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs)")]
+    #[error("unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)")]
     UnknownFunction {
         /// The name written.
         name: String,
@@ -40,12 +40,14 @@ pub enum Error {
         location: Location,
     },
     /// A name that is neither a coordinate, a parameter, nor `t` or `pi`.
-    #[error("unknown symbol `{name}` at {location}")]
+    #[error("unknown symbol `{name}` at {location}{}", did_you_mean(.suggestion))]
     UnknownSymbol {
         /// The name written.
         name: String,
         /// Where.
         location: Location,
+        /// The closest declared name, when one is near (a likely typo).
+        suggestion: Option<String>,
     },
     /// A division by (or a negative power of) an expression that simplifies to the constant 0.
     #[error("division by zero")]
@@ -64,6 +66,55 @@ pub enum Error {
         /// The symbol's name.
         name: String,
     },
+    /// Numeric evaluation produced a value that is not finite (a division by zero at run time,
+    /// ln or sqrt of a negative number, an overflow), or was handed a non-finite input.
+    #[error("evaluation of `{operation}` at {arguments} gives a non-finite value")]
+    NonFinite {
+        /// The operation (`pow`, `ln`, `+`, `*`, a symbol's name, ...).
+        operation: String,
+        /// The operand values, printed.
+        arguments: String,
+    },
+    /// An expression id that does not belong to the arena it was used with.
+    #[error("expression id {id} is not in the arena (which has {len} nodes)")]
+    InvalidId {
+        /// The id.
+        id: u32,
+        /// Number of nodes in the arena.
+        len: usize,
+    },
+    /// Matrix operands whose sizes do not fit the operation (or a matrix whose `data` length
+    /// is not rows x cols).
+    #[error("matrix size mismatch in {operation}: {left_rows} x {left_cols} and {right_rows} x {right_cols}")]
+    Shape {
+        /// The operation (`mul`, `add`, ...).
+        operation: &'static str,
+        /// Rows of the left (or only) operand.
+        left_rows: usize,
+        /// Columns of the left (or only) operand.
+        left_cols: usize,
+        /// Rows of the right operand (or the length of `data` for a malformed matrix).
+        right_rows: usize,
+        /// Columns of the right operand.
+        right_cols: usize,
+    },
+    /// A declaration breaks a rule of the language (a duplicate name, a rate in a constraint,
+    /// `der` of a parameter, ...), at the place it was written.
+    #[error("{message} (at {location})")]
+    Declaration {
+        /// What is wrong, in the user's terms.
+        message: String,
+        /// Where.
+        location: Location,
+    },
+    /// A division by an expression that is the constant 0 (`x/0`, `1/(2-2)`), where written.
+    #[error("division by zero at {location}: `{divisor}` is the constant 0")]
+    ZeroDivisor {
+        /// The divisor as written.
+        divisor: String,
+        /// Where.
+        location: Location,
+    },
     /// The model is inconsistent (a declaration-level error with no single token to blame).
     #[error("{0}")]
     Model(String),
@@ -71,3 +122,11 @@ pub enum Error {
 
 /// Result with the crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// `"; did you mean `x`?"` for an unknown-symbol message, or nothing.
+fn did_you_mean(suggestion: &Option<String>) -> String {
+    match suggestion {
+        Some(s) => format!("; did you mean `{s}`?"),
+        None => String::new(),
+    }
+}

@@ -6,16 +6,36 @@
 //! subexpression elimination, Rust emission, an interpreter and a pretty printer.
 #![warn(missing_docs)]
 
+mod chain;
+mod diff;
+mod cse;
+mod emit;
 mod equations;
 mod error;
+mod eval;
 mod expr;
+mod lex;
+mod parse;
+mod pretty;
+mod render;
+mod tape;
+mod lagrange;
 mod matrix;
 mod model;
 mod number;
 
+pub use chain::{closed_chain_arch, closed_chain_model, closed_chain_source};
+pub use diff::Differentiator;
+pub use emit::{emit_body, f64_tokens, EmitBindings, EmittedBody, OutputTarget};
+pub use cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
 pub use equations::Equations;
 pub use error::{Error, Location, Result};
+pub use eval::{eval, eval_many, eval_matrix};
 pub use expr::{Arena, Func, FxHashMap, FxHasher, Id, Node, Symbol, SymbolId, SymbolKind};
+pub use lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};
 pub use number::Number;
 pub use matrix::Matrix;
 pub use model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use parse::parse_expr;
+pub use tape::Tape;
+pub use pretty::{equations_text, matrix_to_text, to_text};

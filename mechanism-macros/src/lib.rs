@@ -1,9 +1,31 @@
-//! The `mechanism!` proc-macro.
+//! The `mechanism!` proc-macro: a declared mechanism in, specialised dynamics code out.
+//!
+//! The pipeline has one stage per file:
+//! - [`ast`]: the input, either the declaration's tokens or `file = "mechanisms/x.mech"`,
+//!   parsed into a [`mechanism_codegen::Model`] with every error mapped to a span;
+//! - [`check`]: the rules the macro adds on top of the parser (one `check_*` per rule);
+//! - [`generate`]: derivation (Lagrange equations with multipliers), CSE and emission of the
+//!   method bodies;
+//! - [`expand`]: the struct and the trait impl, `quote!` only.
+//!
+//! See the `mechanism` crate for the declaration language and the trait it implements.
+
+mod ast;
+mod check;
+mod expand;
+mod generate;
+
 use proc_macro::TokenStream;
 
 /// Declares a mechanism and emits its specialised dynamics code.
+///
+/// Either inline, `mechanism! { pub struct Name; parameters { .. } coordinates { .. } .. }`,
+/// or from a file relative to `CARGO_MANIFEST_DIR`,
+/// `mechanism!(file = "mechanisms/spatial_crank_slider.mech");`. The expansion is a struct
+/// with one `pub f64` field per parameter and an implementation of `mechanism::Mechanism`.
 #[proc_macro]
 pub fn mechanism(input: TokenStream) -> TokenStream {
-    let _ = input;
-    TokenStream::new()
+    expand::expand(input.into())
+        .unwrap_or_else(syn::Error::into_compile_error)
+        .into()
 }

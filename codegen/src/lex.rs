@@ -1,0 +1,253 @@
+//! Tokens of the declaration language, from a `proc_macro2::TokenStream` (inline macro input)
+//! or from text (a `.mech` file), flattened into one list the parsers walk with a cursor.
+//!
+//! Both routes use proc_macro2's tokenizer, so the two forms have one grammar: `//` and
+//! `/* */` comments vanish, `///` doc comments arrive as `#[doc = "..."]`, `1e-4` and `0.04`
+//! are single literals, `^` is a punctuation character. Groups are flattened into an opening
+//! token, their contents and a closing token; every token keeps its [`Location`] (1-based
+//! line and column, and its index in the list) and, for the token-stream route, its span.
+
+use std::str::FromStr;
+
+use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
+
+use crate::error::{Error, Location, Result};
+
+/// A bracket kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Delim {
+    /// `( )`, and the invisible groups of macro_rules interpolation.
+    Paren,
+    /// `[ ]`
+    Bracket,
+    /// `{ }`
+    Brace,
+}
+
+impl Delim {
+    /// The opening and closing characters.
+    pub(crate) fn chars(self) -> (char, char) {
+        match self {
+            Delim::Paren => ('(', ')'),
+            Delim::Bracket => ('[', ']'),
+            Delim::Brace => ('{', '}'),
+        }
+    }
+}
+
+/// What a token is.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Tok {
+    /// A name or keyword.
+    Ident(String),
+    /// One punctuation character (`+`, `^`, `;`, ...).
+    Punct(char),
+    /// A literal, as written (`0.04`, `2`, `1e-4`, `"doc text"`).
+    Literal(String),
+    /// An opening bracket.
+    Open(Delim),
+    /// A closing bracket.
+    Close(Delim),
+    /// The end of the input.
+    End,
+}
+
+impl Tok {
+    /// How the token reads in an error message.
+    pub(crate) fn describe(&self) -> String {
+        match self {
+            Tok::Ident(s) => format!("`{s}`"),
+            Tok::Punct(c) => format!("`{c}`"),
+            Tok::Literal(s) => format!("`{s}`"),
+            Tok::Open(d) => format!("`{}`", d.chars().0),
+            Tok::Close(d) => format!("`{}`", d.chars().1),
+            Tok::End => "the end of the input".to_string(),
+        }
+    }
+}
+
+/// One token with where it is.
+#[derive(Clone, Debug)]
+pub(crate) struct Token {
+    /// The token.
+    pub(crate) tok: Tok,
+    /// Line, column and index.
+    pub(crate) location: Location,
+    /// Its span (token-stream route only: spans of lexed text are not usable by a macro).
+    pub(crate) span: Option<Span>,
+}
+
+/// The flat token list of an input, always ending with [`Tok::End`].
+#[derive(Clone, Debug)]
+pub(crate) struct Tokens {
+    /// The tokens.
+    pub(crate) list: Vec<Token>,
+}
+
+impl Tokens {
+    /// The spans of all tokens, by index (empty for the text route).
+    pub(crate) fn spans(&self) -> Vec<Span> {
+        if self.list.iter().any(|t| t.span.is_none()) {
+            return Vec::new();
+        }
+        self.list.iter().filter_map(|t| t.span).collect()
+    }
+}
+
+fn location_of(span: Span, index: usize) -> Location {
+    let lc = span.start();
+    Location { line: lc.line, column: lc.column + 1, token: Some(index) }
+}
+
+fn location_after(span: Span, index: usize) -> Location {
+    let lc = span.end();
+    Location { line: lc.line, column: lc.column + 1, token: Some(index) }
+}
+
+/// Flattens a token stream (iteratively: deep nesting cannot overflow the stack).
+fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
+    let mut list: Vec<Token> = Vec::new();
+    let mut push = |list: &mut Vec<Token>, tok: Tok, span: Span| {
+        let location = location_of(span, list.len());
+        list.push(Token { tok, location, span: keep_spans.then_some(span) });
+    };
+    // Each frame: the remaining trees of a group, and the group's close token (if any).
+    let mut stack: Vec<(proc_macro2::token_stream::IntoIter, Option<(Delim, Span)>)> =
+        vec![(stream.into_iter(), None)];
+    let mut last_span: Option<Span> = None;
+    while let Some((iter, _)) = stack.last_mut() {
+        match iter.next() {
+            Some(TokenTree::Group(g)) => {
+                let d = match g.delimiter() {
+                    Delimiter::Parenthesis | Delimiter::None => Delim::Paren,
+                    Delimiter::Bracket => Delim::Bracket,
+                    Delimiter::Brace => Delim::Brace,
+                };
+                push(&mut list, Tok::Open(d), g.span_open());
+                stack.push((g.stream().into_iter(), Some((d, g.span_close()))));
+            }
+            Some(TokenTree::Ident(i)) => {
+                last_span = Some(i.span());
+                push(&mut list, Tok::Ident(i.to_string()), i.span());
+            }
+            Some(TokenTree::Punct(p)) => {
+                last_span = Some(p.span());
+                push(&mut list, Tok::Punct(p.as_char()), p.span());
+            }
+            Some(TokenTree::Literal(l)) => {
+                last_span = Some(l.span());
+                push(&mut list, Tok::Literal(l.to_string()), l.span());
+            }
+            None => {
+                if let Some((_, Some((d, span)))) = stack.pop() {
+                    last_span = Some(span);
+                    push(&mut list, Tok::Close(d), span);
+                }
+            }
+        }
+    }
+    let index = list.len();
+    let location = match last_span {
+        Some(s) => location_after(s, index),
+        None => Location { line: 1, column: 1, token: Some(index) },
+    };
+    let span = keep_spans.then(|| last_span.unwrap_or_else(Span::call_site));
+    list.push(Token { tok: Tok::End, location, span });
+    Tokens { list }
+}
+
+/// The tokens of macro input (spans kept, so errors can point at the user's token).
+pub(crate) fn tokens_from_stream(stream: TokenStream) -> Tokens {
+    flatten(stream, true)
+}
+
+/// The tokens of a text. Unbalanced brackets or a stray character are a parse error at the
+/// line and column where the lexer stopped.
+///
+/// The text is lexed by proc_macro2's own (fallback) lexer even inside a procedural macro,
+/// because the compiler's lexer gives text no line/column information; the fallback spans
+/// are used for their locations only and are not kept.
+pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
+    proc_macro2::fallback::force();
+    let lexed = TokenStream::from_str(text).map(|s| flatten(s, false));
+    let result = match lexed {
+        Ok(tokens) => Ok(tokens),
+        Err(e) => {
+            let lc = e.span().start();
+            let (line, column) = if lc.line == 0 { (1, 1) } else { (lc.line, lc.column + 1) };
+            Err(Error::Parse {
+                message: format!("the text cannot be split into tokens ({e}); check for unbalanced brackets or a stray character"),
+                location: Location { line, column, token: None },
+            })
+        }
+    };
+    proc_macro2::fallback::unforce();
+    result
+}
+
+/// A cursor over a token list.
+pub(crate) struct Cursor<'a> {
+    tokens: &'a [Token],
+    pos: usize,
+}
+
+impl<'a> Cursor<'a> {
+    /// A cursor at the first token of `tokens` (which must end with [`Tok::End`]).
+    pub(crate) fn new(tokens: &'a Tokens) -> Self {
+        Self { tokens: &tokens.list, pos: 0 }
+    }
+
+    /// The current token (the end token once past the end).
+    pub(crate) fn peek(&self) -> &'a Token {
+        let last = self.tokens.len().saturating_sub(1);
+        &self.tokens[self.pos.min(last)]
+    }
+
+    /// The token after the current one.
+    pub(crate) fn peek2(&self) -> &'a Token {
+        let last = self.tokens.len().saturating_sub(1);
+        &self.tokens[(self.pos + 1).min(last)]
+    }
+
+    /// Consumes and returns the current token.
+    pub(crate) fn next(&mut self) -> &'a Token {
+        let t = self.peek();
+        if t.tok != Tok::End {
+            self.pos += 1;
+        }
+        t
+    }
+
+    /// True when the current token is `tok`.
+    pub(crate) fn at(&self, tok: &Tok) -> bool {
+        &self.peek().tok == tok
+    }
+
+    /// True when the current token is the punctuation `c`.
+    pub(crate) fn at_punct(&self, c: char) -> bool {
+        self.at(&Tok::Punct(c))
+    }
+
+    /// Consumes the current token if it is `tok`.
+    pub(crate) fn eat(&mut self, tok: &Tok) -> bool {
+        let hit = self.at(tok);
+        if hit {
+            self.next();
+        }
+        hit
+    }
+
+    /// Consumes `tok` or fails with "expected {what}, found ...".
+    pub(crate) fn expect(&mut self, tok: &Tok, what: &str) -> Result<&'a Token> {
+        if self.at(tok) {
+            return Ok(self.next());
+        }
+        Err(self.error_here(&format!("expected {what}")))
+    }
+
+    /// A parse error at the current token: "{message}, found {token}".
+    pub(crate) fn error_here(&self, message: &str) -> Error {
+        let t = self.peek();
+        Error::Parse { message: format!("{message}, found {}", t.tok.describe()), location: t.location }
+    }
+}

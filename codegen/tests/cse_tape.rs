@@ -1,0 +1,77 @@
+//! The tape's contract: output layout, typed errors for bad inputs and non-finite results.
+
+use mechanism_codegen::{Arena, Error, Func, Matrix, Program, SymbolKind, Tape};
+
+fn setup() -> (Arena, [mechanism_codegen::Id; 2]) {
+    let mut a = Arena::new();
+    let x = a.symbol("x", SymbolKind::Free);
+    let y = a.symbol("y", SymbolKind::Free);
+    (a, [x, y])
+}
+
+#[test]
+fn outputs_are_written_matrix_after_matrix_row_major() {
+    let (mut a, [x, y]) = setup();
+    let s = a.sin(x);
+    let xy = a.mul2(x, y);
+    let one = a.int(1);
+    let m = Matrix {
+        rows: 2,
+        cols: 2,
+        data: vec![x, y, s, one],
+    };
+    let v = Matrix::column(vec![xy, s]);
+    let p = Program::new(&a, &[&m, &v]).unwrap();
+    let mut t = Tape::new(&p);
+    assert_eq!(t.output_shapes(), &[(2, 2), (2, 1)]);
+    assert_eq!(t.output_len(), 6);
+    let mut out = [0.0; 6];
+    t.eval(&[0.25, 3.0], &mut out).unwrap();
+    assert_eq!(out, [0.25, 3.0, 0.25_f64.sin(), 1.0, 0.75, 0.25_f64.sin()]);
+    // re-evaluation at another point overwrites everything
+    t.eval(&[1.0, -2.0], &mut out).unwrap();
+    assert_eq!(out, [1.0, -2.0, 1.0_f64.sin(), 1.0, -2.0, 1.0_f64.sin()]);
+}
+
+#[test]
+fn short_or_non_finite_inputs_are_errors() {
+    let (mut a, [x, y]) = setup();
+    let e = a.add2(x, y);
+    let p = Program::new(&a, &[&Matrix::column(vec![e])]).unwrap();
+    let mut t = Tape::new(&p);
+    let mut out = [0.0];
+    assert_eq!(
+        t.eval(&[1.0], &mut out),
+        Err(Error::MissingValue { name: "y".into() })
+    );
+    assert!(matches!(
+        t.eval(&[1.0, f64::INFINITY], &mut out),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        t.eval(&[1.0, 2.0], &mut [0.0; 2]),
+        Err(Error::Model(_))
+    ));
+    assert_eq!(t.eval(&[1.0, 2.0], &mut out), Ok(()));
+    assert_eq!(out, [3.0]);
+}
+
+#[test]
+fn runtime_domain_errors_reach_the_outputs() {
+    let (mut a, [x, y]) = setup();
+    let d = a.div(y, x).unwrap();
+    let l = a.func(Func::Ln, x).unwrap();
+    let p = Program::new(&a, &[&Matrix::column(vec![d, l])]).unwrap();
+    let mut t = Tape::new(&p);
+    let mut out = [0.0; 2];
+    assert!(
+        matches!(t.eval(&[0.0, 1.0], &mut out), Err(Error::NonFinite { .. })),
+        "y/0"
+    );
+    assert!(
+        matches!(t.eval(&[-1.0, 1.0], &mut out), Err(Error::NonFinite { .. })),
+        "ln(-1)"
+    );
+    t.eval(&[2.0, 1.0], &mut out).unwrap();
+    assert_eq!(out, [0.5, 2.0_f64.ln()]);
+}

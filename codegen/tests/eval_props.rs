@@ -1,0 +1,175 @@
+//! The interpreter (`eval`) against a direct f64 evaluation of random expression trees, and
+//! its typed errors.
+
+mod eval_support;
+
+use std::cell::Cell;
+use std::collections::HashMap;
+
+use eval_support::{ast, build, close, dag, direct, point, symbols};
+use mechanism_codegen::{Arena, Error, Func, Id, Matrix, SymbolKind, eval, eval_many, eval_matrix};
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    /// eval of the canonical DAG equals the direct evaluation of the tree it was built from,
+    /// within the first-order rounding bound of both operation orders (see eval_support).
+    #[test]
+    fn eval_matches_direct_tree(e in ast(), x in point()) {
+        let mut a = Arena::new();
+        let syms = symbols(&mut a);
+        let Some(id) = build(&mut a, &syms, &e) else { return Ok(()) };
+        let want = direct(&e, &x);
+        if !want.v.is_finite() || !want.e.is_finite() {
+            return Ok(());
+        }
+        let env = |s: mechanism_codegen::SymbolId| x.get(s.0 as usize).copied();
+        let got = eval(&a, id, &env);
+        let reference = dag(&a, id, &|s| x[s.0 as usize], &mut HashMap::new());
+        prop_assume!(reference.e.is_finite());
+        let got = got.map_err(|err| TestCaseError::fail(format!("eval failed: {err} on a finite case")))?;
+        prop_assert!(
+            close(got, want.v, reference.e, want.e),
+            "eval {got} vs direct {} (bounds {} {})", want.v, reference.e, want.e
+        );
+    }
+}
+
+fn arena_xy() -> (Arena, Id, Id) {
+    let mut a = Arena::new();
+    let x = a.symbol("x", SymbolKind::Free);
+    let y = a.symbol("y", SymbolKind::Free);
+    (a, x, y)
+}
+
+#[test]
+fn missing_symbol_is_named() {
+    let (mut a, x, y) = arena_xy();
+    let e = a.add2(x, y);
+    let err = eval(&a, e, &|s| (s.0 == 0).then_some(1.0)).unwrap_err();
+    assert_eq!(err, Error::MissingValue { name: "y".into() });
+}
+
+#[test]
+fn runtime_division_by_zero_is_an_error() {
+    let (mut a, x, y) = arena_xy();
+    let d = a.div(y, x).unwrap();
+    let err = eval(&a, d, &|s| Some(if s.0 == 0 { 0.0 } else { 1.0 })).unwrap_err();
+    assert!(
+        matches!(err, Error::NonFinite { ref operation, .. } if operation == "division by zero"),
+        "{err}"
+    );
+}
+
+#[test]
+fn domain_errors_are_typed_not_nan() {
+    let (mut a, x, _) = arena_xy();
+    let ln = a.func(Func::Ln, x).unwrap();
+    let sq = a.sqrt(x).unwrap();
+    let big = a.func(Func::Exp, x).unwrap();
+    let neg = |_| Some(-1.0);
+    assert!(matches!(eval(&a, ln, &neg), Err(Error::NonFinite { .. })));
+    assert!(matches!(eval(&a, sq, &neg), Err(Error::NonFinite { .. })));
+    assert!(
+        matches!(
+            eval(&a, big, &|_| Some(1000.0)),
+            Err(Error::NonFinite { .. })
+        ),
+        "exp overflow"
+    );
+    assert!(
+        matches!(
+            eval(&a, x, &|_| Some(f64::NAN)),
+            Err(Error::NonFinite { .. })
+        ),
+        "NaN input"
+    );
+    assert_eq!(eval(&a, ln, &|_| Some(1.0)), Ok(0.0));
+}
+
+#[test]
+fn invalid_ids_and_bad_matrices_are_errors() {
+    let (a, x, _) = arena_xy();
+    let bad = Id(1_000_000);
+    assert!(matches!(
+        eval(&a, bad, &|_| Some(1.0)),
+        Err(Error::InvalidId { .. })
+    ));
+    let m = Matrix {
+        rows: 2,
+        cols: 2,
+        data: vec![x],
+    };
+    assert!(eval_matrix(&a, &m, &|_| Some(1.0)).is_err());
+    assert_eq!(eval_many(&a, &[], &|_| Some(1.0)), Ok(vec![]));
+}
+
+#[test]
+fn deep_chain_does_not_overflow_the_stack() {
+    // sin(sin(...sin(x)...)) nested 200_000 deep: a recursive evaluator would overflow.
+    let (mut a, x, _) = arena_xy();
+    let mut e = x;
+    let mut want = 0.7_f64;
+    for _ in 0..200_000 {
+        e = a.sin(e);
+        want = want.sin();
+    }
+    assert_eq!(eval(&a, e, &|_| Some(0.7)), Ok(want));
+}
+
+#[test]
+fn shared_nodes_are_evaluated_once() {
+    // e_{k+1} = sin(e_k) + cos(e_k): a tree of 2^60 leaves, a DAG of ~180 nodes. The symbol
+    // is looked up once, and the whole evaluation is immediate.
+    let (mut a, x, _) = arena_xy();
+    let mut e = x;
+    let mut want = 0.3_f64;
+    for _ in 0..60 {
+        let s = a.sin(e);
+        let c = a.cos(e);
+        e = a.add2(s, c);
+        want = want.sin() + want.cos();
+    }
+    let calls = Cell::new(0);
+    let env = |_| {
+        calls.set(calls.get() + 1);
+        Some(0.3)
+    };
+    let got = eval(&a, e, &env).unwrap();
+    assert_eq!(calls.get(), 1);
+    assert!((got - want).abs() <= 1e-14, "{got} vs {want}");
+}
+
+#[test]
+fn matrix_entries_share_one_walk() {
+    let (mut a, x, y) = arena_xy();
+    let s = a.sin(x);
+    let c = a.cos(x);
+    let p = a.mul2(s, y);
+    let m = Matrix {
+        rows: 2,
+        cols: 2,
+        data: vec![s, c, p, x],
+    };
+    let calls = Cell::new(0);
+    let env = |sym: mechanism_codegen::SymbolId| {
+        calls.set(calls.get() + 1);
+        Some(if sym.0 == 0 { 0.4 } else { 3.0 })
+    };
+    let v = eval_matrix(&a, &m, &env).unwrap();
+    assert_eq!(
+        v,
+        vec![0.4_f64.sin(), 0.4_f64.cos(), 0.4_f64.sin() * 3.0, 0.4]
+    );
+    assert_eq!(calls.get(), 2, "each symbol read once for the whole matrix");
+}
+
+#[test]
+fn constants_and_pi() {
+    let mut a = Arena::new();
+    let pi = a.pi();
+    let h = a.rational(1, 3).unwrap();
+    let e = a.mul2(pi, h);
+    assert_eq!(eval(&a, e, &|_| None), Ok(std::f64::consts::PI / 3.0));
+}

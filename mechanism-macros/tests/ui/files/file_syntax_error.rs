@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(file = "broken.mech");
+
+fn main() {}

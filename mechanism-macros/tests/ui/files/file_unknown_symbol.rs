@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(file = "unknown_symbol.mech");
+
+fn main() {}

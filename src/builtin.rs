@@ -1,0 +1,64 @@
+//! The library of mechanisms compiled into this crate, one per file under `mechanisms/`.
+//!
+//! Each file is expanded by [`mechanism!`](crate::mechanism) at build time (editing a file
+//! triggers a rebuild). The registry functions look them up by their snake_case file stem:
+//!
+//! | name                   | struct                | n | m | source                          |
+//! |------------------------|-----------------------|---|---|---------------------------------|
+//! | `spatial_crank_slider` | [`SpatialCrankSlider`] | 4 | 3 | seed paper, Section II + ERRATA |
+//! | `planar_four_bar`      | [`PlanarFourBar`]     | 3 | 2 | crank-rocker                    |
+//! | `spatial_four_bar`     | [`SpatialFourBar`]    | 4 | 3 | RSSR of the seed paper's title  |
+//! | `closed_chain`         | [`ClosedChain4`]      | 4 | 2 | the N-bar chain, N = 4          |
+//! | `planar_slider_crank`  | [`PlanarSliderCrank`] | 3 | 2 | textbook slider-crank           |
+//! | `cartesian_pendulum`   | [`CartesianPendulum`] | 2 | 1 | pendulum in (x, y)              |
+
+use crate::{Compiled, System};
+
+crate::mechanism!(crate = crate, file = "mechanisms/spatial_crank_slider.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/planar_four_bar.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/spatial_four_bar.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/closed_chain.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/planar_slider_crank.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/cartesian_pendulum.mech");
+
+/// The snake_case names of the compiled-in mechanisms (their file stems under
+/// `mechanisms/`), in the order of the table above.
+pub fn builtin_names() -> &'static [&'static str] {
+    &[
+        "spatial_crank_slider",
+        "planar_four_bar",
+        "spatial_four_bar",
+        "closed_chain",
+        "planar_slider_crank",
+        "cartesian_pendulum",
+    ]
+}
+
+/// The compiled-in mechanism called `name`, with its declared parameter defaults, as a
+/// run-time [`System`] (wrapped in [`Compiled`]); `None` for an unknown name.
+pub fn builtin(name: &str) -> Option<Box<dyn System>> {
+    let system: Box<dyn System> = match name {
+        "spatial_crank_slider" => Box::new(Compiled::new(SpatialCrankSlider::default())),
+        "planar_four_bar" => Box::new(Compiled::new(PlanarFourBar::default())),
+        "spatial_four_bar" => Box::new(Compiled::new(SpatialFourBar::default())),
+        "closed_chain" => Box::new(Compiled::new(ClosedChain4::default())),
+        "planar_slider_crank" => Box::new(Compiled::new(PlanarSliderCrank::default())),
+        "cartesian_pendulum" => Box::new(Compiled::new(CartesianPendulum::default())),
+        _ => return None,
+    };
+    Some(system)
+}
+
+/// The declaration text of the compiled-in mechanism called `name` (the `.mech` file, for
+/// the interpreter route and for printing its equations); `None` for an unknown name.
+pub fn builtin_source(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "spatial_crank_slider" => include_str!("../mechanisms/spatial_crank_slider.mech"),
+        "planar_four_bar" => include_str!("../mechanisms/planar_four_bar.mech"),
+        "spatial_four_bar" => include_str!("../mechanisms/spatial_four_bar.mech"),
+        "closed_chain" => include_str!("../mechanisms/closed_chain.mech"),
+        "planar_slider_crank" => include_str!("../mechanisms/planar_slider_crank.mech"),
+        "cartesian_pendulum" => include_str!("../mechanisms/cartesian_pendulum.mech"),
+        _ => return None,
+    })
+}

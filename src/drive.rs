@@ -1,0 +1,81 @@
+//! Prescribed motions written as expressions: `phi = 2*pi*t` becomes a driver constraint
+//! q_k - f(t) = 0, with f' and f'' derived symbolically by `mechanism-codegen`.
+
+use std::sync::Mutex;
+
+use mechanism_codegen::{Arena, Differentiator, Matrix, Program, SymbolKind, Tape};
+
+use crate::error::Error;
+use crate::kinematics::Drive;
+use crate::mechanism::System;
+
+/// Why a drive specification was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum DriveError {
+    /// Not of the form `COORD = expression`.
+    #[error("a drive is written `COORD = f(t)`, e.g. `phi = 2*pi*t`; got `{0}`")]
+    Form(String),
+    /// The coordinate is not one of the mechanism's.
+    #[error("cannot drive `{name}`: the coordinates are {known}")]
+    UnknownCoordinate {
+        /// The name written.
+        name: String,
+        /// The mechanism's coordinates, comma-separated.
+        known: String,
+    },
+    /// The expression does not parse or differentiate.
+    #[error("in the drive `{text}`: {source}")]
+    Expression {
+        /// The drive text.
+        text: String,
+        /// The codegen error.
+        source: mechanism_codegen::Error,
+    },
+    /// The runtime refused the drive.
+    #[error(transparent)]
+    Runtime(#[from] Error),
+}
+
+/// Parses `COORD = f(t)` for `system`: f may use t, pi and the mechanism's parameters (at
+/// their current values). Returns the [`Drive`] evaluating (f, f', f'').
+///
+/// # Errors
+/// [`DriveError`] naming the problem.
+pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError> {
+    let (name, expr) = text.split_once('=').ok_or_else(|| DriveError::Form(text.to_string()))?;
+    let (name, expr) = (name.trim(), expr.trim());
+    let info = system.info();
+    let coordinate = info.coordinate_index(name).ok_or_else(|| DriveError::UnknownCoordinate {
+        name: name.to_string(),
+        known: info.coordinates.join(", "),
+    })?;
+    let wrap = |source| DriveError::Expression { text: text.to_string(), source };
+    let mut arena = Arena::new();
+    let t = arena.symbol_id("t", SymbolKind::Time);
+    let mut values = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut values);
+    let params: Vec<_> = info.parameters.iter().map(|p| arena.symbol_id(p, SymbolKind::Parameter)).collect();
+    let f = mechanism_codegen::parse_expr(&mut arena, expr).map_err(wrap)?;
+    let mut d = Differentiator::new();
+    let f1 = d.diff(&mut arena, f, t).map_err(wrap)?;
+    let f2 = d.diff(&mut arena, f1, t).map_err(wrap)?;
+    let program = Program::new(&arena, &[&Matrix::column(vec![f, f1, f2])]).map_err(wrap)?;
+    let mut inputs = vec![0.0; arena.symbols().len()];
+    for (s, v) in params.iter().zip(&values) {
+        inputs[s.0 as usize] = *v;
+    }
+    let state = Mutex::new((Tape::new(&program), inputs));
+    let t_index = t.0 as usize;
+    Ok(Drive::new(coordinate, move |time| {
+        let mut guard = state.lock().unwrap_or_else(|p| p.into_inner());
+        let (tape, inputs) = &mut *guard;
+        inputs[t_index] = time;
+        let mut out = [0.0; 3];
+        // A non-finite f (e.g. ln of a negative) surfaces as NaN, which the solver reports
+        // as a non-finite state with its time.
+        if tape.eval(inputs, &mut out).is_err() {
+            out = [f64::NAN; 3];
+        }
+        out
+    }))
+}

@@ -1,0 +1,185 @@
+//! Forward dynamics at one instant: the augmented (KKT) system of the index-3 DAE
+//!
+//! ```text
+//! [ M(q)   Phi_q^T ] [ q''    ]   [ tau - C(q, q') q' - g(q) ]
+//! [ Phi_q  0       ] [ lambda ] = [ gamma_s                  ]
+//! ```
+//!
+//! (Van Khang 2011; seed eq. 2.11 as corrected in ERRATA item 6), solved by LU with partial
+//! pivoting, never by inverting M (which may be singular: seed ERRATA item 7). With
+//! Baumgarte stabilisation (Baumgarte 1972) the acceleration right-hand side is
+//!
+//! ```text
+//! gamma_s = gamma - 2 alpha (Phi_q q' + Phi_t) - beta^2 Phi,
+//! ```
+//!
+//! otherwise gamma_s = gamma. Sign convention: lambda enters as +Phi_q^T lambda on the left,
+//! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
+
+use crate::error::Error;
+use crate::linalg::Lu;
+use crate::mechanism::{Evaluation, System, SystemInfo};
+
+/// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
+/// configuration is reported as singular.
+pub const DEFAULT_CONDITION_LIMIT: f64 = 1e13;
+
+/// Preallocated workspace for the augmented system; [`Dynamics::solve`] allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Dynamics {
+    n: usize,
+    m: usize,
+    eval: Evaluation,
+    lu: Lu,
+    sol: Vec<f64>,
+    condition: f64,
+    names: Vec<String>,
+    /// Condition-estimate limit (default [`DEFAULT_CONDITION_LIMIT`]).
+    pub condition_limit: f64,
+    /// Baumgarte (alpha, beta) in 1/s, or `None` for gamma_s = gamma.
+    pub baumgarte: Option<(f64, f64)>,
+    /// Number of augmented solves performed (right-hand-side evaluations).
+    pub evaluations: usize,
+}
+
+impl Dynamics {
+    /// A workspace for the sizes of `info`.
+    pub fn new(info: &SystemInfo) -> Self {
+        let (n, m) = (info.n(), info.m());
+        Self {
+            n,
+            m,
+            eval: Evaluation::zeros(n, m),
+            lu: Lu::new(n + m),
+            sol: vec![0.0; n + m],
+            condition: f64::NAN,
+            names: info.coordinates.clone(),
+            condition_limit: DEFAULT_CONDITION_LIMIT,
+            baumgarte: None,
+            evaluations: 0,
+        }
+    }
+
+    /// Evaluates the system at (t, q, q') and solves the augmented system for q'' and lambda.
+    ///
+    /// Errors: [`Error::NonFinite`] when the evaluation or the solution is not finite;
+    /// [`Error::SingularConfiguration`] when a pivot vanishes or the condition estimate
+    /// exceeds [`Dynamics::condition_limit`].
+    pub fn solve(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(), Error> {
+        let (n, m) = (self.n, self.m);
+        self.evaluations += 1;
+        system.evaluate(t, q, qd, &mut self.eval);
+        let e = &self.eval;
+        let a = self.lu.matrix_mut();
+        for j in 0..n {
+            for i in 0..n {
+                a[(i, j)] = e.mass[(i, j)];
+            }
+        }
+        for r in 0..m {
+            for j in 0..n {
+                let v = e.phi_q[(r, j)];
+                a[(n + r, j)] = v;
+                a[(j, n + r)] = v;
+            }
+            for c in 0..m {
+                a[(n + r, n + c)] = 0.0;
+            }
+        }
+        for i in 0..n {
+            self.sol[i] = e.forces[i] - e.coriolis[i] - e.gravity[i];
+        }
+        for r in 0..m {
+            let mut g = e.gamma[r];
+            if let Some((alpha, beta)) = self.baumgarte {
+                let v = e.phi_t[r] + qd.iter().enumerate().map(|(j, w)| e.phi_q[(r, j)] * w).sum::<f64>();
+                g -= 2.0 * alpha * v + beta * beta * e.phi[r];
+            }
+            self.sol[n + r] = g;
+        }
+        if self.sol.iter().any(|v| !v.is_finite()) || a.iter().any(|v| !v.is_finite()) {
+            return Err(self.non_finite(
+                "the equations of motion (M, C q', g, tau, Phi_q or gamma)",
+                t,
+            ));
+        }
+        if !self.lu.factor() {
+            self.condition = f64::INFINITY;
+            return Err(Error::SingularConfiguration {
+                t,
+                q: q.to_vec(),
+                condition: f64::INFINITY,
+            });
+        }
+        self.condition = self.lu.condition_estimate();
+        if self.condition > self.condition_limit {
+            return Err(Error::SingularConfiguration {
+                t,
+                q: q.to_vec(),
+                condition: self.condition,
+            });
+        }
+        self.lu.solve(&mut self.sol);
+        if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
+            let what = if i < n {
+                format!("q'' of {}", self.names[i])
+            } else {
+                format!("lambda_{}", i - n + 1)
+            };
+            return Err(Error::NonFinite { what, t });
+        }
+        Ok(())
+    }
+
+    fn non_finite(&self, what: &str, t: f64) -> Error {
+        Error::NonFinite {
+            what: what.to_string(),
+            t,
+        }
+    }
+
+    /// q'' from the last [`Dynamics::solve`].
+    pub fn accelerations(&self) -> &[f64] {
+        &self.sol[..self.n]
+    }
+
+    /// lambda from the last [`Dynamics::solve`] (sign: +Phi_q^T lambda on the left side).
+    pub fn multipliers(&self) -> &[f64] {
+        &self.sol[self.n..]
+    }
+
+    /// The evaluation (M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi) of the last solve.
+    pub fn evaluation(&self) -> &Evaluation {
+        &self.eval
+    }
+
+    /// 1-norm condition estimate of the augmented matrix at the last solve.
+    pub fn condition(&self) -> f64 {
+        self.condition
+    }
+
+    /// Power of the applied forces, tau . q', at the last solve (the integrand of the work W).
+    pub fn power(&self, qd: &[f64]) -> f64 {
+        self.eval.forces.iter().zip(qd).map(|(f, v)| f * v).sum()
+    }
+
+    /// |Phi|_inf at the last solve.
+    pub fn constraint_error(&self) -> f64 {
+        self.eval.phi.iter().fold(0.0, |a, v| a.max(v.abs()))
+    }
+
+    /// |Phi_q q' + Phi_t|_inf at the last solve.
+    pub fn velocity_constraint_error(&self, qd: &[f64]) -> f64 {
+        let e = &self.eval;
+        (0..self.m).fold(0.0, |a, r| {
+            let v: f64 = e.phi_t[r] + (0..self.n).map(|j| e.phi_q[(r, j)] * qd[j]).sum::<f64>();
+            a.max(v.abs())
+        })
+    }
+}

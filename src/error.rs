@@ -1,0 +1,146 @@
+//! The one error type of the runtime: every failure a solver can meet, with the time, the
+//! configuration and the number that made it fail, worded for a mechanical engineer.
+//!
+//! No solver panics on bad numbers and none returns a silent NaN: a non-finite value, a
+//! locked configuration or a Newton iteration that stalls all end in one of these variants.
+
+/// What went wrong in assembly, simulation, inverse dynamics, linearisation or a sweep.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// Newton's method on the position constraints Phi(q, t) = 0 stopped before both the
+    /// residual and the step were small.
+    #[error(
+        "the loop constraints could not be closed at t = {t} s: Newton stopped after \
+         {iterations} iterations with |Phi|_inf = {residual:e} (q = {q:?}); \
+         start from a closer guess or check the link lengths"
+    )]
+    NewtonDidNotConverge {
+        /// Time of the attempt (s).
+        t: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// Last residual |Phi|_inf.
+        residual: f64,
+        /// Last iterate q.
+        q: Vec<f64>,
+    },
+    /// The augmented matrix [M Phi_q^T; Phi_q 0] (or the constraint Jacobian of the
+    /// dependent coordinates) is singular or nearly so: the mechanism is locked, at a dead
+    /// point, or at a bifurcation of its assembly branches.
+    #[error(
+        "singular configuration at t = {t} s (condition estimate {condition:e}): the mechanism \
+         is at a dead point, locked, or its constraints lose rank; q = {q:?}"
+    )]
+    SingularConfiguration {
+        /// Time (s).
+        t: f64,
+        /// Configuration q.
+        q: Vec<f64>,
+        /// 1-norm condition estimate of the matrix that failed (infinite for a zero pivot).
+        condition: f64,
+    },
+    /// The constraint Jacobian Phi_q has fewer independent rows than constraints: some loop
+    /// equations repeat others, so the multipliers are not unique.
+    #[error(
+        "redundant constraints: Phi_q has rank {rank} but {rows} rows at q = {q:?}; remove \
+         {} repeated constraint equation(s)", rows - rank
+    )]
+    RedundantConstraints {
+        /// Numerical rank of Phi_q.
+        rank: usize,
+        /// Number of constraint rows m.
+        rows: usize,
+        /// Configuration where the rank was measured.
+        q: Vec<f64>,
+    },
+    /// The independent coordinates chosen by the user leave the others undetermined: the
+    /// constraint Jacobian restricted to the dependent coordinates has rank below their count.
+    #[error(
+        "the independent coordinates {independent:?} do not determine the others: \
+         {dependent} dependent coordinates but the constraints fix only {rank} of them; \
+         choose {} more independent coordinate(s) or other ones", dependent - rank
+    )]
+    IndependentSetDoesNotDetermine {
+        /// Names of the independent coordinates given.
+        independent: Vec<String>,
+        /// Number of dependent coordinates n - k.
+        dependent: usize,
+        /// Rank of Phi_q restricted to the dependent columns.
+        rank: usize,
+    },
+    /// The adaptive step size fell below the smallest allowed value.
+    #[error(
+        "step size underflow at t = {t} s: h = {h:e} s is below the minimum; the motion is \
+         too fast or stiff for the tolerance (try HHT or a looser tolerance)"
+    )]
+    StepSizeUnderflow {
+        /// Time (s).
+        t: f64,
+        /// Rejected step size (s).
+        h: f64,
+    },
+    /// The integrator reached its step limit before the end time.
+    #[error("too many steps: {max_steps} steps reached at t = {t} s before the end time")]
+    TooManySteps {
+        /// Time reached (s).
+        t: f64,
+        /// The limit.
+        max_steps: usize,
+    },
+    /// A parameter, a state component or a computed quantity is NaN or infinite.
+    #[error("non-finite value: {what} at t = {t} s")]
+    NonFinite {
+        /// Which quantity (e.g. "parameter l1", "q'' of x_c").
+        what: String,
+        /// Time (s).
+        t: f64,
+    },
+    /// A coordinate name that the mechanism does not declare.
+    #[error("unknown coordinate '{name}'; the coordinates are {known:?}")]
+    UnknownCoordinate {
+        /// The name asked for.
+        name: String,
+        /// The declared coordinate names.
+        known: Vec<String>,
+    },
+    /// A parameter name that the mechanism does not declare.
+    #[error("unknown parameter '{name}'; the parameters are {known:?}")]
+    UnknownParameter {
+        /// The name asked for.
+        name: String,
+        /// The declared parameter names.
+        known: Vec<String>,
+    },
+    /// A driver (prescribed motion) on a coordinate index outside 0..n, or twice on one.
+    #[error(
+        "driver on unknown or repeated coordinate index {coordinate} (the mechanism has {n} coordinates)"
+    )]
+    UnknownDriver {
+        /// The coordinate index given.
+        coordinate: usize,
+        /// Number of coordinates n.
+        n: usize,
+    },
+    /// An option or input with the wrong size or an invalid value.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+}
+
+impl Error {
+    /// Checks that every value is finite, or names the first that is not.
+    pub(crate) fn check_finite(
+        values: &[f64],
+        what: &str,
+        names: &[String],
+        t: f64,
+    ) -> Result<(), Error> {
+        match values.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(Error::NonFinite {
+                what: format!("{what} of {}", names.get(i).map_or("?", |s| s.as_str())),
+                t,
+            }),
+        }
+    }
+}

@@ -1,0 +1,253 @@
+//! The interpreter route: a mechanism read at run time (a `.mech` file that was not compiled
+//! in), derived by `mechanism-codegen` and evaluated through its [`Tape`].
+//!
+//! It computes exactly what the code emitted by `mechanism!` computes (the same derived
+//! equations, the same CSE'd program), only interpreted: the runtime gets a [`System`] for
+//! any declaration without a rebuild, and the tests get a second route to check the
+//! emitted code against.
+
+use std::sync::Mutex;
+
+use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape};
+use nalgebra::DMatrix;
+
+use crate::mechanism::{Evaluation, Independent, System, SystemInfo};
+
+/// Which evaluations a tape computes.
+struct Scratch {
+    tape: Tape,
+    inputs: Vec<f64>,
+    out: Vec<f64>,
+}
+
+impl Scratch {
+    fn new(program: &Program, symbols: usize) -> Self {
+        let tape = Tape::new(program);
+        let out = vec![0.0; tape.output_len()];
+        Self { tape, inputs: vec![0.0; symbols], out }
+    }
+}
+
+/// A mechanism interpreted from its declaration.
+pub struct Interpreted {
+    info: SystemInfo,
+    parameters: Vec<f64>,
+    parameter_symbols: Vec<SymbolId>,
+    q_symbols: Vec<SymbolId>,
+    qd_symbols: Vec<SymbolId>,
+    time_symbol: Option<SymbolId>,
+    /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi.
+    full: Mutex<Scratch>,
+    /// Phi.
+    phi: Mutex<Scratch>,
+    /// Phi_q, Phi_t.
+    jacobian: Mutex<Scratch>,
+    programs: [Program; 3],
+    symbols: usize,
+    equations_text: String,
+}
+
+impl std::fmt::Debug for Interpreted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Interpreted").field("info", &self.info).finish_non_exhaustive()
+    }
+}
+
+impl Clone for Interpreted {
+    fn clone(&self) -> Self {
+        let [a, b, c] = &self.programs;
+        Self {
+            info: self.info.clone(),
+            parameters: self.parameters.clone(),
+            parameter_symbols: self.parameter_symbols.clone(),
+            q_symbols: self.q_symbols.clone(),
+            qd_symbols: self.qd_symbols.clone(),
+            time_symbol: self.time_symbol,
+            full: Mutex::new(Scratch::new(a, self.symbols)),
+            phi: Mutex::new(Scratch::new(b, self.symbols)),
+            jacobian: Mutex::new(Scratch::new(c, self.symbols)),
+            programs: self.programs.clone(),
+            symbols: self.symbols,
+            equations_text: self.equations_text.clone(),
+        }
+    }
+}
+
+fn scalar(id: mechanism_codegen::Id) -> Matrix {
+    Matrix::column(vec![id])
+}
+
+impl Interpreted {
+    /// Parses, checks and derives the declaration `text` (the `.mech` grammar).
+    ///
+    /// # Errors
+    /// The codegen error (parse errors carry line and column).
+    pub fn from_source(text: &str) -> Result<Self, mechanism_codegen::Error> {
+        let model = mechanism_codegen::parse_model_str(text)?;
+        Self::from_model(model)
+    }
+
+    /// Derives the equations of `model` and compiles them for evaluation.
+    ///
+    /// # Errors
+    /// A derivation or compilation error from codegen.
+    pub fn from_model(mut model: Model) -> Result<Self, mechanism_codegen::Error> {
+        let eqs = mechanism_codegen::derive(&mut model)?;
+        Self::from_equations(model, eqs)
+    }
+
+    /// Compiles already derived equations.
+    ///
+    /// # Errors
+    /// A compilation error from codegen.
+    pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, mechanism_codegen::Error> {
+        let arena = &model.arena;
+        let sym = |id| arena.as_symbol(id).expect("coordinates and parameters are symbol nodes");
+        let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
+        let full = Program::new(
+            arena,
+            &[
+                &eqs.mass,
+                &eqs.coriolis_forces,
+                &eqs.gravity,
+                &eqs.forces,
+                &eqs.phi,
+                &eqs.phi_q,
+                &eqs.phi_t,
+                &eqs.gamma,
+                &kin,
+                &pot,
+            ],
+        )?;
+        let phi = Program::new(arena, &[&eqs.phi])?;
+        let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
+        let symbols = arena.symbols().len();
+        let info = SystemInfo {
+            name: model.name.clone(),
+            coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
+            parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
+            initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
+            independent: model
+                .independent
+                .iter()
+                .map(|i| Independent { coordinate: i.coordinate, position: i.position, velocity: i.velocity })
+                .collect(),
+            constraints: eqs.m,
+        };
+        let equations_text = mechanism_codegen::equations_text(&model, &eqs);
+        Ok(Self {
+            parameters: model.parameters.iter().map(|p| p.default).collect(),
+            parameter_symbols: model.parameters.iter().map(|p| sym(p.symbol)).collect(),
+            q_symbols: model.coordinates.iter().map(|c| sym(c.q)).collect(),
+            qd_symbols: model.coordinates.iter().map(|c| sym(c.qd)).collect(),
+            time_symbol: arena.as_symbol(model.time),
+            full: Mutex::new(Scratch::new(&full, symbols)),
+            phi: Mutex::new(Scratch::new(&phi, symbols)),
+            jacobian: Mutex::new(Scratch::new(&jac, symbols)),
+            programs: [full, phi, jac],
+            symbols,
+            info,
+            equations_text,
+        })
+    }
+
+    /// The derived equations as readable text (the same text `mechanism!` embeds).
+    pub fn equations_text(&self) -> &str {
+        &self.equations_text
+    }
+
+    fn load(&self, s: &mut Scratch, t: f64, q: &[f64], qd: Option<&[f64]>) {
+        for (sym, v) in self.parameter_symbols.iter().zip(&self.parameters) {
+            s.inputs[sym.0 as usize] = *v;
+        }
+        for (sym, v) in self.q_symbols.iter().zip(q) {
+            s.inputs[sym.0 as usize] = *v;
+        }
+        if let Some(qd) = qd {
+            for (sym, v) in self.qd_symbols.iter().zip(qd) {
+                s.inputs[sym.0 as usize] = *v;
+            }
+        }
+        if let Some(ts) = self.time_symbol {
+            s.inputs[ts.0 as usize] = t;
+        }
+    }
+
+    /// Runs one tape; a failed evaluation (non-finite value) fills the outputs with NaN so
+    /// the solver's finiteness checks report it with t and q.
+    fn run(&self, cell: &Mutex<Scratch>, t: f64, q: &[f64], qd: Option<&[f64]>, sink: impl FnOnce(&[f64])) {
+        let mut guard = cell.lock().unwrap_or_else(|p| p.into_inner());
+        let s = &mut *guard;
+        self.load(s, t, q, qd);
+        if s.tape.eval(&s.inputs, &mut s.out).is_err() {
+            s.out.iter_mut().for_each(|x| *x = f64::NAN);
+        }
+        sink(&s.out);
+    }
+}
+
+/// Copies a row-major block of `rows x cols` values into `dst`.
+fn copy_block(src: &[f64], rows: usize, cols: usize, dst: &mut DMatrix<f64>) {
+    for i in 0..rows {
+        for j in 0..cols {
+            dst[(i, j)] = src[i * cols + j];
+        }
+    }
+}
+
+impl System for Interpreted {
+    fn info(&self) -> &SystemInfo {
+        &self.info
+    }
+
+    fn parameter_values(&self, out: &mut [f64]) {
+        for (o, v) in out.iter_mut().zip(&self.parameters) {
+            *o = *v;
+        }
+    }
+
+    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
+        match self.parameters.get_mut(index) {
+            Some(p) => {
+                *p = value;
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
+        let (n, m) = (self.info.n(), self.info.m());
+        self.run(&self.full, t, q, Some(qd), |v| {
+            let mut k = 0;
+            copy_block(&v[k..], n, n, &mut out.mass);
+            k += n * n;
+            for dst in [&mut out.coriolis, &mut out.gravity, &mut out.forces] {
+                dst.as_mut_slice().copy_from_slice(&v[k..k + n]);
+                k += n;
+            }
+            out.phi.as_mut_slice().copy_from_slice(&v[k..k + m]);
+            k += m;
+            copy_block(&v[k..], m, n, &mut out.phi_q);
+            k += m * n;
+            out.phi_t.as_mut_slice().copy_from_slice(&v[k..k + m]);
+            k += m;
+            out.gamma.as_mut_slice().copy_from_slice(&v[k..k + m]);
+            k += m;
+            out.kinetic = v[k];
+            out.potential = v[k + 1];
+        });
+    }
+
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
+        self.run(&self.phi, t, q, None, |v| phi.copy_from_slice(v));
+    }
+
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        let (n, m) = (self.info.n(), self.info.m());
+        self.run(&self.jacobian, t, q, None, |v| {
+            copy_block(v, m, n, phi_q);
+            phi_t.copy_from_slice(&v[m * n..m * n + m]);
+        });
+    }
+}

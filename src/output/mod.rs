@@ -1,0 +1,90 @@
+//! Result files of a run: `trajectory.csv`, `inverse.csv`, `summary.json` and the figures.
+//!
+//! File names and column headers are stable (issue 5): other tools and the tests read them.
+//!
+//! - [`csv`]: [`write_trajectory_csv`] and [`write_inverse_csv`], every value written with
+//!   the shortest decimal representation that parses back to the same `f64` bit for bit.
+//! - [`summary`]: [`Summary`], serialised to `summary.json`, with the maxima of the
+//!   constraint residuals and of the energy balance error ([`TrajectoryMaxima`]).
+//! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5 and the driving torque).
+//!
+//! Every function returns `Result<_, OutputError>`; none panics on bad data.
+
+pub mod csv;
+pub mod plot;
+pub mod summary;
+
+pub use self::csv::{InverseTable, write_inverse_csv, write_trajectory_csv};
+pub use self::plot::{
+    Figure, Unit, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
+    plot_trajectory,
+};
+pub use self::summary::{RunSettings, Summary, TrajectoryMaxima, write_summary};
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while writing result files.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// Creating a directory or writing a file failed.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The CSV writer failed.
+    #[error("cannot write CSV {path}: {source}")]
+    Csv {
+        /// The CSV file.
+        path: PathBuf,
+        /// The underlying error.
+        source: ::csv::Error,
+    },
+    /// Serialising `summary.json` failed.
+    #[error("cannot write JSON {path}: {source}")]
+    Json {
+        /// The JSON file.
+        path: PathBuf,
+        /// The underlying error.
+        source: serde_json::Error,
+    },
+    /// Drawing or encoding a figure failed.
+    #[error("cannot draw figure {path}: {message}")]
+    Plot {
+        /// The figure file.
+        path: PathBuf,
+        /// What plotters reported.
+        message: String,
+    },
+    /// The input is inconsistent (empty, or series of different lengths).
+    #[error("invalid data for {what}: {message}")]
+    InvalidData {
+        /// What was being written.
+        what: String,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+impl OutputError {
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    pub(crate) fn invalid(what: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::InvalidData {
+            what: what.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// Creates `dir` and its parents if they do not exist.
+pub(crate) fn ensure_dir(dir: &std::path::Path) -> Result<(), OutputError> {
+    std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))
+}

@@ -1,0 +1,225 @@
+//! Axis ranges, tick labels, the decade axis, data thinning and legend placement.
+
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::SeriesLabelPosition;
+
+use super::LOG_FLOOR;
+use super::render::{LEGEND_MARGIN, Panel};
+
+/// Lines with more points than this are thinned (min/max per bucket, so peaks survive).
+const MAX_POINTS: usize = 4000;
+
+pub(super) fn superscript(n: i32) -> String {
+    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let digits = n
+        .unsigned_abs()
+        .to_string()
+        .chars()
+        .map(|c| SUP[c.to_digit(10).unwrap_or(0) as usize])
+        .collect::<String>();
+    if n < 0 {
+        format!("⁻{digits}")
+    } else {
+        digits
+    }
+}
+
+/// Range of the finite values in `ys`, padded by 5 %, never empty.
+pub(super) fn linear_range<'a>(ys: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+    let (lo, hi) = ys
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    let span = hi - lo;
+    if span <= 1e-12 * lo.abs().max(hi.abs()) || span == 0.0 {
+        let pad = (0.1 * lo.abs()).max(1e-3);
+        return (lo - pad, hi + pad);
+    }
+    (lo - 0.05 * span, hi + 0.05 * span)
+}
+
+/// From the first to the last finite time, exactly (padded only when they coincide).
+pub(super) fn time_range(t: &[f64]) -> (f64, f64) {
+    let (lo, hi) = linear_range(std::iter::empty());
+    let finite = || t.iter().copied().filter(|v| v.is_finite());
+    match (finite().next(), finite().last()) {
+        (Some(a), Some(b)) if b > a => (a, b),
+        (Some(a), _) => (a - 0.5, a + 0.5),
+        _ => (lo, hi),
+    }
+}
+
+/// Whole decades around the finite log10 values in `ys`.
+pub(super) fn decade_range<'a>(ys: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+    let (lo, hi) = ys
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if lo > hi {
+        return (LOG_FLOOR.log10() - 1.0, LOG_FLOOR.log10() + 1.0);
+    }
+    let (lo, hi) = ((lo - 1e-9).floor(), (hi + 1e-9).ceil());
+    (lo, hi.max(lo + 1.0))
+}
+
+/// Thins `(t, y)` to at most about [`MAX_POINTS`] points, keeping each bucket's min and max.
+pub(super) fn thin(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    let n = t.len().min(y.len());
+    let points = (0..n)
+        .map(|i| (t[i], y[i]))
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    if n <= MAX_POINTS {
+        return points.collect();
+    }
+    let bucket = n.div_ceil(MAX_POINTS / 2);
+    let all: Vec<_> = points.collect();
+    let mut out = Vec::with_capacity(MAX_POINTS + 2);
+    for chunk in all.chunks(bucket) {
+        let lo = chunk
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.1.total_cmp(&b.1.1))
+            .map_or(0, |p| p.0);
+        let hi = chunk
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.1.total_cmp(&b.1.1))
+            .map_or(0, |p| p.0);
+        out.push(chunk[lo.min(hi)]);
+        if lo != hi {
+            out.push(chunk[lo.max(hi)]);
+        }
+    }
+    out
+}
+
+/// Where the legend goes, and the y range that makes room for it: the corner whose box
+/// (the legend's estimated size in pixels, plus its margin) holds the fewest data points, as
+/// MATLAB's `'best'`; when every corner has data, the y range grows upward (by whole decades
+/// on a log axis) until the upper-right box is empty. `plot` is the plot area in pixels.
+pub(super) fn place_legend(
+    panel: &Panel<'_>,
+    x: (f64, f64),
+    y: (f64, f64),
+    plot: (f64, f64),
+) -> (SeriesLabelPosition, (f64, f64)) {
+    let chars = panel
+        .lines
+        .iter()
+        .map(|l| l.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let fw = ((36 + 12 + 2 * LEGEND_MARGIN + 11 * chars as i32) as f64 / plot.0).min(0.9);
+    let fh = ((2 * LEGEND_MARGIN + 24 * panel.lines.len() as i32 + 8) as f64 / plot.1).min(0.6);
+    let points = || {
+        panel
+            .lines
+            .iter()
+            .flat_map(|l| panel.t.iter().zip(&l.y))
+            .filter(|p| p.1.is_finite())
+    };
+    let count = |right: bool, upper: bool| {
+        points()
+            .filter(|&(&t, &v)| {
+                let (u, w) = ((t - x.0) / (x.1 - x.0), (v - y.0) / (y.1 - y.0));
+                (if right { u > 1.0 - fw } else { u < fw })
+                    && (if upper { w > 1.0 - fh } else { w < fh })
+            })
+            .count()
+    };
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let (best, n) = corners
+        .into_iter()
+        .map(|(c, r, u)| (c, count(r, u)))
+        .min_by_key(|p| p.1)
+        .unwrap_or((SeriesLabelPosition::UpperRight, 0));
+    if n == 0 {
+        return (best, y);
+    }
+    let top = points()
+        .filter(|&(&t, _)| (t - x.0) / (x.1 - x.0) > 1.0 - fw)
+        .map(|p| *p.1)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let top = top.max(y.0);
+    // Room of height fh above `top`: (y1' - top) / (y1' - y0) >= fh.
+    let mut hi = (top - fh * y.0) / (1.0 - fh) + 0.02 * (y.1 - y.0);
+    if panel.log {
+        hi = hi.ceil();
+    }
+    (SeriesLabelPosition::UpperRight, (y.0, hi.max(y.1)))
+}
+
+/// Tick label with as many decimals as the axis span needs (`60`, `6.2`, `0.125`), and
+/// exponent form for very small or large magnitudes.
+pub(super) fn tick_label(v: &f64) -> String {
+    let a = v.abs();
+    if a < 1e-12 {
+        return "0".to_string();
+    }
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.2e}");
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exp}").replace('-', "−");
+    }
+    let s = format!("{v:.6}");
+    s.trim_end_matches('0')
+        .trim_end_matches('.')
+        .replace('-', "−")
+}
+
+pub(super) fn decade_label(v: &f64) -> String {
+    let k = v.round() as i32;
+    if k == 0 {
+        "1".to_string()
+    } else {
+        format!("10{}", superscript(k))
+    }
+}
+
+/// A y axis holding log10 of the data: bold lines and labels at whole decades (every
+/// k-th decade when there are too many), light lines at 2..9 times each decade.
+#[derive(Clone, Debug)]
+pub(super) struct Decades {
+    pub(super) lo: f64,
+    pub(super) hi: f64,
+}
+
+impl Ranged for Decades {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        RangedCoordf64::from(self.lo..self.hi).map(value, limit)
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let (lo, hi) = (self.lo.ceil() as i32, self.hi.floor() as i32);
+        let count = (hi - lo + 1).max(1) as usize;
+        let step = count.div_ceil(hint.max_num_points().max(1)).max(1);
+        let bold = (lo..=hi).step_by(step).map(f64::from);
+        if !hint.weight().allow_light_points() {
+            return bold.collect();
+        }
+        if step > 1 {
+            return (lo..=hi).map(f64::from).collect();
+        }
+        let minor = move |d: f64| (2..10).map(move |k| d + f64::from(k).log10());
+        bold.flat_map(minor).filter(|&v| v < self.hi).collect()
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.lo..self.hi
+    }
+}

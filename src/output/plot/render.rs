@@ -1,0 +1,265 @@
+//! Drawing: the figure description ([`Spec`], [`Panel`], [`Line`]), the mesh and line
+//! styles, and [`render`] to PNG and SVG.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::Ranged;
+use plotters::prelude::*;
+
+use super::axes::{
+    Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
+};
+use crate::output::{OutputError, ensure_dir};
+
+/// Distance of the legend box from the plot edges, and its inner padding (px).
+pub(super) const LEGEND_MARGIN: i32 = 14;
+const FONT: &str = "sans-serif";
+const WIDTH: u32 = 1000;
+/// MATLAB's default line colours.
+const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 189),
+    RGBColor(217, 83, 25),
+    RGBColor(237, 177, 32),
+    RGBColor(126, 47, 142),
+    RGBColor(119, 172, 48),
+    RGBColor(77, 190, 238),
+    RGBColor(162, 20, 47),
+];
+
+/// Registers the bundled DejaVu Sans as plotters' `sans-serif`, once per process.
+fn register_font() -> Result<(), String> {
+    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
+    DONE.get_or_init(|| {
+        let bytes: &'static [u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+        plotters::style::register_font(FONT, FontStyle::Normal, bytes)
+            .map_err(|_| "invalid bundled font".to_string())
+    })
+    .clone()
+}
+
+/// One line of a panel.
+pub(super) struct Line {
+    pub(super) label: String,
+    pub(super) y: Vec<f64>,
+}
+
+/// One set of axes.
+pub(super) struct Panel<'a> {
+    pub(super) t: &'a [f64],
+    pub(super) lines: Vec<Line>,
+    pub(super) y_label: String,
+    /// Draw the x-axis description (only the bottom panel does).
+    pub(super) x_label: bool,
+    /// y holds log10 of the data; axis ticks at whole decades.
+    pub(super) log: bool,
+}
+
+/// A figure: a title over panels stacked vertically.
+pub(super) struct Spec<'a> {
+    pub(super) title: String,
+    pub(super) height: u32,
+    pub(super) panels: Vec<Panel<'a>>,
+}
+
+/// Draws one panel into `area`.
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel<'_>,
+    brush: bool,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let x = time_range(panel.t);
+    let all = || panel.lines.iter().flat_map(|l| l.y.iter());
+    let y = if panel.log {
+        decade_range(all())
+    } else {
+        linear_range(all())
+    };
+    let x_area = if panel.x_label { 62 } else { 36 };
+    let (w, h) = area.dim_in_pixel();
+    let plot = (
+        f64::from(w) - 110.0 - 40.0,
+        f64::from(h) - f64::from(x_area) - 24.0,
+    );
+    let (legend, y) = place_legend(panel, x, y, (plot.0.max(100.0), plot.1.max(100.0)));
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(12)
+        .margin_right(28)
+        .x_label_area_size(x_area)
+        .y_label_area_size(110);
+    if panel.log {
+        let y_range = Decades { lo: y.0, hi: y.1 };
+        let mut chart = builder.build_cartesian_2d(x.0..x.1, y_range).map_err(err)?;
+        let mut mesh = chart.configure_mesh();
+        style_mesh(&mut mesh, panel);
+        mesh.y_label_formatter(&decade_label)
+            .x_max_light_lines(0)
+            .y_max_light_lines(9)
+            .draw()
+            .map_err(err)?;
+        draw_lines(&mut chart, panel, (x, y), legend, brush)?;
+    } else {
+        let mut chart = builder
+            .build_cartesian_2d(x.0..x.1, y.0..y.1)
+            .map_err(err)?;
+        let mut mesh = chart.configure_mesh();
+        style_mesh(&mut mesh, panel);
+        mesh.y_labels(8)
+            .y_label_formatter(&tick_label)
+            .max_light_lines(0)
+            .draw()
+            .map_err(err)?;
+        draw_lines(&mut chart, panel, (x, y), legend, brush)?;
+    }
+    Ok(())
+}
+
+fn style_mesh<DB: DrawingBackend, X: Ranged<ValueType = f64>, Y: Ranged<ValueType = f64>>(
+    mesh: &mut plotters::chart::MeshStyle<'_, '_, X, Y, DB>,
+    panel: &Panel<'_>,
+) {
+    mesh.x_labels(11)
+        .x_label_formatter(&tick_label)
+        .label_style((FONT, 18))
+        .axis_desc_style((FONT, 22))
+        .bold_line_style(RGBColor(205, 205, 205).stroke_width(1))
+        .light_line_style(RGBColor(238, 238, 238).stroke_width(1))
+        .axis_style(BLACK.stroke_width(2))
+        .set_all_tick_mark_size(6)
+        .y_desc(panel.y_label.as_str());
+    if panel.x_label {
+        mesh.x_desc("t (s)");
+    }
+}
+
+/// Draws a 3 px polyline on a bitmap as nine 1 px paths over a 3x3 brush. (For wide lines
+/// plotters fills one polygon around the whole path, which grows spikes at sharp turns and
+/// ragged edges along dense data.)
+fn draw_brushed<
+    'a,
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+>(
+    chart: &ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    points: &[(f64, f64)],
+    color: RGBColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let area = chart.plotting_area().strip_coord_spec();
+    let (x0, y0) = area.get_base_pixel();
+    let mut pixels: Vec<(i32, i32)> = points
+        .iter()
+        .map(|p| chart.backend_coord(p))
+        .map(|(x, y)| (x - x0, y - y0))
+        .collect();
+    pixels.dedup();
+    for dx in -1..=1 {
+        for dy in -1..=1 {
+            let shifted = pixels
+                .iter()
+                .map(|&(x, y)| (x + dx, y + dy))
+                .collect::<Vec<_>>();
+            area.draw(&PathElement::new(shifted, color.stroke_width(1)))?;
+        }
+    }
+    Ok(())
+}
+
+fn draw_lines<
+    'a,
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel<'_>,
+    (x, y): ((f64, f64), (f64, f64)),
+    legend: SeriesLabelPosition,
+    brush: bool,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    // The box around the plot area, as MATLAB draws it.
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(x.0, y.0), (x.1, y.1)],
+            BLACK.stroke_width(1),
+        )))
+        .map_err(err)?;
+    for (i, line) in panel.lines.iter().enumerate() {
+        let color = PALETTE[i % PALETTE.len()];
+        let style = color.stroke_width(3);
+        let points = thin(panel.t, &line.y);
+        let series = if brush {
+            draw_brushed(chart, &points, color).map_err(err)?;
+            chart.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+        } else {
+            chart.draw_series(LineSeries::new(points, style))
+        };
+        series
+            .map_err(err)?
+            .label(line.label.as_str())
+            .legend(move |(px, py)| PathElement::new(vec![(px, py), (px + 36, py)], style));
+    }
+    chart
+        .configure_series_labels()
+        .position(legend)
+        .label_font((FONT, 20))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK.stroke_width(1))
+        .legend_area_size(44)
+        .margin(LEGEND_MARGIN)
+        .draw()
+        .map_err(err)
+}
+
+fn draw_figure<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    spec: &Spec<'_>,
+    brush: bool,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(&spec.title, (FONT, 26)).map_err(err)?;
+    let areas = root.split_evenly((spec.panels.len().max(1), 1));
+    for (area, panel) in areas.iter().zip(&spec.panels) {
+        draw_panel(area, panel, brush)?;
+    }
+    root.present().map_err(err)
+}
+
+/// Checks the figure's data and writes it as `<stem>.png` and `<stem>.svg`.
+pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, OutputError> {
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    let plot_err = |path: &Path| {
+        let path = path.to_path_buf();
+        move |message: String| OutputError::Plot { path, message }
+    };
+    for panel in &spec.panels {
+        if panel.t.is_empty() || panel.lines.iter().any(|l| l.y.len() != panel.t.len()) {
+            let msg = format!(
+                "{} times and series of lengths {:?}",
+                panel.t.len(),
+                panel.lines.iter().map(|l| l.y.len()).collect::<Vec<_>>()
+            );
+            return Err(OutputError::invalid(png.display().to_string(), msg));
+        }
+    }
+    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
+        ensure_dir(dir)?;
+    }
+    register_font().map_err(plot_err(&png))?;
+    let size = (WIDTH, spec.height);
+    draw_figure(
+        BitMapBackend::new(&png, size).into_drawing_area(),
+        spec,
+        true,
+    )
+    .map_err(plot_err(&png))?;
+    draw_figure(SVGBackend::new(&svg, size).into_drawing_area(), spec, false)
+        .map_err(plot_err(&svg))?;
+    Ok(vec![png, svg])
+}

@@ -1,0 +1,201 @@
+//! `summary.json`: what was run, the consistent initial state, and how well the run kept
+//! the constraints and the energy balance.
+
+use std::io::Write;
+use std::path::Path;
+
+use serde::Serialize;
+use serde::ser::{SerializeMap, Serializer};
+
+use super::{OutputError, ensure_dir};
+use crate::trajectory::Trajectory;
+
+/// Name -> value pairs that serialise as a JSON object in their given order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NamedValues(pub Vec<(String, f64)>);
+
+impl NamedValues {
+    /// Pairs `names[i]` with `values[i]`; `None` when the lengths differ.
+    pub fn zip(names: &[String], values: &[f64]) -> Option<Self> {
+        (names.len() == values.len())
+            .then(|| Self(names.iter().cloned().zip(values.iter().copied()).collect()))
+    }
+
+    /// The value called `name`.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.0.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
+    }
+}
+
+impl Serialize for NamedValues {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (k, v) in &self.0 {
+            map.serialize_entry(k, v)?;
+        }
+        map.end()
+    }
+}
+
+/// The consistent initial state: q(0) satisfying Phi(q, 0) = 0 and q'(0) satisfying
+/// Phi_q q' + Phi_t = 0 (the first sample of the trajectory).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct InitialState {
+    /// q(0) by coordinate name.
+    pub q: NamedValues,
+    /// q'(0) by coordinate name.
+    pub q_dot: NamedValues,
+}
+
+/// How the run was configured (what the CLI was given, after defaults).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RunSettings {
+    /// Integrator name (`rk4`, `dopri5`, `dop853`, `hht`).
+    pub integrator: String,
+    /// Relative tolerance (`None`, written as `null`, for fixed-step integrators).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (`None` for fixed-step integrators).
+    pub atol: Option<f64>,
+    /// Constraint stabilisation (`projection`, `baumgarte`, `none`).
+    pub stabilization: String,
+}
+
+/// Maxima over all samples of a trajectory.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct TrajectoryMaxima {
+    /// max_i |Phi(q_i, t_i)|_inf.
+    pub constraint_error: f64,
+    /// max_i |Phi_q q'_i + Phi_t|_inf.
+    pub velocity_constraint_error: f64,
+    /// Energy balance error: max_i |E_i - E_0| with E = T + Pi - W, where W is the work done
+    /// by the applied forces tau since t = 0. For an exact solution E is constant, so this
+    /// measures the integration error of the energy (zero for an empty trajectory).
+    pub energy_balance_error: f64,
+}
+
+/// Maximum that propagates NaN, so that a failed sample is not hidden.
+fn max_nan(acc: f64, x: f64) -> f64 {
+    if acc.is_nan() || x.is_nan() {
+        f64::NAN
+    } else {
+        acc.max(x)
+    }
+}
+
+impl TrajectoryMaxima {
+    /// The maxima of `trajectory` (all zero when it is empty; NaN when any sample is NaN).
+    pub fn of(trajectory: &Trajectory) -> Self {
+        let Some(first) = trajectory.samples().next() else {
+            return Self::default();
+        };
+        let e0 = first.kinetic + first.potential - first.work;
+        trajectory.samples().fold(Self::default(), |acc, s| Self {
+            constraint_error: max_nan(acc.constraint_error, s.constraint_error.abs()),
+            velocity_constraint_error: max_nan(
+                acc.velocity_constraint_error,
+                s.velocity_constraint_error.abs(),
+            ),
+            energy_balance_error: max_nan(
+                acc.energy_balance_error,
+                (s.kinetic + s.potential - s.work - e0).abs(),
+            ),
+        })
+    }
+}
+
+/// The contents of `summary.json` (keys as in issue 5, in this order).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Mechanism name.
+    pub mechanism: String,
+    /// Parameter values by name, in declaration order.
+    pub parameters: NamedValues,
+    /// q(0) and q'(0) after assembly.
+    pub consistent_initial_state: InitialState,
+    /// See [`TrajectoryMaxima::constraint_error`].
+    pub max_constraint_error: f64,
+    /// See [`TrajectoryMaxima::velocity_constraint_error`].
+    pub max_velocity_constraint_error: f64,
+    /// See [`TrajectoryMaxima::energy_balance_error`]: max_i |(T+Pi-W)_i - (T+Pi-W)_0|.
+    pub max_energy_balance_error: f64,
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected_steps: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// Wall-clock time of the integration (s).
+    pub wall_time_s: f64,
+    /// Integrator name.
+    pub integrator: String,
+    /// Relative tolerance (`null` for fixed-step integrators).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (`null` for fixed-step integrators).
+    pub atol: Option<f64>,
+    /// Constraint stabilisation.
+    pub stabilization: String,
+}
+
+impl Summary {
+    /// Builds the summary of `trajectory`, run with `parameters` (values in the order of
+    /// `trajectory.info.parameters`) and `settings`. The initial state is the first sample.
+    ///
+    /// Fails when the trajectory is empty or `parameters` has the wrong length.
+    pub fn new(
+        trajectory: &Trajectory,
+        parameters: &[f64],
+        settings: &RunSettings,
+    ) -> Result<Self, OutputError> {
+        let info = &trajectory.info;
+        let first = trajectory
+            .samples()
+            .next()
+            .ok_or_else(|| OutputError::invalid("summary", "the trajectory is empty"))?;
+        let parameters = NamedValues::zip(&info.parameters, parameters).ok_or_else(|| {
+            let msg = format!(
+                "{} parameter values for {} parameters",
+                parameters.len(),
+                info.parameters.len()
+            );
+            OutputError::invalid("summary", msg)
+        })?;
+        let consistent_initial_state = InitialState {
+            q: NamedValues::zip(&info.coordinates, first.q).unwrap_or_default(),
+            q_dot: NamedValues::zip(&info.coordinates, first.qd).unwrap_or_default(),
+        };
+        let max = TrajectoryMaxima::of(trajectory);
+        let stats = trajectory.stats;
+        Ok(Self {
+            mechanism: info.name.clone(),
+            parameters,
+            consistent_initial_state,
+            max_constraint_error: max.constraint_error,
+            max_velocity_constraint_error: max.velocity_constraint_error,
+            max_energy_balance_error: max.energy_balance_error,
+            steps: stats.steps,
+            rejected_steps: stats.rejected_steps,
+            rhs_evaluations: stats.rhs_evaluations,
+            wall_time_s: stats.wall_time_s,
+            integrator: settings.integrator.clone(),
+            rtol: settings.rtol,
+            atol: settings.atol,
+            stabilization: settings.stabilization.clone(),
+        })
+    }
+}
+
+/// Writes `summary` as pretty-printed JSON to `path`, creating its directory.
+/// Non-finite numbers are written as `null`.
+pub fn write_summary(path: &Path, summary: &Summary) -> Result<(), OutputError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        ensure_dir(dir)?;
+    }
+    let mut text = serde_json::to_string_pretty(summary).map_err(|source| OutputError::Json {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    text.push('\n');
+    let mut file = std::fs::File::create(path).map_err(|e| OutputError::io(path, e))?;
+    file.write_all(text.as_bytes())
+        .map_err(|e| OutputError::io(path, e))
+}

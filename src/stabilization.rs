@@ -1,0 +1,180 @@
+//! Constraint stabilisation for the index-3 DAE integrated as an ODE in (q, q').
+//!
+//! Plain integration of q'' from the augmented system keeps only Phi'' = 0, so Phi and
+//! Phi' drift (linearly and quadratically in t). Three choices:
+//!
+//! - [`Stabilization::None`]: measure the drift, do nothing.
+//! - [`Stabilization::Baumgarte`] (Baumgarte 1972, Comput. Methods Appl. Mech. Eng. 1):
+//!   replace Phi'' = 0 by Phi'' + 2 alpha Phi' + beta^2 Phi = 0, i.e. solve with
+//!   gamma - 2 alpha (Phi_q q' + Phi_t) - beta^2 Phi (see [`crate::Dynamics`]). Damps the
+//!   drift but does not remove it.
+//! - [`Stabilization::Projection`] (default; Hairer & Wanner, Solving ODEs II, sec. VII.2;
+//!   Eich 1993): after each accepted step, Newton onto Phi(q, t) = 0 with the minimum-norm
+//!   correction dq = -Phi_q^T (Phi_q Phi_q^T)^-1 Phi, iterated until |Phi|_inf <= 1e-14 or
+//!   stalling, then the velocities onto Phi_q q' = -Phi_t with
+//!   dq' = -Phi_q^T (Phi_q Phi_q^T)^-1 (Phi_q q' + Phi_t). Closes the loops to round-off.
+
+use nalgebra::DMatrix;
+
+use crate::error::Error;
+use crate::linalg::Lu;
+use crate::mechanism::{System, SystemInfo};
+
+/// How the drift off Phi = 0 and Phi' = 0 is controlled.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Stabilization {
+    /// No stabilisation: the constraint residual drifts and is only recorded.
+    None,
+    /// Baumgarte: Phi'' + 2 alpha Phi' + beta^2 Phi = 0 (alpha, beta in 1/s).
+    Baumgarte {
+        /// Velocity-level gain alpha (1/s).
+        alpha: f64,
+        /// Position-level gain beta (1/s).
+        beta: f64,
+    },
+    /// Coordinate projection after every accepted step (the default).
+    #[default]
+    Projection,
+}
+
+/// Preallocated workspace for the projections; allocates nothing after [`Projector::new`].
+#[derive(Clone, Debug)]
+pub struct Projector {
+    n: usize,
+    m: usize,
+    phi: Vec<f64>,
+    phi_t: Vec<f64>,
+    phi_q: DMatrix<f64>,
+    lu: Lu,
+    z: Vec<f64>,
+    /// Target |Phi|_inf: iterate until below this (default 1e-14) ...
+    pub tolerance: f64,
+    /// ... or until the iteration stalls, which is accepted only below this (default 1e-12).
+    pub accept: f64,
+    /// Iteration limit (default 20).
+    pub max_iterations: usize,
+}
+
+impl Projector {
+    /// A workspace for the sizes of `info`.
+    pub fn new(info: &SystemInfo) -> Self {
+        let (n, m) = (info.n(), info.m());
+        Self {
+            n,
+            m,
+            phi: vec![0.0; m],
+            phi_t: vec![0.0; m],
+            phi_q: DMatrix::zeros(m, n),
+            lu: Lu::new(m),
+            z: vec![0.0; m],
+            tolerance: 1e-14,
+            accept: 1e-12,
+            max_iterations: 20,
+        }
+    }
+
+    fn factor_gram(&mut self, t: f64, q: &[f64]) -> Result<(), Error> {
+        let (n, m) = (self.n, self.m);
+        let g = self.lu.matrix_mut();
+        for i in 0..m {
+            for j in 0..=i {
+                let s: f64 = (0..n)
+                    .map(|k| self.phi_q[(i, k)] * self.phi_q[(j, k)])
+                    .sum();
+                g[(i, j)] = s;
+                g[(j, i)] = s;
+            }
+        }
+        if !self.lu.factor() {
+            return Err(Error::SingularConfiguration {
+                t,
+                q: q.to_vec(),
+                condition: f64::INFINITY,
+            });
+        }
+        Ok(())
+    }
+
+    /// Subtracts Phi_q^T (Phi_q Phi_q^T)^-1 r from x, with r in `self.z`.
+    fn correct(&mut self, x: &mut [f64]) {
+        self.lu.solve(&mut self.z);
+        for (k, xk) in x.iter_mut().enumerate() {
+            *xk -= (0..self.m)
+                .map(|i| self.phi_q[(i, k)] * self.z[i])
+                .sum::<f64>();
+        }
+    }
+
+    /// Projects q onto Phi(q, t) = 0 (minimum-norm Newton); returns the final |Phi|_inf.
+    pub fn project_positions(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &mut [f64],
+    ) -> Result<f64, Error> {
+        if self.m == 0 {
+            return Ok(0.0);
+        }
+        let mut prev = f64::INFINITY;
+        for it in 0..=self.max_iterations {
+            system.constraints(t, q, &mut self.phi);
+            let r = self.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if !r.is_finite() {
+                return Err(Error::NonFinite {
+                    what: "constraint residual Phi in projection".into(),
+                    t,
+                });
+            }
+            if r <= self.tolerance || (r >= 0.5 * prev && r <= self.accept) {
+                return Ok(r);
+            }
+            if it == self.max_iterations || r >= prev {
+                return Err(Error::NewtonDidNotConverge {
+                    t,
+                    iterations: it,
+                    residual: r,
+                    q: q.to_vec(),
+                });
+            }
+            prev = r;
+            system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
+            self.factor_gram(t, q)?;
+            self.z.copy_from_slice(&self.phi);
+            self.correct(q);
+        }
+        unreachable!("the loop returns on its last iteration")
+    }
+
+    /// Projects q' onto Phi_q q' + Phi_t = 0 at q (one linear solve is exact).
+    pub fn project_velocities(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &[f64],
+        qd: &mut [f64],
+    ) -> Result<(), Error> {
+        if self.m == 0 {
+            return Ok(());
+        }
+        system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
+        self.factor_gram(t, q)?;
+        for i in 0..self.m {
+            self.z[i] =
+                self.phi_t[i] + (0..self.n).map(|k| self.phi_q[(i, k)] * qd[k]).sum::<f64>();
+        }
+        self.correct(qd);
+        Ok(())
+    }
+
+    /// Positions, then velocities at the projected positions.
+    pub fn project(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &mut [f64],
+        qd: &mut [f64],
+    ) -> Result<(), Error> {
+        self.project_positions(system, t, q)?;
+        self.project_velocities(system, t, q, qd)
+    }
+}

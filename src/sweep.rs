@@ -1,0 +1,58 @@
+//! Parameter sweeps: many parameter sets, each run on its own clone of the system, in
+//! parallel with rayon. Parameters are run-time values of the generated struct, so nothing
+//! is rebuilt between sets.
+
+use rayon::prelude::*;
+
+use crate::error::Error;
+use crate::mechanism::System;
+use crate::simulate::{SimulationOptions, simulate};
+use crate::trajectory::Trajectory;
+
+/// A parameter set: (name, value) pairs; parameters not named keep the system's values.
+pub type ParameterSet = Vec<(String, f64)>;
+
+/// A clone of `system` with the named parameters set ([`Error::UnknownParameter`] for a
+/// name the system does not declare, [`Error::NonFinite`] for a NaN or infinite value).
+pub fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Result<S, Error> {
+    let mut s = system.clone();
+    for (name, value) in set {
+        let info = s.info();
+        let i = info
+            .parameter_index(name)
+            .ok_or_else(|| Error::UnknownParameter {
+                name: name.clone(),
+                known: info.parameters.clone(),
+            })?;
+        if !value.is_finite() {
+            return Err(Error::NonFinite {
+                what: format!("parameter {name}"),
+                t: 0.0,
+            });
+        }
+        s.set_parameter(i, *value);
+    }
+    Ok(s)
+}
+
+/// Applies `f` to a clone of `system` for each parameter set, in parallel; results in the
+/// order of `sets`.
+pub fn sweep<S, R, F>(system: &S, sets: &[ParameterSet], f: F) -> Vec<Result<R, Error>>
+where
+    S: System + Clone,
+    R: Send,
+    F: Fn(&S) -> Result<R, Error> + Sync,
+{
+    sets.par_iter()
+        .map(|set| with_parameters(system, set).and_then(|s| f(&s)))
+        .collect()
+}
+
+/// Forward simulation of every parameter set, in parallel.
+pub fn sweep_simulate<S: System + Clone>(
+    system: &S,
+    sets: &[ParameterSet],
+    options: &SimulationOptions,
+) -> Vec<Result<Trajectory, Error>> {
+    sweep(system, sets, |s| simulate(s, options))
+}

@@ -1,0 +1,218 @@
+//! The emitted code equals the interpreter route, for every library mechanism.
+//!
+//! Route 1: the struct `mechanism!` expanded from `mechanisms/<name>.mech` at build time
+//! (specialised, CSE'd Rust). Route 2: the same text parsed at run time, derived, and
+//! evaluated node by node by `mechanism_codegen::eval`. Both evaluate the same expression
+//! DAG, so they agree up to rounding: the emitted code may reorder sums, pair sin/cos and
+//! use `powi`. Tolerance: 1e-12 relative to the largest entry of the quantity compared (an
+//! entry is a sum of terms bounded by that scale, so its rounding error is too), at random
+//! states and with randomly perturbed parameters.
+
+use mechanism::builtin::{
+    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider, SpatialFourBar,
+    builtin, builtin_names, builtin_source,
+};
+use mechanism::{Evaluation, Mechanism};
+use mechanism_codegen::{Equations, Id, Matrix, Model, SymbolId, derive, eval, parse_model_str};
+use nalgebra::{DMatrix, SMatrix, SVector};
+
+const TOL: f64 = 1e-12;
+const STATES: usize = 25;
+
+/// A small deterministic generator (xorshift64*): uniform in [-1, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let x = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
+        x as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// One random state: (t, q, q', parameters).
+struct State {
+    t: f64,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    params: Vec<f64>,
+}
+
+/// The interpreter route at one state.
+struct Interpreted {
+    model: Model,
+    eqs: Equations,
+}
+
+impl Interpreted {
+    fn new(name: &str) -> Self {
+        let text = builtin_source(name).expect("a library mechanism");
+        let mut model = parse_model_str(text).expect("the library file parses");
+        let eqs = derive(&mut model).expect("the library file derives");
+        Self { model, eqs }
+    }
+
+    fn random_state(&self, rng: &mut Rng) -> State {
+        let n = self.model.coordinates.len();
+        State {
+            t: 2.0 * rng.next(),
+            // Around the guess, off the constraint manifold on purpose: the equations are
+            // defined everywhere, and an error would show anywhere.
+            q: self.model.coordinates.iter().map(|c| c.guess + 0.5 * rng.next()).collect(),
+            qd: (0..n).map(|_| 3.0 * rng.next()).collect(),
+            params: self.model.parameters.iter().map(|p| p.default * (1.0 + 0.2 * rng.next()) + 0.01 * rng.next()).collect(),
+        }
+    }
+
+    fn value(&self, s: &State, id: Id) -> f64 {
+        let arena = &self.model.arena;
+        let sym = |x: Id| arena.as_symbol(x);
+        let env = |k: SymbolId| -> Option<f64> {
+            if sym(self.model.time) == Some(k) {
+                return Some(s.t);
+            }
+            for (i, c) in self.model.coordinates.iter().enumerate() {
+                if sym(c.q) == Some(k) {
+                    return Some(s.q[i]);
+                }
+                if sym(c.qd) == Some(k) {
+                    return Some(s.qd[i]);
+                }
+            }
+            for (i, p) in self.model.parameters.iter().enumerate() {
+                if sym(p.symbol) == Some(k) {
+                    return Some(s.params[i]);
+                }
+            }
+            None
+        };
+        eval(arena, id, &env).expect("the interpreter evaluates the derived equations")
+    }
+
+    fn matrix(&self, s: &State, m: &Matrix) -> DMatrix<f64> {
+        DMatrix::from_fn(m.rows, m.cols, |i, j| self.value(s, m.get(i, j)))
+    }
+}
+
+/// |a - b| <= TOL * scale, entry by entry, with scale the largest |b| (at least 1e-300).
+fn assert_close(what: &str, name: &str, a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len(), "{name}: {what} sizes differ");
+    let scale = b.iter().fold(1e-300_f64, |s, x| s.max(x.abs()));
+    for (k, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= TOL * scale,
+            "{name}: {what}[{k}] emitted {x:e} vs interpreted {y:e} (scale {scale:e})"
+        );
+    }
+}
+
+/// Every method of the statically typed struct against the interpreter.
+fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(name: &str, seed: u64) {
+    let route = Interpreted::new(name);
+    let mut rng = Rng(seed);
+    assert_eq!(route.eqs.n, N);
+    assert_eq!(route.eqs.m, M);
+    for _ in 0..STATES {
+        let s = route.random_state(&mut rng);
+        let mut mech = T::default();
+        for (i, &p) in s.params.iter().enumerate() {
+            assert!(mech.set_parameter(i, p));
+        }
+        let q = SVector::<f64, N>::from_column_slice(&s.q);
+        let qd = SVector::<f64, N>::from_column_slice(&s.qd);
+        let e = &route.eqs;
+        let pairs: [(&str, Vec<f64>, &Matrix); 9] = [
+            ("M", mech.mass_matrix(&q).as_slice().to_vec(), &e.mass),
+            ("C", mech.coriolis_matrix(&q, &qd).as_slice().to_vec(), &e.coriolis_matrix),
+            ("C q'", mech.coriolis_forces(&q, &qd).as_slice().to_vec(), &e.coriolis_forces),
+            ("g", mech.gravity(&q).as_slice().to_vec(), &e.gravity),
+            ("tau", mech.generalized_forces(s.t, &q, &qd).as_slice().to_vec(), &e.forces),
+            ("Phi", mech.constraints(s.t, &q).as_slice().to_vec(), &e.phi),
+            ("Phi_q", mech.constraint_jacobian(s.t, &q).as_slice().to_vec(), &e.phi_q),
+            ("Phi_t", mech.constraint_time_derivative(s.t, &q).as_slice().to_vec(), &e.phi_t),
+            ("gamma", mech.constraint_gamma(s.t, &q, &qd).as_slice().to_vec(), &e.gamma),
+        ];
+        for (what, emitted, symbolic) in pairs {
+            // nalgebra stores column-major: compare against the interpreted matrix's
+            // column-major slice.
+            let interpreted = route.matrix(&s, symbolic);
+            assert_close(what, name, &emitted, interpreted.as_slice());
+        }
+        assert_close("T", name, &[mech.kinetic_energy(&q, &qd)], &[route.value(&s, e.kinetic)]);
+        assert_close("Pi", name, &[mech.potential_energy(&q)], &[route.value(&s, e.potential)]);
+
+        // The combined evaluation returns exactly what the single methods return.
+        let all = mech.evaluate(s.t, &q, &qd);
+        assert_close("evaluate.mass", name, all.mass.as_slice(), mech.mass_matrix(&q).as_slice());
+        assert_close("evaluate.coriolis", name, all.coriolis.as_slice(), mech.coriolis_forces(&q, &qd).as_slice());
+        assert_close("evaluate.gravity", name, all.gravity.as_slice(), mech.gravity(&q).as_slice());
+        assert_close("evaluate.forces", name, all.forces.as_slice(), mech.generalized_forces(s.t, &q, &qd).as_slice());
+        assert_close("evaluate.phi", name, all.phi.as_slice(), mech.constraints(s.t, &q).as_slice());
+        assert_close("evaluate.phi_q", name, all.phi_q.as_slice(), mech.constraint_jacobian(s.t, &q).as_slice());
+        assert_close("evaluate.phi_t", name, all.phi_t.as_slice(), mech.constraint_time_derivative(s.t, &q).as_slice());
+        assert_close("evaluate.gamma", name, all.gamma.as_slice(), mech.constraint_gamma(s.t, &q, &qd).as_slice());
+        assert_close("evaluate.kinetic", name, &[all.kinetic], &[mech.kinetic_energy(&q, &qd)]);
+        assert_close("evaluate.potential", name, &[all.potential], &[mech.potential_energy(&q)]);
+        // Khang's C times q' is C q'.
+        let cqd: SVector<f64, N> = mech.coriolis_matrix(&q, &qd) * qd;
+        let scale = cqd.amax().max(1.0);
+        assert!((cqd - all.coriolis).amax() <= 1e-12 * scale, "{name}: C q' differs from (C)(q')");
+        let _: SMatrix<f64, M, N> = all.phi_q;
+    }
+}
+
+#[test]
+fn spatial_crank_slider() {
+    check_methods::<SpatialCrankSlider, 4, 3>("spatial_crank_slider", 1);
+}
+
+#[test]
+fn planar_four_bar() {
+    check_methods::<PlanarFourBar, 3, 2>("planar_four_bar", 2);
+}
+
+#[test]
+fn spatial_four_bar() {
+    check_methods::<SpatialFourBar, 4, 3>("spatial_four_bar", 3);
+}
+
+#[test]
+fn closed_chain() {
+    check_methods::<ClosedChain4, 4, 2>("closed_chain", 4);
+}
+
+#[test]
+fn planar_slider_crank() {
+    check_methods::<PlanarSliderCrank, 3, 2>("planar_slider_crank", 5);
+}
+
+#[test]
+fn cartesian_pendulum() {
+    check_methods::<CartesianPendulum, 2, 1>("cartesian_pendulum", 6);
+}
+
+/// The run-time registry: every name resolves, and the boxed `System` (through `Compiled`)
+/// gives the interpreter's values too, including after `set_parameter`.
+#[test]
+fn registry_systems_match_the_interpreter() {
+    assert_eq!(builtin_names().len(), 6);
+    assert!(builtin("no_such_mechanism").is_none());
+    assert!(builtin_source("no_such_mechanism").is_none());
+    for (k, name) in builtin_names().iter().enumerate() {
+        let route = Interpreted::new(name);
+        let mut system = builtin(name).expect("registered");
+        let (n, m) = (route.eqs.n, route.eqs.m);
+        assert_eq!((system.info().n(), system.info().m()), (n, m), "{name}");
+        let mut rng = Rng(100 + k as u64);
+        let s = route.random_state(&mut rng);
+        for (i, &p) in s.params.iter().enumerate() {
+            assert!(system.set_parameter(i, p));
+        }
+        let mut out = Evaluation::zeros(n, m);
+        system.evaluate(s.t, &s.q, &s.qd, &mut out);
+        assert_close("M", name, out.mass.as_slice(), route.matrix(&s, &route.eqs.mass).as_slice());
+        assert_close("gamma", name, out.gamma.as_slice(), route.matrix(&s, &route.eqs.gamma).as_slice());
+        assert_close("Phi_q", name, out.phi_q.as_slice(), route.matrix(&s, &route.eqs.phi_q).as_slice());
+    }
+}

@@ -1,0 +1,84 @@
+//! The emitted methods allocate nothing: a counting global allocator sees zero allocations
+//! while every method of every library mechanism runs (and `evaluate`, the one the solver
+//! calls in its step loop).
+//!
+//! The counter is thread-local so that the test harness's other threads cannot disturb it.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::hint::black_box;
+
+use mechanism::Mechanism;
+use mechanism::builtin::{
+    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider, SpatialFourBar,
+};
+use nalgebra::SVector;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+/// Runs every method once and returns the number of allocations they made.
+fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usize {
+    let mech = T::default();
+    let q = SVector::<f64, N>::from(T::INITIAL_GUESS);
+    let qd = SVector::<f64, N>::from_fn(|i, _| 0.3 + i as f64);
+    let t = 0.25;
+    let before = allocations();
+    black_box(mech.mass_matrix(black_box(&q)));
+    black_box(mech.coriolis_matrix(&q, &qd));
+    black_box(mech.coriolis_forces(&q, &qd));
+    black_box(mech.gravity(&q));
+    black_box(mech.generalized_forces(t, &q, &qd));
+    black_box(mech.constraints(t, &q));
+    black_box(mech.constraint_jacobian(t, &q));
+    black_box(mech.constraint_time_derivative(t, &q));
+    black_box(mech.constraint_gamma(t, &q, &qd));
+    black_box(mech.kinetic_energy(&q, &qd));
+    black_box(mech.potential_energy(&q));
+    black_box(mech.parameter(0));
+    black_box(mech.evaluate(black_box(t), &q, &qd));
+    allocations() - before
+}
+
+#[test]
+fn the_counter_counts() {
+    // Guards the test itself: an allocation between two readings is seen.
+    let before = allocations();
+    let v: Vec<u8> = black_box(Vec::with_capacity(16));
+    assert!(allocations() > before);
+    drop(v);
+}
+
+#[test]
+fn emitted_methods_do_not_allocate() {
+    assert_eq!(count::<SpatialCrankSlider, 4, 3>(), 0, "spatial_crank_slider");
+    assert_eq!(count::<PlanarFourBar, 3, 2>(), 0, "planar_four_bar");
+    assert_eq!(count::<SpatialFourBar, 4, 3>(), 0, "spatial_four_bar");
+    assert_eq!(count::<ClosedChain4, 4, 2>(), 0, "closed_chain");
+    assert_eq!(count::<PlanarSliderCrank, 3, 2>(), 0, "planar_slider_crank");
+    assert_eq!(count::<CartesianPendulum, 2, 1>(), 0, "cartesian_pendulum");
+}

@@ -1,0 +1,198 @@
+//! `summary.json`: every key, with values computed from the trajectory and the run settings.
+
+mod output_support;
+
+use mechanism::output::{OutputError, RunSettings, Summary, TrajectoryMaxima, write_summary};
+use mechanism::{SolverStats, Trajectory};
+use output_support::{DRIFT, MAX_PHI, MAX_VEL, PARAMETERS, info, temp_dir, trajectory};
+use serde_json::Value;
+
+fn settings() -> RunSettings {
+    RunSettings {
+        integrator: "dopri5".into(),
+        rtol: Some(1e-10),
+        atol: Some(1e-12),
+        stabilization: "projection".into(),
+    }
+}
+
+fn parameter_values() -> Vec<f64> {
+    PARAMETERS.iter().map(|p| p.1).collect()
+}
+
+#[test]
+fn maxima_are_the_injected_ones() {
+    let max = TrajectoryMaxima::of(&trajectory("spatial_crank_slider"));
+    assert_eq!(max.constraint_error, MAX_PHI);
+    assert_eq!(
+        max.velocity_constraint_error, MAX_VEL,
+        "absolute value of a negative residual"
+    );
+    // T + Pi = 1 (up to rounding) and W = DRIFT t^2, so max |E - E0| = DRIFT * 10^2.
+    let expected = DRIFT * 100.0;
+    assert!(
+        (max.energy_balance_error - expected).abs() < 1e-12 * expected + 4.0 * f64::EPSILON,
+        "{}",
+        max.energy_balance_error
+    );
+}
+
+#[test]
+fn energy_balance_is_relative_to_the_first_sample() {
+    // E = T + Pi - W = 5, 5, 5 + 3e-6, 5 - 1e-6: the error is 3e-6 whatever E0 is.
+    let mut tr = Trajectory::with_capacity(info("energy"), 4);
+    let z = [0.0; 4];
+    for (t, e) in [
+        (0.0, [4.0, 2.0, 1.0]),
+        (1.0, [3.0, 4.0, 2.0]),
+        (2.0, [1.0, 4.0 + 3e-6, 0.0]),
+        (3.0, [0.0, 6.0, 1.0 + 1e-6]),
+    ] {
+        tr.push(t, &z, &z, &z, &[0.0; 3], 0.0, 0.0, e);
+    }
+    let err = TrajectoryMaxima::of(&tr).energy_balance_error;
+    assert!((err - 3e-6).abs() < 1e-15, "{err}");
+}
+
+#[test]
+fn nan_is_reported_not_hidden() {
+    let mut tr = trajectory("nan");
+    let z = [0.0; 4];
+    tr.push(
+        10.01,
+        &z,
+        &z,
+        &z,
+        &[0.0; 3],
+        f64::NAN,
+        0.0,
+        [f64::NAN, 0.0, 0.0],
+    );
+    let max = TrajectoryMaxima::of(&tr);
+    assert!(
+        max.constraint_error.is_nan() && max.energy_balance_error.is_nan(),
+        "{max:?}"
+    );
+    assert_eq!(max.velocity_constraint_error, MAX_VEL);
+}
+
+#[test]
+fn summary_json_has_every_key_with_its_value() {
+    let tr = trajectory("spatial_crank_slider");
+    let summary = Summary::new(&tr, &parameter_values(), &settings()).expect("summary");
+    let path = temp_dir("summary").join("out/summary.json");
+    write_summary(&path, &summary).expect("write");
+    let text = std::fs::read_to_string(&path).expect("read");
+    let json: Value = serde_json::from_str(&text).expect("valid JSON");
+    let keys = [
+        "mechanism",
+        "parameters",
+        "consistent_initial_state",
+        "max_constraint_error",
+        "max_velocity_constraint_error",
+        "max_energy_balance_error",
+        "steps",
+        "rejected_steps",
+        "rhs_evaluations",
+        "wall_time_s",
+        "integrator",
+        "rtol",
+        "atol",
+        "stabilization",
+    ];
+    let object = json.as_object().expect("an object");
+    assert_eq!(
+        object.len(),
+        keys.len(),
+        "exactly the documented keys: {:?}",
+        object.keys().collect::<Vec<_>>()
+    );
+    // Keys are written in the documented order.
+    let positions: Vec<usize> = keys
+        .iter()
+        .map(|k| text.find(&format!("\"{k}\"")).expect(k))
+        .collect();
+    assert!(
+        positions.windows(2).all(|w| w[0] < w[1]),
+        "key order {positions:?}"
+    );
+
+    assert_eq!(json["mechanism"], "spatial_crank_slider");
+    for (name, value) in PARAMETERS {
+        assert_eq!(json["parameters"][name].as_f64(), Some(value), "{name}");
+    }
+    let a1 = text.find("\"a1\"").expect("a1");
+    assert!(
+        a1 < text.find("\"l2\"").expect("l2") && text.find("\"l2\"") < text.find("\"g\""),
+        "parameter order"
+    );
+
+    let first = tr.sample(0);
+    for (i, name) in ["phi", "beta", "gamma", "x_c"].iter().enumerate() {
+        assert_eq!(
+            json["consistent_initial_state"]["q"][name].as_f64(),
+            Some(first.q[i]),
+            "q {name}"
+        );
+        assert_eq!(
+            json["consistent_initial_state"]["q_dot"][name].as_f64(),
+            Some(first.qd[i]),
+            "q_dot {name}"
+        );
+    }
+    assert_eq!(
+        json["consistent_initial_state"]["q_dot"]["phi"].as_f64(),
+        Some(2.0 * std::f64::consts::PI)
+    );
+
+    assert_eq!(json["max_constraint_error"].as_f64(), Some(MAX_PHI));
+    assert_eq!(
+        json["max_velocity_constraint_error"].as_f64(),
+        Some(MAX_VEL)
+    );
+    assert_eq!(
+        json["max_energy_balance_error"].as_f64(),
+        Some(TrajectoryMaxima::of(&tr).energy_balance_error)
+    );
+    assert_eq!(json["steps"], 2000);
+    assert_eq!(json["rejected_steps"], 7);
+    assert_eq!(json["rhs_evaluations"], 12_034);
+    assert_eq!(json["wall_time_s"].as_f64(), Some(0.125));
+    assert_eq!(json["integrator"], "dopri5");
+    assert_eq!(json["rtol"].as_f64(), Some(1e-10));
+    assert_eq!(json["atol"].as_f64(), Some(1e-12));
+    assert_eq!(json["stabilization"], "projection");
+}
+
+#[test]
+fn fixed_step_runs_write_null_tolerances() {
+    let mut tr = trajectory("rk4");
+    tr.stats = SolverStats::default();
+    let settings = RunSettings {
+        integrator: "rk4".into(),
+        rtol: None,
+        atol: None,
+        stabilization: "none".into(),
+    };
+    let summary = Summary::new(&tr, &parameter_values(), &settings).expect("summary");
+    let json = serde_json::to_value(&summary).expect("serialise");
+    assert!(json["rtol"].is_null() && json["atol"].is_null(), "{json}");
+    assert_eq!(json["steps"], 0);
+}
+
+#[test]
+fn bad_inputs_are_errors() {
+    let tr = trajectory("x");
+    let err = Summary::new(&tr, &[1.0], &settings()).expect_err("wrong parameter count");
+    assert!(
+        matches!(err, OutputError::InvalidData { .. })
+            && err.to_string().contains("1 parameter values for 3"),
+        "{err}"
+    );
+    let empty = Trajectory::with_capacity(info("empty"), 0);
+    assert!(
+        Summary::new(&empty, &parameter_values(), &settings()).is_err(),
+        "empty trajectory"
+    );
+    assert_eq!(TrajectoryMaxima::of(&empty), TrajectoryMaxima::default());
+}

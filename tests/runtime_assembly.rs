@@ -1,0 +1,139 @@
+//! Assembly: consistent initial states and the typed errors of the position Newton.
+mod common;
+
+use common::{CrankSlider, FourBar, Pendulum};
+use mechanism::{AssemblyOptions, Error, Independent, assemble, assemble_from};
+
+/// ERRATA item 2: at phi = 0, gamma0 = acos((h + l1)/l2), beta0 = asin(d/(l2 sin gamma0)),
+/// x_c0 = 0.2 m; the rates follow from Phi_q q' = 0 with phi' = 2 pi.
+#[test]
+fn seed_initial_state_matches_closed_forms() {
+    let s = CrankSlider::seed();
+    let st = assemble(&s, 0.0, &AssemblyOptions::default()).unwrap();
+    let (h, l1, l2, d): (f64, f64, f64, f64) = (0.12, 0.08, 0.3, 0.1);
+    let g0 = ((h + l1) / l2).acos();
+    let b0 = (d / (l2 * g0.sin())).asin();
+    println!(
+        "assembled q = {:?}, closed form beta0 = {b0}, gamma0 = {g0}",
+        st.q
+    );
+    assert_eq!(st.q[0], 0.0);
+    assert!((st.q[1] - b0).abs() < 1e-14, "beta0 {} vs {b0}", st.q[1]);
+    assert!((st.q[2] - g0).abs() < 1e-14, "gamma0 {} vs {g0}", st.q[2]);
+    assert!((st.q[3] - 0.2).abs() < 1e-14, "x_c0 {}", st.q[3]);
+    // Rates: at phi = 0, f3' = -l1 sin(phi) phi' + l2 sin(gamma) gamma' = 0 gives gamma' = 0;
+    // f2' = -l1 cos(phi) phi' + l2 sin(g) cos(b) beta' = 0 gives beta' = l1 phi'/(l2 sg cb);
+    // f1' = l2 cos(g) cos(b) gamma' - l2 sg sb beta' - x_c' = 0 gives x_c' = -l2 sg sb beta'.
+    let w = 2.0 * std::f64::consts::PI;
+    let bd = l1 * w / (l2 * g0.sin() * b0.cos());
+    assert!((st.qd[0] - w).abs() < 1e-15);
+    assert!((st.qd[1] - bd).abs() < 1e-13, "beta' {} vs {bd}", st.qd[1]);
+    assert!(st.qd[2].abs() < 1e-13);
+    assert!((st.qd[3] + l2 * g0.sin() * b0.sin() * bd).abs() < 1e-13);
+}
+
+#[test]
+fn four_bar_assembles_on_the_declared_branch() {
+    let s = FourBar::crank_rocker();
+    let st = assemble(&s, 0.0, &AssemblyOptions::default()).unwrap();
+    // C = D + l3 (cos th3, sin th3) must lie above the x-axis, and |C - B| = l2.
+    let c = (0.35 + 0.3 * st.q[2].cos(), 0.3 * st.q[2].sin());
+    assert!(c.1 > 0.0);
+    let b = (0.1 * st.q[0].cos(), 0.1 * st.q[0].sin());
+    assert!(((c.0 - b.0).hypot(c.1 - b.1) - 0.4).abs() < 1e-15);
+    // Circle intersection by hand (see the test-system notes): th2 = 0.52353719685628..., th3 = 1.58272168743425...
+    assert!(
+        (st.q[1] - 0.5235371968562865).abs() < 1e-12
+            && (st.q[2] - 1.5827216874342542).abs() < 1e-12
+    );
+}
+
+#[test]
+fn newton_failure_is_a_typed_error() {
+    let s = CrankSlider::seed();
+    let opts = AssemblyOptions {
+        max_iterations: 2,
+        ..Default::default()
+    };
+    match assemble(&s, 0.0, &opts) {
+        Err(Error::NewtonDidNotConverge {
+            iterations,
+            residual,
+            q,
+            ..
+        }) => {
+            assert_eq!(iterations, 2);
+            assert!(residual > 1e-12 && residual.is_finite() && q.len() == 4);
+        }
+        other => panic!("expected NewtonDidNotConverge, got {other:?}"),
+    }
+}
+
+#[test]
+fn unreachable_position_is_a_singular_configuration() {
+    // The locking four-bar cannot reach th1 = pi (|BD| = 0.55 > l2 + l3 = 0.5): Newton ends
+    // at the least-squares point where coupler and rocker are in line and Phi_v is singular.
+    let s = FourBar::locking();
+    let ind = [Independent {
+        coordinate: 0,
+        position: std::f64::consts::PI,
+        velocity: 0.0,
+    }];
+    let err = assemble_from(
+        &s,
+        0.0,
+        &ind,
+        &s.info.initial_guess,
+        &AssemblyOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(err, Error::SingularConfiguration { .. }), "{err}");
+}
+
+#[test]
+fn redundant_constraints_are_reported() {
+    let s = Pendulum::redundant();
+    match assemble(&s, 0.0, &AssemblyOptions::default()) {
+        Err(Error::RedundantConstraints { rank, rows, .. }) => assert_eq!((rank, rows), (1, 2)),
+        other => panic!("expected RedundantConstraints, got {other:?}"),
+    }
+}
+
+#[test]
+fn an_independent_set_that_leaves_coordinates_free_is_reported() {
+    // No independent coordinate: 3 dependent coordinates, 2 constraints.
+    let s = FourBar::crank_rocker();
+    let err = assemble_from(
+        &s,
+        0.0,
+        &[],
+        &s.info.initial_guess,
+        &AssemblyOptions::default(),
+    )
+    .unwrap_err();
+    match err {
+        Error::IndependentSetDoesNotDetermine {
+            dependent, rank, ..
+        } => assert_eq!((dependent, rank), (3, 2)),
+        other => panic!("{other:?}"),
+    }
+    // An index out of range is an unknown driver.
+    let ind = [Independent {
+        coordinate: 7,
+        position: 0.0,
+        velocity: 0.0,
+    }];
+    assert!(matches!(
+        assemble_from(
+            &s,
+            0.0,
+            &ind,
+            &s.info.initial_guess,
+            &AssemblyOptions::default()
+        ),
+        Err(Error::UnknownDriver {
+            coordinate: 7,
+            n: 3
+        })
+    ));
+}

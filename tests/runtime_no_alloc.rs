@@ -1,0 +1,113 @@
+//! The step loop allocates nothing: a counting global allocator (counting only on this
+//! test's thread, while armed) sees zero allocations over hundreds of steps after warm-up,
+//! for every integrator and stabilisation.
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System as SystemAlloc};
+use std::cell::Cell;
+
+use common::{CrankSlider, FourBar};
+use mechanism::{IntegratorOptions, Method, SimulationOptions, Simulator, Stabilization, System};
+
+struct Counting;
+
+thread_local! {
+    static ARMED: Cell<bool> = const { Cell::new(false) };
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if ARMED.with(|a| a.get()) {
+            COUNT.with(|c| c.set(c.get() + 1));
+        }
+        unsafe { SystemAlloc.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { SystemAlloc.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if ARMED.with(|a| a.get()) {
+            COUNT.with(|c| c.set(c.get() + 1));
+        }
+        unsafe { SystemAlloc.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations_in_steps(
+    system: &dyn System,
+    method: Method,
+    stabilization: Stabilization,
+    steps: usize,
+) -> (usize, usize) {
+    let o = SimulationOptions {
+        t_end: 100.0,
+        stabilization,
+        integrator: IntegratorOptions {
+            method,
+            rtol: 1e-9,
+            atol: 1e-11,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut sim = Simulator::new(system, &o).unwrap();
+    for _ in 0..20 {
+        sim.step().unwrap();
+    }
+    let before = sim.trajectory().len();
+    COUNT.with(|c| c.set(0));
+    ARMED.with(|a| a.set(true));
+    for _ in 0..steps {
+        sim.step().unwrap();
+    }
+    ARMED.with(|a| a.set(false));
+    (COUNT.with(|c| c.get()), sim.trajectory().len() - before)
+}
+
+#[test]
+fn step_loop_allocates_nothing() {
+    let seed = CrankSlider::seed();
+    let four_bar = FourBar::crank_rocker();
+    let cases: [(&dyn System, Method, Stabilization); 6] = [
+        (&seed, Method::Dopri5, Stabilization::Projection),
+        (&seed, Method::Dop853, Stabilization::Projection),
+        (&four_bar, Method::Dop853, Stabilization::None),
+        (
+            &four_bar,
+            Method::Dopri5,
+            Stabilization::Baumgarte {
+                alpha: 5.0,
+                beta: 5.0,
+            },
+        ),
+        (
+            &four_bar,
+            Method::Rk4 { h: 1e-3 },
+            Stabilization::Projection,
+        ),
+        (
+            &seed,
+            Method::Hht {
+                h: 1e-3,
+                alpha: -0.05,
+            },
+            Stabilization::Projection,
+        ),
+    ];
+    for (s, method, stab) in cases {
+        let (n, samples) = allocations_in_steps(s, method, stab, 400);
+        println!(
+            "{} {method:?} {stab:?}: {n} allocations in 400 steps ({samples} samples recorded)",
+            s.info().name
+        );
+        assert!(
+            samples > 0,
+            "the steps must record samples, so that the output path is exercised"
+        );
+        assert_eq!(n, 0, "{} {method:?} {stab:?}", s.info().name);
+    }
+}
