@@ -36,11 +36,21 @@ fn main() {
     let q = SVector::<f64, 2>::from(GuidedDoublePendulum::INITIAL_GUESS);
     let qd = SVector::<f64, 2>::zeros();
 
-    println!("{} ({:?})", GuidedDoublePendulum::NAME, GuidedDoublePendulum::COORDINATES);
+    println!(
+        "{} ({:?})",
+        GuidedDoublePendulum::NAME,
+        GuidedDoublePendulum::COORDINATES
+    );
     println!("mass matrix at the guess:{}", pendulum.mass_matrix(&q));
-    println!("constraint residual at the guess: {:.3e}", pendulum.constraints(0.0, &q)[0]);
+    println!(
+        "constraint residual at the guess: {:.3e}",
+        pendulum.constraints(0.0, &q)[0]
+    );
     let e = pendulum.evaluate(0.0, &q, &qd);
     println!("gravity g(q) = dPi/dq:{}", e.gravity);
     println!("constraint Jacobian Phi_q:{}", e.phi_q);
-    println!("\nDerived equations:\n{}", GuidedDoublePendulum::equations());
+    println!(
+        "\nDerived equations:\n{}",
+        GuidedDoublePendulum::equations()
+    );
 }

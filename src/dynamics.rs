@@ -98,7 +98,11 @@ impl Dynamics {
         for r in 0..m {
             let mut g = e.gamma[r];
             if let Some((alpha, beta)) = self.baumgarte {
-                let v = e.phi_t[r] + qd.iter().enumerate().map(|(j, w)| e.phi_q[(r, j)] * w).sum::<f64>();
+                let v = e.phi_t[r]
+                    + qd.iter()
+                        .enumerate()
+                        .map(|(j, w)| e.phi_q[(r, j)] * w)
+                        .sum::<f64>();
                 g -= 2.0 * alpha * v + beta * beta * e.phi[r];
             }
             self.sol[n + r] = g;

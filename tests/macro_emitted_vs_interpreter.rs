@@ -9,8 +9,8 @@
 //! states and with randomly perturbed parameters.
 
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider, SpatialFourBar,
-    builtin, builtin_names, builtin_source,
+    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
+    SpatialFourBar, builtin, builtin_names, builtin_source,
 };
 use mechanism::{Evaluation, Mechanism};
 use mechanism_codegen::{Equations, Id, Matrix, Model, SymbolId, derive, eval, parse_model_str};
@@ -59,9 +59,19 @@ impl Interpreted {
             t: 2.0 * rng.next(),
             // Around the guess, off the constraint manifold on purpose: the equations are
             // defined everywhere, and an error would show anywhere.
-            q: self.model.coordinates.iter().map(|c| c.guess + 0.5 * rng.next()).collect(),
+            q: self
+                .model
+                .coordinates
+                .iter()
+                .map(|c| c.guess + 0.5 * rng.next())
+                .collect(),
             qd: (0..n).map(|_| 3.0 * rng.next()).collect(),
-            params: self.model.parameters.iter().map(|p| p.default * (1.0 + 0.2 * rng.next()) + 0.01 * rng.next()).collect(),
+            params: self
+                .model
+                .parameters
+                .iter()
+                .map(|p| p.default * (1.0 + 0.2 * rng.next()) + 0.01 * rng.next())
+                .collect(),
         }
     }
 
@@ -108,7 +118,10 @@ fn assert_close(what: &str, name: &str, a: &[f64], b: &[f64]) {
 }
 
 /// Every method of the statically typed struct against the interpreter.
-fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(name: &str, seed: u64) {
+fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(
+    name: &str,
+    seed: u64,
+) {
     let route = Interpreted::new(name);
     let mut rng = Rng(seed);
     assert_eq!(route.eqs.n, N);
@@ -124,14 +137,38 @@ fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(n
         let e = &route.eqs;
         let pairs: [(&str, Vec<f64>, &Matrix); 9] = [
             ("M", mech.mass_matrix(&q).as_slice().to_vec(), &e.mass),
-            ("C", mech.coriolis_matrix(&q, &qd).as_slice().to_vec(), &e.coriolis_matrix),
-            ("C q'", mech.coriolis_forces(&q, &qd).as_slice().to_vec(), &e.coriolis_forces),
+            (
+                "C",
+                mech.coriolis_matrix(&q, &qd).as_slice().to_vec(),
+                &e.coriolis_matrix,
+            ),
+            (
+                "C q'",
+                mech.coriolis_forces(&q, &qd).as_slice().to_vec(),
+                &e.coriolis_forces,
+            ),
             ("g", mech.gravity(&q).as_slice().to_vec(), &e.gravity),
-            ("tau", mech.generalized_forces(s.t, &q, &qd).as_slice().to_vec(), &e.forces),
+            (
+                "tau",
+                mech.generalized_forces(s.t, &q, &qd).as_slice().to_vec(),
+                &e.forces,
+            ),
             ("Phi", mech.constraints(s.t, &q).as_slice().to_vec(), &e.phi),
-            ("Phi_q", mech.constraint_jacobian(s.t, &q).as_slice().to_vec(), &e.phi_q),
-            ("Phi_t", mech.constraint_time_derivative(s.t, &q).as_slice().to_vec(), &e.phi_t),
-            ("gamma", mech.constraint_gamma(s.t, &q, &qd).as_slice().to_vec(), &e.gamma),
+            (
+                "Phi_q",
+                mech.constraint_jacobian(s.t, &q).as_slice().to_vec(),
+                &e.phi_q,
+            ),
+            (
+                "Phi_t",
+                mech.constraint_time_derivative(s.t, &q).as_slice().to_vec(),
+                &e.phi_t,
+            ),
+            (
+                "gamma",
+                mech.constraint_gamma(s.t, &q, &qd).as_slice().to_vec(),
+                &e.gamma,
+            ),
         ];
         for (what, emitted, symbolic) in pairs {
             // nalgebra stores column-major: compare against the interpreted matrix's
@@ -139,25 +176,88 @@ fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(n
             let interpreted = route.matrix(&s, symbolic);
             assert_close(what, name, &emitted, interpreted.as_slice());
         }
-        assert_close("T", name, &[mech.kinetic_energy(&q, &qd)], &[route.value(&s, e.kinetic)]);
-        assert_close("Pi", name, &[mech.potential_energy(&q)], &[route.value(&s, e.potential)]);
+        assert_close(
+            "T",
+            name,
+            &[mech.kinetic_energy(&q, &qd)],
+            &[route.value(&s, e.kinetic)],
+        );
+        assert_close(
+            "Pi",
+            name,
+            &[mech.potential_energy(&q)],
+            &[route.value(&s, e.potential)],
+        );
 
         // The combined evaluation returns exactly what the single methods return.
         let all = mech.evaluate(s.t, &q, &qd);
-        assert_close("evaluate.mass", name, all.mass.as_slice(), mech.mass_matrix(&q).as_slice());
-        assert_close("evaluate.coriolis", name, all.coriolis.as_slice(), mech.coriolis_forces(&q, &qd).as_slice());
-        assert_close("evaluate.gravity", name, all.gravity.as_slice(), mech.gravity(&q).as_slice());
-        assert_close("evaluate.forces", name, all.forces.as_slice(), mech.generalized_forces(s.t, &q, &qd).as_slice());
-        assert_close("evaluate.phi", name, all.phi.as_slice(), mech.constraints(s.t, &q).as_slice());
-        assert_close("evaluate.phi_q", name, all.phi_q.as_slice(), mech.constraint_jacobian(s.t, &q).as_slice());
-        assert_close("evaluate.phi_t", name, all.phi_t.as_slice(), mech.constraint_time_derivative(s.t, &q).as_slice());
-        assert_close("evaluate.gamma", name, all.gamma.as_slice(), mech.constraint_gamma(s.t, &q, &qd).as_slice());
-        assert_close("evaluate.kinetic", name, &[all.kinetic], &[mech.kinetic_energy(&q, &qd)]);
-        assert_close("evaluate.potential", name, &[all.potential], &[mech.potential_energy(&q)]);
+        assert_close(
+            "evaluate.mass",
+            name,
+            all.mass.as_slice(),
+            mech.mass_matrix(&q).as_slice(),
+        );
+        assert_close(
+            "evaluate.coriolis",
+            name,
+            all.coriolis.as_slice(),
+            mech.coriolis_forces(&q, &qd).as_slice(),
+        );
+        assert_close(
+            "evaluate.gravity",
+            name,
+            all.gravity.as_slice(),
+            mech.gravity(&q).as_slice(),
+        );
+        assert_close(
+            "evaluate.forces",
+            name,
+            all.forces.as_slice(),
+            mech.generalized_forces(s.t, &q, &qd).as_slice(),
+        );
+        assert_close(
+            "evaluate.phi",
+            name,
+            all.phi.as_slice(),
+            mech.constraints(s.t, &q).as_slice(),
+        );
+        assert_close(
+            "evaluate.phi_q",
+            name,
+            all.phi_q.as_slice(),
+            mech.constraint_jacobian(s.t, &q).as_slice(),
+        );
+        assert_close(
+            "evaluate.phi_t",
+            name,
+            all.phi_t.as_slice(),
+            mech.constraint_time_derivative(s.t, &q).as_slice(),
+        );
+        assert_close(
+            "evaluate.gamma",
+            name,
+            all.gamma.as_slice(),
+            mech.constraint_gamma(s.t, &q, &qd).as_slice(),
+        );
+        assert_close(
+            "evaluate.kinetic",
+            name,
+            &[all.kinetic],
+            &[mech.kinetic_energy(&q, &qd)],
+        );
+        assert_close(
+            "evaluate.potential",
+            name,
+            &[all.potential],
+            &[mech.potential_energy(&q)],
+        );
         // Khang's C times q' is C q'.
         let cqd: SVector<f64, N> = mech.coriolis_matrix(&q, &qd) * qd;
         let scale = cqd.amax().max(1.0);
-        assert!((cqd - all.coriolis).amax() <= 1e-12 * scale, "{name}: C q' differs from (C)(q')");
+        assert!(
+            (cqd - all.coriolis).amax() <= 1e-12 * scale,
+            "{name}: C q' differs from (C)(q')"
+        );
         let _: SMatrix<f64, M, N> = all.phi_q;
     }
 }
@@ -211,8 +311,23 @@ fn registry_systems_match_the_interpreter() {
         }
         let mut out = Evaluation::zeros(n, m);
         system.evaluate(s.t, &s.q, &s.qd, &mut out);
-        assert_close("M", name, out.mass.as_slice(), route.matrix(&s, &route.eqs.mass).as_slice());
-        assert_close("gamma", name, out.gamma.as_slice(), route.matrix(&s, &route.eqs.gamma).as_slice());
-        assert_close("Phi_q", name, out.phi_q.as_slice(), route.matrix(&s, &route.eqs.phi_q).as_slice());
+        assert_close(
+            "M",
+            name,
+            out.mass.as_slice(),
+            route.matrix(&s, &route.eqs.mass).as_slice(),
+        );
+        assert_close(
+            "gamma",
+            name,
+            out.gamma.as_slice(),
+            route.matrix(&s, &route.eqs.gamma).as_slice(),
+        );
+        assert_close(
+            "Phi_q",
+            name,
+            out.phi_q.as_slice(),
+            route.matrix(&s, &route.eqs.phi_q).as_slice(),
+        );
     }
 }

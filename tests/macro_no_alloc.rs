@@ -10,7 +10,8 @@ use std::hint::black_box;
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider, SpatialFourBar,
+    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
+    SpatialFourBar,
 };
 use nalgebra::SVector;
 
@@ -75,7 +76,11 @@ fn the_counter_counts() {
 
 #[test]
 fn emitted_methods_do_not_allocate() {
-    assert_eq!(count::<SpatialCrankSlider, 4, 3>(), 0, "spatial_crank_slider");
+    assert_eq!(
+        count::<SpatialCrankSlider, 4, 3>(),
+        0,
+        "spatial_crank_slider"
+    );
     assert_eq!(count::<PlanarFourBar, 3, 2>(), 0, "planar_four_bar");
     assert_eq!(count::<SpatialFourBar, 4, 3>(), 0, "spatial_four_bar");
     assert_eq!(count::<ClosedChain4, 4, 2>(), 0, "closed_chain");

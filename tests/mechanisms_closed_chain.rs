@@ -17,7 +17,9 @@ fn file_equals_the_programmatic_chain() {
     assert_eq!(chain.X, 2.0);
     let mut seed = 0x9E37_79B9_7F4A_7C15_u64;
     let mut next = move || {
-        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     };
     for _ in 0..20 {
@@ -33,17 +35,28 @@ fn file_equals_the_programmatic_chain() {
                     return Some(qd[i]);
                 }
             }
-            model.parameters.iter().position(|p| arena.as_symbol(p.symbol) == Some(k)).map(|_| 9.81)
+            model
+                .parameters
+                .iter()
+                .position(|p| arena.as_symbol(p.symbol) == Some(k))
+                .map(|_| 9.81)
         };
         let value = |id: Id| eval(arena, id, &env).unwrap();
         let entries = |m: &Matrix| -> Vec<f64> { m.data.iter().map(|&x| value(x)).collect() };
-        let (qs, qds) = (SVector::<f64, 4>::from_column_slice(&q), SVector::<f64, 4>::from_column_slice(&qd));
+        let (qs, qds) = (
+            SVector::<f64, 4>::from_column_slice(&q),
+            SVector::<f64, 4>::from_column_slice(&qd),
+        );
         let e = chain.evaluate(0.0, &qs, &qds);
         // Row-major (codegen) against nalgebra's (i, j).
         let compare = |what: &str, expected: Vec<f64>, got: &dyn Fn(usize) -> f64| {
             let scale = expected.iter().fold(1e-300_f64, |s, x| s.max(x.abs()));
             for (k, x) in expected.iter().enumerate() {
-                assert!((got(k) - x).abs() <= 1e-12 * scale, "{what}[{k}]: {} vs {x}", got(k));
+                assert!(
+                    (got(k) - x).abs() <= 1e-12 * scale,
+                    "{what}[{k}]: {} vs {x}",
+                    got(k)
+                );
             }
         };
         compare("M", entries(&eqs.mass), &|k| e.mass[(k / 4, k % 4)]);

@@ -6,8 +6,8 @@
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider, SpatialFourBar,
-    builtin_source,
+    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
+    SpatialFourBar, builtin_source,
 };
 use mechanism_codegen::{derive, equations_text, parse_model_str};
 use nalgebra::SVector;
@@ -65,7 +65,11 @@ fn seed_gravity_sign_follows_errata_item_4() {
         let q = SVector::<f64, 4>::new(phi, 0.46, 0.84, 0.2);
         let g = s.gravity(&q);
         let expected = -(s.m1 * s.a1 + s.m2 * s.l1 / 2.0) * s.g * f64::sin(phi);
-        assert!((g[0] - expected).abs() <= 1e-15 * expected.abs().max(1e-300), "phi = {phi}: {} vs {expected}", g[0]);
+        assert!(
+            (g[0] - expected).abs() <= 1e-15 * expected.abs().max(1e-300),
+            "phi = {phi}: {} vs {expected}",
+            g[0]
+        );
         assert_eq!((g[1], g[2], g[3]), (0.0, 0.0, 0.0));
     }
 }
@@ -87,7 +91,10 @@ fn seed_mass_matrix_is_the_lumped_one() {
 #[test]
 fn cartesian_pendulum_closed_forms() {
     let p = CartesianPendulum::default();
-    let (q, qd) = (SVector::<f64, 2>::new(0.3, -0.9), SVector::<f64, 2>::new(1.5, -0.5));
+    let (q, qd) = (
+        SVector::<f64, 2>::new(0.3, -0.9),
+        SVector::<f64, 2>::new(1.5, -0.5),
+    );
     let e = p.evaluate(0.0, &q, &qd);
     assert_eq!(e.mass, nalgebra::SMatrix::<f64, 2, 2>::identity() * p.m);
     assert_eq!(e.coriolis, SVector::<f64, 2>::zeros());

@@ -1,1 +1,269 @@
-//! Shared helpers for the benchmarks.
+//! Shared helpers for the criterion benchmarks of `mechanism`: the benchmarked mechanisms
+//! (compiled, interpreted, automatic differentiation), the macro's derivation pipeline, and
+//! small timing utilities.
+#![warn(missing_docs)]
+
+pub mod ad_models;
+pub mod autodiff;
+pub mod simulation;
+
+use mechanism::{Compiled, Interpreted, System};
+use mechanism_codegen::{
+    EmitBindings, Equations, Matrix, Model, OpCounts, OutputTarget, Program, Result, emit_body,
+};
+use quote::quote;
+
+use crate::ad_models::{ChainAd, FourBarAd, RssrAd, SeedAd};
+use crate::autodiff::AutoDiff;
+
+mechanism::mechanism!(file = "mechanisms/closed_chain_8.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_16.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_32.mech");
+
+/// The quantities the derivation benchmark covers: M, C q', g, Phi, Phi_q and gamma.
+pub fn derived_outputs(eqs: &Equations) -> [&Matrix; 6] {
+    [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity, &eqs.phi, &eqs.phi_q, &eqs.gamma]
+}
+
+/// The five quantities of the evaluation target: M, C q', g, Phi and Phi_q.
+pub fn five_outputs(eqs: &Equations) -> [&Matrix; 5] {
+    [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity, &eqs.phi, &eqs.phi_q]
+}
+
+/// Derives `model` and builds the CSE'd program of M, C q', g, Phi, Phi_q and gamma: the
+/// whole derivation the issue measures. Returns the program's operation counts.
+pub fn derive_and_cse(mut model: Model) -> Result<OpCounts> {
+    let eqs = mechanism_codegen::derive(&mut model)?;
+    let program = Program::new(&model.arena, &derived_outputs(&eqs))?;
+    Ok(program.op_counts())
+}
+
+/// What `mechanism!` does at build time, minus the final `quote!` of the impl: parse the
+/// declaration, derive the equations, CSE and emit one body per trait method (11) plus the
+/// combined `evaluate`, and print the equations text. Returns the number of emitted token
+/// trees (to keep the work observable).
+pub fn macro_pipeline(source: &str) -> Result<usize> {
+    let mut model = mechanism_codegen::parse_model_str(source)?;
+    let eqs = mechanism_codegen::derive(&mut model)?;
+    let arena = &model.arena;
+    let mut b = EmitBindings::new();
+    b.set_prefix("v");
+    for (i, c) in model.coordinates.iter().enumerate() {
+        if let Some(s) = arena.as_symbol(c.q) {
+            b.bind(s, quote!(q[#i]));
+        }
+        if let Some(s) = arena.as_symbol(c.qd) {
+            b.bind(s, quote!(qd[#i]));
+        }
+    }
+    for (k, p) in model.parameters.iter().enumerate() {
+        if let Some(s) = arena.as_symbol(p.symbol) {
+            b.bind(s, quote!(p[#k]));
+        }
+    }
+    if let Some(s) = arena.as_symbol(model.time) {
+        b.bind(s, quote!(t));
+    }
+    let (kinetic, potential) = (Matrix::column(vec![eqs.kinetic]), Matrix::column(vec![eqs.potential]));
+    let singles = [
+        &eqs.mass,
+        &eqs.coriolis_matrix,
+        &eqs.coriolis_forces,
+        &eqs.gravity,
+        &eqs.forces,
+        &eqs.phi,
+        &eqs.phi_q,
+        &eqs.phi_t,
+        &eqs.gamma,
+        &kinetic,
+        &potential,
+    ];
+    let place = || OutputTarget::Matrix { name: quote!(out), zeroed: true };
+    let mut tokens = 0;
+    for m in singles {
+        let program = Program::new(arena, &[m])?;
+        tokens += emit_body(&program, &b, &[place()])?.tokens.into_iter().count();
+    }
+    let all = [
+        &eqs.mass,
+        &eqs.coriolis_forces,
+        &eqs.gravity,
+        &eqs.forces,
+        &eqs.phi,
+        &eqs.phi_q,
+        &eqs.phi_t,
+        &eqs.gamma,
+        &kinetic,
+        &potential,
+    ];
+    let program = Program::new(arena, &all)?;
+    let targets: Vec<_> = all.iter().map(|_| place()).collect();
+    tokens += emit_body(&program, &b, &targets)?.tokens.into_iter().count();
+    tokens += mechanism_codegen::equations_text(&model, &eqs).len();
+    Ok(tokens)
+}
+
+/// Operation counts of one model's CSE'd programs: the five target quantities together
+/// (M, C q', g, Phi, Phi_q), everything `evaluate` computes, and each quantity alone.
+#[derive(Clone, Debug)]
+pub struct ModelOps {
+    /// M, C q', g, Phi, Phi_q in one program.
+    pub five: OpCounts,
+    /// The combined `evaluate` program (adds tau, Phi_t, gamma, T, Pi).
+    pub evaluate: OpCounts,
+    /// (name, counts) of M, C q', g, Phi, Phi_q, gamma alone.
+    pub each: Vec<(&'static str, OpCounts)>,
+}
+
+/// The operation counts of the declaration `source` (see [`ModelOps`]).
+pub fn model_ops(source: &str) -> Result<ModelOps> {
+    let mut model = mechanism_codegen::parse_model_str(source)?;
+    let e = mechanism_codegen::derive(&mut model)?;
+    let arena = &model.arena;
+    let ops = |ms: &[&Matrix]| Program::new(arena, ms).map(|p| p.op_counts());
+    let (kin, pot) = (Matrix::column(vec![e.kinetic]), Matrix::column(vec![e.potential]));
+    Ok(ModelOps {
+        five: ops(&five_outputs(&e))?,
+        evaluate: ops(&[&e.mass, &e.coriolis_forces, &e.gravity, &e.forces, &e.phi, &e.phi_q, &e.phi_t, &e.gamma, &kin, &pot])?,
+        each: vec![
+            ("mass_matrix", ops(&[&e.mass])?),
+            ("coriolis_forces", ops(&[&e.coriolis_forces])?),
+            ("gravity", ops(&[&e.gravity])?),
+            ("constraints", ops(&[&e.phi])?),
+            ("constraint_jacobian", ops(&[&e.phi_q])?),
+            ("constraint_gamma", ops(&[&e.gamma])?),
+        ],
+    })
+}
+
+/// The chain sizes compiled into this crate (files under `benches/mechanisms/`).
+pub const CHAIN_SIZES: [usize; 3] = [8, 16, 32];
+
+/// The declaration text of a chain compiled into this crate.
+pub fn chain_source(n: usize) -> Option<&'static str> {
+    Some(match n {
+        8 => include_str!("../mechanisms/closed_chain_8.mech"),
+        16 => include_str!("../mechanisms/closed_chain_16.mech"),
+        32 => include_str!("../mechanisms/closed_chain_32.mech"),
+        _ => return None,
+    })
+}
+
+/// One benchmarked mechanism in its three forms.
+pub struct Case {
+    /// Short name used in benchmark ids ("seed", "four_bar", "rssr", "chain8", ...).
+    pub name: &'static str,
+    /// The declaration text.
+    pub source: &'static str,
+    /// The code emitted by `mechanism!`, as a run-time system.
+    pub compiled: Box<dyn System>,
+    /// Baseline (a): the interpreter route, derived at run time from `source`.
+    pub interpreted: Box<dyn System>,
+    /// Baseline (b): M, C q', g (and Phi_q, gamma) by num-dual at every call.
+    pub autodiff: Box<dyn System>,
+}
+
+fn case(name: &'static str, source: &'static str, compiled: Box<dyn System>, ad: fn(&dyn System) -> Box<dyn System>) -> Case {
+    let interpreted = Box::new(Interpreted::from_source(source).unwrap_or_else(|e| panic!("{name}: {e}")));
+    let autodiff = ad(compiled.as_ref());
+    Case { name, source, compiled, interpreted, autodiff }
+}
+
+fn builtin(name: &str) -> (&'static str, Box<dyn System>) {
+    let source = mechanism::builtin::builtin_source(name).expect("built-in source");
+    (source, mechanism::builtin::builtin(name).expect("built-in mechanism"))
+}
+
+/// The seed crank-slider, the planar four-bar, the RSSR and the chains N = 8, 16, 32.
+pub fn cases() -> Vec<Case> {
+    let (seed, seed_c) = builtin("spatial_crank_slider");
+    let (four, four_c) = builtin("planar_four_bar");
+    let (rssr, rssr_c) = builtin("spatial_four_bar");
+    vec![
+        case("seed", seed, seed_c, |s| Box::new(AutoDiff::<SeedAd, 4, 3>::like(s))),
+        case("four_bar", four, four_c, |s| Box::new(AutoDiff::<FourBarAd, 3, 2>::like(s))),
+        case("rssr", rssr, rssr_c, |s| Box::new(AutoDiff::<RssrAd, 4, 3>::like(s))),
+        case("chain8", include_str!("../mechanisms/closed_chain_8.mech"), Box::new(Compiled::new(ClosedChain8::default())), |s| {
+            Box::new(AutoDiff::<ChainAd<8>, 8, 2>::like(s))
+        }),
+        case("chain16", include_str!("../mechanisms/closed_chain_16.mech"), Box::new(Compiled::new(ClosedChain16::default())), |s| {
+            Box::new(AutoDiff::<ChainAd<16>, 16, 2>::like(s))
+        }),
+        case("chain32", include_str!("../mechanisms/closed_chain_32.mech"), Box::new(Compiled::new(ClosedChain32::default())), |s| {
+            Box::new(AutoDiff::<ChainAd<32>, 32, 2>::like(s))
+        }),
+    ]
+}
+
+/// A consistent state of `system` (its declared assembly) with nonzero rates: q from the
+/// assembly, q' = the assembled rates, or, for a system assembled at rest, a consistent
+/// velocity with the first independent rate set to 1 rad/s.
+pub fn state(system: &dyn System) -> (Vec<f64>, Vec<f64>) {
+    let mut ind = system.info().independent.clone();
+    if ind.iter().all(|i| i.velocity == 0.0) {
+        if let Some(first) = ind.first_mut() {
+            first.velocity = 1.0;
+        }
+    }
+    let s = mechanism::assemble_from(system, 0.0, &ind, &system.info().initial_guess, &mechanism::AssemblyOptions::default())
+        .unwrap_or_else(|e| panic!("{}: assembly failed: {e}", system.info().name));
+    (s.q, s.qd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mechanism::Evaluation;
+
+    /// The checked-in chain declarations are `closed_chain_source(n)`; run with
+    /// `MECHANISM_BLESS=1` to rewrite them.
+    #[test]
+    fn chain_files_are_current() {
+        for n in CHAIN_SIZES {
+            let path = format!("{}/mechanisms/closed_chain_{n}.mech", env!("CARGO_MANIFEST_DIR"));
+            let text = mechanism_codegen::closed_chain_source(n);
+            if std::env::var_os("MECHANISM_BLESS").is_some() {
+                std::fs::write(&path, &text).unwrap();
+            }
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "{path} is stale: rerun with MECHANISM_BLESS=1");
+        }
+    }
+
+    fn close(a: &[f64], b: &[f64], what: &str, name: &str) {
+        let scale = a.iter().chain(b).fold(1.0_f64, |s, v| s.max(v.abs()));
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() <= 1e-10 * scale, "{name} {what}: {a:?} vs {b:?}");
+        }
+    }
+
+    /// The three routes compute the same M, C q', g, tau, Phi, Phi_q, gamma, T and Pi.
+    #[test]
+    fn routes_agree() {
+        for c in cases() {
+            let (q, qd) = state(c.compiled.as_ref());
+            let (n, m) = (q.len(), c.compiled.info().m());
+            let eval = |s: &dyn System| {
+                let mut e = Evaluation::zeros(n, m);
+                s.evaluate(0.3, &q, &qd, &mut e);
+                e
+            };
+            let reference = eval(c.compiled.as_ref());
+            for (route, e) in [("interpreted", eval(c.interpreted.as_ref())), ("autodiff", eval(c.autodiff.as_ref()))] {
+                let name = format!("{} {route}", c.name);
+                close(reference.mass.as_slice(), e.mass.as_slice(), "M", &name);
+                close(reference.coriolis.as_slice(), e.coriolis.as_slice(), "C q'", &name);
+                close(reference.gravity.as_slice(), e.gravity.as_slice(), "g", &name);
+                close(reference.forces.as_slice(), e.forces.as_slice(), "tau", &name);
+                close(reference.phi.as_slice(), e.phi.as_slice(), "Phi", &name);
+                close(reference.phi_q.as_slice(), e.phi_q.as_slice(), "Phi_q", &name);
+                close(reference.gamma.as_slice(), e.gamma.as_slice(), "gamma", &name);
+                close(&[reference.kinetic, reference.potential], &[e.kinetic, e.potential], "T, Pi", &name);
+            }
+        }
+    }
+
+    #[test]
+    fn macro_pipeline_runs() {
+        assert!(macro_pipeline(chain_source(8).unwrap()).unwrap() > 0);
+    }
+}

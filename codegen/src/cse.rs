@@ -237,6 +237,22 @@ impl Program {
     /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::Model`] for a
     /// matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
     /// subexpression that is not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use mechanism_codegen::{Arena, Matrix, Program};
+    ///
+    /// // sin(u) in one output and cos(u) in another: one sin_cos call for both.
+    /// let mut a = Arena::new();
+    /// let [p, ..] = a.coordinate("th1");
+    /// let [q, ..] = a.coordinate("th2");
+    /// let u = a.sub(p, q);
+    /// let (s, c) = (a.sin(u), a.cos(u));
+    /// let program = Program::new(&a, &[&Matrix::column(vec![s]), &Matrix::column(vec![c])]).unwrap();
+    /// let n = program.op_counts();
+    /// assert_eq!((n.adds, n.calls, n.total()), (1, 1, 2));
+    /// assert_eq!(program.output_op_counts(1).unwrap().total(), 2);
+    /// ```
     pub fn new(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
         let len = arena.len();
         for m in outputs {
@@ -259,7 +275,7 @@ impl Program {
             .map(|m| Output {
                 rows: m.rows,
                 cols: m.cols,
-                entries: m.data.iter().map(|i| lower.node_op[i]).collect(),
+                entries: m.data.iter().map(|i| lower.op(*i)).collect(),
             })
             .collect();
         let mut symbols: Vec<(SymbolId, String)> = lower

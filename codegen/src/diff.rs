@@ -129,7 +129,10 @@ impl Differentiator {
         if id.index() < arena.len() {
             Ok(())
         } else {
-            Err(Error::InvalidId { id: id.0, len: arena.len() })
+            Err(Error::InvalidId {
+                id: id.0,
+                len: arena.len(),
+            })
         }
     }
 
@@ -206,7 +209,10 @@ impl Differentiator {
             let d = self.rule(arena, n, sym)?;
             self.memo.insert((n, sym), d);
         }
-        self.memo.get(&(id, sym)).copied().ok_or(Error::InvalidId { id: id.0, len: arena.len() })
+        self.memo.get(&(id, sym)).copied().ok_or(Error::InvalidId {
+            id: id.0,
+            len: arena.len(),
+        })
     }
 
     /// The cached derivative of a child (0 when it does not depend on `sym`).
@@ -241,7 +247,12 @@ impl Differentiator {
                         continue;
                     }
                     let mut factors: Vec<Id> = Vec::with_capacity(fs.len());
-                    factors.extend(fs.iter().enumerate().filter(|&(j, _)| j != i).map(|(_, &g)| g));
+                    factors.extend(
+                        fs.iter()
+                            .enumerate()
+                            .filter(|&(j, _)| j != i)
+                            .map(|(_, &g)| g),
+                    );
                     factors.push(df);
                     terms.push(arena.mul(&factors));
                 }
@@ -343,7 +354,12 @@ impl Differentiator {
         self.time_derivative_impl(arena, id, false)
     }
 
-    fn time_derivative_impl(&mut self, arena: &mut Arena, id: Id, with_acceleration: bool) -> Result<Id> {
+    fn time_derivative_impl(
+        &mut self,
+        arena: &mut Arena,
+        id: Id,
+        with_acceleration: bool,
+    ) -> Result<Id> {
         Self::check(arena, id)?;
         self.deps.sync(arena);
         let mut terms = Vec::new();
@@ -358,7 +374,8 @@ impl Differentiator {
                     )));
                 }
                 (_, Some(sd)) => {
-                    if !with_acceleration && arena.symbol_info(sd).kind == SymbolKind::Acceleration {
+                    if !with_acceleration && arena.symbol_info(sd).kind == SymbolKind::Acceleration
+                    {
                         continue;
                     }
                     let d = self.diff(arena, id, s)?;

@@ -79,7 +79,9 @@ pub enum OutputTarget {
         /// Skip entries equal to 0.
         zeroed: bool,
     },
-    /// `name[k] = value;` with k the row-major index (a nalgebra vector or a slice).
+    /// `name[k] = value;` for a row or column vector (a nalgebra vector, an array, a slice).
+    /// Only for outputs with one row or one column: nalgebra's linear index of a matrix is
+    /// column-major, so a general matrix must use [`OutputTarget::Matrix`].
     Vector {
         /// The vector place expression.
         name: TokenStream,
@@ -108,8 +110,33 @@ pub struct EmittedBody {
 ///
 /// # Errors
 /// [`Error::Model`] when the number of targets differs from the number of outputs, when a
-/// `Return` output is not 1 x 1 or there are two, or the prefix is not an identifier;
-/// [`Error::MissingValue`] when a symbol the body reads has no binding.
+/// `Return` output is not 1 x 1 or there are two, when a `Vector` output has several rows
+/// and columns, or the prefix is not an identifier; [`Error::MissingValue`] when a symbol
+/// the body reads has no binding.
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{emit_body, Arena, EmitBindings, Matrix, OutputTarget, Program, SymbolKind};
+/// use quote::quote;
+///
+/// // The tip of a crank: (l1 cos phi, l1 sin phi).
+/// let mut a = Arena::new();
+/// let [phi, ..] = a.coordinate("phi");
+/// let l1 = a.symbol("l1", SymbolKind::Parameter);
+/// let (c, s) = (a.cos(phi), a.sin(phi));
+/// let tip = Matrix::column(vec![a.mul2(l1, c), a.mul2(l1, s)]);
+/// let program = Program::new(&a, &[&tip]).unwrap();
+///
+/// let mut b = EmitBindings::new();
+/// b.bind(a.lookup("phi").unwrap(), quote!(q[0])).bind(a.lookup("l1").unwrap(), quote!(self.l1));
+/// let body = emit_body(&program, &b, &[OutputTarget::Vector { name: quote!(out), zeroed: false }]).unwrap();
+/// let code: String = body.tokens.to_string().split_whitespace().collect();
+/// assert_eq!(
+///     code,
+///     "let(x0,x1):(f64,f64)=q[0].sin_cos();letx2:f64=self.l1*x1;letx3:f64=self.l1*x0;out[0]=x2;out[1]=x3;"
+/// );
+/// assert_eq!((body.counts.muls, body.counts.calls), (2, 1));
+/// ```
 pub fn emit_body(
     program: &Program,
     bindings: &EmitBindings,
@@ -157,6 +184,14 @@ pub fn emit_body(
     for (s, name) in p.symbols() {
         if bindings.get(*s).is_none() {
             return Err(Error::MissingValue { name: name.clone() });
+        }
+    }
+    for (o, t) in p.outputs().iter().zip(&targets) {
+        if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
+            return Err(Error::Model(format!(
+                "a {} x {} output cannot be written as a vector; use a matrix target",
+                o.rows, o.cols
+            )));
         }
     }
     let e = Emitter { b: bindings };
@@ -298,7 +333,7 @@ impl Emitter<'_> {
             }
             Instr::Powi { base, exp, .. } => {
                 let a = self.receiver(base);
-                let k = Literal::i32_unsuffixed(exp.abs());
+                let k = Literal::u32_unsuffixed(exp.unsigned_abs());
                 if exp < 0 {
                     quote!(#a.powi(-#k))
                 } else {
@@ -362,8 +397,12 @@ const NAMED: [(&str, f64); 19] = [
 
 /// An f64 constant as tokens: `::core::f64::consts::PI` for a named constant, otherwise a
 /// suffixed literal in Rust's shortest round-trip form (`0.5_f64`, `1e-300_f64`); negative
-/// values as `-` followed by the magnitude.
+/// values as `-` followed by the magnitude. (A program's constants are always finite; NaN
+/// and infinities, if passed here, become `::core::f64::NAN` and `::core::f64::INFINITY`.)
 pub fn f64_tokens(v: f64) -> TokenStream {
+    if v.is_nan() {
+        return quote!(::core::f64::NAN);
+    }
     let mut t = TokenStream::new();
     if v < 0.0 {
         t.append(Punct::new('-', Spacing::Alone));
@@ -372,6 +411,10 @@ pub fn f64_tokens(v: f64) -> TokenStream {
     if let Some((name, _)) = NAMED.iter().find(|(_, c)| c.to_bits() == a.to_bits()) {
         let n = Ident::new(name, Span::call_site());
         t.extend(quote!(::core::f64::consts::#n));
+        return t;
+    }
+    if a.is_infinite() {
+        t.extend(quote!(::core::f64::INFINITY));
         return t;
     }
     let text = format!("{a:?}_f64");

@@ -42,11 +42,14 @@ impl Symbols {
         let arena = &model.arena;
         let sym = |id: Id, what: &str, name: &str| -> Result<SymbolId> {
             if id.index() >= arena.len() {
-                return Err(Error::InvalidId { id: id.0, len: arena.len() });
+                return Err(Error::InvalidId {
+                    id: id.0,
+                    len: arena.len(),
+                });
             }
-            arena
-                .as_symbol(id)
-                .ok_or_else(|| Error::Model(format!("the {what} of coordinate `{name}` is not a symbol")))
+            arena.as_symbol(id).ok_or_else(|| {
+                Error::Model(format!("the {what} of coordinate `{name}` is not a symbol"))
+            })
         };
         let (mut q, mut qd, mut qdd) = (Vec::new(), Vec::new(), Vec::new());
         for c in &model.coordinates {
@@ -54,7 +57,9 @@ impl Symbols {
             qd.push(sym(c.qd, "rate", &c.name)?);
             qdd.push(sym(c.qdd, "acceleration", &c.name)?);
         }
-        let time = (model.time.index() < arena.len()).then(|| arena.as_symbol(model.time)).flatten();
+        let time = (model.time.index() < arena.len())
+            .then(|| arena.as_symbol(model.time))
+            .flatten();
         Ok(Self { q, qd, qdd, time })
     }
 
@@ -65,11 +70,24 @@ impl Symbols {
 
 /// Errors unless `id` is in the arena.
 fn check_id(arena: &Arena, id: Id) -> Result<()> {
-    if id.index() < arena.len() { Ok(()) } else { Err(Error::InvalidId { id: id.0, len: arena.len() }) }
+    if id.index() < arena.len() {
+        Ok(())
+    } else {
+        Err(Error::InvalidId {
+            id: id.0,
+            len: arena.len(),
+        })
+    }
 }
 
 /// Errors when `id` (the model's `what`) depends on one of `forbidden`.
-fn reject_dependence(arena: &Arena, d: &mut Differentiator, id: Id, forbidden: &[SymbolId], what: &str) -> Result<()> {
+fn reject_dependence(
+    arena: &Arena,
+    d: &mut Differentiator,
+    id: Id,
+    forbidden: &[SymbolId],
+    what: &str,
+) -> Result<()> {
     for &s in forbidden {
         if d.depends_on(arena, id, s)? {
             return Err(Error::Model(format!(
@@ -93,14 +111,23 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
     if n == 0 {
-        return Err(Error::Model("a mechanism needs at least one coordinate".into()));
+        return Err(Error::Model(
+            "a mechanism needs at least one coordinate".into(),
+        ));
     }
     if model.forces.len() != n {
-        return Err(Error::Model(format!("{} generalised forces given for {n} coordinates", model.forces.len())));
+        return Err(Error::Model(format!(
+            "{} generalised forces given for {n} coordinates",
+            model.forces.len()
+        )));
     }
     let (kinetic, potential) = (model.kinetic, model.potential);
     let arena = &mut model.arena;
-    for &id in [kinetic, potential].iter().chain(&model.forces).chain(model.constraints.iter().map(|c| &c.expr)) {
+    for &id in [kinetic, potential]
+        .iter()
+        .chain(&model.forces)
+        .chain(model.constraints.iter().map(|c| &c.expr))
+    {
         check_id(arena, id)?;
     }
     let mut d = Differentiator::new();
@@ -117,9 +144,9 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
     // M = d2T/dq'dq' (upper triangle, mirrored).
     let momenta = d.gradient(arena, kinetic, &s.qd)?;
     let mut mass = Matrix::zeros(arena, n, n);
-    for i in 0..n {
+    for (i, &p) in momenta.iter().enumerate() {
         for j in i..n {
-            let mij = d.diff(arena, momenta[i], s.qd[j])?;
+            let mij = d.diff(arena, p, s.qd[j])?;
             mass.set(i, j, mij);
             mass.set(j, i, mij);
         }
@@ -130,9 +157,9 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
         lean_coriolis_forces(arena, &mut d, &mass, &s)?
     } else {
         let mut h = Vec::with_capacity(n);
-        for i in 0..n {
-            let dp = d.convective_derivative(arena, momenta[i])?;
-            let dtq = d.diff(arena, kinetic, s.q[i])?;
+        for (&p, &q) in momenta.iter().zip(&s.q) {
+            let dp = d.convective_derivative(arena, p)?;
+            let dtq = d.diff(arena, kinetic, q)?;
             h.push(arena.sub(dp, dtq));
         }
         Matrix::column(h)
@@ -173,7 +200,12 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
 }
 
 /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (ERRATA item 5).
-fn khang_coriolis_matrix(arena: &mut Arena, d: &mut Differentiator, mass: &Matrix, s: &Symbols) -> Result<Matrix> {
+fn khang_coriolis_matrix(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
     let n = s.q.len();
     let dm = mass.khang_derivative(arena, d, &s.q)?;
     let qd = Symbols::column(arena, &s.qd);
@@ -189,13 +221,20 @@ fn khang_coriolis_matrix(arena: &mut Arena, d: &mut Differentiator, mass: &Matri
 
 /// True when T = 1/2 q'^T M(q) q' exactly: T and M free of t, M free of q', and T and
 /// dT/dq' vanish at q' = 0 (no q'-free part, no part linear in q').
-fn is_quadratic_form(arena: &mut Arena, d: &mut Differentiator, kinetic: Id, momenta: &[Id], mass: &Matrix, s: &Symbols) -> Result<bool> {
+fn is_quadratic_form(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    kinetic: Id,
+    momenta: &[Id],
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<bool> {
     let mut varying: Vec<SymbolId> = s.qd.clone();
     varying.extend(s.time);
-    if let Some(t) = s.time {
-        if d.depends_on(arena, kinetic, t)? {
-            return Ok(false);
-        }
+    if let Some(t) = s.time
+        && d.depends_on(arena, kinetic, t)?
+    {
+        return Ok(false);
     }
     for &e in &mass.data {
         for &v in &varying {
@@ -217,7 +256,12 @@ fn is_quadratic_form(arena: &mut Arena, d: &mut Differentiator, kinetic: Id, mom
 
 /// `id` with each symbol of `map` replaced by its image, rebuilt with the canonical
 /// constructors (children first).
-fn substitute(arena: &mut Arena, d: &mut Differentiator, id: Id, map: &FxHashMap<SymbolId, Id>) -> Result<Id> {
+fn substitute(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    id: Id,
+    map: &FxHashMap<SymbolId, Id>,
+) -> Result<Id> {
     let keys: Vec<SymbolId> = map.keys().copied().collect();
     let touches = |arena: &Arena, d: &mut Differentiator, n: Id| -> Result<bool> {
         for &k in &keys {
@@ -262,13 +306,22 @@ fn substitute(arena: &mut Arena, d: &mut Differentiator, id: Id, map: &FxHashMap
 }
 
 /// For each upper-triangle entry of `mass`, the coordinates (indices) it depends on.
-fn coordinate_dependencies(arena: &Arena, d: &mut Differentiator, mass: &Matrix, s: &Symbols) -> Result<Vec<Vec<usize>>> {
+fn coordinate_dependencies(
+    arena: &Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Vec<Vec<usize>>> {
     let n = s.q.len();
     let index: FxHashMap<SymbolId, usize> = s.q.iter().enumerate().map(|(k, &q)| (q, k)).collect();
     let mut deps = vec![Vec::new(); n * n];
     for i in 0..n {
         for j in i..n {
-            let ks: Vec<usize> = d.symbols_of(arena, mass.get(i, j))?.iter().filter_map(|x| index.get(x).copied()).collect();
+            let ks: Vec<usize> = d
+                .symbols_of(arena, mass.get(i, j))?
+                .iter()
+                .filter_map(|x| index.get(x).copied())
+                .collect();
             deps[i * n + j] = ks.clone();
             deps[j * n + i] = ks;
         }
@@ -279,7 +332,12 @@ fn coordinate_dependencies(arena: &Arena, d: &mut Differentiator, mass: &Matrix,
 /// C q' as one lean expression per row: (C q')_k = sum_{i <= j} c_kij q_i' q_j' with
 /// c_kij = dM_ki/dq_j + dM_kj/dq_i - dM_ij/dq_k for i < j and
 /// c_kii = dM_ki/dq_i - 1/2 dM_ii/dq_k, each coefficient one canonical sum.
-fn lean_coriolis_forces(arena: &mut Arena, d: &mut Differentiator, mass: &Matrix, s: &Symbols) -> Result<Matrix> {
+fn lean_coriolis_forces(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
     let n = s.q.len();
     let deps = coordinate_dependencies(arena, d, mass, s)?;
     // by_coord[k]: upper entries (i, j) of M that depend on q_k.
@@ -320,7 +378,10 @@ fn lean_coriolis_forces(arena: &mut Arena, d: &mut Differentiator, mass: &Matrix
             let group: Vec<Id> = parts[a..b].iter().map(|p| p.1).collect();
             let coef = arena.add(&group);
             if !arena.is_zero(coef) {
-                let (vi, vj) = (arena.symbol_node(s.qd[pair.0]), arena.symbol_node(s.qd[pair.1]));
+                let (vi, vj) = (
+                    arena.symbol_node(s.qd[pair.0]),
+                    arena.symbol_node(s.qd[pair.1]),
+                );
                 terms.push(arena.mul(&[coef, vi, vj]));
             }
             a = b;
@@ -333,7 +394,13 @@ fn lean_coriolis_forces(arena: &mut Arena, d: &mut Differentiator, mass: &Matrix
 /// gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, per row
 /// -sum_{j <= k} w_jk d(Phi_q)_rj/dq_k q_j' q_k' (w = 1 on the diagonal, 2 off it)
 /// - 2 sum_j d(Phi_q)_rj/dt q_j' - d(Phi_t)_r/dt.
-fn gamma(arena: &mut Arena, d: &mut Differentiator, phi_q: &Matrix, phi_t: &Matrix, s: &Symbols) -> Result<Matrix> {
+fn gamma(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    phi_q: &Matrix,
+    phi_t: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
     let n = s.q.len();
     let (m1, m2) = (arena.int(-1), arena.int(-2));
     let mut out = Vec::with_capacity(phi_q.rows);
@@ -381,7 +448,13 @@ pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result
     let mass = &eqs.mass;
     mass.validate(arena)?;
     if mass.rows != n || mass.cols != n {
-        return Err(Error::Shape { operation: "christoffel", left_rows: mass.rows, left_cols: mass.cols, right_rows: n, right_cols: n });
+        return Err(Error::Shape {
+            operation: "christoffel",
+            left_rows: mass.rows,
+            left_cols: mass.cols,
+            right_rows: n,
+            right_cols: n,
+        });
     }
     let mut d = Differentiator::new();
     let half = arena.rational(1, 2)?;

@@ -96,20 +96,32 @@ impl Tokens {
 
 fn location_of(span: Span, index: usize) -> Location {
     let lc = span.start();
-    Location { line: lc.line, column: lc.column + 1, token: Some(index) }
+    Location {
+        line: lc.line,
+        column: lc.column + 1,
+        token: Some(index),
+    }
 }
 
 fn location_after(span: Span, index: usize) -> Location {
     let lc = span.end();
-    Location { line: lc.line, column: lc.column + 1, token: Some(index) }
+    Location {
+        line: lc.line,
+        column: lc.column + 1,
+        token: Some(index),
+    }
 }
 
 /// Flattens a token stream (iteratively: deep nesting cannot overflow the stack).
 fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
     let mut list: Vec<Token> = Vec::new();
-    let mut push = |list: &mut Vec<Token>, tok: Tok, span: Span| {
+    let push = |list: &mut Vec<Token>, tok: Tok, span: Span| {
         let location = location_of(span, list.len());
-        list.push(Token { tok, location, span: keep_spans.then_some(span) });
+        list.push(Token {
+            tok,
+            location,
+            span: keep_spans.then_some(span),
+        });
     };
     // Each frame: the remaining trees of a group, and the group's close token (if any).
     let mut stack: Vec<(proc_macro2::token_stream::IntoIter, Option<(Delim, Span)>)> =
@@ -149,10 +161,18 @@ fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
     let index = list.len();
     let location = match last_span {
         Some(s) => location_after(s, index),
-        None => Location { line: 1, column: 1, token: Some(index) },
+        None => Location {
+            line: 1,
+            column: 1,
+            token: Some(index),
+        },
     };
     let span = keep_spans.then(|| last_span.unwrap_or_else(Span::call_site));
-    list.push(Token { tok: Tok::End, location, span });
+    list.push(Token {
+        tok: Tok::End,
+        location,
+        span,
+    });
     Tokens { list }
 }
 
@@ -174,10 +194,20 @@ pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
         Ok(tokens) => Ok(tokens),
         Err(e) => {
             let lc = e.span().start();
-            let (line, column) = if lc.line == 0 { (1, 1) } else { (lc.line, lc.column + 1) };
+            let (line, column) = if lc.line == 0 {
+                (1, 1)
+            } else {
+                (lc.line, lc.column + 1)
+            };
             Err(Error::Parse {
-                message: format!("the text cannot be split into tokens ({e}); check for unbalanced brackets or a stray character"),
-                location: Location { line, column, token: None },
+                message: format!(
+                    "the text cannot be read from here on ({e}): look for a bracket that is not closed or not opened, an unterminated string, or a character the language does not use"
+                ),
+                location: Location {
+                    line,
+                    column,
+                    token: None,
+                },
             })
         }
     };
@@ -194,19 +224,16 @@ pub(crate) struct Cursor<'a> {
 impl<'a> Cursor<'a> {
     /// A cursor at the first token of `tokens` (which must end with [`Tok::End`]).
     pub(crate) fn new(tokens: &'a Tokens) -> Self {
-        Self { tokens: &tokens.list, pos: 0 }
+        Self {
+            tokens: &tokens.list,
+            pos: 0,
+        }
     }
 
     /// The current token (the end token once past the end).
     pub(crate) fn peek(&self) -> &'a Token {
         let last = self.tokens.len().saturating_sub(1);
         &self.tokens[self.pos.min(last)]
-    }
-
-    /// The token after the current one.
-    pub(crate) fn peek2(&self) -> &'a Token {
-        let last = self.tokens.len().saturating_sub(1);
-        &self.tokens[(self.pos + 1).min(last)]
     }
 
     /// Consumes and returns the current token.
@@ -248,6 +275,9 @@ impl<'a> Cursor<'a> {
     /// A parse error at the current token: "{message}, found {token}".
     pub(crate) fn error_here(&self, message: &str) -> Error {
         let t = self.peek();
-        Error::Parse { message: format!("{message}, found {}", t.tok.describe()), location: t.location }
+        Error::Parse {
+            message: format!("{message}, found {}", t.tok.describe()),
+            location: t.location,
+        }
     }
 }

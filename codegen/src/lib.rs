@@ -14,6 +14,10 @@ mod equations;
 mod error;
 mod eval;
 mod expr;
+mod build_model;
+mod check;
+mod declaration;
+mod latex;
 mod lex;
 mod parse;
 mod pretty;
@@ -36,6 +40,11 @@ pub use lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, der
 pub use number::Number;
 pub use matrix::Matrix;
 pub use model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use build_model::{
+    ModelSpans, ParsedModel, SpannedError, parse_declaration, parse_declaration_str, parse_model,
+    parse_model_str,
+};
+pub use latex::{equations_latex, matrix_to_latex, to_latex};
 pub use parse::parse_expr;
 pub use tape::Tape;
 pub use pretty::{equations_text, matrix_to_text, to_text};

@@ -23,7 +23,11 @@ impl Matrix {
     /// The rows x cols zero matrix.
     pub fn zeros(arena: &mut Arena, rows: usize, cols: usize) -> Self {
         let z = arena.int(0);
-        Self { rows, cols, data: vec![z; rows * cols] }
+        Self {
+            rows,
+            cols,
+            data: vec![z; rows * cols],
+        }
     }
 
     /// A matrix from a function of (i, j).
@@ -39,7 +43,11 @@ impl Matrix {
 
     /// A column vector.
     pub fn column(entries: Vec<Id>) -> Self {
-        Self { rows: entries.len(), cols: 1, data: entries }
+        Self {
+            rows: entries.len(),
+            cols: 1,
+            data: entries,
+        }
     }
 
     /// Entry (i, j).
@@ -69,7 +77,10 @@ impl Matrix {
             });
         }
         match self.data.iter().find(|id| id.index() >= arena.len()) {
-            Some(bad) => Err(Error::InvalidId { id: bad.0, len: arena.len() }),
+            Some(bad) => Err(Error::InvalidId {
+                id: bad.0,
+                len: arena.len(),
+            }),
             None => Ok(()),
         }
     }
@@ -101,14 +112,29 @@ impl Matrix {
         Ok(Self::from_fn(self.cols, self.rows, |i, j| self.get(j, i)))
     }
 
-    fn entrywise(&self, arena: &mut Arena, other: &Matrix, operation: &'static str, f: impl Fn(&mut Arena, Id, Id) -> Id) -> Result<Self> {
+    fn entrywise(
+        &self,
+        arena: &mut Arena,
+        other: &Matrix,
+        operation: &'static str,
+        f: impl Fn(&mut Arena, Id, Id) -> Id,
+    ) -> Result<Self> {
         self.validate(arena)?;
         other.validate(arena)?;
         if self.rows != other.rows || self.cols != other.cols {
             return Err(self.shape_error(other, operation));
         }
-        let data = self.data.iter().zip(&other.data).map(|(&a, &b)| f(arena, a, b)).collect();
-        Ok(Self { rows: self.rows, cols: self.cols, data })
+        let data = self
+            .data
+            .iter()
+            .zip(&other.data)
+            .map(|(&a, &b)| f(arena, a, b))
+            .collect();
+        Ok(Self {
+            rows: self.rows,
+            cols: self.cols,
+            data,
+        })
     }
 
     /// A + B, entry by entry.
@@ -134,15 +160,24 @@ impl Matrix {
     pub fn scale(&self, arena: &mut Arena, c: Id) -> Result<Self> {
         self.validate(arena)?;
         if c.index() >= arena.len() {
-            return Err(Error::InvalidId { id: c.0, len: arena.len() });
+            return Err(Error::InvalidId {
+                id: c.0,
+                len: arena.len(),
+            });
         }
         let data = self.data.iter().map(|&a| arena.mul2(c, a)).collect();
-        Ok(Self { rows: self.rows, cols: self.cols, data })
+        Ok(Self {
+            rows: self.rows,
+            cols: self.cols,
+            data,
+        })
     }
 
     /// True when every entry is the constant 0.
     pub fn is_zero(&self, arena: &Arena) -> bool {
-        self.data.iter().all(|&a| a.index() < arena.len() && arena.is_zero(a))
+        self.data
+            .iter()
+            .all(|&a| a.index() < arena.len() && arena.is_zero(a))
     }
 
     /// The product A B, (AB)_ij = sum_k a_ik b_kj, as one canonical sum per entry.
@@ -160,7 +195,12 @@ impl Matrix {
             return Err(self.shape_error(other, "mul"));
         }
         let nonzero: Vec<Vec<(usize, Id)>> = (0..other.rows)
-            .map(|k| (0..other.cols).map(|j| (j, other.get(k, j))).filter(|&(_, b)| !arena.is_zero(b)).collect())
+            .map(|k| {
+                (0..other.cols)
+                    .map(|j| (j, other.get(k, j)))
+                    .filter(|&(_, b)| !arena.is_zero(b))
+                    .collect()
+            })
             .collect();
         let mut acc: Vec<Vec<Id>> = vec![Vec::new(); other.cols];
         let mut data = Vec::with_capacity(self.rows * other.cols);
@@ -179,7 +219,11 @@ impl Matrix {
                 terms.clear();
             }
         }
-        Ok(Self { rows: self.rows, cols: other.cols, data })
+        Ok(Self {
+            rows: self.rows,
+            cols: other.cols,
+            data,
+        })
     }
 
     /// The Kronecker product A kron B: the block matrix [a_ij B], of size
@@ -203,7 +247,8 @@ impl Matrix {
                     for l in 0..other.cols {
                         let b = other.get(k, l);
                         if !arena.is_zero(b) {
-                            data[(i * other.rows + k) * cols + j * other.cols + l] = arena.mul2(a, b);
+                            data[(i * other.rows + k) * cols + j * other.cols + l] =
+                                arena.mul2(a, b);
                         }
                     }
                 }
@@ -219,7 +264,12 @@ impl Matrix {
     /// # Errors
     /// [`Error::Shape`], [`Error::InvalidId`] or [`Error::Model`] for a malformed matrix or
     /// a symbol not in `arena`; differentiation errors (see [`Differentiator::diff`]).
-    pub fn khang_derivative(&self, arena: &mut Arena, diff: &mut Differentiator, x: &[SymbolId]) -> Result<Self> {
+    pub fn khang_derivative(
+        &self,
+        arena: &mut Arena,
+        diff: &mut Differentiator,
+        x: &[SymbolId],
+    ) -> Result<Self> {
         self.validate(arena)?;
         let n = x.len();
         let mut data = Vec::with_capacity(self.data.len() * n);
@@ -229,7 +279,11 @@ impl Matrix {
             }
         }
         // Row-major m x (p n) with entry (i, j n + k) at i p n + j n + k: exactly the order above.
-        Ok(Self { rows: self.rows, cols: self.cols * n, data })
+        Ok(Self {
+            rows: self.rows,
+            cols: self.cols * n,
+            data,
+        })
     }
 
     /// The total time derivative by Theorem 1 (Van Khang 2010; ERRATA item 5):
@@ -241,12 +295,21 @@ impl Matrix {
     /// # Errors
     /// [`Error::Model`] when a symbol of `x` has no derivative link; otherwise as
     /// [`Matrix::khang_derivative`].
-    pub fn time_derivative(&self, arena: &mut Arena, diff: &mut Differentiator, x: &[SymbolId]) -> Result<Self> {
+    pub fn time_derivative(
+        &self,
+        arena: &mut Arena,
+        diff: &mut Differentiator,
+        x: &[SymbolId],
+    ) -> Result<Self> {
         let rates: Vec<Id> = x
             .iter()
             .map(|&s| {
-                let info = arena.symbols().get(s.0 as usize).ok_or_else(|| Error::Model(format!("symbol id {} is not in the arena", s.0)))?;
-                let d = info.derivative.ok_or_else(|| Error::Model(format!("symbol `{}` has no time derivative", info.name)))?;
+                let info = arena.symbols().get(s.0 as usize).ok_or_else(|| {
+                    Error::Model(format!("symbol id {} is not in the arena", s.0))
+                })?;
+                let d = info.derivative.ok_or_else(|| {
+                    Error::Model(format!("symbol `{}` has no time derivative", info.name))
+                })?;
                 Ok(arena.symbol_node(d))
             })
             .collect::<Result<_>>()?;

@@ -69,27 +69,6 @@ impl Ast {
         }
     }
 
-    /// Every node, parents before children (an explicit stack: no recursion).
-    pub(crate) fn nodes(&self) -> Vec<&Ast> {
-        let mut out = Vec::new();
-        let mut stack = vec![self];
-        while let Some(a) = stack.pop() {
-            out.push(a);
-            match a {
-                Ast::Number(..) | Ast::Name(..) => {}
-                Ast::Neg(x, _) => stack.push(x),
-                Ast::Sum(ts) => stack.extend(ts.iter().rev().map(|t| &t.1)),
-                Ast::Product(fs) => stack.extend(fs.iter().rev().map(|f| &f.1)),
-                Ast::Pow(b, e, _) => {
-                    stack.push(e);
-                    stack.push(b);
-                }
-                Ast::Call(_, args, _) => stack.extend(args.iter().rev()),
-            }
-        }
-        out
-    }
-
     /// The expression as text, for error messages (fully parenthesised where in doubt).
     pub(crate) fn text(&self) -> String {
         match self {
@@ -126,7 +105,9 @@ impl Ast {
 
     fn text_atom(&self) -> String {
         match self {
-            Ast::Sum(_) | Ast::Product(_) | Ast::Neg(..) | Ast::Pow(..) => format!("({})", self.text()),
+            Ast::Sum(_) | Ast::Product(_) | Ast::Neg(..) | Ast::Pow(..) => {
+                format!("({})", self.text())
+            }
             _ => self.text(),
         }
     }
@@ -149,7 +130,9 @@ impl<'c, 'a> ExprParser<'c, 'a> {
     fn enter(&mut self) -> Result<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self.cursor.error_here("the expression is nested too deeply"));
+            return Err(self
+                .cursor
+                .error_here("the expression is nested too deeply"));
         }
         Ok(())
     }
@@ -167,7 +150,11 @@ impl<'c, 'a> ExprParser<'c, 'a> {
             self.cursor.next();
             terms.push((minus, self.product()?));
         }
-        Ok(if terms.len() == 1 { terms.swap_remove(0).1 } else { Ast::Sum(terms) })
+        Ok(if terms.len() == 1 {
+            terms.swap_remove(0).1
+        } else {
+            Ast::Sum(terms)
+        })
     }
 
     fn product(&mut self) -> Result<Ast> {
@@ -185,7 +172,11 @@ impl<'c, 'a> ExprParser<'c, 'a> {
             let op = self.cursor.next().location;
             factors.push((div, self.unary()?, op));
         }
-        Ok(if factors.len() == 1 { factors.swap_remove(0).1 } else { Ast::Product(factors) })
+        Ok(if factors.len() == 1 {
+            factors.swap_remove(0).1
+        } else {
+            Ast::Product(factors)
+        })
     }
 
     fn unary(&mut self) -> Result<Ast> {
@@ -233,7 +224,10 @@ impl<'c, 'a> ExprParser<'c, 'a> {
         let t = self.cursor.peek();
         match &t.tok {
             Tok::Literal(s) => {
-                let n = parse_number(s).map_err(|m| Error::Parse { message: m, location: t.location })?;
+                let n = parse_number(s).map_err(|m| Error::Parse {
+                    message: m,
+                    location: t.location,
+                })?;
                 self.cursor.next();
                 Ok(Ast::Number(n, t.location))
             }
@@ -249,7 +243,8 @@ impl<'c, 'a> ExprParser<'c, 'a> {
                 self.enter()?;
                 self.cursor.next();
                 let inner = self.sum()?;
-                self.cursor.expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
+                self.cursor
+                    .expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
                 self.depth -= 1;
                 Ok(inner)
             }
@@ -270,7 +265,10 @@ impl<'c, 'a> ExprParser<'c, 'a> {
                 }
             }
         }
-        self.cursor.expect(&Tok::Close(Delim::Paren), "`,` or `)` after a function argument")?;
+        self.cursor.expect(
+            &Tok::Close(Delim::Paren),
+            "`,` or `)` after a function argument",
+        )?;
         self.depth -= 1;
         match FUNCTIONS.iter().find(|f| f.0 == name) {
             None => Err(Error::UnknownFunction { name, location: at }),
@@ -293,17 +291,27 @@ fn parse_number(text: &str) -> std::result::Result<Number, String> {
         return Err(format!("expected a number, found the literal {text}"));
     }
     let clean: String = text.chars().filter(|&c| c != '_').collect();
-    let bad = || format!("`{text}` is not a number of the language (write e.g. 2, 0.04 or 1e-4, without a type suffix)");
+    let bad = || {
+        format!(
+            "`{text}` is not a number of the language (write e.g. 2, 0.04 or 1e-4, without a type suffix)"
+        )
+    };
     if clean.starts_with("0x") || clean.starts_with("0o") || clean.starts_with("0b") {
         return Err(bad());
     }
     if clean.chars().all(|c| c.is_ascii_digit()) {
         return Ok(match clean.parse::<i64>() {
             Ok(n) => Number::int(n),
-            Err(_) => clean.parse::<f64>().ok().and_then(Number::float).ok_or_else(bad)?,
+            Err(_) => clean
+                .parse::<f64>()
+                .ok()
+                .and_then(Number::float)
+                .ok_or_else(bad)?,
         });
     }
-    let float_chars = clean.chars().all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
+    let float_chars = clean
+        .chars()
+        .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'));
     if !float_chars {
         return Err(bad());
     }
@@ -383,19 +391,29 @@ pub(crate) fn kind_phrase(kind: SymbolKind) -> &'static str {
 
 /// "der() takes a coordinate; `m1` is a parameter".
 pub(crate) fn der_error(name: &str, what: &str, at: Location) -> Error {
-    Error::Declaration { message: format!("der() takes a coordinate; `{name}` is {what}"), location: at }
+    Error::Declaration {
+        message: format!("der() takes a coordinate; `{name}` is {what}"),
+        location: at,
+    }
 }
 
 /// The candidate closest to `name` by edit distance, when it is a likely typo: at most 2
 /// edits, and at most half the longer name (so `x` does not suggest `y`). A candidate equal
 /// up to letter case wins.
-pub(crate) fn closest<'n>(name: &str, candidates: impl IntoIterator<Item = &'n str>) -> Option<String> {
+pub(crate) fn closest<'n>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'n str>,
+) -> Option<String> {
     let mut best: Option<(usize, &str)> = None;
     for c in candidates {
         if c == name {
             continue;
         }
-        let d = if c.eq_ignore_ascii_case(name) { 0 } else { edit_distance(name, c) };
+        let d = if c.eq_ignore_ascii_case(name) {
+            0
+        } else {
+            edit_distance(name, c)
+        };
         let longer = name.chars().count().max(c.chars().count());
         if d <= 2 && d <= longer / 2 && best.is_none_or(|b| d < b.0) {
             best = Some((d, c));
@@ -412,7 +430,9 @@ pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
     for (i, ca) in a.iter().enumerate() {
         let mut cur = vec![i + 1; b.len() + 1];
         for (j, cb) in b.iter().enumerate() {
-            cur[j + 1] = (prev[j] + usize::from(ca != cb)).min(prev[j + 1] + 1).min(cur[j] + 1);
+            cur[j + 1] = (prev[j] + usize::from(ca != cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
         }
         prev = cur;
     }
@@ -465,19 +485,34 @@ pub(crate) fn lower(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver) -
 }
 
 fn zero_divisor(divisor: &Ast, at: Location) -> Error {
-    Error::ZeroDivisor { divisor: divisor.text(), location: at }
+    Error::ZeroDivisor {
+        divisor: divisor.text(),
+        location: at,
+    }
 }
 
-fn lower_call(arena: &mut Arena, name: &str, args: &[Ast], at: Location, r: &mut dyn Resolver) -> Result<Id> {
+fn lower_call(
+    arena: &mut Arena,
+    name: &str,
+    args: &[Ast],
+    at: Location,
+    r: &mut dyn Resolver,
+) -> Result<Id> {
     if name == "der" || name == "der2" {
         let order = if name == "der" { 1 } else { 2 };
         return match args {
             [Ast::Name(x, xat)] => r.rate(arena, x, order, *xat),
             [other] => Err(Error::Declaration {
-                message: format!("{name}() takes the name of a coordinate, like {name}(phi); found `{}`", other.text()),
+                message: format!(
+                    "{name}() takes the name of a coordinate, like {name}(phi); found `{}`",
+                    other.text()
+                ),
                 location: other.location(),
             }),
-            _ => Err(Error::Parse { message: format!("`{name}` takes 1 argument"), location: at }),
+            _ => Err(Error::Parse {
+                message: format!("`{name}` takes 1 argument"),
+                location: at,
+            }),
         };
     }
     let mut v = Vec::with_capacity(args.len());
@@ -485,8 +520,14 @@ fn lower_call(arena: &mut Arena, name: &str, args: &[Ast], at: Location, r: &mut
         v.push(lower(arena, a, r)?);
     }
     let domain = |e: Error| match e {
-        Error::DivisionByZero => Error::ZeroDivisor { divisor: args[0].text(), location: at },
-        other => Error::Declaration { message: other.to_string(), location: at },
+        Error::DivisionByZero => Error::ZeroDivisor {
+            divisor: args[0].text(),
+            location: at,
+        },
+        other => Error::Declaration {
+            message: other.to_string(),
+            location: at,
+        },
     };
     match (name, v.as_slice()) {
         ("sqrt", [x]) => arena.sqrt(*x).map_err(domain),
@@ -494,9 +535,15 @@ fn lower_call(arena: &mut Arena, name: &str, args: &[Ast], at: Location, r: &mut
         ("pow", [b, e]) => arena.pow(*b, *e).map_err(domain),
         (_, [x]) => match Func::from_name(name) {
             Some(f) => arena.func(f, *x).map_err(domain),
-            None => Err(Error::UnknownFunction { name: name.to_string(), location: at }),
+            None => Err(Error::UnknownFunction {
+                name: name.to_string(),
+                location: at,
+            }),
         },
-        _ => Err(Error::UnknownFunction { name: name.to_string(), location: at }),
+        _ => Err(Error::UnknownFunction {
+            name: name.to_string(),
+            location: at,
+        }),
     }
 }
 

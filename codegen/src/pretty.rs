@@ -17,7 +17,11 @@ use crate::render::{Prec, R, Renderer, Style};
 pub(crate) struct Text;
 
 fn wrap(r: &R, min: Prec) -> String {
-    if r.prec < min { format!("({})", r.s) } else { r.s.clone() }
+    if r.prec < min {
+        format!("({})", r.s)
+    } else {
+        r.s.clone()
+    }
 }
 
 impl Style for Text {
@@ -54,27 +58,42 @@ impl Style for Text {
     fn power(&self, base: &R, exp: &R) -> R {
         // `^` is right-associative: a power in the exponent needs no brackets, one in the
         // base does.
-        R::new(format!("{}^{}", wrap(base, Prec::Atom), wrap(exp, Prec::Power)), Prec::Power)
+        R::new(
+            format!("{}^{}", wrap(base, Prec::Atom), wrap(exp, Prec::Power)),
+            Prec::Power,
+        )
     }
 
     fn product(&self, num: Vec<R>, den: Vec<R>) -> R {
         if den.is_empty() && num.len() == 1 {
-            return num.into_iter().next().unwrap_or_else(|| R::new("1".into(), Prec::Atom));
+            return num
+                .into_iter()
+                .next()
+                .unwrap_or_else(|| R::new("1".into(), Prec::Atom));
         }
         let top: Vec<String> = num.iter().map(|r| wrap(r, Prec::Power)).collect();
-        let top = if top.is_empty() { "1".to_string() } else { top.join("*") };
+        let top = if top.is_empty() {
+            "1".to_string()
+        } else {
+            top.join("*")
+        };
         if den.is_empty() {
             return R::new(top, Prec::Product);
         }
         // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the arena's
         // canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
-        if let [q, sum] = den.as_slice() {
-            if q.s.bytes().all(|b| b.is_ascii_digit()) && sum.prec == Prec::Sum {
-                return R::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
-            }
+        if let [q, sum] = den.as_slice()
+            && q.s.bytes().all(|b| b.is_ascii_digit())
+            && sum.prec == Prec::Sum
+        {
+            return R::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
         }
         let bottom: Vec<String> = den.iter().map(|r| wrap(r, Prec::Power)).collect();
-        let bottom = if bottom.len() == 1 { bottom.join("") } else { format!("({})", bottom.join("*")) };
+        let bottom = if bottom.len() == 1 {
+            bottom.join("")
+        } else {
+            format!("({})", bottom.join("*"))
+        };
         R::new(format!("{top}/{bottom}"), Prec::Product)
     }
 
@@ -95,7 +114,8 @@ impl Style for Text {
 /// }
 /// let e = parse_expr(&mut a, "1/2*m2*l1^2*cos(phi)^2 - 0.04/m2").unwrap();
 /// assert_eq!(to_text(&a, e), "m2*l1^2*cos(phi)^2/2 - 0.04/m2");
-/// assert_eq!(parse_expr(&mut a, &to_text(&a, e)).unwrap(), e);
+/// let text = to_text(&a, e);
+/// assert_eq!(parse_expr(&mut a, &text).unwrap(), e);
 /// ```
 pub fn to_text(arena: &Arena, id: Id) -> String {
     Renderer::new(arena, Text).render(id).s
@@ -103,7 +123,11 @@ pub fn to_text(arena: &Arena, id: Id) -> String {
 
 /// The entry name `name[i,j]` (1-based), or `name[i]` for a column vector.
 fn entry_name(name: &str, m: &Matrix, i: usize, j: usize) -> String {
-    if m.cols == 1 { format!("{name}[{}]", i + 1) } else { format!("{name}[{},{}]", i + 1, j + 1) }
+    if m.cols == 1 {
+        format!("{name}[{}]", i + 1)
+    } else {
+        format!("{name}[{},{}]", i + 1, j + 1)
+    }
 }
 
 /// The non-zero entries of `m`, one per line as `name[i,j] = entry` (1-based; `name[i]` for a
@@ -129,12 +153,18 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
     let mut zeros = 0;
     for i in 0..m.rows {
         for j in 0..m.cols {
-            let Some(&e) = m.data.get(i * m.cols + j) else { continue };
+            let Some(&e) = m.data.get(i * m.cols + j) else {
+                continue;
+            };
             if r.is_zero(e) {
                 zeros += 1;
                 continue;
             }
-            out.push_str(&format!("{indent}{} = {}\n", entry_name(name, m, i, j), r.render(e).s));
+            out.push_str(&format!(
+                "{indent}{} = {}\n",
+                entry_name(name, m, i, j),
+                r.render(e).s
+            ));
         }
     }
     if m.rows * m.cols == 0 {
@@ -157,26 +187,56 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
     let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
     let (n, m) = (eqs.n, eqs.m);
     let mut out = String::new();
-    out.push_str(&format!("{}: Lagrange equations with multipliers\n", model.name));
-    out.push_str("  M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),  Phi(q, t) = 0\n");
-    out.push_str(&format!("q = [{}]  (n = {n} coordinates, m = {m} constraint rows); q' = der(q)\n", names.join(", ")));
+    out.push_str(&format!(
+        "{}: Lagrange equations with multipliers\n",
+        model.name
+    ));
+    out.push_str(
+        "  M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),  Phi(q, t) = 0\n",
+    );
+    out.push_str(&format!(
+        "q = [{}]  (n = {n} coordinates, m = {m} constraint rows); q' = der(q)\n",
+        names.join(", ")
+    ));
     let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
     let sections: [(&str, &str, &Matrix); 9] = [
         ("M", "M = d2T/dq'dq', the mass matrix", &eqs.mass),
-        ("C", "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix", &eqs.coriolis_matrix),
-        ("Cq'", "C q', the Coriolis and centrifugal forces", &eqs.coriolis_forces),
+        (
+            "C",
+            "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
+            &eqs.coriolis_matrix,
+        ),
+        (
+            "Cq'",
+            "C q', the Coriolis and centrifugal forces",
+            &eqs.coriolis_forces,
+        ),
         ("g", "g = dPi/dq, the gravity forces", &eqs.gravity),
         ("tau", "tau, the generalised forces", &eqs.forces),
         ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
-        ("Phi_q", "Phi_q = dPhi/dq, the constraint Jacobian", &eqs.phi_q),
+        (
+            "Phi_q",
+            "Phi_q = dPhi/dq, the constraint Jacobian",
+            &eqs.phi_q,
+        ),
         ("Phi_t", "Phi_t = dPhi/dt", &eqs.phi_t),
-        ("gamma", "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma", &eqs.gamma),
+        (
+            "gamma",
+            "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma",
+            &eqs.gamma,
+        ),
     ];
     for (name, title, mat) in sections {
         out.push_str(&format!("\n{title} ({}):\n", size(mat)));
         out.push_str(&matrix_lines(&mut r, name, mat, "  "));
     }
-    out.push_str(&format!("\nT, the kinetic energy:\n  T = {}\n", r.render(eqs.kinetic).s));
-    out.push_str(&format!("\nPi, the potential energy:\n  Pi = {}\n", r.render(eqs.potential).s));
+    out.push_str(&format!(
+        "\nT, the kinetic energy:\n  T = {}\n",
+        r.render(eqs.kinetic).s
+    ));
+    out.push_str(&format!(
+        "\nPi, the potential energy:\n  Pi = {}\n",
+        r.render(eqs.potential).s
+    ));
     out
 }

@@ -12,9 +12,9 @@
 //!
 //! A [`Style`] supplies the spelling (plain text or LaTeX).
 
+use crate::FxHashMap;
 use crate::expr::{Arena, Func, Id, Node, SymbolKind};
 use crate::number::Number;
-use crate::FxHashMap;
 
 /// How tightly a rendering binds, loosest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -44,7 +44,11 @@ pub(crate) struct R {
 impl R {
     /// A rendering without a function head.
     pub(crate) fn new(s: String, prec: Prec) -> Self {
-        Self { s, prec, head: None }
+        Self {
+            s,
+            prec,
+            head: None,
+        }
     }
 }
 
@@ -86,7 +90,11 @@ pub(crate) struct Renderer<'a, S: Style> {
 impl<'a, S: Style> Renderer<'a, S> {
     /// A renderer over `arena`.
     pub(crate) fn new(arena: &'a Arena, style: S) -> Self {
-        Self { arena, style, memo: FxHashMap::default() }
+        Self {
+            arena,
+            style,
+            memo: FxHashMap::default(),
+        }
     }
 
     /// The rendering of `id` (`<invalid id N>` when `id` is not a node of the arena).
@@ -117,7 +125,10 @@ impl<'a, S: Style> Renderer<'a, S> {
     }
 
     fn get(&self, id: Id) -> R {
-        self.memo.get(&id).cloned().unwrap_or_else(|| R::new(String::from("?"), Prec::Atom))
+        self.memo
+            .get(&id)
+            .cloned()
+            .unwrap_or_else(|| R::new(String::from("?"), Prec::Atom))
     }
 
     fn node(&self, id: Id) -> R {
@@ -141,11 +152,19 @@ impl<'a, S: Style> Renderer<'a, S> {
     }
 
     fn signed_number(&self, n: Number) -> R {
-        if n.is_negative() { self.negate(self.style.number(n.neg())) } else { self.style.number(n) }
+        if n.is_negative() {
+            self.negate(self.style.number(n.neg()))
+        } else {
+            self.style.number(n)
+        }
     }
 
     fn negate(&self, x: R) -> R {
-        let body = if x.prec == Prec::Sum { self.style.paren(&x.s) } else { x.s };
+        let body = if x.prec == Prec::Sum {
+            self.style.paren(&x.s)
+        } else {
+            x.s
+        };
         // A unary minus binds to the first factor only, and the arena distributes -1 over a
         // sum: `-(a + b)*c` would read back as (-a - b)*c. `-1*(a + b)*c` reads back as written.
         if body.starts_with('(') {
@@ -174,13 +193,23 @@ impl<'a, S: Style> Renderer<'a, S> {
         let mut pos: Vec<R> = Vec::new();
         let mut neg: Vec<R> = Vec::new();
         // Non-constant terms first, the constant last within its sign group.
-        for &t in ts.iter().filter(|t| !is_const(t)).chain(ts.iter().filter(|t| is_const(t))) {
+        for &t in ts
+            .iter()
+            .filter(|t| !is_const(t))
+            .chain(ts.iter().filter(|t| is_const(t)))
+        {
             match self.negated(t) {
                 Some(r) => neg.push(r),
                 None => pos.push(self.get(t)),
             }
         }
-        let wrap = |r: R| if r.prec == Prec::Sum { self.style.paren(&r.s) } else { r.s };
+        let wrap = |r: R| {
+            if r.prec == Prec::Sum {
+                self.style.paren(&r.s)
+            } else {
+                r.s
+            }
+        };
         let mut s = String::new();
         let mut first = true;
         for r in pos {

@@ -45,6 +45,20 @@ pub struct Tape {
 
 impl Tape {
     /// Compiles `program`.
+    ///
+    /// # Example
+    /// ```
+    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
+    ///
+    /// let mut a = Arena::new();
+    /// let x = a.symbol("x", SymbolKind::Free);
+    /// let y = a.symbol("y", SymbolKind::Free);
+    /// let m = Matrix::column(vec![a.mul2(x, y), a.sin(x)]);
+    /// let mut tape = Tape::new(&Program::new(&a, &[&m]).unwrap());
+    /// let mut out = [0.0; 2];
+    /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
+    /// assert_eq!(out, [2.0, 0.5_f64.sin()]);
+    /// ```
     pub fn new(program: &Program) -> Tape {
         let mut consts: Vec<u64> = Vec::new();
         let mut const_slot: FxHashMap<u64, u32> = FxHashMap::default();

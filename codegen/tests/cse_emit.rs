@@ -151,7 +151,7 @@ fn errors_are_typed() {
         zeroed: false,
     };
     assert_eq!(
-        emit_body(&p, &s.b, &[v.clone()]).unwrap_err(),
+        emit_body(&p, &s.b, std::slice::from_ref(&v)).unwrap_err(),
         Error::MissingValue { name: "t".into() }
     );
     assert!(
@@ -170,6 +170,23 @@ fn errors_are_typed() {
         emit_body(&p2, &s.b, &[OutputTarget::Return, OutputTarget::Return]),
         Err(Error::Model(_))
     ));
+    let square = Program::new(
+        &s.a,
+        &[&Matrix {
+            rows: 2,
+            cols: 2,
+            data: vec![c; 4],
+        }],
+    )
+    .unwrap();
+    let as_vector = OutputTarget::Vector {
+        name: quote!(o),
+        zeroed: false,
+    };
+    assert!(
+        matches!(emit_body(&square, &s.b, &[as_vector]), Err(Error::Model(_))),
+        "a 2 x 2 output is not a vector (nalgebra's linear index is column-major)"
+    );
     let mut bad = s.b.clone();
     bad.set_prefix("1x");
     assert!(matches!(

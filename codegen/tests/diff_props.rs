@@ -12,7 +12,7 @@ mod common;
 
 use common::{Ast, ast, build, close, eval_ast};
 use mechanism_codegen::{Arena, Differentiator, Id, SymbolId, SymbolKind, eval};
-use num_dual::{Dual64, Dual2_64, HyperDual64};
+use num_dual::{Dual2_64, Dual64, HyperDual64};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 
@@ -25,7 +25,11 @@ fn free_xyz(a: &mut Arena) -> ([Id; 3], [SymbolId; 3]) {
 }
 
 fn value(a: &Arena, id: Id, syms: &[SymbolId], vals: &[f64]) -> Option<f64> {
-    eval(a, id, &|s| syms.iter().position(|&t| t == s).map(|k| vals[k])).ok().filter(|v| v.is_finite())
+    eval(a, id, &|s| {
+        syms.iter().position(|&t| t == s).map(|k| vals[k])
+    })
+    .ok()
+    .filter(|v| v.is_finite())
 }
 
 proptest! {
@@ -130,7 +134,9 @@ fn builder_agrees_with_ast_evaluation() {
         let e: Ast = ast().new_tree(&mut runner).unwrap().current();
         let mut a = Arena::new();
         let (ids, syms) = free_xyz(&mut a);
-        let Some(f) = build(&mut a, &e, &ids) else { continue };
+        let Some(f) = build(&mut a, &e, &ids) else {
+            continue;
+        };
         let p = [0.3, -0.7, 1.1];
         let oracle: f64 = eval_ast(&e, &p);
         if !oracle.is_finite() || oracle.abs() > BIG {
@@ -140,5 +146,8 @@ fn builder_agrees_with_ast_evaluation() {
         assert!(close(ours, oracle, TOL), "{e:?}: {ours} vs {oracle}");
         checked += 1;
     }
-    assert!(checked > 200, "the generator yields mostly well-defined expressions ({checked})");
+    assert!(
+        checked > 200,
+        "the generator yields mostly well-defined expressions ({checked})"
+    );
 }

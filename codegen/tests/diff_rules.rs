@@ -19,93 +19,153 @@ fn fx() -> Fx {
 }
 
 /// One rule per line: (name, f(x, y), expected d f / d x), both built in the same arena.
-type Case = (&'static str, fn(&mut Arena, Id, Id) -> Id, fn(&mut Arena, Id, Id) -> Id);
+type Case = (
+    &'static str,
+    fn(&mut Arena, Id, Id) -> Id,
+    fn(&mut Arena, Id, Id) -> Id,
+);
 
 const CASES: &[Case] = &[
     ("constant", |a, _, y| a.mul2(y, y), |a, _, _| a.int(0)),
     ("x", |_, x, _| x, |a, _, _| a.int(1)),
-    ("x^3 = 3 x^2", |a, x, _| a.powi(x, 3).unwrap(), |a, x, _| {
-        let x2 = a.powi(x, 2).unwrap();
-        let three = a.int(3);
-        a.mul2(three, x2)
-    }),
-    ("1/x = -x^-2", |a, x, _| a.powi(x, -1).unwrap(), |a, x, _| {
-        let p = a.powi(x, -2).unwrap();
-        a.neg(p)
-    }),
-    ("sqrt x = 1/2 x^-1/2", |a, x, _| a.sqrt(x).unwrap(), |a, x, _| {
-        let e = a.rational(-1, 2).unwrap();
-        let p = a.pow(x, e).unwrap();
-        let h = a.rational(1, 2).unwrap();
-        a.mul2(h, p)
-    }),
-    ("x y sin x: n-ary product rule", |a, x, y| {
-        let s = a.sin(x);
-        a.mul(&[x, y, s])
-    }, |a, x, y| {
-        let (s, c) = (a.sin(x), a.cos(x));
-        let t1 = a.mul2(y, s);
-        let t2 = a.mul(&[x, y, c]);
-        a.add2(t1, t2)
-    }),
+    (
+        "x^3 = 3 x^2",
+        |a, x, _| a.powi(x, 3).unwrap(),
+        |a, x, _| {
+            let x2 = a.powi(x, 2).unwrap();
+            let three = a.int(3);
+            a.mul2(three, x2)
+        },
+    ),
+    (
+        "1/x = -x^-2",
+        |a, x, _| a.powi(x, -1).unwrap(),
+        |a, x, _| {
+            let p = a.powi(x, -2).unwrap();
+            a.neg(p)
+        },
+    ),
+    (
+        "sqrt x = 1/2 x^-1/2",
+        |a, x, _| a.sqrt(x).unwrap(),
+        |a, x, _| {
+            let e = a.rational(-1, 2).unwrap();
+            let p = a.pow(x, e).unwrap();
+            let h = a.rational(1, 2).unwrap();
+            a.mul2(h, p)
+        },
+    ),
+    (
+        "x y sin x: n-ary product rule",
+        |a, x, y| {
+            let s = a.sin(x);
+            a.mul(&[x, y, s])
+        },
+        |a, x, y| {
+            let (s, c) = (a.sin(x), a.cos(x));
+            let t1 = a.mul2(y, s);
+            let t2 = a.mul(&[x, y, c]);
+            a.add2(t1, t2)
+        },
+    ),
     ("sin = cos", |a, x, _| a.sin(x), |a, x, _| a.cos(x)),
-    ("cos = -sin", |a, x, _| a.cos(x), |a, x, _| {
-        let s = a.sin(x);
-        a.neg(s)
-    }),
-    ("tan = 1 + tan^2", |a, x, _| a.func(Func::Tan, x).unwrap(), |a, x, _| {
-        let t = a.func(Func::Tan, x).unwrap();
-        let t2 = a.powi(t, 2).unwrap();
-        let one = a.int(1);
-        a.add2(one, t2)
-    }),
-    ("exp = exp", |a, x, _| a.func(Func::Exp, x).unwrap(), |a, x, _| a.func(Func::Exp, x).unwrap()),
-    ("ln = 1/x", |a, x, _| a.func(Func::Ln, x).unwrap(), |a, x, _| a.powi(x, -1).unwrap()),
-    ("abs(x y) = y x y/|x y|", |a, x, y| {
-        let p = a.mul2(x, y);
-        a.func(Func::Abs, p).unwrap()
-    }, |a, x, y| {
-        let p = a.mul2(x, y);
-        let ab = a.func(Func::Abs, p).unwrap();
-        let inv = a.powi(ab, -1).unwrap();
-        a.mul(&[p, inv, y])
-    }),
-    ("atan2(y, x) = -y/(x^2 + y^2)", |a, x, y| a.atan2(y, x), |a, x, y| {
-        let (x2, y2) = (a.powi(x, 2).unwrap(), a.powi(y, 2).unwrap());
-        let den = a.add2(x2, y2);
-        let ny = a.neg(y);
-        a.div(ny, den).unwrap()
-    }),
-    ("y^x = y^x ln y", |a, x, y| a.pow(y, x).unwrap(), |a, x, y| {
-        let p = a.pow(y, x).unwrap();
-        let l = a.func(Func::Ln, y).unwrap();
-        a.mul2(p, l)
-    }),
-    ("x^x = x^x (ln x + 1)", |a, x, _| a.pow(x, x).unwrap(), |a, x, _| {
-        let p = a.pow(x, x).unwrap();
-        let l = a.func(Func::Ln, x).unwrap();
-        let one = a.int(1);
-        let s = a.add2(l, one);
-        a.mul2(p, s)
-    }),
-    ("x^y = y x^(y-1)", |a, x, y| a.pow(x, y).unwrap(), |a, x, y| {
-        let m1 = a.int(-1);
-        let e = a.add2(y, m1);
-        let p = a.pow(x, e).unwrap();
-        a.mul2(y, p)
-    }),
-    ("sin^2 + cos^2 differentiates to 0", |a, x, _| {
-        let (s, c) = (a.sin(x), a.cos(x));
-        let (s2, c2) = (a.powi(s, 2).unwrap(), a.powi(c, 2).unwrap());
-        let y2 = a.mul2(s2, s2);
-        let sum = a.add2(s2, c2);
-        a.add2(sum, y2)
-    }, |a, x, _| {
-        let (s, c) = (a.sin(x), a.cos(x));
-        let s3 = a.powi(s, 3).unwrap();
-        let four = a.int(4);
-        a.mul(&[four, s3, c])
-    }),
+    (
+        "cos = -sin",
+        |a, x, _| a.cos(x),
+        |a, x, _| {
+            let s = a.sin(x);
+            a.neg(s)
+        },
+    ),
+    (
+        "tan = 1 + tan^2",
+        |a, x, _| a.func(Func::Tan, x).unwrap(),
+        |a, x, _| {
+            let t = a.func(Func::Tan, x).unwrap();
+            let t2 = a.powi(t, 2).unwrap();
+            let one = a.int(1);
+            a.add2(one, t2)
+        },
+    ),
+    (
+        "exp = exp",
+        |a, x, _| a.func(Func::Exp, x).unwrap(),
+        |a, x, _| a.func(Func::Exp, x).unwrap(),
+    ),
+    (
+        "ln = 1/x",
+        |a, x, _| a.func(Func::Ln, x).unwrap(),
+        |a, x, _| a.powi(x, -1).unwrap(),
+    ),
+    (
+        "abs(x y) = y x y/|x y|",
+        |a, x, y| {
+            let p = a.mul2(x, y);
+            a.func(Func::Abs, p).unwrap()
+        },
+        |a, x, y| {
+            let p = a.mul2(x, y);
+            let ab = a.func(Func::Abs, p).unwrap();
+            let inv = a.powi(ab, -1).unwrap();
+            a.mul(&[p, inv, y])
+        },
+    ),
+    (
+        "atan2(y, x) = -y/(x^2 + y^2)",
+        |a, x, y| a.atan2(y, x),
+        |a, x, y| {
+            let (x2, y2) = (a.powi(x, 2).unwrap(), a.powi(y, 2).unwrap());
+            let den = a.add2(x2, y2);
+            let ny = a.neg(y);
+            a.div(ny, den).unwrap()
+        },
+    ),
+    (
+        "y^x = y^x ln y",
+        |a, x, y| a.pow(y, x).unwrap(),
+        |a, x, y| {
+            let p = a.pow(y, x).unwrap();
+            let l = a.func(Func::Ln, y).unwrap();
+            a.mul2(p, l)
+        },
+    ),
+    (
+        "x^x = x^x (ln x + 1)",
+        |a, x, _| a.pow(x, x).unwrap(),
+        |a, x, _| {
+            let p = a.pow(x, x).unwrap();
+            let l = a.func(Func::Ln, x).unwrap();
+            let one = a.int(1);
+            let s = a.add2(l, one);
+            a.mul2(p, s)
+        },
+    ),
+    (
+        "x^y = y x^(y-1)",
+        |a, x, y| a.pow(x, y).unwrap(),
+        |a, x, y| {
+            let m1 = a.int(-1);
+            let e = a.add2(y, m1);
+            let p = a.pow(x, e).unwrap();
+            a.mul2(y, p)
+        },
+    ),
+    (
+        "sin^2 + cos^2 differentiates to 0",
+        |a, x, _| {
+            let (s, c) = (a.sin(x), a.cos(x));
+            let (s2, c2) = (a.powi(s, 2).unwrap(), a.powi(c, 2).unwrap());
+            let y2 = a.mul2(s2, s2);
+            let sum = a.add2(s2, c2);
+            a.add2(sum, y2)
+        },
+        |a, x, _| {
+            let (s, c) = (a.sin(x), a.cos(x));
+            let s3 = a.powi(s, 3).unwrap();
+            let four = a.int(4);
+            a.mul(&[four, s3, c])
+        },
+    ),
 ];
 
 #[test]
@@ -123,17 +183,35 @@ fn rules_give_canonical_forms() {
 fn invalid_inputs_are_typed_errors() {
     let mut t = fx();
     let mut d = Differentiator::new();
-    assert!(matches!(d.diff(&mut t.a, Id(10_000), t.sx), Err(Error::InvalidId { .. })));
-    assert!(matches!(d.diff(&mut t.a, t.x, SymbolId(77)), Err(Error::Model(_))));
-    assert!(matches!(d.time_derivative(&mut t.a, Id(10_000)), Err(Error::InvalidId { .. })));
-    assert!(matches!(d.depends_on(&t.a, Id(10_000), t.sx), Err(Error::InvalidId { .. })));
+    assert!(matches!(
+        d.diff(&mut t.a, Id(10_000), t.sx),
+        Err(Error::InvalidId { .. })
+    ));
+    assert!(matches!(
+        d.diff(&mut t.a, t.x, SymbolId(77)),
+        Err(Error::Model(_))
+    ));
+    assert!(matches!(
+        d.time_derivative(&mut t.a, Id(10_000)),
+        Err(Error::InvalidId { .. })
+    ));
+    assert!(matches!(
+        d.depends_on(&t.a, Id(10_000), t.sx),
+        Err(Error::InvalidId { .. })
+    ));
     // d/dx (-2)^x needs ln(-2).
     let m2 = t.a.int(-2);
     let p = t.a.pow(m2, t.x).unwrap();
-    assert!(matches!(d.diff(&mut t.a, p, t.sx), Err(Error::Domain { .. })));
+    assert!(matches!(
+        d.diff(&mut t.a, p, t.sx),
+        Err(Error::Domain { .. })
+    ));
     // The time derivative of an acceleration would be a third derivative.
     let [_, _, qdd] = t.a.coordinate("q");
-    assert!(matches!(d.time_derivative(&mut t.a, qdd), Err(Error::Model(_))));
+    assert!(matches!(
+        d.time_derivative(&mut t.a, qdd),
+        Err(Error::Model(_))
+    ));
 }
 
 #[test]
@@ -173,7 +251,11 @@ fn independent_subtrees_cost_nothing() {
     let before = t.a.len();
     let mut d = Differentiator::new();
     assert_eq!(d.diff(&mut t.a, e, t.sx).unwrap(), zero);
-    assert_eq!(t.a.len(), before, "no node is built for an independent expression");
+    assert_eq!(
+        t.a.len(),
+        before,
+        "no node is built for an independent expression"
+    );
     assert!(!d.depends_on(&t.a, e, t.sx).unwrap());
     let sy = t.a.as_symbol(t.y).unwrap();
     assert_eq!(d.symbols_of(&t.a, e).unwrap(), vec![sy]);

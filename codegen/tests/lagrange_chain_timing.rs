@@ -15,18 +15,31 @@ fn chain_derivation_times() {
         let start = Instant::now();
         let eqs = derive(&mut model).expect("chain derives");
         let derived = start.elapsed();
-        let outputs = [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity, &eqs.phi, &eqs.phi_q, &eqs.gamma];
+        let outputs = [
+            &eqs.mass,
+            &eqs.coriolis_forces,
+            &eqs.gravity,
+            &eqs.phi,
+            &eqs.phi_q,
+            &eqs.gamma,
+        ];
         let program = Program::new(&model.arena, &outputs).expect("program");
         let total = start.elapsed();
         let ops = program.op_counts();
-        let reference = sympy.iter().find(|s| s.0 == n).map_or("-".to_string(), |s| s.1.to_string());
+        let reference = sympy
+            .iter()
+            .find(|s| s.0 == n)
+            .map_or("-".to_string(), |s| s.1.to_string());
         println!(
             "N = {n:3}: derive {:8.2} ms, derive + CSE {:8.2} ms, {} nodes, {ops} (SymPy {reference})",
             derived.as_secs_f64() * 1e3,
             total.as_secs_f64() * 1e3,
             model.arena.len(),
         );
-        for (k, name) in ["M", "Cq'", "g", "Phi", "Phi_q", "gamma"].iter().enumerate() {
+        for (k, name) in ["M", "Cq'", "g", "Phi", "Phi_q", "gamma"]
+            .iter()
+            .enumerate()
+        {
             if let Some(c) = program.output_op_counts(k) {
                 println!("      {name:6} {c}");
             }

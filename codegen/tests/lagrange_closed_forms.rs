@@ -8,7 +8,10 @@
 mod common;
 
 use common::{State, assert_equations_close, bare_model, close, eval_equations, oracle_equations};
-use mechanism_codegen::{Arena, Error, Func, Id, Matrix, Model, SymbolKind, christoffel_coriolis_forces, derive, eval_matrix};
+use mechanism_codegen::{
+    Arena, Error, Func, Id, Matrix, Model, SymbolKind, christoffel_coriolis_forces, derive,
+    eval_matrix,
+};
 
 const TOL: f64 = 1e-10;
 
@@ -39,7 +42,13 @@ fn polar_pendulum() -> Model {
     let mgr = a.mul(&[m, g, r, c]);
     let potential = a.neg(mgr);
     let phi = a.sub(r, l);
-    bare_model(a, &[("r", [r, rd, rdd]), ("th", [th, thd, thdd])], kinetic, potential, vec![phi])
+    bare_model(
+        a,
+        &[("r", [r, rd, rdd]), ("th", [th, thd, thdd])],
+        kinetic,
+        potential,
+        vec![phi],
+    )
 }
 
 #[test]
@@ -52,17 +61,29 @@ fn polar_pendulum_closed_form() {
     let (zero, one, two) = (a.int(0), a.int(1), a.int(2));
     let r2 = a.powi(r, 2).unwrap();
     let mr2 = a.mul2(m, r2);
-    assert_eq!(eqs.mass.data, vec![m, zero, zero, mr2], "M = diag(m, m r^2)");
+    assert_eq!(
+        eqs.mass.data,
+        vec![m, zero, zero, mr2],
+        "M = diag(m, m r^2)"
+    );
     let thd2 = a.powi(thd, 2).unwrap();
     let mrw = a.mul(&[m, r, thd2]);
     let centrifugal = a.neg(mrw);
     let coriolis = a.mul(&[two, m, r, rd, thd]);
-    assert_eq!(eqs.coriolis_forces.data, vec![centrifugal, coriolis], "C q' = [-m r th'^2, 2 m r r' th']");
+    assert_eq!(
+        eqs.coriolis_forces.data,
+        vec![centrifugal, coriolis],
+        "C q' = [-m r th'^2, 2 m r r' th']"
+    );
     let (s, c) = (a.sin(th), a.cos(th));
     let mgc = a.mul(&[m, g, c]);
     let g0 = a.neg(mgc);
     let g1 = a.mul(&[m, g, r, s]);
-    assert_eq!(eqs.gravity.data, vec![g0, g1], "g = [-m g cos th, m g r sin th]");
+    assert_eq!(
+        eqs.gravity.data,
+        vec![g0, g1],
+        "g = [-m g cos th, m g r sin th]"
+    );
     assert_eq!(eqs.phi_q.data, vec![one, zero]);
     assert_eq!(eqs.gamma.data, vec![zero]);
     assert_eq!(eqs.phi_t.data, vec![zero]);
@@ -82,10 +103,20 @@ fn cartesian_particle_closed_form() {
     let half = a.rational(1, 2).unwrap();
     let kinetic = a.mul(&[half, m, v2]);
     let potential = a.mul(&[m, g, y]);
-    let (x2, y2, l2) = (a.powi(x, 2).unwrap(), a.powi(y, 2).unwrap(), a.powi(l, 2).unwrap());
+    let (x2, y2, l2) = (
+        a.powi(x, 2).unwrap(),
+        a.powi(y, 2).unwrap(),
+        a.powi(l, 2).unwrap(),
+    );
     let r2 = a.add2(x2, y2);
     let phi = a.sub(r2, l2);
-    let mut model = bare_model(a, &[("x", [x, xd, xdd]), ("y", [y, yd, ydd])], kinetic, potential, vec![phi]);
+    let mut model = bare_model(
+        a,
+        &[("x", [x, xd, xdd]), ("y", [y, yd, ydd])],
+        kinetic,
+        potential,
+        vec![phi],
+    );
     let eqs = derive(&mut model).unwrap();
     let a = &mut model.arena;
     let (zero, two) = (a.int(0), a.int(2));
@@ -96,15 +127,26 @@ fn cartesian_particle_closed_form() {
     let (tx, ty) = (a.mul2(two, x), a.mul2(two, y));
     assert_eq!(eqs.phi_q.data, vec![tx, ty]);
     let v2x2 = a.mul2(two, v2);
-    assert_eq!(eqs.gamma.data, vec![a.neg(v2x2)], "gamma = -2 (x'^2 + y'^2)");
+    assert_eq!(
+        eqs.gamma.data,
+        vec![a.neg(v2x2)],
+        "gamma = -2 (x'^2 + y'^2)"
+    );
     oracle_check(&mut model, &eqs, &[("m", 0.8), ("g", 9.81), ("l", 1.1)]);
 }
 
 /// The seed crank-slider, q = [phi, beta, gamma, x_c] (macro issue; ERRATA items 3-4).
 fn crank_slider() -> Model {
     let mut a = Arena::new();
-    let p: Vec<Id> = ["h", "l1", "l2", "d", "alpha", "m1", "m2", "m3", "J1", "a1", "g", "tau0", "Omega"].iter().map(|n| param(&mut a, n)).collect();
-    let [h, l1, l2, d, alpha, m1, m2, m3, j1, a1, g, tau0, omega] = p[..] else { unreachable!() };
+    let p: Vec<Id> = [
+        "h", "l1", "l2", "d", "alpha", "m1", "m2", "m3", "J1", "a1", "g", "tau0", "Omega",
+    ]
+    .iter()
+    .map(|n| param(&mut a, n))
+    .collect();
+    let [h, l1, l2, d, alpha, m1, m2, m3, j1, a1, g, tau0, omega] = p[..] else {
+        unreachable!()
+    };
     let coords = ["phi", "beta", "gamma", "x_c"].map(|n| (n, a.coordinate(n)));
     let [phi, beta, gam, xc] = coords.map(|c| c.1[0]);
     let [phid, _, _, xcd] = coords.map(|c| c.1[1]);
@@ -176,21 +218,34 @@ fn crank_slider_structure_and_gravity_sign() {
             assert_eq!(zero, !(i == j && (i == 0 || i == 3)), "M[{i},{j}]");
         }
     }
-    assert!(eqs.coriolis_forces.is_zero(a) && eqs.coriolis_matrix.is_zero(a), "constant M: no Coriolis terms");
+    assert!(
+        eqs.coriolis_forces.is_zero(a) && eqs.coriolis_matrix.is_zero(a),
+        "constant M: no Coriolis terms"
+    );
     assert!((1..4).all(|k| a.is_zero(eqs.gravity.data[k])));
     assert_eq!(eqs.forces.data, model.forces);
     // g_phi = -(m1 a1 + m2 l1/2) g sin(phi): the paper's printed sign is wrong (ERRATA item 4).
     let env_at = |phi: f64| {
-        let syms: Vec<_> = SEED.iter().map(|(n, v)| (a.lookup(n).unwrap(), *v)).chain([(a.lookup("phi").unwrap(), phi)]).collect();
+        let syms: Vec<_> = SEED
+            .iter()
+            .map(|(n, v)| (a.lookup(n).unwrap(), *v))
+            .chain([(a.lookup("phi").unwrap(), phi)])
+            .collect();
         move |s| syms.iter().find(|p| p.0 == s).map(|p| p.1)
     };
     for phi in [0.3, 1.2, 2.5, -0.7] {
         let ours = eval_matrix(a, &eqs.gravity, &env_at(phi)).unwrap()[0];
         let expected = -(0.12 * 0.04 + 0.5 * 0.08 / 2.0) * 9.81 * f64::sin(phi);
-        assert!(close(ours, expected, 1e-14), "g_phi({phi}) = {ours}, expected {expected}");
+        assert!(
+            close(ours, expected, 1e-14),
+            "g_phi({phi}) = {ours}, expected {expected}"
+        );
     }
     let at = eval_matrix(a, &eqs.gravity, &env_at(0.3)).unwrap()[0];
-    assert!(at < 0.0, "g_phi < 0 for phi in (0, pi): gravity pulls the crank back down");
+    assert!(
+        at < 0.0,
+        "g_phi < 0 for phi in (0, pi): gravity pulls the crank back down"
+    );
     let mut params = SEED.to_vec();
     params.retain(|p| p.0 != "alpha");
     params.push(("alpha", 0.3)); // a tilted guide exercises the alpha terms
@@ -206,12 +261,20 @@ fn crank_slider_gamma_by_finite_differences() {
     let eqs = derive(&mut model).unwrap();
     let a = &model.arena;
     let traj = |t: f64| -> ([f64; 4], [f64; 4]) {
-        let q = [0.3 + 2.0 * t, 0.46 + 0.1 * t.sin(), 0.84 - 0.2 * t * t, 0.2 + 0.05 * t];
+        let q = [
+            0.3 + 2.0 * t,
+            0.46 + 0.1 * t.sin(),
+            0.84 - 0.2 * t * t,
+            0.2 + 0.05 * t,
+        ];
         let qd = [2.0, 0.1 * t.cos(), -0.4 * t, 0.05];
         (q, qd)
     };
     let env = |q: [f64; 4], qd: [f64; 4]| {
-        let mut syms: Vec<_> = SEED.iter().map(|(n, v)| (a.lookup(n).unwrap(), *v)).collect();
+        let mut syms: Vec<_> = SEED
+            .iter()
+            .map(|(n, v)| (a.lookup(n).unwrap(), *v))
+            .collect();
         for (k, c) in model.coordinates.iter().enumerate() {
             syms.push((a.as_symbol(c.q).unwrap(), q[k]));
             syms.push((a.as_symbol(c.qd).unwrap(), qd[k]));
@@ -227,8 +290,14 @@ fn crank_slider_gamma_by_finite_differences() {
         let (q, qd) = traj(t0);
         let gamma = eval_matrix(a, &eqs.gamma, &env(q, qd)).unwrap();
         for r in 0..3 {
-            let fd: f64 = (0..4).map(|j| -(jp[r * 4 + j] - jm[r * 4 + j]) / (2.0 * h) * qd[j]).sum();
-            assert!(close(gamma[r], fd, 1e-7), "gamma[{r}] at t = {t0}: {} vs {fd}", gamma[r]);
+            let fd: f64 = (0..4)
+                .map(|j| -(jp[r * 4 + j] - jm[r * 4 + j]) / (2.0 * h) * qd[j])
+                .sum();
+            assert!(
+                close(gamma[r], fd, 1e-7),
+                "gamma[{r}] at t = {t0}: {} vs {fd}",
+                gamma[r]
+            );
         }
     }
 }
@@ -260,7 +329,13 @@ fn time_dependent_constraints() {
     let x2 = a.powi(x, 2).unwrap();
     let tx2 = a.mul2(t, x2);
     let phi2 = a.sub(y, tx2);
-    let mut model = bare_model(a, &[("x", [x, xd, xdd]), ("y", [y, yd, ydd])], kinetic, potential, vec![phi1, phi2]);
+    let mut model = bare_model(
+        a,
+        &[("x", [x, xd, xdd]), ("y", [y, yd, ydd])],
+        kinetic,
+        potential,
+        vec![phi1, phi2],
+    );
     let eqs = derive(&mut model).unwrap();
     let a = &mut model.arena;
     // gamma_1 = -Phi_tt = -A w^2 sin(w t)
@@ -302,13 +377,27 @@ fn general_kinetic_energy() {
     let tz = a.mul(&[half, inertia, ez, zd2]);
     let kinetic = a.add2(rot, tz);
     let potential = a.int(0);
-    let mut model = bare_model(a, &[("x", [x, xd, xdd]), ("y", [y, yd, ydd]), ("z", [z, zd, zdd])], kinetic, potential, vec![]);
+    let mut model = bare_model(
+        a,
+        &[
+            ("x", [x, xd, xdd]),
+            ("y", [y, yd, ydd]),
+            ("z", [z, zd, zdd]),
+        ],
+        kinetic,
+        potential,
+        vec![],
+    );
     let eqs = derive(&mut model).unwrap();
     let a = &mut model.arena;
     // h_x = -2 m w y' - m w^2 x, h_y = 2 m w x' - m w^2 y
     let env = |vals: [f64; 9]| {
         let names = ["m", "w", "x", "y", "z", "der(x)", "der(y)", "der(z)", "t"];
-        let syms: Vec<_> = names.iter().zip(vals).map(|(n, v)| (a.lookup(n).unwrap(), v)).collect();
+        let syms: Vec<_> = names
+            .iter()
+            .zip(vals)
+            .map(|(n, v)| (a.lookup(n).unwrap(), v))
+            .collect();
         move |s| syms.iter().find(|p: &&(_, f64)| p.0 == s).map(|p| p.1)
     };
     let vals = [1.5, 0.7, 0.3, -0.4, 0.2, 0.9, -1.1, 0.6, 0.8];
@@ -356,7 +445,12 @@ fn oracle_check(model: &mut Model, eqs: &mechanism_codegen::Equations, params: &
     for _ in 0..5 {
         let q: Vec<f64> = (0..n).map(|_| rng.uniform(-1.5, 1.5)).collect();
         let qd: Vec<f64> = (0..n).map(|_| rng.uniform(-2.0, 2.0)).collect();
-        let st = State { q: &q, qd: &qd, t: rng.uniform(0.0, 2.0), params };
+        let st = State {
+            q: &q,
+            qd: &qd,
+            t: rng.uniform(0.0, 2.0),
+            params,
+        };
         let ours = eval_equations(model, eqs, &st);
         let oracle = oracle_equations(model, &st);
         assert_equations_close(&ours, &oracle, TOL);

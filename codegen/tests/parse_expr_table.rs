@@ -129,7 +129,9 @@ fn unknown_symbol_suggests_a_close_name() {
     let mut a = arena();
     let err = parse_expr(&mut a, "l2 + 1").unwrap_err();
     match &err {
-        Error::UnknownSymbol { name, suggestion, .. } => {
+        Error::UnknownSymbol {
+            name, suggestion, ..
+        } => {
             assert_eq!(name, "l2");
             assert_eq!(suggestion.as_deref(), Some("l1"));
         }
@@ -138,32 +140,57 @@ fn unknown_symbol_suggests_a_close_name() {
     assert!(err.to_string().contains("did you mean `l1`?"), "{err}");
     // No suggestion for a one-letter name: `w` is not a typo of `x`.
     let err = parse_expr(&mut a, "w").unwrap_err();
-    assert!(matches!(err, Error::UnknownSymbol { suggestion: None, .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            Error::UnknownSymbol {
+                suggestion: None,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
 }
 
 #[test]
 fn der_of_parameter_message_names_the_kind() {
     let mut a = arena();
     let err = parse_expr(&mut a, "der(m1)").unwrap_err();
-    assert!(err.to_string().contains("der() takes a coordinate; `m1` is a parameter"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("der() takes a coordinate; `m1` is a parameter"),
+        "{err}"
+    );
 }
 
 #[test]
 fn multi_line_error_has_line_and_column() {
     let mut a = arena();
     let err = parse_expr(&mut a, "x +\n  y *\n   unknown").unwrap_err();
-    assert!(matches!(err, Error::UnknownSymbol { location, .. } if location.line == 3 && location.column == 4), "{err:?}");
+    assert!(
+        matches!(err, Error::UnknownSymbol { location, .. } if location.line == 3 && location.column == 4),
+        "{err:?}"
+    );
     let err = parse_expr(&mut a, "(x +\n  (y * 2)").unwrap_err();
-    assert!(matches!(err, Error::Parse { location, .. } if location.line >= 1), "{err:?}");
+    assert!(
+        matches!(err, Error::Parse { location, .. } if location.line >= 1),
+        "{err:?}"
+    );
 }
 
 #[test]
 fn deep_nesting_is_an_error_not_a_stack_overflow() {
     let mut a = arena();
     let text = format!("{}x{}", "(".repeat(5000), ")".repeat(5000));
-    assert!(matches!(parse_expr(&mut a, &text), Err(Error::Parse { .. })));
+    assert!(matches!(
+        parse_expr(&mut a, &text),
+        Err(Error::Parse { .. })
+    ));
     let text = format!("{}x", "-".repeat(5000));
-    assert!(matches!(parse_expr(&mut a, &text), Err(Error::Parse { .. })));
+    assert!(matches!(
+        parse_expr(&mut a, &text),
+        Err(Error::Parse { .. })
+    ));
     // Moderate nesting is fine.
     let text = format!("{}x{}", "(".repeat(50), ")".repeat(50));
     assert!(parse_expr(&mut a, &text).is_ok());

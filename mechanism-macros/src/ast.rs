@@ -3,17 +3,14 @@
 
 use std::path::PathBuf;
 
-use mechanism_codegen::{Error, Location, Model};
+use mechanism_codegen::{Error, Location, Model, ModelSpans, SpannedError};
 use proc_macro2::{Span, TokenStream, TokenTree};
 use syn::LitStr;
 
 /// Where the declaration came from.
 pub enum Source {
     /// Written inline: errors point at the offending token.
-    Inline {
-        /// The declaration's tokens (kept to map a token index back to its span).
-        tokens: Vec<Span>,
-    },
+    Inline,
     /// `file = "mechanisms/x.mech"`: errors point at the literal and quote `file:line:column`.
     File {
         /// The string literal as written (its span receives every error).
@@ -27,6 +24,8 @@ pub enum Source {
 pub struct Declaration {
     /// The model (expressions in its arena, locations of every declared item).
     pub model: Model,
+    /// Where the parts of the declaration are (token spans for inline input).
+    pub spans: ModelSpans,
     /// Inline tokens or a file.
     pub source: Source,
     /// The path of the runtime crate in the generated code: `::mechanism` unless the input
@@ -39,11 +38,8 @@ impl Declaration {
     /// (inline) or at the file literal with `file:line:column` (file form).
     pub fn error_at(&self, location: Option<Location>, message: &str) -> syn::Error {
         match &self.source {
-            Source::Inline { tokens } => {
-                let span = location
-                    .and_then(|l| l.token)
-                    .and_then(|i| tokens.get(i).copied())
-                    .unwrap_or_else(Span::call_site);
+            Source::Inline => {
+                let span = location.map_or_else(Span::call_site, |l| self.spans.span(l));
                 syn::Error::new(span, message)
             }
             Source::File { literal, .. } => file_error(literal, location, message),
@@ -55,7 +51,9 @@ impl Declaration {
 fn file_literal(tokens: &TokenStream) -> Option<syn::Result<LitStr>> {
     let trees: Vec<TokenTree> = tokens.clone().into_iter().collect();
     match trees.as_slice() {
-        [TokenTree::Ident(kw), TokenTree::Punct(eq), rest @ ..] if kw == "file" && eq.as_char() == '=' => {
+        [TokenTree::Ident(kw), TokenTree::Punct(eq), rest @ ..]
+            if kw == "file" && eq.as_char() == '=' =>
+        {
             let rest: TokenStream = rest.iter().cloned().collect();
             Some(syn::parse2::<LitStr>(rest))
         }
@@ -76,10 +74,15 @@ fn crate_path(tokens: TokenStream) -> syn::Result<(TokenStream, TokenStream)> {
     let comma = rest
         .iter()
         .position(|t| matches!(t, TokenTree::Punct(p) if p.as_char() == ','))
-        .ok_or_else(|| syn::Error::new(eq.span(), "expected `crate = path,` before the declaration"))?;
+        .ok_or_else(|| {
+            syn::Error::new(eq.span(), "expected `crate = path,` before the declaration")
+        })?;
     let path: TokenStream = rest[..comma].iter().cloned().collect();
     if path.is_empty() {
-        return Err(syn::Error::new(eq.span(), "expected a path after `crate =`"));
+        return Err(syn::Error::new(
+            eq.span(),
+            "expected a path after `crate =`",
+        ));
     }
     Ok((path, rest[comma + 1..].iter().cloned().collect()))
 }
@@ -95,17 +98,31 @@ pub fn parse(tokens: TokenStream) -> syn::Result<Declaration> {
     Ok(decl)
 }
 
-/// The declaration written inline.
+/// The declaration written inline: every error of the parser's checks, combined.
 fn parse_inline(tokens: TokenStream) -> syn::Result<Declaration> {
-    let spans = leaf_spans(&tokens);
-    match mechanism_codegen::parse_model(tokens) {
-        Ok(model) => Ok(Declaration {
-            model,
-            source: Source::Inline { tokens: spans },
+    match mechanism_codegen::parse_declaration(tokens) {
+        Ok(parsed) => Ok(Declaration {
+            model: parsed.model,
+            spans: parsed.spans,
+            source: Source::Inline,
             krate: TokenStream::new(),
         }),
-        Err(e) => Err(syn::Error::new(e.span, message(&e.error))),
+        Err(errors) => Err(combine(
+            errors.iter().map(|e| syn::Error::new(e.span, e.message())),
+        )),
     }
+}
+
+/// One error holding all of `errors` (the user sees every mistake at once).
+pub fn combine(errors: impl IntoIterator<Item = syn::Error>) -> syn::Error {
+    let mut errors = errors.into_iter();
+    let mut first = errors
+        .next()
+        .unwrap_or_else(|| syn::Error::new(Span::call_site(), "the declaration could not be read"));
+    for e in errors {
+        first.combine(e);
+    }
+    first
 }
 
 /// The declaration read from a file: relative to `CARGO_MANIFEST_DIR` (the documented
@@ -113,7 +130,9 @@ fn parse_inline(tokens: TokenStream) -> syn::Result<Declaration> {
 /// `include_str!` resolves; it lets a test case sit next to its `.mech` file).
 fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
     let relative = literal.value();
-    let root = std::env::var_os("CARGO_MANIFEST_DIR").map(PathBuf::from).unwrap_or_default();
+    let root = std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_default();
     let beside = literal
         .span()
         .local_file()
@@ -131,19 +150,26 @@ fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
     let reason = first_error.map(|e| e.to_string()).unwrap_or_default();
     Err(syn::Error::new(
         literal.span(),
-        format!("cannot read mechanism file `{relative}` (paths are relative to CARGO_MANIFEST_DIR): {reason}"),
+        format!(
+            "cannot read mechanism file `{relative}` (paths are relative to CARGO_MANIFEST_DIR): {reason}"
+        ),
     ))
 }
 
 /// Parses the text of a mechanism file read from `path`.
 fn parse_text(literal: LitStr, path: PathBuf, text: &str) -> syn::Result<Declaration> {
-    match mechanism_codegen::parse_model_str(text) {
-        Ok(model) => Ok(Declaration {
-            model,
+    match mechanism_codegen::parse_declaration_str(text) {
+        Ok(parsed) => Ok(Declaration {
+            model: parsed.model,
+            spans: parsed.spans,
             source: Source::File { literal, path },
             krate: TokenStream::new(),
         }),
-        Err(e) => Err(file_error(&literal, location(&e), &message(&e))),
+        Err(errors) => Err(combine(
+            errors
+                .iter()
+                .map(|e| file_error(&literal, e.location(), &message(e))),
+        )),
     }
 }
 
@@ -157,42 +183,13 @@ fn file_error(literal: &LitStr, location: Option<Location>, message: &str) -> sy
     syn::Error::new(literal.span(), text)
 }
 
-/// The spans of the leaf tokens in depth-first order, with each group's open delimiter
-/// before its contents (the order the token parser numbers them).
-fn leaf_spans(tokens: &TokenStream) -> Vec<Span> {
-    let mut out = Vec::new();
-    fn walk(tokens: TokenStream, out: &mut Vec<Span>) {
-        for tree in tokens {
-            match tree {
-                TokenTree::Group(g) => {
-                    out.push(g.span_open());
-                    walk(g.stream(), out);
-                    out.push(g.span_close());
-                }
-                other => out.push(other.span()),
-            }
-        }
-    }
-    walk(tokens.clone(), &mut out);
-    out
-}
-
 /// The location a codegen error carries, if any.
 pub fn location(error: &Error) -> Option<Location> {
-    match error {
-        Error::Parse { location, .. }
-        | Error::UnknownFunction { location, .. }
-        | Error::UnknownSymbol { location, .. } => Some(*location),
-        _ => None,
-    }
+    error.location()
 }
 
 /// The error's message without its `at line .., column ..` (the span or the
 /// `file:line:column:` prefix says where).
 pub fn message(error: &Error) -> String {
-    let text = error.to_string();
-    match location(error) {
-        Some(l) => text.replacen(&format!(" at {l}"), "", 1),
-        None => text,
-    }
+    SpannedError::from(error.clone()).message()
 }

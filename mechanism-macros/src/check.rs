@@ -1,7 +1,7 @@
-//! The rules the macro adds on top of the parser, one `check_*` function per rule. Every
-//! failing rule contributes an error; they are combined so the user sees all at once.
-
-use mechanism_codegen::{Id, Location, Model, Node, SymbolKind};
+//! The rules the macro adds on top of the parser's (`mechanism_codegen` checks symbols,
+//! duplicates, rates, sizes and defaults), one `check_*` function per rule: those that come
+//! from the declaration becoming Rust items. Every failing rule contributes an error; they
+//! are combined so the user sees all at once.
 
 use crate::ast::Declaration;
 
@@ -10,17 +10,10 @@ pub fn check(decl: &Declaration) -> syn::Result<()> {
     let mut errors: Vec<syn::Error> = Vec::new();
     check_identifiers(decl, &mut errors);
     check_finite(decl, &mut errors);
-    check_sizes(decl, &mut errors);
-    check_rates(decl, &mut errors);
-    let mut errors = errors.into_iter();
-    match errors.next() {
-        None => Ok(()),
-        Some(mut first) => {
-            for e in errors {
-                first.combine(e);
-            }
-            Err(first)
-        }
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(crate::ast::combine(errors))
     }
 }
 
@@ -37,7 +30,10 @@ fn check_identifiers(decl: &Declaration, errors: &mut Vec<syn::Error>) {
     if !is_rust_identifier(&model.name) {
         errors.push(decl.error_at(
             None,
-            &format!("`{}` cannot name the generated struct: it is a Rust keyword", model.name),
+            &format!(
+                "`{}` cannot name the generated struct: it is a Rust keyword",
+                model.name
+            ),
         ));
     }
     for p in &model.parameters {
@@ -61,7 +57,10 @@ fn check_finite(decl: &Declaration, errors: &mut Vec<syn::Error>) {
         if !p.default.is_finite() {
             errors.push(decl.error_at(
                 Some(p.location),
-                &format!("the default of parameter `{}` is not a finite number ({})", p.name, p.default),
+                &format!(
+                    "the default of parameter `{}` is not a finite number ({})",
+                    p.name, p.default
+                ),
             ));
         }
     }
@@ -69,7 +68,10 @@ fn check_finite(decl: &Declaration, errors: &mut Vec<syn::Error>) {
         if !c.guess.is_finite() {
             errors.push(decl.error_at(
                 Some(c.location),
-                &format!("the initial guess of coordinate `{}` is not a finite number ({})", c.name, c.guess),
+                &format!(
+                    "the initial guess of coordinate `{}` is not a finite number ({})",
+                    c.name, c.guess
+                ),
             ));
         }
     }
@@ -78,68 +80,6 @@ fn check_finite(decl: &Declaration, errors: &mut Vec<syn::Error>) {
             errors.push(decl.error_at(
                 Some(s.location),
                 "the independent coordinate's initial position or rate is not a finite number",
-            ));
-        }
-    }
-}
-
-/// A mechanism needs at least one coordinate, and at most as many constraint rows as
-/// coordinates (m > n leaves no motion and no solvable assembly; m = n is allowed for a
-/// fully driven, rheonomic mechanism).
-fn check_sizes(decl: &Declaration, errors: &mut Vec<syn::Error>) {
-    let model = &decl.model;
-    let n = model.coordinates.len();
-    let m = model.constraints.len();
-    if n == 0 {
-        errors.push(decl.error_at(None, "`coordinates` is empty: declare at least one coordinate"));
-    }
-    if m > n {
-        let surplus = &model.constraints[n.min(m - 1)];
-        errors.push(decl.error_at(
-            Some(surplus.location),
-            &format!(
-                "{m} constraint rows for {n} coordinates: a mechanism cannot have more independent constraints than coordinates"
-            ),
-        ));
-    }
-}
-
-/// The symbols of `kind` that `id` depends on (first one found), by a walk over the DAG.
-fn first_symbol_of_kind(model: &Model, id: Id, kind: SymbolKind) -> Option<String> {
-    let arena = &model.arena;
-    let mut stack = vec![id];
-    let mut seen = vec![false; arena.len()];
-    while let Some(x) = stack.pop() {
-        if std::mem::replace(&mut seen[x.index()], true) {
-            continue;
-        }
-        if let Node::Sym(s) = arena.node(x) {
-            let info = arena.symbol_info(*s);
-            if info.kind == kind {
-                return Some(info.name.clone());
-            }
-        }
-        stack.extend(arena.children(x));
-    }
-    None
-}
-
-/// Coordinate rates belong in `kinetic` and `forces` only: Pi(q, t) and Phi(q, t) must not
-/// depend on q' (Lagrange's equations assume a velocity-free potential, and constraints
-/// with rates are non-holonomic, which this formulation does not cover).
-fn check_rates(decl: &Declaration, errors: &mut Vec<syn::Error>) {
-    let model = &decl.model;
-    if let Some(name) = first_symbol_of_kind(model, model.potential, SymbolKind::Velocity) {
-        errors.push(decl.error_at(
-            None::<Location>,
-            &format!("the potential energy depends on the rate `{name}`; it may depend on coordinates, parameters and t only"),
-        ));
-    }
-    for c in &model.constraints {
-        if let Some(name) = first_symbol_of_kind(model, c.expr, SymbolKind::Velocity) {
-            errors.push(decl.error_at(
-                Some(c.location),
-                &format!("this constraint depends on the rate `{name}`: only holonomic constraints Phi(q, t) = 0 are supported"),
             ));
         }
     }

@@ -81,7 +81,9 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
     let rebuild = match &decl.source {
         Source::File { path, .. } => {
             let path = path.display().to_string();
-            quote!(const _: &str = ::core::include_str!(#path);)
+            quote!(
+                const _: &str = ::core::include_str!(#path);
+            )
         }
         Source::Inline { .. } => quote!(),
     };

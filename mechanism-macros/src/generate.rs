@@ -46,7 +46,10 @@ pub struct Generated {
 /// Derives the equations of `decl` and generates every body.
 pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
-    let b = Bodies { model: &decl.model, krate: &decl.krate };
+    let b = Bodies {
+        model: &decl.model,
+        krate: &decl.krate,
+    };
     let result = (|| -> mechanism_codegen::Result<Generated> {
         let kinetic = Matrix::column(vec![eqs.kinetic]);
         let potential = Matrix::column(vec![eqs.potential]);
@@ -111,10 +114,17 @@ impl Bodies<'_> {
     /// A body returning one nalgebra matrix (or vector) of the shape of `m`.
     fn matrix(&self, m: &Matrix) -> mechanism_codegen::Result<TokenStream> {
         let program = Program::new(&self.model.arena, &[m])?;
-        let targets = [OutputTarget::Matrix { name: quote!(out), zeroed: true }];
+        let targets = [OutputTarget::Matrix {
+            name: quote!(out),
+            zeroed: true,
+        }];
         let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
         let (r, c, krate) = (m.rows, m.cols, self.krate);
-        let mutable = if body.is_empty() { quote!() } else { quote!(mut) };
+        let mutable = if body.is_empty() {
+            quote!()
+        } else {
+            quote!(mut)
+        };
         Ok(quote! {
             let #mutable out = #krate::__private::SMatrix::<f64, #r, #c>::zeros();
             #body
@@ -129,7 +139,12 @@ impl Bodies<'_> {
     }
 
     /// The combined evaluation: one program for all outputs.
-    fn evaluate(&self, e: &Equations, kinetic: &Matrix, potential: &Matrix) -> mechanism_codegen::Result<TokenStream> {
+    fn evaluate(
+        &self,
+        e: &Equations,
+        kinetic: &Matrix,
+        potential: &Matrix,
+    ) -> mechanism_codegen::Result<TokenStream> {
         let outputs = [
             &e.mass,
             &e.coriolis_forces,
@@ -153,8 +168,14 @@ impl Bodies<'_> {
             place(quote!(out.phi_q)),
             place(quote!(out.phi_t)),
             place(quote!(out.gamma)),
-            OutputTarget::Vector { name: quote!(kinetic), zeroed: true },
-            OutputTarget::Vector { name: quote!(potential), zeroed: true },
+            OutputTarget::Vector {
+                name: quote!(kinetic),
+                zeroed: true,
+            },
+            OutputTarget::Vector {
+                name: quote!(potential),
+                zeroed: true,
+            },
         ];
         let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
         let (n, m, krate) = (e.n, e.m, self.krate);

@@ -4,7 +4,14 @@
 #[test]
 fn ui() {
     let t = trybuild::TestCases::new();
-    for category in ["symbols", "declarations", "rates", "sizes", "syntax", "files"] {
+    for category in [
+        "symbols",
+        "declarations",
+        "rates",
+        "sizes",
+        "syntax",
+        "files",
+    ] {
         t.compile_fail(format!("tests/ui/{category}/*.rs"));
     }
     t.pass("tests/ui/pass/*.rs");

@@ -92,9 +92,8 @@ impl System for Pendulum {
         e.forces.fill(0.0);
         let mut phi = [0.0; 2];
         self.constraints(t, q, &mut phi[..self.info.constraints]);
-        for i in 0..self.info.constraints {
-            e.phi[i] = phi[i];
-        }
+        let mc = self.info.constraints;
+        e.phi.as_mut_slice().copy_from_slice(&phi[..mc]);
         let mut pt = [0.0; 2];
         self.constraint_jacobian(t, q, &mut e.phi_q, &mut pt[..self.info.constraints]);
         e.phi_t.fill(0.0);

@@ -48,7 +48,11 @@ pub enum Ast {
 
 /// Random trees of depth at most 4 and about 24 nodes.
 pub fn ast() -> impl Strategy<Value = Ast> {
-    let leaf = prop_oneof![(-6i64..=6).prop_map(Ast::Num), (0usize..3).prop_map(Ast::Sym), (0usize..3).prop_map(Ast::Sym)];
+    let leaf = prop_oneof![
+        (-6i64..=6).prop_map(Ast::Num),
+        (0usize..3).prop_map(Ast::Sym),
+        (0usize..3).prop_map(Ast::Sym)
+    ];
     leaf.prop_recursive(4, 24, 2, |inner| {
         let b = |a: Ast| Box::new(a);
         prop_oneof![
@@ -155,12 +159,21 @@ pub fn eval_ast<D: DualNum<Primitive = f64> + Copy>(e: &Ast, v: &[D; 3]) -> D {
 
 /// Any arena expression evaluated in the number type `D`, each symbol s bound to `env(s)`
 /// (`None` when a symbol is unbound). Independent of the crate's evaluators.
-pub fn eval_node<D: DualNum<Primitive = f64> + Copy>(a: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<D>) -> Option<D> {
+pub fn eval_node<D: DualNum<Primitive = f64> + Copy>(
+    a: &Arena,
+    id: Id,
+    env: &dyn Fn(SymbolId) -> Option<D>,
+) -> Option<D> {
     let mut memo: std::collections::HashMap<Id, D> = std::collections::HashMap::new();
     eval_rec(a, id, env, &mut memo)
 }
 
-fn eval_rec<D: DualNum<Primitive = f64> + Copy>(a: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<D>, memo: &mut std::collections::HashMap<Id, D>) -> Option<D> {
+fn eval_rec<D: DualNum<Primitive = f64> + Copy>(
+    a: &Arena,
+    id: Id,
+    env: &dyn Fn(SymbolId) -> Option<D>,
+    memo: &mut std::collections::HashMap<Id, D>,
+) -> Option<D> {
     if let Some(v) = memo.get(&id) {
         return Some(*v);
     }
@@ -238,7 +251,13 @@ use num_dual::{Dual2_64, Dual64, HyperDual64};
 
 /// A model over `arena` with the given coordinates (name and `arena.coordinate` ids), energies
 /// and constraints; forces zero, no parameters list (parameters are plain symbols here).
-pub fn bare_model(arena: Arena, coords: &[(&str, [Id; 3])], kinetic: Id, potential: Id, constraints: Vec<Id>) -> Model {
+pub fn bare_model(
+    arena: Arena,
+    coords: &[(&str, [Id; 3])],
+    kinetic: Id,
+    potential: Id,
+    constraints: Vec<Id>,
+) -> Model {
     let mut arena = arena;
     let time = arena.symbol("t", SymbolKind::Time);
     let zero = arena.int(0);
@@ -251,12 +270,25 @@ pub fn bare_model(arena: Arena, coords: &[(&str, [Id; 3])], kinetic: Id, potenti
         parameters: vec![],
         coordinates: coords
             .iter()
-            .map(|(name, [q, qd, qdd])| Coordinate { name: name.to_string(), q: *q, qd: *qd, qdd: *qdd, guess: 0.0, location: Location::default() })
+            .map(|(name, [q, qd, qdd])| Coordinate {
+                name: name.to_string(),
+                q: *q,
+                qd: *qd,
+                qdd: *qdd,
+                guess: 0.0,
+                location: Location::default(),
+            })
             .collect(),
         independent: vec![],
         kinetic,
         potential,
-        constraints: constraints.into_iter().map(|expr| Constraint { expr, location: Location::default() }).collect(),
+        constraints: constraints
+            .into_iter()
+            .map(|expr| Constraint {
+                expr,
+                location: Location::default(),
+            })
+            .collect(),
         forces: vec![zero; coords.len()],
     }
 }
@@ -274,7 +306,11 @@ pub struct State<'a> {
 }
 
 /// Binds q, q', t and the parameters; `over(s)` gives the dual seed of symbol s, if any.
-fn bind<D: DualNum<Primitive = f64> + Copy>(model: &Model, st: &State, over: &dyn Fn(SymbolId, f64) -> Option<D>) -> impl Fn(SymbolId) -> Option<D> {
+fn bind<D: DualNum<Primitive = f64> + Copy>(
+    model: &Model,
+    st: &State,
+    over: &dyn Fn(SymbolId, f64) -> Option<D>,
+) -> impl Fn(SymbolId) -> Option<D> + use<D> {
     let a = &model.arena;
     let mut table: Vec<(SymbolId, f64)> = Vec::new();
     for (k, c) in model.coordinates.iter().enumerate() {
@@ -285,14 +321,19 @@ fn bind<D: DualNum<Primitive = f64> + Copy>(model: &Model, st: &State, over: &dy
     for (name, v) in st.params {
         table.push((a.lookup(name).unwrap(), *v));
     }
-    let seeds: Vec<(SymbolId, D)> = table.iter().map(|&(s, v)| (s, over(s, v).unwrap_or(D::from(v)))).collect();
+    let seeds: Vec<(SymbolId, D)> = table
+        .iter()
+        .map(|&(s, v)| (s, over(s, v).unwrap_or(D::from(v))))
+        .collect();
     move |s| seeds.iter().find(|p| p.0 == s).map(|p| p.1)
 }
 
 /// Our equations evaluated at a state, with the crate's evaluator (q'' unbound).
 pub fn eval_equations(model: &Model, eqs: &Equations, st: &State) -> EvaluatedEquations {
     let env = bind::<f64>(model, st, &|_, _| None);
-    let ev = |m: &mechanism_codegen::Matrix| mechanism_codegen::eval_matrix(&model.arena, m, &env).expect("evaluates");
+    let ev = |m: &mechanism_codegen::Matrix| {
+        mechanism_codegen::eval_matrix(&model.arena, m, &env).expect("evaluates")
+    };
     EvaluatedEquations {
         mass: ev(&eqs.mass),
         coriolis_matrix: ev(&eqs.coriolis_matrix),
@@ -333,8 +374,16 @@ pub struct EvaluatedEquations {
 pub fn oracle_equations(model: &Model, st: &State) -> EvaluatedEquations {
     let a = &model.arena;
     let n = model.coordinates.len();
-    let qs: Vec<SymbolId> = model.coordinates.iter().map(|c| a.as_symbol(c.q).unwrap()).collect();
-    let vs: Vec<SymbolId> = model.coordinates.iter().map(|c| a.as_symbol(c.qd).unwrap()).collect();
+    let qs: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .map(|c| a.as_symbol(c.q).unwrap())
+        .collect();
+    let vs: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .map(|c| a.as_symbol(c.qd).unwrap())
+        .collect();
     let ts = a.as_symbol(model.time).unwrap();
     let mut mass = vec![0.0; n * n];
     let mut h = vec![0.0; n];
@@ -350,33 +399,55 @@ pub fn oracle_equations(model: &Model, st: &State) -> EvaluatedEquations {
         }
         let env = bind::<HyperDual64>(model, st, &|s, v| {
             let e1 = if s == vs[i] { 1.0 } else { 0.0 };
-            let e2 = qs.iter().position(|&q| q == s).map_or(if s == ts { 1.0 } else { 0.0 }, |k| st.qd[k]);
+            let e2 = qs
+                .iter()
+                .position(|&q| q == s)
+                .map_or(if s == ts { 1.0 } else { 0.0 }, |k| st.qd[k]);
             Some(HyperDual64::new(v, e1, e2, 0.0))
         });
         let ddt_p = eval_node(a, model.kinetic, &env).unwrap().eps1eps2;
-        let env = bind::<Dual64>(model, st, &|s, v| Some(Dual64::new(v, if s == qs[i] { 1.0 } else { 0.0 })));
+        let env = bind::<Dual64>(model, st, &|s, v| {
+            Some(Dual64::new(v, if s == qs[i] { 1.0 } else { 0.0 }))
+        });
         let dtdq = eval_node(a, model.kinetic, &env).unwrap().eps;
         h[i] = ddt_p - dtdq;
         gravity[i] = eval_node(a, model.potential, &env).unwrap().eps;
     }
     let m = model.constraints.len();
-    let (mut phi, mut phi_q, mut phi_t, mut gamma) = (vec![0.0; m], vec![0.0; m * n], vec![0.0; m], vec![0.0; m]);
+    let (mut phi, mut phi_q, mut phi_t, mut gamma) =
+        (vec![0.0; m], vec![0.0; m * n], vec![0.0; m], vec![0.0; m]);
     for (r, c) in model.constraints.iter().enumerate() {
         let env = bind::<f64>(model, st, &|_, _| None);
         phi[r] = eval_node(a, c.expr, &env).unwrap();
         for j in 0..n {
-            let env = bind::<Dual64>(model, st, &|s, v| Some(Dual64::new(v, if s == qs[j] { 1.0 } else { 0.0 })));
+            let env = bind::<Dual64>(model, st, &|s, v| {
+                Some(Dual64::new(v, if s == qs[j] { 1.0 } else { 0.0 }))
+            });
             phi_q[r * n + j] = eval_node(a, c.expr, &env).unwrap().eps;
         }
-        let env = bind::<Dual64>(model, st, &|s, v| Some(Dual64::new(v, if s == ts { 1.0 } else { 0.0 })));
+        let env = bind::<Dual64>(model, st, &|s, v| {
+            Some(Dual64::new(v, if s == ts { 1.0 } else { 0.0 }))
+        });
         phi_t[r] = eval_node(a, c.expr, &env).unwrap().eps;
         let env = bind::<Dual2_64>(model, st, &|s, v| {
-            let d = qs.iter().position(|&q| q == s).map_or(if s == ts { 1.0 } else { 0.0 }, |k| st.qd[k]);
+            let d = qs
+                .iter()
+                .position(|&q| q == s)
+                .map_or(if s == ts { 1.0 } else { 0.0 }, |k| st.qd[k]);
             Some(Dual2_64::new(v, d, 0.0))
         });
         gamma[r] = -eval_node(a, c.expr, &env).unwrap().v2;
     }
-    EvaluatedEquations { mass, coriolis_matrix: vec![], coriolis_forces: h, gravity, phi, phi_q, phi_t, gamma }
+    EvaluatedEquations {
+        mass,
+        coriolis_matrix: vec![],
+        coriolis_forces: h,
+        gravity,
+        phi,
+        phi_q,
+        phi_t,
+        gamma,
+    }
 }
 
 /// Asserts that `ours` and `oracle` agree entrywise (skipping the oracle's empty fields).
@@ -401,5 +472,7 @@ pub fn assert_equations_close(ours: &EvaluatedEquations, oracle: &EvaluatedEquat
 /// y = A x for a row-major n x n A.
 pub fn mat_vec(a: &[f64], x: &[f64]) -> Vec<f64> {
     let n = x.len();
-    (0..a.len() / n).map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum()).collect()
+    (0..a.len() / n)
+        .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
+        .collect()
 }

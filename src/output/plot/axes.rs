@@ -47,7 +47,7 @@ pub(super) fn linear_range<'a>(ys: impl Iterator<Item = &'a f64>) -> (f64, f64) 
 pub(super) fn time_range(t: &[f64]) -> (f64, f64) {
     let (lo, hi) = linear_range(std::iter::empty());
     let finite = || t.iter().copied().filter(|v| v.is_finite());
-    match (finite().next(), finite().last()) {
+    match (finite().next(), finite().next_back()) {
         (Some(a), Some(b)) if b > a => (a, b),
         (Some(a), _) => (a - 0.5, a + 0.5),
         _ => (lo, hi),

@@ -8,6 +8,7 @@ reexport::mechanism::mechanism! {
     pub struct Free;
     parameters { m = 1.0; }
     coordinates { x = 0.0; }
+    independent { x = 0.0; der(x) = 1.0; }
     kinetic = 1/2*m*der(x)^2;
     potential = 0;
 }

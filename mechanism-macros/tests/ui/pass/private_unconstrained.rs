@@ -5,6 +5,7 @@ mechanism! {
     struct AnglePendulum;
     parameters { m = 1.0; l = 2.0; g = 9.81; }
     coordinates { th = 0.1; }
+    independent { th = 0.1; der(th) = 0.0; }
     kinetic = 1/2*m*l^2*der(th)^2;
     potential = -m*g*l*cos(th);
 }

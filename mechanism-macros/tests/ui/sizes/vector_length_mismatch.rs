@@ -4,6 +4,7 @@ mechanism! {
     pub struct Pendulum;
     parameters { m = 1.0; l = 1.0; g = 9.81; }
     coordinates { x = 0.5; y = -0.8; }
+    independent { x = 0.5; der(x) = 0.0; }
     kinetic = 1/2*m*(der(x)^2 + der(y)^2);
     potential = m*g*y;
     constraints { [x, y, 0] = [l*sin(0.5), -l*cos(0.5)]; }

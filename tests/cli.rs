@@ -1,0 +1,174 @@
+//! The command-line tool as a user runs it: outputs, headers, summary keys, and one-line
+//! errors with a non-zero exit status.
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use assert_cmd::Command;
+
+fn mechanism(args: &[&str]) -> Output {
+    Command::cargo_bin("mechanism").expect("binary built").args(args).output().expect("runs")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("mechanism-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn csv_header(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).expect("csv written");
+    text.lines().next().unwrap_or("").split(',').map(str::to_string).collect()
+}
+
+/// A user error: exit status 1, exactly one line on stderr, no panic or backtrace.
+fn assert_one_line_error(o: &Output, needle: &str) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "exit status for: {e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "one line: {e}");
+    assert!(e.starts_with("error: "), "{e}");
+    assert!(e.contains(needle), "`{needle}` in: {e}");
+    assert!(!e.contains("panicked") && !e.contains("RUST_BACKTRACE"), "{e}");
+}
+
+#[test]
+fn simulate_writes_the_seed_outputs() {
+    let dir = out_dir("seed");
+    let o = mechanism(&["simulate", "spatial_crank_slider", "--t-end", "1", "--out", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let header = csv_header(&dir.join("trajectory.csv"));
+    let mut expected: Vec<String> = vec!["t".into()];
+    let q = ["phi", "beta", "gamma", "x_c"];
+    expected.extend(q.iter().map(|s| s.to_string()));
+    expected.extend(q.iter().map(|s| format!("{s}_dot")));
+    expected.extend(q.iter().map(|s| format!("{s}_ddot")));
+    expected.extend(["lambda_1", "lambda_2", "lambda_3"].map(String::from));
+    expected.extend(
+        ["constraint_error", "velocity_constraint_error", "kinetic", "potential", "work"].map(String::from),
+    );
+    assert_eq!(header, expected);
+    // 1 s at 100 samples per second: t = 0, 0.01, ..., 1.
+    let rows = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap().lines().count() - 1;
+    assert_eq!(rows, 101);
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "mechanism",
+        "parameters",
+        "consistent_initial_state",
+        "max_constraint_error",
+        "max_velocity_constraint_error",
+        "max_energy_balance_error",
+        "steps",
+        "rejected_steps",
+        "rhs_evaluations",
+        "wall_time_s",
+        "integrator",
+        "rtol",
+        "atol",
+        "stabilization",
+    ] {
+        assert!(summary.get(key).is_some(), "summary.json lacks `{key}`");
+    }
+    // The bar: loop closure below 1e-12 with the default projection.
+    assert!(summary["max_constraint_error"].as_f64().unwrap() < 1e-12);
+    // ERRATA item 2: gamma0 = acos((h + l1)/l2), beta0 = asin(d/(l2 sin gamma0)).
+    let gamma0 = ((0.12_f64 + 0.08) / 0.3).acos();
+    let beta0 = (0.1 / (0.3 * gamma0.sin())).asin();
+    let q0 = &summary["consistent_initial_state"]["q"];
+    assert!((q0["gamma"].as_f64().unwrap() - gamma0).abs() < 1e-14);
+    assert!((q0["beta"].as_f64().unwrap() - beta0).abs() < 1e-14);
+    assert!((q0["x_c"].as_f64().unwrap() - 0.2).abs() < 1e-14);
+    for fig in ["fig_3_1_phi", "fig_3_2_beta", "fig_3_3_gamma", "fig_3_4_x_c", "fig_3_5_constraint_error"] {
+        for ext in ["png", "svg"] {
+            assert!(dir.join(format!("{fig}.{ext}")).is_file(), "{fig}.{ext}");
+        }
+    }
+}
+
+#[test]
+fn inverse_writes_the_driving_torque() {
+    let dir = out_dir("inverse");
+    let o = mechanism(&[
+        "inverse",
+        "spatial_crank_slider",
+        "--drive",
+        "phi = 2*pi*t",
+        "--t-end",
+        "1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let header = csv_header(&dir.join("inverse.csv"));
+    assert_eq!(&header[..2], ["t", "phi"]);
+    assert!(header.contains(&"tau_phi".to_string()));
+    assert_eq!(header.last().map(String::as_str), Some("lambda_3"));
+    assert!(dir.join("driving_torque.png").is_file());
+    // phi follows the drive exactly: phi(t) = 2 pi t in every row.
+    let text = std::fs::read_to_string(dir.join("inverse.csv")).unwrap();
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((v[1] - 2.0 * std::f64::consts::PI * v[0]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn a_mech_file_runs_through_the_interpreter() {
+    let dir = out_dir("file");
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/mechanisms/cartesian_pendulum.mech");
+    let o = mechanism(&["simulate", file, "--t-end", "0.5", "--out", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("trajectory.csv").is_file());
+    assert!(dir.join("constraint_error.png").is_file());
+}
+
+#[test]
+fn list_and_equations() {
+    let o = mechanism(&["list"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("spatial_crank_slider") && text.contains("planar_four_bar"), "{text}");
+    let o = mechanism(&["equations", "spatial_crank_slider"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("Phi_q"), "{text}");
+    let o = mechanism(&["equations", "spatial_crank_slider", "--latex"]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("\\sin"));
+}
+
+#[test]
+fn unknown_mechanism_lists_the_names() {
+    let o = mechanism(&["simulate", "nonesuch"]);
+    assert_one_line_error(&o, "available: spatial_crank_slider");
+}
+
+#[test]
+fn bad_set_and_init_name_the_culprit() {
+    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--set", "l9=1"]), "`l9`");
+    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--init", "theta=1"]), "`theta`");
+    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--set", "l2=abc"]), "l2");
+}
+
+#[test]
+fn syntax_error_in_a_file_gives_line_and_column() {
+    let dir = out_dir("syntax");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("broken.mech");
+    std::fs::write(&file, "pub struct Broken;\ncoordinates { x = 0.0; }\nkinetic = 1/2*der(x)^2 +* 3;\n").unwrap();
+    let o = mechanism(&["simulate", file.to_str().unwrap()]);
+    assert_one_line_error(&o, "broken.mech:3:");
+}
+
+#[test]
+fn solver_failure_is_a_typed_message() {
+    // A crank longer than the geometry allows cannot assemble: Newton fails with a message.
+    let o = mechanism(&["simulate", "spatial_crank_slider", "--set", "l2=0.05", "--t-end", "0.1"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+}
