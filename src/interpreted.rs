@@ -8,10 +8,10 @@
 
 use std::sync::Mutex;
 
-use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape};
+use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape, residual_tangent};
 use nalgebra::DMatrix;
 
-use crate::mechanism::{Evaluation, Independent, System, SystemInfo};
+use crate::mechanism::{Evaluation, Independent, System, SystemInfo, Tangent};
 
 /// Which evaluations a tape computes.
 struct Scratch {
@@ -35,6 +35,8 @@ pub struct Interpreted {
     parameter_symbols: Vec<SymbolId>,
     q_symbols: Vec<SymbolId>,
     qd_symbols: Vec<SymbolId>,
+    qdd_symbols: Vec<SymbolId>,
+    lambda_symbols: Vec<SymbolId>,
     time_symbol: Option<SymbolId>,
     /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi.
     full: Mutex<Scratch>,
@@ -42,7 +44,9 @@ pub struct Interpreted {
     phi: Mutex<Scratch>,
     /// Phi_q, Phi_t.
     jacobian: Mutex<Scratch>,
-    programs: [Program; 3],
+    /// dF/dq, dF/dq' of the residual (exact Jacobians for implicit integrators).
+    tangent: Mutex<Scratch>,
+    programs: [Program; 4],
     symbols: usize,
     equations_text: String,
 }
@@ -55,17 +59,20 @@ impl std::fmt::Debug for Interpreted {
 
 impl Clone for Interpreted {
     fn clone(&self) -> Self {
-        let [a, b, c] = &self.programs;
+        let [a, b, c, d] = &self.programs;
         Self {
             info: self.info.clone(),
             parameters: self.parameters.clone(),
             parameter_symbols: self.parameter_symbols.clone(),
             q_symbols: self.q_symbols.clone(),
             qd_symbols: self.qd_symbols.clone(),
+            qdd_symbols: self.qdd_symbols.clone(),
+            lambda_symbols: self.lambda_symbols.clone(),
             time_symbol: self.time_symbol,
             full: Mutex::new(Scratch::new(a, self.symbols)),
             phi: Mutex::new(Scratch::new(b, self.symbols)),
             jacobian: Mutex::new(Scratch::new(c, self.symbols)),
+            tangent: Mutex::new(Scratch::new(d, self.symbols)),
             programs: self.programs.clone(),
             symbols: self.symbols,
             equations_text: self.equations_text.clone(),
@@ -100,7 +107,8 @@ impl Interpreted {
     ///
     /// # Errors
     /// A compilation error from codegen.
-    pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, mechanism_codegen::Error> {
+    pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, mechanism_codegen::Error> {
+        let tangent = residual_tangent(&mut model, &eqs)?;
         let arena = &model.arena;
         let sym = |id| arena.as_symbol(id).expect("coordinates and parameters are symbol nodes");
         let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
@@ -121,6 +129,7 @@ impl Interpreted {
         )?;
         let phi = Program::new(arena, &[&eqs.phi])?;
         let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
+        let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
         let symbols = arena.symbols().len();
         let info = SystemInfo {
             name: model.name.clone(),
@@ -140,11 +149,14 @@ impl Interpreted {
             parameter_symbols: model.parameters.iter().map(|p| sym(p.symbol)).collect(),
             q_symbols: model.coordinates.iter().map(|c| sym(c.q)).collect(),
             qd_symbols: model.coordinates.iter().map(|c| sym(c.qd)).collect(),
+            qdd_symbols: model.coordinates.iter().map(|c| sym(c.qdd)).collect(),
+            lambda_symbols: tangent.lambda.clone(),
             time_symbol: arena.as_symbol(model.time),
             full: Mutex::new(Scratch::new(&full, symbols)),
             phi: Mutex::new(Scratch::new(&phi, symbols)),
             jacobian: Mutex::new(Scratch::new(&jac, symbols)),
-            programs: [full, phi, jac],
+            tangent: Mutex::new(Scratch::new(&tan, symbols)),
+            programs: [full, phi, jac, tan],
             symbols,
             info,
             equations_text,
@@ -249,5 +261,20 @@ impl System for Interpreted {
             copy_block(v, m, n, phi_q);
             phi_t.copy_from_slice(&v[m * n..m * n + m]);
         });
+    }
+
+    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
+        let n = self.info.n();
+        let mut guard = self.tangent.lock().unwrap_or_else(|p| p.into_inner());
+        let s = &mut *guard;
+        self.load(s, t, q, Some(qd));
+        for (sym, v) in self.qdd_symbols.iter().zip(qdd).chain(self.lambda_symbols.iter().zip(lambda)) {
+            s.inputs[sym.0 as usize] = *v;
+        }
+        // On a non-finite tangent the caller falls back to finite differences.
+        s.tape.eval(&s.inputs, &mut s.out).ok()?;
+        copy_block(&s.out, n, n, &mut out.stiffness);
+        copy_block(&s.out[n * n..], n, n, &mut out.damping);
+        Some(())
     }
 }

@@ -99,6 +99,21 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     fn evaluate(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> StaticEvaluation<N, M>;
     /// The derived equations as readable text (what the snapshot tests pin).
     fn equations() -> &'static str;
+
+    /// K = dF/dq and D = dF/dq' of the residual F = M q'' + C q' + g - tau + Phi_q^T lambda,
+    /// derived symbolically (exact Jacobians for implicit integrators); `None` when the
+    /// mechanism does not provide them.
+    fn residual_tangent(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        lambda: &SVector<f64, M>,
+    ) -> Option<(SMatrix<f64, N, N>, SMatrix<f64, N, N>)> {
+        let _ = (t, q, qd, qdd, lambda);
+        None
+    }
 }
 
 /// Caller-owned buffers for one evaluation of a [`System`] (sizes n and m fixed at creation).
@@ -285,4 +300,11 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
         phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
     }
+    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
+        let (k, d) = self.mechanism.residual_tangent(t, &to_static(q), &to_static(qd), &to_static(qdd), &to_static(lambda))?;
+        out.stiffness.copy_from(&k);
+        out.damping.copy_from(&d);
+        Some(())
+    }
+
 }

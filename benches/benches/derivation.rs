@@ -37,5 +37,9 @@ fn derivation(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, derivation);
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = derivation
+}
 criterion_main!(benches);

@@ -45,6 +45,7 @@ fn tables() -> (String, String) {
     let mut json = String::from("{\n");
 
     let seed_ref = reference(seed.as_ref());
+    let _ = writeln!(json, "  \"seed_reference_q\": {:?},", seed_ref);
     let _ = writeln!(md, "### Seed crank-slider, 10 s (projection; reference DOP853 at 1e-13)\n\n{HEADER}");
     for (label, method, tol) in seed_methods() {
         let repeats = if matches!(method, Method::Rk4 { h } | Method::Hht { h, .. } if h < 5e-4) { 3 } else { 7 };
@@ -114,5 +115,9 @@ fn simulation(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, simulation);
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = simulation
+}
 criterion_main!(benches);

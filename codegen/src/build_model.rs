@@ -3,7 +3,7 @@
 
 use proc_macro2::{Span, TokenStream};
 
-use crate::check::check;
+use crate::check::{check, check_model};
 use crate::declaration::{Declaration, parse_declaration_tokens};
 use crate::error::{Error, Location, Result};
 use crate::eval::eval;
@@ -216,7 +216,12 @@ fn declare(tokens: &Tokens) -> Result<ParsedModel, Vec<Error>> {
     if !errors.is_empty() {
         return Err(errors);
     }
-    build(&d).map_err(|e| vec![e])
+    let parsed = build(&d).map_err(|e| vec![e])?;
+    let errors = check_model(&parsed.model, parsed.spans.kinetic);
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    Ok(parsed)
 }
 
 /// Lowers `ast` into the arena.

@@ -5,7 +5,10 @@ use std::collections::HashMap;
 
 use crate::declaration::{Declaration, Item};
 use crate::error::{Error, Location};
+use crate::expr::SymbolId;
+use crate::model::Model;
 use crate::parse::{Ast, closest};
+use crate::pretty::to_text;
 
 /// What a declared name is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -467,4 +470,64 @@ fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec
     );
     let at = d.independent.as_ref().map_or(d.name_at, |s| s.at);
     errors.push(declaration_error(message, at));
+}
+
+/// The rules that need the built expressions (canonical forms decide what is constant).
+pub(crate) fn check_model(model: &Model, kinetic_at: Location) -> Vec<Error> {
+    let mut errors = Vec::new();
+    check_constraints_depend_on_motion(model, &mut errors);
+    check_kinetic_has_rates(model, kinetic_at, &mut errors);
+    errors
+}
+
+/// The symbols of the coordinates (and of t, when `with_time`).
+fn motion_symbols(model: &Model, with_time: bool) -> Vec<SymbolId> {
+    let a = &model.arena;
+    let mut syms: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| a.as_symbol(c.q))
+        .collect();
+    if with_time {
+        syms.extend(a.as_symbol(model.time));
+    }
+    syms
+}
+
+/// Each constraint row depends on the coordinates or on t: a row of parameters and numbers
+/// (`x - x`, `l1 - l2`) either always holds or never does, and gives a zero row in Phi_q.
+fn check_constraints_depend_on_motion(model: &Model, errors: &mut Vec<Error>) {
+    let syms = motion_symbols(model, true);
+    for (i, c) in model.constraints.iter().enumerate() {
+        if !syms.iter().any(|&s| model.arena.depends_on(c.expr, s)) {
+            errors.push(declaration_error(
+                format!(
+                    "constraint {} does not depend on the coordinates or t (it simplifies to `{}`), so it constrains nothing: remove it or correct it",
+                    i + 1,
+                    to_text(&model.arena, c.expr)
+                ),
+                c.location,
+            ));
+        }
+    }
+}
+
+/// The kinetic energy depends on at least one rate der(q); otherwise M = 0 and the equations
+/// of motion say nothing about accelerations.
+fn check_kinetic_has_rates(model: &Model, at: Location, errors: &mut Vec<Error>) {
+    let a = &model.arena;
+    let rates: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| a.as_symbol(c.qd))
+        .collect();
+    if !rates.iter().any(|&s| a.depends_on(model.kinetic, s)) {
+        errors.push(declaration_error(
+            format!(
+                "the kinetic energy does not depend on any rate der(q) (it is `{}`): write T with the rates, e.g. `1/2*m*der(x)^2`",
+                to_text(a, model.kinetic)
+            ),
+            at,
+        ));
+    }
 }

@@ -112,6 +112,8 @@ pub(crate) struct Declaration {
     pub(crate) constraints: Option<Section<Vec<Row>>>,
     /// `forces { .. }`.
     pub(crate) forces: Option<Section<Vec<Force>>>,
+    /// `body`, `gravity`, `point`, `axis`, `spring`, `damper` and `joints` (parse_bodies.rs).
+    pub(crate) bodies: crate::parse_bodies::Bodies,
 }
 
 /// Parses a declaration from its tokens. Stops at the first syntax error.
@@ -323,6 +325,9 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                 return Err(duplicate_section(keyword, at));
             }
             d.forces = Some(Section { at, body });
+        }
+        kw if crate::parse_bodies::is_body_section(kw) => {
+            crate::parse_bodies::parse_body_section(c, kw, at, &mut d.bodies)?;
         }
         other => {
             let hint = match closest(other, SECTIONS.iter().copied()) {

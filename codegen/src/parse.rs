@@ -170,6 +170,11 @@ impl<'c, 'a> ExprParser<'c, 'a> {
                 break;
             };
             let op = self.cursor.next().location;
+            if !div && self.cursor.at_punct('*') {
+                return Err(self
+                    .cursor
+                    .error_here("powers are written `x^2` (not `x**2`)"));
+            }
             factors.push((div, self.unary()?, op));
         }
         Ok(if factors.len() == 1 {
@@ -287,6 +292,10 @@ impl<'c, 'a> ExprParser<'c, 'a> {
 
 /// A numeric literal: decimal integers are exact, decimals and exponent forms are floats.
 fn parse_number(text: &str) -> std::result::Result<Number, String> {
+    // A negative literal only arises from tokens built by code, never from the lexer.
+    if let Some(rest) = text.strip_prefix('-') {
+        return parse_number(rest).map(Number::neg);
+    }
     if text.starts_with(['"', '\'', 'b', 'c', 'r']) {
         return Err(format!("expected a number, found the literal {text}"));
     }

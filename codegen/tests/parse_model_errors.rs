@@ -150,6 +150,10 @@ errors! {
         => "unknown function `sine`", line 5, at "sine";
     parse_error: D { kinetic: Some("m/2 * * der(x)^2"), ..BASE }
         => "parse error", line 5, at "* der";
+    constant_constraint: D { constraints: Some("x^2 + y^2 - l^2 + 0*x; l - 2*l + l;"), coordinates: Some("x = 0.5; y = 0.0; z = 1.0;"), kinetic: Some("m/2*(der(x)^2 + der(y)^2 + der(z)^2)"), ..BASE }
+        => "constraint 2 does not depend on the coordinates or t (it simplifies to `0`)", line 7, at "l - 2*l";
+    kinetic_without_rates: D { kinetic: Some("m*x^2"), ..BASE }
+        => "the kinetic energy does not depend on any rate der(q) (it is `m*x^2`)", line 5, at "kinetic";
     vector_length_mismatch: D { constraints: Some("[x, y] = [l, 0, 1];"), ..BASE }
         => "differ in length: 2 on the left, 3 on the right", line 7, at "=";
 }

@@ -2,28 +2,10 @@
 
 use std::str::FromStr;
 
-use mechanism_codegen::{Model, eval, parse_model, parse_model_str, to_text};
+mod parse_support;
 
-/// The issue 3 example, verbatim (the part inside `mechanism! { ... }`).
-pub const SEED: &str = r#"
-    /// Spatial crank-slider of the seed paper (Section II), with ERRATA decisions.
-    pub struct SpatialCrankSlider;
-    parameters {
-        h = 0.12; l1 = 0.08; l2 = 0.3; d = 0.1; alpha = 0.0;    // m, rad
-        m1 = 0.12; m2 = 0.5; m3 = 2.0; J1 = 1e-4; a1 = 0.04;    // kg, kg m^2, m
-        g = 9.81; tau0 = 0.005; Omega = 2*pi;
-    }
-    coordinates { phi = 0.0; beta = 0.46; gamma = 0.84; x_c = 0.2; }   // initial guesses
-    independent { phi = 0.0; der(phi) = 2*pi; }                         // what the user sets
-    kinetic = 1/2*(J1 + m2/2*l1^2)*der(phi)^2 + 1/2*(m2/2 + m3)*der(x_c)^2;
-    potential = m1*g*(a1*cos(phi) + h) + m2/2*g*(l1*cos(phi) + h);
-    constraints {
-        l1*sin(phi)*sin(alpha) + l2*sin(gamma)*cos(beta) - x_c;
-        -l1*sin(phi)*cos(alpha) + l2*sin(gamma)*sin(beta) - d;
-        h + l1*cos(phi) - l2*cos(gamma);
-    }
-    forces { phi: tau0*sin(Omega*t); }
-"#;
+use mechanism_codegen::{Model, eval, parse_model, parse_model_str, to_text};
+use parse_support::SEED;
 
 fn check_seed(m: &Model) {
     assert_eq!(m.name, "SpatialCrankSlider");
@@ -127,4 +109,34 @@ fn seed_locations_point_at_the_declared_names() {
     let h = &m.parameters[0].location;
     assert_eq!((h.line, h.column), (5, 9));
     assert_eq!(m.constraints[1].location.line, 15);
+}
+
+#[test]
+fn token_route_spans_map_locations_to_tokens() {
+    let tokens = proc_macro2::TokenStream::from_str(SEED).unwrap();
+    let parsed = mechanism_codegen::parse_declaration(tokens).unwrap();
+    let (m, spans) = (&parsed.model, &parsed.spans);
+    // Outside a proc-macro, spans know their line and column: each recorded location is the
+    // start of the span it maps to.
+    let check = |loc: mechanism_codegen::Location| {
+        let s = spans.span(loc).start();
+        assert_eq!((s.line, s.column + 1), (loc.line, loc.column));
+    };
+    for c in &m.coordinates {
+        check(c.location);
+    }
+    for p in &m.parameters {
+        check(p.location);
+    }
+    for c in &m.constraints {
+        check(c.location);
+    }
+    check(spans.kinetic);
+    check(spans.constraints.unwrap());
+    assert_eq!(spans.constraints.unwrap().line, 13);
+    assert_eq!(
+        spans.force_entries.iter().filter(|f| f.is_some()).count(),
+        1
+    );
+    assert!(spans.force_entries[0].is_some(), "the force acts on phi");
 }

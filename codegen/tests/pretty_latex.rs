@@ -1,6 +1,11 @@
 //! LaTeX of expressions and matrices: one line per case, text => LaTeX.
 
-use mechanism_codegen::{Arena, Matrix, SymbolKind, matrix_to_latex, parse_expr, to_latex};
+mod parse_support;
+
+use mechanism_codegen::{
+    Arena, Matrix, SymbolKind, derive, equations_latex, matrix_to_latex, parse_expr,
+    parse_model_str, to_latex,
+};
 
 fn arena() -> Arena {
     let mut a = Arena::new();
@@ -70,4 +75,46 @@ fn matrix_is_a_bmatrix() {
         matrix_to_latex(&a, &m),
         "\\begin{bmatrix}\n\\dot{\\phi}^{2} & 0 \\\\\n0 & \\dot{\\phi}^{2}\n\\end{bmatrix}"
     );
+}
+
+#[test]
+fn seed_equations_latex() {
+    let mut m = parse_model_str(parse_support::SEED).unwrap();
+    let eqs = derive(&mut m).unwrap();
+    let tex = equations_latex(&m, &eqs);
+    assert!(
+        tex.contains(r"\[ q = \begin{bmatrix} \phi & \beta & \gamma & x_{c} \end{bmatrix}^T \]"),
+        "{tex}"
+    );
+    for name in [
+        "M",
+        "C",
+        r"C \dot{q}",
+        "g",
+        r"\tau",
+        r"\Phi",
+        r"\Phi_q",
+        r"\Phi_t",
+        r"\gamma",
+    ] {
+        assert!(
+            tex.contains(&format!("\\[ {name} = \\begin{{bmatrix}}")),
+            "{name} missing:\n{tex}"
+        );
+    }
+    assert!(tex.contains(r"\[ \Pi = "), "{tex}");
+    // M[1,1] = J1 + m2 l1^2 / 2 as the first entry of the mass matrix.
+    assert!(
+        tex.contains(
+            "\\[ M = \\begin{bmatrix}\nJ_{1} + \\frac{m_{2} l_{1}^{2}}{2} & 0 & 0 & 0 \\\\\n"
+        ),
+        "{tex}"
+    );
+    // Braces balance.
+    let depth = tex.chars().try_fold(0i64, |d, c| match c {
+        '{' => Some(d + 1),
+        '}' => (d > 0).then(|| d - 1),
+        _ => Some(d),
+    });
+    assert_eq!(depth, Some(0));
 }

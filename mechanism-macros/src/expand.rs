@@ -104,6 +104,7 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
         kinetic_energy,
         potential_energy,
         evaluate,
+        residual_tangent,
         ..
     } = g;
     let param_const = format_ident!("PARAMETERS");
@@ -235,6 +236,16 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
             }
             fn equations() -> &'static str {
                 #equations
+            }
+            fn residual_tangent(
+                &self,
+                t: f64,
+                q: &#sv<f64, #n>,
+                qd: &#sv<f64, #n>,
+                qdd: &#sv<f64, #n>,
+                lambda: &#sv<f64, #m>,
+            ) -> ::core::option::Option<(#sm<f64, #n, #n>, #sm<f64, #n, #n>)> {
+                #residual_tangent
             }
         }
     }

@@ -7,7 +7,9 @@
 //! `self.<parameter>`, `q[i]`, `qd[i]` and `t`. The combined `evaluate` is one program over
 //! all outputs, so sin/cos pairs and common subexpressions are computed once.
 
-use mechanism_codegen::{EmitBindings, Equations, Matrix, Model, OutputTarget, Program, emit_body};
+use mechanism_codegen::{
+    EmitBindings, Equations, Matrix, Model, OutputTarget, Program, ResidualTangent, emit_body, residual_tangent,
+};
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
@@ -39,6 +41,8 @@ pub struct Generated {
     pub potential_energy: TokenStream,
     /// `evaluate(&self, t, q, qd)`: everything, sharing subexpressions.
     pub evaluate: TokenStream,
+    /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
+    pub residual_tangent: TokenStream,
     /// The derived equations as readable text (`mechanism_codegen::equations_text`).
     pub equations: String,
 }
@@ -46,6 +50,7 @@ pub struct Generated {
 /// Derives the equations of `decl` and generates every body.
 pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
+    let tangent = residual_tangent(&mut decl.model, &eqs).map_err(|e| codegen_error(decl, &e))?;
     let b = Bodies {
         model: &decl.model,
         krate: &decl.krate,
@@ -66,6 +71,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             kinetic_energy: b.scalar(&kinetic)?,
             potential_energy: b.scalar(&potential)?,
             evaluate: b.evaluate(&eqs, &kinetic, &potential)?,
+            residual_tangent: b.tangent(&tangent)?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
         })
     })();
@@ -199,6 +205,32 @@ impl Bodies<'_> {
             out.kinetic = kinetic[0];
             out.potential = potential[0];
             out
+        })
+    }
+
+    /// `Some((K, D))` with K = dF/dq and D = dF/dq' (one program for both); q'' is read
+    /// from `qdd`, the multipliers from `lambda`.
+    fn tangent(&self, tangent: &ResidualTangent) -> mechanism_codegen::Result<TokenStream> {
+        let arena = &self.model.arena;
+        let mut bindings = self.bindings();
+        for (i, c) in self.model.coordinates.iter().enumerate() {
+            if let Some(s) = arena.as_symbol(c.qdd) {
+                bindings.bind(s, quote!(qdd[#i]));
+            }
+        }
+        for (k, &s) in tangent.lambda.iter().enumerate() {
+            bindings.bind(s, quote!(lambda[#k]));
+        }
+        let program = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
+        let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
+        let targets = [place(quote!(stiffness)), place(quote!(damping))];
+        let body = emit_body(&program, &bindings, &targets)?.tokens;
+        let (n, krate) = (tangent.stiffness.rows, self.krate);
+        Ok(quote! {
+            let mut stiffness = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
+            let mut damping = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
+            #body
+            ::core::option::Option::Some((stiffness, damping))
         })
     }
 }
