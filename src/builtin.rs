@@ -11,6 +11,8 @@
 //! | `closed_chain`         | [`ClosedChain4`]      | 4 | 2 | the N-bar chain, N = 4          |
 //! | `planar_slider_crank`  | [`PlanarSliderCrank`] | 3 | 2 | textbook slider-crank           |
 //! | `cartesian_pendulum`   | [`CartesianPendulum`] | 2 | 1 | pendulum in (x, y)              |
+//! | `spatial_four_bar_bodies` | [`SpatialFourBarBodies`] | 4 | 3 | the RSSR declared with bodies |
+//! | `spatial_crank_slider_rigid` | [`SpatialCrankSliderRigid`] | 4 | 3 | seed with a rigid rod |
 
 use crate::{Compiled, System};
 
@@ -20,6 +22,8 @@ crate::mechanism!(crate = crate, file = "mechanisms/spatial_four_bar.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/closed_chain.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/planar_slider_crank.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/cartesian_pendulum.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/spatial_four_bar_bodies.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/spatial_crank_slider_rigid.mech");
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -31,6 +35,8 @@ pub fn builtin_names() -> &'static [&'static str] {
         "closed_chain",
         "planar_slider_crank",
         "cartesian_pendulum",
+        "spatial_four_bar_bodies",
+        "spatial_crank_slider_rigid",
     ]
 }
 
@@ -44,6 +50,10 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "closed_chain" => Box::new(Compiled::new(ClosedChain4::default())),
         "planar_slider_crank" => Box::new(Compiled::new(PlanarSliderCrank::default())),
         "cartesian_pendulum" => Box::new(Compiled::new(CartesianPendulum::default())),
+        "spatial_four_bar_bodies" => Box::new(Compiled::new(SpatialFourBarBodies::default())),
+        "spatial_crank_slider_rigid" => {
+            Box::new(Compiled::new(SpatialCrankSliderRigid::default()))
+        }
         _ => return None,
     };
     Some(system)
@@ -59,6 +69,10 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         "closed_chain" => include_str!("../mechanisms/closed_chain.mech"),
         "planar_slider_crank" => include_str!("../mechanisms/planar_slider_crank.mech"),
         "cartesian_pendulum" => include_str!("../mechanisms/cartesian_pendulum.mech"),
+        "spatial_four_bar_bodies" => include_str!("../mechanisms/spatial_four_bar_bodies.mech"),
+        "spatial_crank_slider_rigid" => {
+            include_str!("../mechanisms/spatial_crank_slider_rigid.mech")
+        }
         _ => return None,
     })
 }

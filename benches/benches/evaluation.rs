@@ -18,7 +18,12 @@ use mechanism::builtin::{PlanarFourBar, SpatialCrankSlider, SpatialFourBar};
 use mechanism::nalgebra::SVector;
 use mechanism::{Dynamics, Evaluation, Mechanism, Method, SimulationOptions, Simulator, System};
 use mechanism_bench::simulation::options;
-use mechanism_bench::{Case, ClosedChain8, ClosedChain16, ClosedChain32, cases, model_ops, state};
+use mechanism::Compiled;
+use mechanism_bench::{Case, builtin_cases, chain_case, check_chain_files, check_routes, model_ops, state};
+
+mechanism::mechanism!(file = "mechanisms/closed_chain_8.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_16.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_32.mech");
 
 /// Each generated function of the compiled mechanism `mech`, at (0.3, q, q').
 fn generated<T: Mechanism<N, M>, const N: usize, const M: usize>(c: &mut Criterion, case: &Case, mech: &T) {
@@ -98,6 +103,19 @@ fn step(g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
             }
         })
     });
+}
+
+/// All six cases, each checked (the three routes agree) before it is timed.
+fn cases() -> Vec<Case> {
+    check_chain_files();
+    let mut all = builtin_cases();
+    all.extend(chain_case(8, Box::new(Compiled::new(ClosedChain8::default()))));
+    all.extend(chain_case(16, Box::new(Compiled::new(ClosedChain16::default()))));
+    all.extend(chain_case(32, Box::new(Compiled::new(ClosedChain32::default()))));
+    for c in &all {
+        check_routes(c);
+    }
+    all
 }
 
 fn evaluation(c: &mut Criterion) {

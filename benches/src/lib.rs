@@ -7,7 +7,7 @@ pub mod ad_models;
 pub mod autodiff;
 pub mod simulation;
 
-use mechanism::{Compiled, Interpreted, System};
+use mechanism::{Interpreted, System};
 use mechanism_codegen::{
     EmitBindings, Equations, Matrix, Model, OpCounts, OutputTarget, Program, Result, emit_body,
 };
@@ -15,10 +15,6 @@ use quote::quote;
 
 use crate::ad_models::{ChainAd, FourBarAd, RssrAd, SeedAd};
 use crate::autodiff::AutoDiff;
-
-mechanism::mechanism!(file = "mechanisms/closed_chain_8.mech");
-mechanism::mechanism!(file = "mechanisms/closed_chain_16.mech");
-mechanism::mechanism!(file = "mechanisms/closed_chain_32.mech");
 
 /// The quantities the derivation benchmark covers: M, C q', g, Phi, Phi_q and gamma.
 pub fn derived_outputs(eqs: &Equations) -> [&Matrix; 6] {
@@ -163,7 +159,9 @@ pub struct Case {
     pub autodiff: Box<dyn System>,
 }
 
-fn case(name: &'static str, source: &'static str, compiled: Box<dyn System>, ad: fn(&dyn System) -> Box<dyn System>) -> Case {
+/// A [`Case`] from its compiled form; the interpreter route is derived from `source` and the
+/// AD route built by `ad` with the compiled form's names and parameter values.
+pub fn case(name: &'static str, source: &'static str, compiled: Box<dyn System>, ad: fn(&dyn System) -> Box<dyn System>) -> Case {
     let interpreted = Box::new(Interpreted::from_source(source).unwrap_or_else(|e| panic!("{name}: {e}")));
     let autodiff = ad(compiled.as_ref());
     Case { name, source, compiled, interpreted, autodiff }
@@ -174,8 +172,9 @@ fn builtin(name: &str) -> (&'static str, Box<dyn System>) {
     (source, mechanism::builtin::builtin(name).expect("built-in mechanism"))
 }
 
-/// The seed crank-slider, the planar four-bar, the RSSR and the chains N = 8, 16, 32.
-pub fn cases() -> Vec<Case> {
+/// The built-in cases: the seed crank-slider, the planar four-bar and the RSSR. (The chains
+/// are compiled by the evaluation benchmark itself, so that the library stays light.)
+pub fn builtin_cases() -> Vec<Case> {
     let (seed, seed_c) = builtin("spatial_crank_slider");
     let (four, four_c) = builtin("planar_four_bar");
     let (rssr, rssr_c) = builtin("spatial_four_bar");
@@ -183,16 +182,18 @@ pub fn cases() -> Vec<Case> {
         case("seed", seed, seed_c, |s| Box::new(AutoDiff::<SeedAd, 4, 3>::like(s))),
         case("four_bar", four, four_c, |s| Box::new(AutoDiff::<FourBarAd, 3, 2>::like(s))),
         case("rssr", rssr, rssr_c, |s| Box::new(AutoDiff::<RssrAd, 4, 3>::like(s))),
-        case("chain8", include_str!("../mechanisms/closed_chain_8.mech"), Box::new(Compiled::new(ClosedChain8::default())), |s| {
-            Box::new(AutoDiff::<ChainAd<8>, 8, 2>::like(s))
-        }),
-        case("chain16", include_str!("../mechanisms/closed_chain_16.mech"), Box::new(Compiled::new(ClosedChain16::default())), |s| {
-            Box::new(AutoDiff::<ChainAd<16>, 16, 2>::like(s))
-        }),
-        case("chain32", include_str!("../mechanisms/closed_chain_32.mech"), Box::new(Compiled::new(ClosedChain32::default())), |s| {
-            Box::new(AutoDiff::<ChainAd<32>, 32, 2>::like(s))
-        }),
     ]
+}
+
+/// The chain case of size `n` (8, 16 or 32) around its compiled form.
+pub fn chain_case(n: usize, compiled: Box<dyn System>) -> Option<Case> {
+    let source = chain_source(n)?;
+    Some(match n {
+        8 => case("chain8", source, compiled, |s| Box::new(AutoDiff::<ChainAd<8>, 8, 2>::like(s))),
+        16 => case("chain16", source, compiled, |s| Box::new(AutoDiff::<ChainAd<16>, 16, 2>::like(s))),
+        32 => case("chain32", source, compiled, |s| Box::new(AutoDiff::<ChainAd<32>, 32, 2>::like(s))),
+        _ => return None,
+    })
 }
 
 /// A consistent state of `system` (its declared assembly) with nonzero rates: q from the
@@ -210,60 +211,54 @@ pub fn state(system: &dyn System) -> (Vec<f64>, Vec<f64>) {
     (s.q, s.qd)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// Checks that the checked-in chain declarations are `closed_chain_source(n)`; with the
+/// environment variable `MECHANISM_BLESS` set, rewrites them first.
+///
+/// # Panics
+/// When a file is stale.
+pub fn check_chain_files() {
+    for n in CHAIN_SIZES {
+        let path = format!("{}/mechanisms/closed_chain_{n}.mech", env!("CARGO_MANIFEST_DIR"));
+        let text = mechanism_codegen::closed_chain_source(n);
+        if std::env::var_os("MECHANISM_BLESS").is_some() {
+            std::fs::write(&path, &text).expect("write the chain file");
+        }
+        let old = std::fs::read_to_string(&path).unwrap_or_default();
+        assert_eq!(old, text, "{path} is stale: rerun with MECHANISM_BLESS=1");
+    }
+}
+
+fn close(a: &[f64], b: &[f64], what: &str, name: &str) {
+    let scale = a.iter().chain(b).fold(1.0_f64, |s, v| s.max(v.abs()));
+    for (x, y) in a.iter().zip(b) {
+        assert!((x - y).abs() <= 1e-10 * scale, "{name} {what}: {a:?} vs {b:?}");
+    }
+}
+
+/// Checks that the three routes of `c` compute the same M, C q', g, tau, Phi, Phi_q, gamma,
+/// T and Pi (to 1e-10 relative) at a consistent state: the baselines time the same thing.
+///
+/// # Panics
+/// On a mismatch.
+pub fn check_routes(c: &Case) {
     use mechanism::Evaluation;
-
-    /// The checked-in chain declarations are `closed_chain_source(n)`; run with
-    /// `MECHANISM_BLESS=1` to rewrite them.
-    #[test]
-    fn chain_files_are_current() {
-        for n in CHAIN_SIZES {
-            let path = format!("{}/mechanisms/closed_chain_{n}.mech", env!("CARGO_MANIFEST_DIR"));
-            let text = mechanism_codegen::closed_chain_source(n);
-            if std::env::var_os("MECHANISM_BLESS").is_some() {
-                std::fs::write(&path, &text).unwrap();
-            }
-            assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "{path} is stale: rerun with MECHANISM_BLESS=1");
-        }
-    }
-
-    fn close(a: &[f64], b: &[f64], what: &str, name: &str) {
-        let scale = a.iter().chain(b).fold(1.0_f64, |s, v| s.max(v.abs()));
-        for (x, y) in a.iter().zip(b) {
-            assert!((x - y).abs() <= 1e-10 * scale, "{name} {what}: {a:?} vs {b:?}");
-        }
-    }
-
-    /// The three routes compute the same M, C q', g, tau, Phi, Phi_q, gamma, T and Pi.
-    #[test]
-    fn routes_agree() {
-        for c in cases() {
-            let (q, qd) = state(c.compiled.as_ref());
-            let (n, m) = (q.len(), c.compiled.info().m());
-            let eval = |s: &dyn System| {
-                let mut e = Evaluation::zeros(n, m);
-                s.evaluate(0.3, &q, &qd, &mut e);
-                e
-            };
-            let reference = eval(c.compiled.as_ref());
-            for (route, e) in [("interpreted", eval(c.interpreted.as_ref())), ("autodiff", eval(c.autodiff.as_ref()))] {
-                let name = format!("{} {route}", c.name);
-                close(reference.mass.as_slice(), e.mass.as_slice(), "M", &name);
-                close(reference.coriolis.as_slice(), e.coriolis.as_slice(), "C q'", &name);
-                close(reference.gravity.as_slice(), e.gravity.as_slice(), "g", &name);
-                close(reference.forces.as_slice(), e.forces.as_slice(), "tau", &name);
-                close(reference.phi.as_slice(), e.phi.as_slice(), "Phi", &name);
-                close(reference.phi_q.as_slice(), e.phi_q.as_slice(), "Phi_q", &name);
-                close(reference.gamma.as_slice(), e.gamma.as_slice(), "gamma", &name);
-                close(&[reference.kinetic, reference.potential], &[e.kinetic, e.potential], "T, Pi", &name);
-            }
-        }
-    }
-
-    #[test]
-    fn macro_pipeline_runs() {
-        assert!(macro_pipeline(chain_source(8).unwrap()).unwrap() > 0);
+    let (q, qd) = state(c.compiled.as_ref());
+    let (n, m) = (q.len(), c.compiled.info().m());
+    let eval = |s: &dyn System| {
+        let mut e = Evaluation::zeros(n, m);
+        s.evaluate(0.3, &q, &qd, &mut e);
+        e
+    };
+    let reference = eval(c.compiled.as_ref());
+    for (route, e) in [("interpreted", eval(c.interpreted.as_ref())), ("autodiff", eval(c.autodiff.as_ref()))] {
+        let name = format!("{} {route}", c.name);
+        close(reference.mass.as_slice(), e.mass.as_slice(), "M", &name);
+        close(reference.coriolis.as_slice(), e.coriolis.as_slice(), "C q'", &name);
+        close(reference.gravity.as_slice(), e.gravity.as_slice(), "g", &name);
+        close(reference.forces.as_slice(), e.forces.as_slice(), "tau", &name);
+        close(reference.phi.as_slice(), e.phi.as_slice(), "Phi", &name);
+        close(reference.phi_q.as_slice(), e.phi_q.as_slice(), "Phi_q", &name);
+        close(reference.gamma.as_slice(), e.gamma.as_slice(), "gamma", &name);
+        close(&[reference.kinetic, reference.potential], &[e.kinetic, e.potential], "T, Pi", &name);
     }
 }

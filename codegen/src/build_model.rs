@@ -325,11 +325,11 @@ fn build(d: &Declaration) -> Result<ParsedModel> {
         }
     }
 
-    let kinetic_section = d
-        .kinetic
-        .as_ref()
-        .ok_or_else(|| Error::Model("no kinetic energy".into()))?;
-    let kinetic = lower_at(&mut arena, &kinetic_section.body)?;
+    let (kinetic, kinetic_at) = match &d.kinetic {
+        Some(k) => (lower_at(&mut arena, &k.body)?, k.at),
+        // Bodies declare T (parse_bodies.rs); `check` rejects a missing T otherwise.
+        None => (arena.int(0), d.bodies.first_location().unwrap_or(d.name_at)),
+    };
     let potential = match &d.potential {
         Some(p) => lower_at(&mut arena, &p.body)?,
         None => arena.int(0),
@@ -365,13 +365,13 @@ fn build(d: &Declaration) -> Result<ParsedModel> {
         parameters: d.parameters.as_ref().map(|s| s.at),
         coordinates: d.coordinates.as_ref().map_or(d.name_at, |s| s.at),
         independent: d.independent.as_ref().map(|s| s.at),
-        kinetic: kinetic_section.at,
+        kinetic: kinetic_at,
         potential: d.potential.as_ref().map(|s| s.at),
         constraints: d.constraints.as_ref().map(|s| s.at),
         forces: d.forces.as_ref().map(|s| s.at),
         force_entries,
     };
-    let model = Model {
+    let mut model = Model {
         name: d.name.clone(),
         doc: d.doc.clone(),
         public: d.public,
@@ -385,5 +385,6 @@ fn build(d: &Declaration) -> Result<ParsedModel> {
         constraints,
         forces,
     };
+    crate::parse_bodies::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })
 }

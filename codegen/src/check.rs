@@ -98,7 +98,7 @@ pub(crate) fn check(d: &Declaration) -> Vec<Error> {
 
 /// The kinetic energy is required: without T there is no mass matrix.
 fn check_kinetic_present(d: &Declaration, errors: &mut Vec<Error>) {
-    if d.kinetic.is_none() {
+    if d.kinetic.is_none() && !d.bodies.declares_energy() {
         errors.push(declaration_error(
             format!("`{}` declares no kinetic energy: add `kinetic = ...;`, T as a function of the coordinates and their rates der(q)", d.name),
             d.name_at,
@@ -429,7 +429,7 @@ fn check_constraint_count(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<E
 /// other coordinates cannot be determined from Phi(q) = 0 at t = 0.
 fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
     let n = scope.coordinates.len();
-    let m = d.constraints.as_ref().map_or(0, |s| s.body.len());
+    let m = d.constraints.as_ref().map_or(0, |s| s.body.len()) + d.bodies.constraint_rows();
     if n == 0 || m > n {
         return;
     }

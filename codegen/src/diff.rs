@@ -301,7 +301,7 @@ impl Differentiator {
         if !self.deps.contains(e, sym) {
             // e u^(e-1) u'
             let em1 = match arena.as_number(e) {
-                Some(k) => arena.number(k.add(Number::int(-1))),
+                Some(k) => arena.number(k + Number::int(-1)),
                 None => {
                     let m1 = arena.int(-1);
                     arena.add2(e, m1)

@@ -103,6 +103,9 @@ pub struct EmittedBody {
     pub counts: OpCounts,
     /// Number of `let` registers.
     pub registers: usize,
+    /// The symbols the body reads (sorted by id): a caller can silence unused parameters
+    /// (`let _ = qd;`) for the others.
+    pub symbols: Vec<SymbolId>,
 }
 
 /// Emits the statements computing the outputs of `program` whose target is not
@@ -244,6 +247,7 @@ pub fn emit_body(
         tokens,
         counts: p.op_counts(),
         registers: p.registers(),
+        symbols: p.symbols().iter().map(|(s, _)| *s).collect(),
     })
 }
 

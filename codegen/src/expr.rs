@@ -373,8 +373,8 @@ impl Arena {
     fn scale_term(&mut self, c: Number, t: Id) -> Id {
         let (k, rest) = self.split_coefficient(t);
         match rest {
-            None => self.number(k.mul(c)),
-            Some(r) => self.scale(k.mul(c), r),
+            None => self.number(k * c),
+            Some(r) => self.scale(k * c, r),
         }
     }
 
@@ -392,7 +392,7 @@ impl Arena {
         for t in flat {
             let (c, rest) = self.split_coefficient(t);
             match rest {
-                None => constant = constant.add(c),
+                None => constant = constant + c,
                 Some(r) => pairs.push((r, c)),
             }
         }
@@ -400,7 +400,7 @@ impl Arena {
         let mut merged: Vec<(Id, Number)> = Vec::with_capacity(pairs.len());
         for (r, c) in pairs {
             match merged.last_mut() {
-                Some((lr, lc)) if *lr == r => *lc = lc.add(c),
+                Some((lr, lc)) if *lr == r => *lc = *lc + c,
                 _ => merged.push((r, c)),
             }
         }
@@ -518,7 +518,7 @@ impl Arena {
         for f in flat {
             match self.node(f) {
                 Node::Num(n) => {
-                    coef = coef.mul(*n);
+                    coef = coef * *n;
                     if coef.is_zero() {
                         return self.int(0);
                     }
@@ -550,7 +550,7 @@ impl Arena {
             };
             match self.node(p) {
                 Node::Num(n) => {
-                    coef = coef.mul(*n);
+                    coef = coef * *n;
                     if coef.is_zero() {
                         return self.int(0);
                     }
@@ -618,10 +618,10 @@ impl Arena {
                     if let Some(r) = b.powi(k) {
                         return Ok(self.number(r));
                     }
-                } else if b.is_float() || en.is_float() {
-                    if let Some(r) = Number::float(b.to_f64().powf(en.to_f64())) {
-                        return Ok(self.number(r));
-                    }
+                } else if (b.is_float() || en.is_float())
+                    && let Some(r) = Number::float(b.to_f64().powf(en.to_f64()))
+                {
+                    return Ok(self.number(r));
                 }
             }
         }
@@ -687,7 +687,7 @@ impl Arena {
                     return Err(Error::Domain { function: "ln", argument: n.to_string() });
                 }
                 Func::Abs => {
-                    let a = if n.is_negative() { n.neg() } else { n };
+                    let a = if n.is_negative() { -n } else { n };
                     return Ok(self.number(a));
                 }
                 _ => {}
@@ -701,10 +701,10 @@ impl Arena {
             if let Some(k) = trivial {
                 return Ok(self.int(k));
             }
-            if n.is_float() {
-                if let Some(r) = Number::float(f.apply(v)) {
-                    return Ok(self.number(r));
-                }
+            if n.is_float()
+                && let Some(r) = Number::float(f.apply(v))
+            {
+                return Ok(self.number(r));
             }
         }
         if self.is_negative_form(x) && matches!(f, Func::Sin | Func::Tan | Func::Cos | Func::Abs) {
@@ -730,12 +730,11 @@ impl Arena {
 
     /// atan2(y, x): the angle of the point (x, y) in (-pi, pi].
     pub fn atan2(&mut self, y: Id, x: Id) -> Id {
-        if let (Some(a), Some(b)) = (self.as_number(y), self.as_number(x)) {
-            if a.is_float() || b.is_float() {
-                if let Some(r) = Number::float(a.to_f64().atan2(b.to_f64())) {
-                    return self.number(r);
-                }
-            }
+        if let (Some(a), Some(b)) = (self.as_number(y), self.as_number(x))
+            && (a.is_float() || b.is_float())
+            && let Some(r) = Number::float(a.to_f64().atan2(b.to_f64()))
+        {
+            return self.number(r);
         }
         self.intern(Node::Atan2(y, x))
     }

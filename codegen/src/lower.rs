@@ -304,7 +304,7 @@ impl<'a> Lowering<'a> {
             }
             Node::Pow(b, e) => match arena.as_number(*e) {
                 Some(n) if n.is_negative() => {
-                    let d = self.lower_power(*b, n.neg())?;
+                    let d = self.lower_power(*b, -n)?;
                     self.b.bin(BinOp::Div, Operand::Const(1.0), d)
                 }
                 Some(n) => self.lower_power(*b, n),
@@ -397,7 +397,7 @@ impl<'a> Lowering<'a> {
         for &f in fs {
             let (slot, x) = match arena.node(f) {
                 Node::Pow(b, e) if arena.as_number(*e).is_some_and(Number::is_negative) => {
-                    let n = arena.as_number(*e).map_or(Number::int(1), Number::neg);
+                    let n = arena.as_number(*e).map_or(Number::int(1), |n| -n);
                     (&mut den, self.lower_power(*b, n)?)
                 }
                 _ => (&mut num, self.op(f)),

@@ -84,32 +84,6 @@ impl Number {
         }
     }
 
-    /// a + b (exact when both are rational and the result fits).
-    pub fn add(self, o: Number) -> Number {
-        match (self, o) {
-            (Number::Rational(a, b), Number::Rational(c, d)) => {
-                Self::from_i128(a as i128 * d as i128 + c as i128 * b as i128, b as i128 * d as i128)
-                    .unwrap_or(Number::Float(0.0))
-            }
-            _ => Number::float(self.to_f64() + o.to_f64()).unwrap_or(Number::Float(0.0)),
-        }
-    }
-
-    /// a * b (exact when both are rational and the result fits).
-    pub fn mul(self, o: Number) -> Number {
-        match (self, o) {
-            (Number::Rational(a, b), Number::Rational(c, d)) => {
-                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128).unwrap_or(Number::Float(0.0))
-            }
-            _ => Number::float(self.to_f64() * o.to_f64()).unwrap_or(Number::Float(0.0)),
-        }
-    }
-
-    /// -a.
-    pub fn neg(self) -> Number {
-        self.mul(Number::int(-1))
-    }
-
     /// 1/a; `None` for zero.
     pub fn recip(self) -> Option<Number> {
         match self {
@@ -139,6 +113,41 @@ impl Number {
     /// True when this is a float (inexact) constant.
     pub fn is_float(self) -> bool {
         matches!(self, Number::Float(_))
+    }
+}
+
+impl std::ops::Add for Number {
+    type Output = Number;
+    /// a + b (exact when both are rational and the result fits).
+    fn add(self, o: Number) -> Number {
+        match (self, o) {
+            (Number::Rational(a, b), Number::Rational(c, d)) => {
+                Self::from_i128(a as i128 * d as i128 + c as i128 * b as i128, b as i128 * d as i128)
+                    .unwrap_or(Number::Float(0.0))
+            }
+            _ => Number::float(self.to_f64() + o.to_f64()).unwrap_or(Number::Float(0.0)),
+        }
+    }
+}
+
+impl std::ops::Mul for Number {
+    type Output = Number;
+    /// a * b (exact when both are rational and the result fits).
+    fn mul(self, o: Number) -> Number {
+        match (self, o) {
+            (Number::Rational(a, b), Number::Rational(c, d)) => {
+                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128).unwrap_or(Number::Float(0.0))
+            }
+            _ => Number::float(self.to_f64() * o.to_f64()).unwrap_or(Number::Float(0.0)),
+        }
+    }
+}
+
+impl std::ops::Neg for Number {
+    type Output = Number;
+    /// -a.
+    fn neg(self) -> Number {
+        self * Number::int(-1)
     }
 }
 

@@ -294,7 +294,7 @@ impl<'c, 'a> ExprParser<'c, 'a> {
 fn parse_number(text: &str) -> std::result::Result<Number, String> {
     // A negative literal only arises from tokens built by code, never from the lexer.
     if let Some(rest) = text.strip_prefix('-') {
-        return parse_number(rest).map(Number::neg);
+        return parse_number(rest).map(|n| -n);
     }
     if text.starts_with(['"', '\'', 'b', 'c', 'r']) {
         return Err(format!("expected a number, found the literal {text}"));

@@ -143,7 +143,7 @@ impl<'a, S: Style> Renderer<'a, S> {
             Node::Atan2(y, x) => self.style.atan2(&self.get(*y), &self.get(*x)),
             Node::Pow(..) => self.product(Number::int(1), &[id]),
             Node::Mul(fs) => match self.arena.as_number(fs[0]) {
-                Some(c) if c.is_negative() => self.negate(self.product(c.neg(), &fs[1..])),
+                Some(c) if c.is_negative() => self.negate(self.product(-c, &fs[1..])),
                 Some(c) => self.product(c, &fs[1..]),
                 None => self.product(Number::int(1), fs),
             },
@@ -153,7 +153,7 @@ impl<'a, S: Style> Renderer<'a, S> {
 
     fn signed_number(&self, n: Number) -> R {
         if n.is_negative() {
-            self.negate(self.style.number(n.neg()))
+            self.negate(self.style.number(-n))
         } else {
             self.style.number(n)
         }
@@ -177,11 +177,11 @@ impl<'a, S: Style> Renderer<'a, S> {
     /// coefficient); `None` for other terms.
     fn negated(&self, t: Id) -> Option<R> {
         match self.arena.node(t) {
-            Node::Num(n) if n.is_negative() => Some(self.style.number(n.neg())),
+            Node::Num(n) if n.is_negative() => Some(self.style.number(-*n)),
             Node::Mul(fs) => match self.arena.as_number(fs[0]) {
                 // `a - 1.0*x` would read back as a - x (a rational -1): keep -1.0 with its term.
-                Some(c) if c.is_float() && c.neg().is_one() => None,
-                Some(c) if c.is_negative() => Some(self.product(c.neg(), &fs[1..])),
+                Some(c) if c.is_float() && (-c).is_one() => None,
+                Some(c) if c.is_negative() => Some(self.product(-c, &fs[1..])),
                 _ => None,
             },
             _ => None,
@@ -236,8 +236,8 @@ impl<'a, S: Style> Renderer<'a, S> {
         match self.arena.node(e) {
             // x^-1.0 stays as written: the arena folds x^1.0 to x, so `1/x^1.0` would read
             // back as x^-1, another node.
-            Node::Num(n) if n.is_float() && n.neg().is_one() => None,
-            Node::Num(n) if n.is_negative() => Some(Exp::Num(n.neg())),
+            Node::Num(n) if n.is_float() && (-*n).is_one() => None,
+            Node::Num(n) if n.is_negative() => Some(Exp::Num(-*n)),
             Node::Mul(_) => self.negated(e).map(Exp::Expr),
             _ => None,
         }

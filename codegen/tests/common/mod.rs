@@ -145,7 +145,9 @@ pub fn eval_ast<D: DualNum<Primitive = f64> + Copy>(e: &Ast, v: &[D; 3]) -> D {
             let u = eval_ast(x, v);
             (one + u * u).sqrt()
         }
-        Ast::Atan2(y, x) => eval_ast(y, v).atan2(eval_ast(x, v)),
+        // `+ 0` turns a -0.0 (from folding, e.g. -1/2 * 0) into +0.0: the arena folds exact
+        // zeros to +0, and atan2 jumps by 2 pi across its cut y = 0, x < 0.
+        Ast::Atan2(y, x) => (eval_ast(y, v) + D::from(0.0)).atan2(eval_ast(x, v)),
         Ast::LnPos(x) => {
             let u = eval_ast(x, v);
             (one + u * u).ln()
@@ -215,7 +217,7 @@ fn eval_rec<D: DualNum<Primitive = f64> + Copy>(
             }
         }
         Node::Atan2(y, x) => {
-            let y = eval_rec(a, y, env, memo)?;
+            let y = eval_rec(a, y, env, memo)? + D::from(0.0); // -0.0 -> +0.0, as in eval_ast
             let x = eval_rec(a, x, env, memo)?;
             y.atan2(x)
         }

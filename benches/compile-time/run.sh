@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The macro's added compile time (issue 6, item 2), on demand:
+#
+#   benches/compile-time/run.sh
+#
+# Builds this tiny crate (own target dir: target/compile-time) with no declaration, with the
+# 16-bar chain and with the 32-bar chain, under the default dev profile (proc-macros built
+# at opt-level 0) and with `[profile.dev.build-override] opt-level = 3` (set here through
+# CARGO_PROFILE_DEV_BUILD_OVERRIDE_OPT_LEVEL), and also `--release`. Dependencies are built
+# once per variant, untimed; each timed build recompiles only this crate (touch + build),
+# median of 3. Writes target/bench-results/compile_time.md.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+export CARGO_TARGET_DIR="$root/target/compile-time"
+out="$root/target/bench-results"
+mkdir -p "$out"
+cd "$here"
+
+timed() { # median wall time (s) of 3 builds of this crate only
+    local ts=()
+    for _ in 1 2 3; do
+        touch src/main.rs
+        local t0 t1
+        t0=$(date +%s.%N)
+        cargo build -q "$@" >/dev/null
+        t1=$(date +%s.%N)
+        ts+=("$(echo "$t1 - $t0" | bc)")
+    done
+    printf '%s\n' "${ts[@]}" | sort -n | sed -n 2p
+}
+
+{
+    echo "| profile | no declaration (s) | + chain N = 16 (s) | + chain N = 32 (s) | added by N = 16 | added by N = 32 |"
+    echo "|---|---|---|---|---|---|"
+    for variant in "dev, build-override opt-level 0:0:" "dev, build-override opt-level 3:3:" "release (build-override opt-level 3):3:--release"; do
+        IFS=: read -r label level flag <<<"$variant"
+        export CARGO_PROFILE_DEV_BUILD_OVERRIDE_OPT_LEVEL="$level"
+        export CARGO_PROFILE_RELEASE_BUILD_OVERRIDE_OPT_LEVEL="$level"
+        # Warm-up: dependencies for this variant (untimed).
+        cargo build -q $flag --features chain16,chain32 >/dev/null 2>&1 || cargo build $flag --features chain16,chain32
+        base=$(timed $flag)
+        c16=$(timed $flag --features chain16)
+        c32=$(timed $flag --features chain32)
+        printf '| %s | %.2f | %.2f | %.2f | %.2f | %.2f |\n' "$label" "$base" "$c16" "$c32" \
+            "$(echo "$c16 - $base" | bc)" "$(echo "$c32 - $base" | bc)"
+    done
+    echo
+    echo "Load average after the run: $(cut -d' ' -f1-3 /proc/loadavg) ($(nproc) cores)."
+} | tee "$out/compile_time.md"
