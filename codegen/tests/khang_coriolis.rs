@@ -14,7 +14,8 @@
 mod common;
 
 use common::{
-    Ast, State, ast, bare_model, build, close, eval_equations, eval_node, mat_vec, oracle_equations,
+    Ast, State, ast, bare_model, build, close, eval_node, mat_vec, oracle_equations,
+    try_eval_equations,
 };
 use mechanism_codegen::{
     Equations, Model, SymbolId, christoffel_coriolis_forces, christoffel_coriolis_matrix,
@@ -72,7 +73,7 @@ fn check_coriolis(
         t: 0.3,
         params,
     };
-    let ours = eval_equations(model, eqs, &st);
+    let ours = try_eval_equations(model, eqs, &st)?;
     if ours
         .mass
         .iter()

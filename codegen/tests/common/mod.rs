@@ -332,20 +332,29 @@ fn bind<D: DualNum<Primitive = f64> + Copy>(
 
 /// Our equations evaluated at a state, with the crate's evaluator (q'' unbound).
 pub fn eval_equations(model: &Model, eqs: &Equations, st: &State) -> EvaluatedEquations {
+    try_eval_equations(model, eqs, st).expect("the equations evaluate at this state")
+}
+
+/// As [`eval_equations`]; `None` where the evaluator reports an error (e.g. a division by
+/// zero at this state).
+pub fn try_eval_equations(
+    model: &Model,
+    eqs: &Equations,
+    st: &State,
+) -> Option<EvaluatedEquations> {
     let env = bind::<f64>(model, st, &|_, _| None);
-    let ev = |m: &mechanism_codegen::Matrix| {
-        mechanism_codegen::eval_matrix(&model.arena, m, &env).expect("evaluates")
-    };
-    EvaluatedEquations {
-        mass: ev(&eqs.mass),
-        coriolis_matrix: ev(&eqs.coriolis_matrix),
-        coriolis_forces: ev(&eqs.coriolis_forces),
-        gravity: ev(&eqs.gravity),
-        phi: ev(&eqs.phi),
-        phi_q: ev(&eqs.phi_q),
-        phi_t: ev(&eqs.phi_t),
-        gamma: ev(&eqs.gamma),
-    }
+    let ev =
+        |m: &mechanism_codegen::Matrix| mechanism_codegen::eval_matrix(&model.arena, m, &env).ok();
+    Some(EvaluatedEquations {
+        mass: ev(&eqs.mass)?,
+        coriolis_matrix: ev(&eqs.coriolis_matrix)?,
+        coriolis_forces: ev(&eqs.coriolis_forces)?,
+        gravity: ev(&eqs.gravity)?,
+        phi: ev(&eqs.phi)?,
+        phi_q: ev(&eqs.phi_q)?,
+        phi_t: ev(&eqs.phi_t)?,
+        gamma: ev(&eqs.gamma)?,
+    })
 }
 
 /// Numeric values of the derived equations (row-major).
