@@ -9,12 +9,21 @@
 # CARGO_PROFILE_DEV_BUILD_OVERRIDE_OPT_LEVEL), and also `--release`. Dependencies are built
 # once per variant, untimed; each timed build recompiles only this crate (touch + build),
 # median of 3. Writes target/bench-results/compile_time.md.
+#
+# The sources are first copied to target/compile-time/snapshot (without target/ and .git/),
+# so that edits in the checkout during the run cannot trigger rebuilds of the path
+# dependencies inside a timed build.
 set -euo pipefail
-here="$(cd "$(dirname "$0")" && pwd)"
-root="$(cd "$here/../.." && pwd)"
+src_here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$src_here/../.." && pwd)"
 export CARGO_TARGET_DIR="$root/target/compile-time"
 out="$root/target/bench-results"
-mkdir -p "$out"
+mkdir -p "$out" "$CARGO_TARGET_DIR"
+snap="$CARGO_TARGET_DIR/snapshot"
+rm -rf "$snap"
+mkdir -p "$snap"
+tar -C "$root" --exclude=./target --exclude=./.git -cf - . | tar -C "$snap" -xf -
+here="$snap/benches/compile-time"
 cd "$here"
 
 timed() { # median wall time (s) of 3 builds of this crate only
@@ -23,7 +32,11 @@ timed() { # median wall time (s) of 3 builds of this crate only
         touch src/main.rs
         local t0 t1
         t0=$(date +%s.%N)
-        cargo build -q "$@" >/dev/null
+        cargo build "$@" 2>"$CARGO_TARGET_DIR/last.log" >/dev/null
+        if [ "$(grep -c Compiling "$CARGO_TARGET_DIR/last.log")" -ne 1 ]; then
+            echo "timed build compiled more than this crate: see $CARGO_TARGET_DIR/last.log" >&2
+            exit 1
+        fi
         t1=$(date +%s.%N)
         ts+=("$(echo "$t1 - $t0" | bc)")
     done

@@ -100,7 +100,8 @@ impl DependencySets {
 ///
 /// `diff(e, s)` is the partial derivative de/ds; results are cached per (node, symbol), so
 /// differentiating many expressions that share subexpressions (the entries of a matrix)
-/// differentiates each shared node once. Use one `Differentiator` per arena.
+/// differentiates each shared node once. Use one `Differentiator` per arena (the arena may
+/// grow between calls; a differentiator handed a different arena may give wrong results).
 ///
 /// # Example
 /// ```
@@ -123,6 +124,17 @@ impl Differentiator {
     /// A differentiator with an empty cache.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Brings the dependency sets up to date. An arena with fewer nodes than seen before is
+    /// not the arena this differentiator was used with: the caches are dropped rather than
+    /// hand out ids that do not exist there.
+    fn sync(&mut self, arena: &Arena) {
+        if arena.len() < self.deps.done {
+            self.memo.clear();
+            self.deps = DependencySets::default();
+        }
+        self.deps.sync(arena);
     }
 
     fn check(arena: &Arena, id: Id) -> Result<()> {
@@ -155,7 +167,7 @@ impl Differentiator {
     /// [`Error::InvalidId`] when `id` is not in `arena`.
     pub fn depends_on(&mut self, arena: &Arena, id: Id, s: SymbolId) -> Result<bool> {
         Self::check(arena, id)?;
-        self.deps.sync(arena);
+        self.sync(arena);
         Ok(self.deps.contains(id, s))
     }
 
@@ -165,7 +177,7 @@ impl Differentiator {
     /// [`Error::InvalidId`] when `id` is not in `arena`.
     pub fn symbols_of(&mut self, arena: &Arena, id: Id) -> Result<Vec<SymbolId>> {
         Self::check(arena, id)?;
-        self.deps.sync(arena);
+        self.sync(arena);
         Ok(self.deps.symbols(id))
     }
 
@@ -182,7 +194,7 @@ impl Differentiator {
     pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
         Self::check(arena, id)?;
         Self::check_symbol(arena, sym)?;
-        self.deps.sync(arena);
+        self.sync(arena);
         if !self.deps.contains(id, sym) {
             return Ok(arena.int(0));
         }
@@ -361,7 +373,7 @@ impl Differentiator {
         with_acceleration: bool,
     ) -> Result<Id> {
         Self::check(arena, id)?;
-        self.deps.sync(arena);
+        self.sync(arena);
         let mut terms = Vec::new();
         for s in self.deps.symbols(id) {
             let info = arena.symbol_info(s).clone();

@@ -17,7 +17,11 @@ pub struct Equations {
     pub mass: Matrix,
     /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (n x n).
     pub coriolis_matrix: Matrix,
-    /// C q' (n x 1), simplified on its own (cheaper than multiplying the matrix out).
+    /// The velocity-dependent inertial forces h (n x 1), simplified on their own (cheaper
+    /// than multiplying C out). For the usual T = 1/2 q'^T M(q) q' this is exactly C q'. For a
+    /// general T (terms linear in q', explicit t) it is the full
+    /// h = d/dt(dT/dq')|_(q''=0) - dT/dq, so that M q'' + h + g + Phi_q^T lambda = tau holds;
+    /// then h differs from Khang's C q'.
     pub coriolis_forces: Matrix,
     /// g = dPi/dq (n x 1).
     pub gravity: Matrix,

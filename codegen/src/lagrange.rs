@@ -440,7 +440,7 @@ fn gamma(
 ///
 /// # Errors
 /// [`Error::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
-/// [`derive`] otherwise.
+/// [`derive()`] otherwise.
 pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
     let s = Symbols::of(model)?;
     let n = s.q.len();

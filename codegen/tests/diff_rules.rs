@@ -272,3 +272,22 @@ fn deep_nesting_does_not_recurse() {
     // d/dx sin(sin(...(x))) is the product of the 3000 cosines.
     assert!(matches!(t.a.node(d), mechanism_codegen::Node::Mul(fs) if fs.len() == 3000));
 }
+
+#[test]
+fn a_smaller_arena_resets_the_caches() {
+    let mut big = fx();
+    let mut e = big.x;
+    for _ in 0..50 {
+        e = big.a.sin(e);
+    }
+    let mut d = Differentiator::new();
+    d.diff(&mut big.a, e, big.sx).unwrap();
+    let mut small = fx();
+    small.a.symbol("w", SymbolKind::Free); // node 2: sin(x) is node 3 here, sin(sin(x)) in `big`
+    let s = small.a.sin(small.x);
+    assert_eq!(s, Id(3));
+    assert_eq!(
+        d.diff(&mut small.a, s, small.sx).unwrap(),
+        small.a.cos(small.x)
+    );
+}

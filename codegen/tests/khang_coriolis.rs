@@ -100,8 +100,8 @@ fn check_coriolis(
         .chain(params.iter().map(|(name, v)| (a.lookup(name).unwrap(), *v)))
         .collect();
     let env = |s: SymbolId| table.iter().find(|e| e.0 == s).map(|e| e.1);
-    let c_chr = eval_matrix(a, &c_chr, &env).unwrap();
-    let cq_chr = eval_matrix(a, &cq_chr, &env).unwrap();
+    let c_chr = eval_matrix(a, &c_chr, &env).ok()?;
+    let cq_chr = eval_matrix(a, &cq_chr, &env).ok()?;
     // num-dual dM/dq_k and M' (along q').
     let dm = |dir: &dyn Fn(usize) -> f64| -> Vec<f64> {
         let seeds: Vec<(SymbolId, Dual64)> = model
@@ -146,10 +146,7 @@ fn check_coriolis(
         .chain(&oracle.coriolis_forces)
         .chain(&c_chr)
         .chain(&cq_chr);
-    if oracle_values
-        .clone()
-        .any(|x| !x.is_finite() || x.abs() > BIG)
-    {
+    if oracle_values.any(|x| !x.is_finite() || x.abs() > BIG) {
         return None;
     }
     for (i, (x, y)) in ours.coriolis_matrix.iter().zip(&c_brute).enumerate() {

@@ -19,11 +19,6 @@ fn param(a: &mut Arena, name: &str) -> Id {
     a.symbol(name, SymbolKind::Parameter)
 }
 
-fn col(a: &mut Arena, v: Vec<Id>) -> Matrix {
-    let _ = a;
-    Matrix::column(v)
-}
-
 /// Pendulum of length l in polar coordinates (r, th), th from the downward vertical:
 /// T = 1/2 m (r'^2 + r^2 th'^2), Pi = -m g r cos th, Phi = r - l.
 fn polar_pendulum() -> Model {
@@ -455,5 +450,74 @@ fn oracle_check(model: &mut Model, eqs: &mechanism_codegen::Equations, params: &
         let oracle = oracle_equations(model, &st);
         assert_equations_close(&ours, &oracle, TOL);
     }
-    let _ = col;
+}
+
+/// gamma (Khang's Kronecker form, summed over pairs j <= k) equals the other route
+/// -(d/dt (Phi_q q' + Phi_t)) at q'' = 0, numerically at random states.
+#[test]
+fn gamma_equals_minus_convective_derivative_of_velocity_constraint() {
+    let mut models = vec![crank_slider()];
+    models.push({
+        let mut a = Arena::new();
+        let w = param(&mut a, "w");
+        let [x, xd, xdd] = a.coordinate("x");
+        let [y, yd, ydd] = a.coordinate("y");
+        let t = a.symbol("t", SymbolKind::Time);
+        let xy = a.mul2(x, y);
+        let wt = a.mul2(w, t);
+        let c = a.cos(wt);
+        let e1 = a.mul2(xy, c);
+        let sy = a.sin(y);
+        let e2 = a.atan2(sy, x);
+        let kinetic = a.mul2(xd, xd);
+        let zero = a.int(0);
+        bare_model(
+            a,
+            &[("x", [x, xd, xdd]), ("y", [y, yd, ydd])],
+            kinetic,
+            zero,
+            vec![e1, e2],
+        )
+    });
+    let params: Vec<(&str, f64)> = SEED.iter().copied().chain([("w", 1.7)]).collect();
+    for mut model in models {
+        let eqs = derive(&mut model).unwrap();
+        let mut d = mechanism_codegen::Differentiator::new();
+        let a = &mut model.arena;
+        let mut other = Vec::new();
+        for r in 0..eqs.m {
+            let mut terms: Vec<Id> = (0..eqs.n)
+                .map(|j| a.mul2(eqs.phi_q.get(r, j), model.coordinates[j].qd))
+                .collect();
+            terms.push(eqs.phi_t.data[r]);
+            let v = a.add(&terms);
+            let dv = d.convective_derivative(a, v).unwrap();
+            other.push(a.neg(dv));
+        }
+        let other = Matrix::column(other);
+        let mut rng = common::Rng(5);
+        for _ in 0..5 {
+            let table: Vec<(mechanism_codegen::SymbolId, f64)> = model
+                .coordinates
+                .iter()
+                .flat_map(|c| [c.q, c.qd])
+                .chain([model.time])
+                .map(|id| (a.as_symbol(id).unwrap(), rng.uniform(0.2, 1.4)))
+                .chain(
+                    params
+                        .iter()
+                        .filter_map(|(n, v)| a.lookup(n).map(|s| (s, *v))),
+                )
+                .collect();
+            let env = |s| table.iter().find(|e| e.0 == s).map(|e| e.1);
+            let g1 = eval_matrix(a, &eqs.gamma, &env).unwrap();
+            let g2 = eval_matrix(a, &other, &env).unwrap();
+            for (x, y) in g1.iter().zip(&g2) {
+                assert!(
+                    close(*x, *y, TOL),
+                    "gamma {x} vs -d/dt(Phi_q q' + Phi_t) {y}"
+                );
+            }
+        }
+    }
 }
