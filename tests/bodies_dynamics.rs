@@ -33,7 +33,13 @@ fn run(source: &str, options: &SimulationOptions) -> Trajectory {
 fn body_declared_rssr_follows_the_energy_declared_one() {
     let o = tight(1.0, 100.0);
     let a = simulate(builtin("spatial_four_bar").expect("builtin").as_ref(), &o).unwrap();
-    let b = simulate(builtin("spatial_four_bar_bodies").expect("builtin").as_ref(), &o).unwrap();
+    let b = simulate(
+        builtin("spatial_four_bar_bodies")
+            .expect("builtin")
+            .as_ref(),
+        &o,
+    )
+    .unwrap();
     assert_eq!(a.len(), b.len());
     let mut worst = 0.0_f64;
     for (x, y) in a.samples().zip(b.samples()) {
@@ -56,7 +62,11 @@ fn axis_vec(k: usize) -> Vector3<f64> {
 }
 
 fn rot(k: usize, angle: f64) -> Matrix3<f64> {
-    Rotation3::from_axis_angle(&mechanism::nalgebra::Unit::new_normalize(axis_vec(k)), angle).into_inner()
+    Rotation3::from_axis_angle(
+        &mechanism::nalgebra::Unit::new_normalize(axis_vec(k)),
+        angle,
+    )
+    .into_inner()
 }
 
 const NAMES: [&str; 3] = ["x", "y", "z"];
@@ -76,15 +86,29 @@ fn free_body(order: [usize; 3], q0: [f64; 3], qd0: [f64; 3]) -> String {
              orientation = rot_{}(a) * rot_{}(b) * rot_{}(c);
              inertia = diag(I1, I2, I3);
          }}",
-        q0[0], q0[1], q0[2], q0[0], qd0[0], q0[1], qd0[1], q0[2], qd0[2],
-        NAMES[order[0]], NAMES[order[1]], NAMES[order[2]],
+        q0[0],
+        q0[1],
+        q0[2],
+        q0[0],
+        qd0[0],
+        q0[1],
+        qd0[1],
+        q0[2],
+        qd0[2],
+        NAMES[order[0]],
+        NAMES[order[1]],
+        NAMES[order[2]],
     )
 }
 
 /// R and the body angular velocity w (vee(R^T R')) of a sample, for R = rot_p(a) rot_q(b) rot_k(c):
 /// w = R_k^T R_q^T e_p a' + R_k^T e_q b' + e_k c' (computed here independently of codegen).
 fn frame(order: [usize; 3], q: &[f64], qd: &[f64]) -> (Matrix3<f64>, Vector3<f64>) {
-    let (rp, rq, rk) = (rot(order[0], q[0]), rot(order[1], q[1]), rot(order[2], q[2]));
+    let (rp, rq, rk) = (
+        rot(order[0], q[0]),
+        rot(order[1], q[1]),
+        rot(order[2], q[2]),
+    );
     let w = rk.transpose() * rq.transpose() * axis_vec(order[0]) * qd[0]
         + rk.transpose() * axis_vec(order[1]) * qd[1]
         + axis_vec(order[2]) * qd[2];
@@ -98,12 +122,19 @@ fn frame(order: [usize; 3], q: &[f64], qd: &[f64]) -> (Matrix3<f64>, Vector3<f64
 #[test]
 fn free_body_conserves_energy_and_angular_momentum() {
     let order = [0, 1, 2];
-    let tr = run(&free_body(order, [0.3, 0.2, 0.1], [0.4, -0.3, 3.0]), &tight(5.0, 50.0));
+    let tr = run(
+        &free_body(order, [0.3, 0.2, 0.1], [0.4, -0.3, 3.0]),
+        &tight(5.0, 50.0),
+    );
     let inertia = Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0));
     let s0 = tr.sample(0);
     let (r0, w0) = frame(order, s0.q, s0.qd);
     let (t0, l0) = (0.5 * w0.dot(&(inertia * w0)), r0 * inertia * w0);
-    assert!((s0.kinetic - t0).abs() < 1e-12 * t0, "T from codegen {} vs 1/2 w.Iw {t0}", s0.kinetic);
+    assert!(
+        (s0.kinetic - t0).abs() < 1e-12 * t0,
+        "T from codegen {} vs 1/2 w.Iw {t0}",
+        s0.kinetic
+    );
     let (mut de, mut dl) = (0.0_f64, 0.0_f64);
     for s in tr.samples() {
         let (r, w) = frame(order, s.q, s.qd);
@@ -120,7 +151,10 @@ fn transverse(k: usize, t_end: f64) -> Vec<(f64, f64)> {
     let others: Vec<usize> = (0..3).filter(|&i| i != k).collect();
     let order = [others[0], others[1], k];
     // At zero angles w = e_p a' + e_q b' + e_k c'.
-    let tr = run(&free_body(order, [0.0; 3], [1e-4, 1e-4, 5.0]), &tight(t_end, 100.0));
+    let tr = run(
+        &free_body(order, [0.0; 3], [1e-4, 1e-4, 5.0]),
+        &tight(t_end, 100.0),
+    );
     tr.samples()
         .map(|s| {
             let (_, w) = frame(order, s.q, s.qd);
@@ -141,16 +175,30 @@ fn spin_is_stable_about_major_and_minor_axes_and_unstable_about_the_intermediate
     for k in [0, 2] {
         let w = transverse(k, 5.0);
         let max = w.iter().map(|p| p.1).fold(0.0, f64::max);
-        println!("spin about {}: max |w_perp| = {max:e} (start {:e})", NAMES[k], w[0].1);
-        assert!(max < 3.0 * w[0].1, "axis {}: |w_perp| grew to {max:e}", NAMES[k]);
+        println!(
+            "spin about {}: max |w_perp| = {max:e} (start {:e})",
+            NAMES[k], w[0].1
+        );
+        assert!(
+            max < 3.0 * w[0].1,
+            "axis {}: |w_perp| grew to {max:e}",
+            NAMES[k]
+        );
     }
     let w = transverse(1, 2.5);
-    let at = |t: f64| w.iter().min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs())).unwrap();
+    let at = |t: f64| {
+        w.iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .unwrap()
+    };
     let (a, b) = (at(1.0), at(2.5));
     let lambda = (b.1 / a.1).ln() / (b.0 - a.0);
     let expected = 5.0 * (1.0_f64 / 3.0).sqrt();
     println!("spin about y: growth rate {lambda} /s, Euler's equations {expected} /s");
-    assert!((lambda - expected).abs() < 0.01 * expected, "growth rate {lambda}");
+    assert!(
+        (lambda - expected).abs() < 0.01 * expected,
+        "growth rate {lambda}"
+    );
 }
 
 // ---------- spring-mass ----------
@@ -184,8 +232,14 @@ const G: f64 = 9.81;
 fn spring_mass_rests_at_the_static_deflection() {
     let z_eq = -(L0 + M * G / K);
     let tr = run(&spring_mass(0.0, z_eq), &tight(1.0, 10.0));
-    let worst = tr.samples().map(|s| (s.q[0] - z_eq).abs()).fold(0.0, f64::max);
-    assert!(worst < 1e-12, "drifted {worst:e} m from the static deflection");
+    let worst = tr
+        .samples()
+        .map(|s| (s.q[0] - z_eq).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-12,
+        "drifted {worst:e} m from the static deflection"
+    );
 }
 
 /// Undamped: z - z_eq = A cos(w t), w = sqrt(k/m) (period 2 pi sqrt(m/k) = 1.2566 s), and
@@ -205,7 +259,8 @@ fn spring_mass_follows_the_closed_form() {
             .samples()
             .map(|s| {
                 let t = s.t;
-                let exact = amp * (-zeta * w * t).exp() * ((wd * t).cos() + zeta * w / wd * (wd * t).sin());
+                let exact =
+                    amp * (-zeta * w * t).exp() * ((wd * t).cos() + zeta * w / wd * (wd * t).sin());
                 (s.q[0] - z_eq - exact).abs()
             })
             .fold(0.0, f64::max);

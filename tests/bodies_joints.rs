@@ -66,7 +66,10 @@ fn revolute_gives_the_compound_pendulum() {
     let mut off_axis = 0.0_f64;
     for (s, p) in free.samples().zip(one.samples()) {
         worst = worst.max((s.q[3] - p.q[0]).abs());
-        off_axis = off_axis.max(s.q[0].abs()).max(s.q[4].abs()).max(s.q[5].abs());
+        off_axis = off_axis
+            .max(s.q[0].abs())
+            .max(s.q[4].abs())
+            .max(s.q[5].abs());
     }
     println!("revolute: max |a - a_1dof| = {worst:e}, max |x|, |b|, |c| = {off_axis:e}");
     assert!(worst < 1e-9, "{worst:e}");
@@ -147,5 +150,9 @@ fn distance_keeps_the_length() {
     // The lowest sample is within a 10 ms step of the bottom: z within ~1e-3 of -L.
     assert!((best.0 + l).abs() < 2e-3, "lowest z {}", best.0);
     let expected = (2.0 * g * -best.0).sqrt();
-    assert!((best.1 - expected).abs() < 1e-7 * expected, "speed {} vs sqrt(2 g h) {expected}", best.1);
+    assert!(
+        (best.1 - expected).abs() < 1e-7 * expected,
+        "speed {} vs sqrt(2 g h) {expected}",
+        best.1
+    );
 }

@@ -19,10 +19,15 @@ use mechanism_codegen::{closed_chain_model, closed_chain_source, parse_model_str
 
 fn derivation(c: &mut Criterion) {
     let mut group = c.benchmark_group("derive_closed_chain");
-    group.sample_size(10).warm_up_time(Duration::from_millis(200)).measurement_time(Duration::from_secs(2));
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(2));
     for n in [4usize, 8, 16, 32, 64] {
         match derive_and_cse(closed_chain_model(n)) {
-            Ok(ops) => eprintln!("closed chain N = {n}: {ops} after CSE (M, C q', g, Phi, Phi_q, gamma)"),
+            Ok(ops) => {
+                eprintln!("closed chain N = {n}: {ops} after CSE (M, C q', g, Phi, Phi_q, gamma)")
+            }
             Err(e) => eprintln!("closed chain N = {n}: derivation failed: {e}"),
         }
         group.bench_with_input(BenchmarkId::new("model", n), &n, |b, &n| {
@@ -32,7 +37,9 @@ fn derivation(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("from_source", n), &source, |b, s| {
             b.iter(|| parse_model_str(s).and_then(derive_and_cse))
         });
-        group.bench_with_input(BenchmarkId::new("macro_path", n), &source, |b, s| b.iter(|| macro_pipeline(s)));
+        group.bench_with_input(BenchmarkId::new("macro_path", n), &source, |b, s| {
+            b.iter(|| macro_pipeline(s))
+        });
     }
     group.finish();
 }

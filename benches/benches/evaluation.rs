@@ -14,30 +14,42 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use mechanism::Compiled;
 use mechanism::builtin::{PlanarFourBar, SpatialCrankSlider, SpatialFourBar};
 use mechanism::nalgebra::SVector;
 use mechanism::{Dynamics, Evaluation, Mechanism, Method, SimulationOptions, Simulator, System};
 use mechanism_bench::simulation::options;
-use mechanism::Compiled;
-use mechanism_bench::{Case, builtin_cases, chain_case, check_chain_files, check_routes, model_ops, state};
+use mechanism_bench::{
+    Case, builtin_cases, chain_case, check_chain_files, check_routes, model_ops, state,
+};
 
 mechanism::mechanism!(file = "mechanisms/closed_chain_8.mech");
 mechanism::mechanism!(file = "mechanisms/closed_chain_16.mech");
 mechanism::mechanism!(file = "mechanisms/closed_chain_32.mech");
 
 /// Each generated function of the compiled mechanism `mech`, at (0.3, q, q').
-fn generated<T: Mechanism<N, M>, const N: usize, const M: usize>(c: &mut Criterion, case: &Case, mech: &T) {
+fn generated<T: Mechanism<N, M>, const N: usize, const M: usize>(
+    c: &mut Criterion,
+    case: &Case,
+    mech: &T,
+) {
     let (q, qd) = state(case.compiled.as_ref());
     let q = SVector::<f64, N>::from_column_slice(&q);
     let qd = SVector::<f64, N>::from_column_slice(&qd);
     let t = 0.3;
     let mut g = c.benchmark_group(case.name);
-    g.bench_function("fn_mass_matrix", |b| b.iter(|| black_box(mech).mass_matrix(black_box(&q))));
+    g.bench_function("fn_mass_matrix", |b| {
+        b.iter(|| black_box(mech).mass_matrix(black_box(&q)))
+    });
     g.bench_function("fn_coriolis_forces", |b| {
         b.iter(|| black_box(mech).coriolis_forces(black_box(&q), black_box(&qd)))
     });
-    g.bench_function("fn_gravity", |b| b.iter(|| black_box(mech).gravity(black_box(&q))));
-    g.bench_function("fn_constraints", |b| b.iter(|| black_box(mech).constraints(t, black_box(&q))));
+    g.bench_function("fn_gravity", |b| {
+        b.iter(|| black_box(mech).gravity(black_box(&q)))
+    });
+    g.bench_function("fn_constraints", |b| {
+        b.iter(|| black_box(mech).constraints(t, black_box(&q)))
+    });
     g.bench_function("fn_constraint_jacobian", |b| {
         b.iter(|| black_box(mech).constraint_jacobian(t, black_box(&q)))
     });
@@ -81,17 +93,36 @@ fn routes(c: &mut Criterion, case: &Case) {
         });
         let mut dynamics = Dynamics::new(info);
         g.bench_function(format!("solve_{route}"), |b| {
-            b.iter(|| dynamics.solve(system, black_box(0.3), black_box(&q), black_box(&qd)).map(|_| dynamics.accelerations()[0]))
+            b.iter(|| {
+                dynamics
+                    .solve(system, black_box(0.3), black_box(&q), black_box(&qd))
+                    .map(|_| dynamics.accelerations()[0])
+            })
         });
-        step(&mut g, &format!("step_rk4_{route}"), system, Method::Rk4 { h: 1e-3 });
+        step(
+            &mut g,
+            &format!("step_rk4_{route}"),
+            system,
+            Method::Rk4 { h: 1e-3 },
+        );
     }
-    step(&mut g, "step_dop853_compiled", case.compiled.as_ref(), Method::Dop853);
+    step(
+        &mut g,
+        "step_dop853_compiled",
+        case.compiled.as_ref(),
+        Method::Dop853,
+    );
     g.finish();
 }
 
 /// One accepted step (with projection, the default stabilisation) of a long run, restarted
 /// when it ends.
-fn step(g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>, id: &str, system: &dyn System, method: Method) {
+fn step(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: &str,
+    system: &dyn System,
+    method: Method,
+) {
     let mut opts: SimulationOptions = options(method, 1e-10, Default::default());
     opts.t_end = 1e4;
     opts.output_rate = 0.01;
@@ -109,9 +140,18 @@ fn step(g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
 fn cases() -> Vec<Case> {
     check_chain_files();
     let mut all = builtin_cases();
-    all.extend(chain_case(8, Box::new(Compiled::new(ClosedChain8::default()))));
-    all.extend(chain_case(16, Box::new(Compiled::new(ClosedChain16::default()))));
-    all.extend(chain_case(32, Box::new(Compiled::new(ClosedChain32::default()))));
+    all.extend(chain_case(
+        8,
+        Box::new(Compiled::new(ClosedChain8::default())),
+    ));
+    all.extend(chain_case(
+        16,
+        Box::new(Compiled::new(ClosedChain16::default())),
+    ));
+    all.extend(chain_case(
+        32,
+        Box::new(Compiled::new(ClosedChain32::default())),
+    ));
     for c in &all {
         check_routes(c);
     }
@@ -122,7 +162,10 @@ fn evaluation(c: &mut Criterion) {
     for case in cases() {
         match model_ops(case.source) {
             Ok(ops) => {
-                eprintln!("{}: M, C q', g, Phi, Phi_q together: {}; evaluate: {}", case.name, ops.five, ops.evaluate);
+                eprintln!(
+                    "{}: M, C q', g, Phi, Phi_q together: {}; evaluate: {}",
+                    case.name, ops.five, ops.evaluate
+                );
                 for (name, o) in &ops.each {
                     eprintln!("{}:   {name}: {o}", case.name);
                 }

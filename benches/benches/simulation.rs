@@ -27,10 +27,22 @@ fn results_dir() -> std::path::PathBuf {
 
 /// The loosest tolerance (of 1e-5 .. 1e-12) at which `method` is within `target` of the
 /// reference at 10 s.
-fn at_accuracy(name: &str, system: &dyn System, method: Method, target: f64, reference: &[f64]) -> Option<(f64, RunReport)> {
+fn at_accuracy(
+    name: &str,
+    system: &dyn System,
+    method: Method,
+    target: f64,
+    reference: &[f64],
+) -> Option<(f64, RunReport)> {
     for k in 5..=12 {
         let tol = 10f64.powi(-k);
-        let r = measure(&format!("{name}, rtol = atol = 1e-{k}"), system, &options(method, tol, Stabilization::Projection), reference, 5);
+        let r = measure(
+            &format!("{name}, rtol = atol = 1e-{k}"),
+            system,
+            &options(method, tol, Stabilization::Projection),
+            reference,
+            5,
+        );
         if r.error <= target {
             return Some((tol, r));
         }
@@ -46,12 +58,31 @@ fn tables() -> (String, String) {
 
     let seed_ref = reference(seed.as_ref());
     let _ = writeln!(json, "  \"seed_reference_q\": {:?},", seed_ref);
-    let _ = writeln!(md, "### Seed crank-slider, 10 s (projection; reference DOP853 at 1e-13)\n\n{HEADER}");
+    let _ = writeln!(
+        md,
+        "### Seed crank-slider, 10 s (projection; reference DOP853 at 1e-13)\n\n{HEADER}"
+    );
     for (label, method, tol) in seed_methods() {
-        let repeats = if matches!(method, Method::Rk4 { h } | Method::Hht { h, .. } if h < 5e-4) { 3 } else { 7 };
-        let r = measure(label, seed.as_ref(), &options(method, tol, Stabilization::Projection), &seed_ref, repeats);
+        let repeats = if matches!(method, Method::Rk4 { h } | Method::Hht { h, .. } if h < 5e-4) {
+            3
+        } else {
+            7
+        };
+        let r = measure(
+            label,
+            seed.as_ref(),
+            &options(method, tol, Stabilization::Projection),
+            &seed_ref,
+            repeats,
+        );
         let _ = writeln!(md, "{}", row(&r));
-        let key = label.split(',').next().unwrap_or(label).split(' ').next().unwrap_or(label);
+        let key = label
+            .split(',')
+            .next()
+            .unwrap_or(label)
+            .split(' ')
+            .next()
+            .unwrap_or(label);
         let _ = writeln!(
             json,
             "  \"seed {label}\": {{\"method\": \"{key}\", \"wall_s\": {:e}, \"steps\": {}, \"rhs\": {}, \"error\": {:e}, \"max_phi\": {:e}}},",
@@ -72,21 +103,43 @@ fn tables() -> (String, String) {
             Some((tol, r)) => {
                 let speed = T_END / r.wall_s;
                 lines.push(format!("{} {:.0} |", row(&r), speed));
-                let _ = writeln!(json, "  \"four_bar {name}\": {{\"tol\": {tol:e}, \"wall_s\": {:e}, \"error\": {:e}, \"sim_per_wall\": {speed:e}}},", r.wall_s, r.error);
+                let _ = writeln!(
+                    json,
+                    "  \"four_bar {name}\": {{\"tol\": {tol:e}, \"wall_s\": {:e}, \"error\": {:e}, \"sim_per_wall\": {speed:e}}},",
+                    r.wall_s, r.error
+                );
             }
-            None => lines.push(format!("| {name} | did not reach 1e-7 rad down to 1e-12 | | | | | | |")),
+            None => lines.push(format!(
+                "| {name} | did not reach 1e-7 rad down to 1e-12 | | | | | | |"
+            )),
         }
     }
     for l in lines {
         let _ = writeln!(md, "{l}");
     }
 
-    let _ = writeln!(md, "\n### Loop closure: max abs(Phi) over 10 s, DOP853 at 1e-10\n\n| model | stabilisation | max abs(Phi) | error at 10 s | wall (ms) |\n|---|---|---|---|---|");
-    for (model, system, r) in [("seed", seed.as_ref(), &seed_ref), ("four-bar", four.as_ref(), &four_ref)] {
+    let _ = writeln!(
+        md,
+        "\n### Loop closure: max abs(Phi) over 10 s, DOP853 at 1e-10\n\n| model | stabilisation | max abs(Phi) | error at 10 s | wall (ms) |\n|---|---|---|---|---|"
+    );
+    for (model, system, r) in [
+        ("seed", seed.as_ref(), &seed_ref),
+        ("four-bar", four.as_ref(), &four_ref),
+    ] {
         for (label, stab) in stabilizations() {
             let rep = measure(label, system, &options(Method::Dop853, 1e-10, stab), r, 3);
-            let _ = writeln!(md, "| {model} | {label} | {:.1e} | {:.1e} | {:.3} |", rep.max_phi, rep.error, rep.wall_s * 1e3);
-            let _ = writeln!(json, "  \"phi {model} {label}\": {{\"max_phi\": {:e}, \"error\": {:e}}},", rep.max_phi, rep.error);
+            let _ = writeln!(
+                md,
+                "| {model} | {label} | {:.1e} | {:.1e} | {:.3} |",
+                rep.max_phi,
+                rep.error,
+                rep.wall_s * 1e3
+            );
+            let _ = writeln!(
+                json,
+                "  \"phi {model} {label}\": {{\"max_phi\": {:e}, \"error\": {:e}}},",
+                rep.max_phi, rep.error
+            );
         }
     }
     json.push_str("  \"t_end\": 10.0\n}\n");
@@ -103,14 +156,26 @@ fn simulation(c: &mut Criterion) {
     let seed = mechanism::builtin::builtin("spatial_crank_slider").expect("seed");
     let four = mechanism::builtin::builtin("planar_four_bar").expect("four-bar");
     let mut g = c.benchmark_group("simulate_10s");
-    g.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-    for (id, method) in [("seed_dop853_1e-10", Method::Dop853), ("seed_dopri5_1e-10", Method::Dopri5)] {
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for (id, method) in [
+        ("seed_dop853_1e-10", Method::Dop853),
+        ("seed_dopri5_1e-10", Method::Dopri5),
+    ] {
         let opts = options(method, 1e-10, Stabilization::Projection);
-        g.bench_function(id, |b| b.iter(|| simulate(black_box(seed.as_ref()), &opts).map(|t| t.len())));
+        g.bench_function(id, |b| {
+            b.iter(|| simulate(black_box(seed.as_ref()), &opts).map(|t| t.len()))
+        });
     }
-    for (id, tol) in [("four_bar_dop853_1e-9", 1e-9), ("four_bar_dop853_1e-8", 1e-8)] {
+    for (id, tol) in [
+        ("four_bar_dop853_1e-9", 1e-9),
+        ("four_bar_dop853_1e-8", 1e-8),
+    ] {
         let opts = options(Method::Dop853, tol, Stabilization::Projection);
-        g.bench_function(id, |b| b.iter(|| simulate(black_box(four.as_ref()), &opts).map(|t| t.len())));
+        g.bench_function(id, |b| {
+            b.iter(|| simulate(black_box(four.as_ref()), &opts).map(|t| t.len()))
+        });
     }
     g.finish();
 }

@@ -45,12 +45,16 @@ impl AdModel<4, 3> for SeedAd {
         }
     }
     fn kinetic<D: DualNum<Primitive = f64> + Copy>(&self, _q: &[D; 4], qd: &[D; 4]) -> D {
-        let (jp, mx) = (self.j1 + self.m2 / 2.0 * self.l1 * self.l1, self.m2 / 2.0 + self.m3);
+        let (jp, mx) = (
+            self.j1 + self.m2 / 2.0 * self.l1 * self.l1,
+            self.m2 / 2.0 + self.m3,
+        );
         qd[0] * qd[0] * (0.5 * jp) + qd[3] * qd[3] * (0.5 * mx)
     }
     fn potential<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 4]) -> D {
         let c = q[0].cos();
-        (c * self.a1 + self.h) * (self.m1 * self.g) + (c * self.l1 + self.h) * (self.m2 / 2.0 * self.g)
+        (c * self.a1 + self.h) * (self.m1 * self.g)
+            + (c * self.l1 + self.h) * (self.m2 / 2.0 * self.g)
     }
     fn constraints<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 4]) -> [D; 3] {
         let (sp, cp) = q[0].sin_cos();
@@ -83,7 +87,16 @@ pub struct FourBarAd {
 impl AdModel<3, 2> for FourBarAd {
     fn from_parameters(names: &[String], values: &[f64]) -> Self {
         let p = |s| parameter(names, values, s);
-        Self { l1: p("l1"), l2: p("l2"), l3: p("l3"), dx: p("Dx"), m1: p("m1"), m2: p("m2"), m3: p("m3"), g: p("g") }
+        Self {
+            l1: p("l1"),
+            l2: p("l2"),
+            l3: p("l3"),
+            dx: p("Dx"),
+            m1: p("m1"),
+            m2: p("m2"),
+            m3: p("m3"),
+            g: p("g"),
+        }
     }
     fn kinetic<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 3], qd: &[D; 3]) -> D {
         let (l1, l2, l3) = (self.l1, self.l2, self.l3);
@@ -100,14 +113,19 @@ impl AdModel<3, 2> for FourBarAd {
     }
     fn potential<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 3]) -> D {
         let (s1, s2, s3) = (q[0].sin(), q[1].sin(), q[2].sin());
-        (s1 * (self.m1 * self.l1 / 2.0) + (s1 * self.l1 + s2 * (self.l2 / 2.0)) * self.m2 + s3 * (self.m3 * self.l3 / 2.0))
+        (s1 * (self.m1 * self.l1 / 2.0)
+            + (s1 * self.l1 + s2 * (self.l2 / 2.0)) * self.m2
+            + s3 * (self.m3 * self.l3 / 2.0))
             * self.g
     }
     fn constraints<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 3]) -> [D; 2] {
         let (s1, c1) = q[0].sin_cos();
         let (s2, c2) = q[1].sin_cos();
         let (s3, c3) = q[2].sin_cos();
-        [c1 * self.l1 + c2 * self.l2 - c3 * self.l3 - self.dx, s1 * self.l1 + s2 * self.l2 - s3 * self.l3]
+        [
+            c1 * self.l1 + c2 * self.l2 - c3 * self.l3 - self.dx,
+            s1 * self.l1 + s2 * self.l2 - s3 * self.l3,
+        ]
     }
 }
 
@@ -156,7 +174,8 @@ impl AdModel<4, 3> for RssrAd {
             + dpsi * dpsi * (0.5 * self.m3 * l3 * l3 / 3.0)
     }
     fn potential<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 4]) -> D {
-        q[2].cos() * (self.m2 * self.g * self.l2 / 2.0) + (q[3].sin() * (self.l3 / 2.0) + self.dz) * (self.m3 * self.g)
+        q[2].cos() * (self.m2 * self.g * self.l2 / 2.0)
+            + (q[3].sin() * (self.l3 / 2.0) + self.dz) * (self.m3 * self.g)
     }
     fn constraints<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; 4]) -> [D; 3] {
         let (sp, cp) = q[0].sin_cos();
@@ -180,7 +199,9 @@ pub struct ChainAd<const N: usize> {
 
 impl<const N: usize> AdModel<N, 2> for ChainAd<N> {
     fn from_parameters(names: &[String], values: &[f64]) -> Self {
-        Self { g: parameter(names, values, "g") }
+        Self {
+            g: parameter(names, values, "g"),
+        }
     }
     fn kinetic<D: DualNum<Primitive = f64> + Copy>(&self, q: &[D; N], qd: &[D; N]) -> D {
         let zero = D::from(0.0);

@@ -43,10 +43,16 @@ pub trait AdModel<const N: usize, const M: usize>: Send + Sync {
 
 /// Looks up parameter `name` in (names, values); NaN when absent (caught by the solvers).
 pub fn parameter(names: &[String], values: &[f64], name: &str) -> f64 {
-    names.iter().position(|n| n == name).map_or(f64::NAN, |i| values[i])
+    names
+        .iter()
+        .position(|n| n == name)
+        .map_or(f64::NAN, |i| values[i])
 }
 
-fn lift<D: DualNum<Primitive = f64> + Copy, const N: usize>(x: &[f64], f: impl Fn(f64) -> D) -> [D; N] {
+fn lift<D: DualNum<Primitive = f64> + Copy, const N: usize>(
+    x: &[f64],
+    f: impl Fn(f64) -> D,
+) -> [D; N] {
     std::array::from_fn(|i| f(x[i]))
 }
 
@@ -68,8 +74,17 @@ impl<A: AdModel<N, M>, const N: usize, const M: usize> AutoDiff<A, N, M> {
         let info = reference.info().clone();
         let mut values = vec![0.0; info.parameters.len()];
         reference.parameter_values(&mut values);
-        assert_eq!((info.n(), info.m()), (N, M), "AD model size differs from {}", info.name);
-        Self { model: A::from_parameters(&info.parameters, &values), info, values }
+        assert_eq!(
+            (info.n(), info.m()),
+            (N, M),
+            "AD model size differs from {}",
+            info.name
+        );
+        Self {
+            model: A::from_parameters(&info.parameters, &values),
+            info,
+            values,
+        }
     }
 
     /// M(q) = d2T/dq'dq' by hyper-dual numbers, one pass per entry of the upper triangle.
@@ -126,7 +141,8 @@ impl<A: AdModel<N, M>, const N: usize, const M: usize> AutoDiff<A, N, M> {
     /// gamma = -(dPhi_q/dq)(q' kron q'), i.e. minus the second directional derivative of Phi
     /// along q'.
     pub fn gamma(&self, q: &[f64; N], qd: &[f64; N], out: &mut [f64]) {
-        let x: [HyperDual64; N] = std::array::from_fn(|k| HyperDual64::new(q[k], qd[k], qd[k], 0.0));
+        let x: [HyperDual64; N] =
+            std::array::from_fn(|k| HyperDual64::new(q[k], qd[k], qd[k], 0.0));
         for (o, v) in out.iter_mut().zip(self.model.constraints(&x)) {
             *o = -v.eps1eps2;
         }
@@ -157,8 +173,12 @@ impl<A: AdModel<N, M>, const N: usize, const M: usize> System for AutoDiff<A, N,
         self.mass(&q, &qd, &mut out.mass);
         self.coriolis(&q, &qd, out.coriolis.as_mut_slice());
         self.gravity(&q, out.gravity.as_mut_slice());
-        out.forces.as_mut_slice().copy_from_slice(&self.model.forces(t, &q, &qd));
-        out.phi.as_mut_slice().copy_from_slice(&self.model.constraints(&q));
+        out.forces
+            .as_mut_slice()
+            .copy_from_slice(&self.model.forces(t, &q, &qd));
+        out.phi
+            .as_mut_slice()
+            .copy_from_slice(&self.model.constraints(&q));
         self.jacobian(&q, &mut out.phi_q);
         out.phi_t.fill(0.0);
         self.gamma(&q, &qd, out.gamma.as_mut_slice());

@@ -18,12 +18,25 @@ use crate::autodiff::AutoDiff;
 
 /// The quantities the derivation benchmark covers: M, C q', g, Phi, Phi_q and gamma.
 pub fn derived_outputs(eqs: &Equations) -> [&Matrix; 6] {
-    [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity, &eqs.phi, &eqs.phi_q, &eqs.gamma]
+    [
+        &eqs.mass,
+        &eqs.coriolis_forces,
+        &eqs.gravity,
+        &eqs.phi,
+        &eqs.phi_q,
+        &eqs.gamma,
+    ]
 }
 
 /// The five quantities of the evaluation target: M, C q', g, Phi and Phi_q.
 pub fn five_outputs(eqs: &Equations) -> [&Matrix; 5] {
-    [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity, &eqs.phi, &eqs.phi_q]
+    [
+        &eqs.mass,
+        &eqs.coriolis_forces,
+        &eqs.gravity,
+        &eqs.phi,
+        &eqs.phi_q,
+    ]
 }
 
 /// Derives `model` and builds the CSE'd program of M, C q', g, Phi, Phi_q and gamma: the
@@ -60,7 +73,10 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
     if let Some(s) = arena.as_symbol(model.time) {
         b.bind(s, quote!(t));
     }
-    let (kinetic, potential) = (Matrix::column(vec![eqs.kinetic]), Matrix::column(vec![eqs.potential]));
+    let (kinetic, potential) = (
+        Matrix::column(vec![eqs.kinetic]),
+        Matrix::column(vec![eqs.potential]),
+    );
     let singles = [
         &eqs.mass,
         &eqs.coriolis_matrix,
@@ -74,11 +90,17 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
         &kinetic,
         &potential,
     ];
-    let place = || OutputTarget::Matrix { name: quote!(out), zeroed: true };
+    let place = || OutputTarget::Matrix {
+        name: quote!(out),
+        zeroed: true,
+    };
     let mut tokens = 0;
     for m in singles {
         let program = Program::new(arena, &[m])?;
-        tokens += emit_body(&program, &b, &[place()])?.tokens.into_iter().count();
+        tokens += emit_body(&program, &b, &[place()])?
+            .tokens
+            .into_iter()
+            .count();
     }
     let all = [
         &eqs.mass,
@@ -94,7 +116,10 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
     ];
     let program = Program::new(arena, &all)?;
     let targets: Vec<_> = all.iter().map(|_| place()).collect();
-    tokens += emit_body(&program, &b, &targets)?.tokens.into_iter().count();
+    tokens += emit_body(&program, &b, &targets)?
+        .tokens
+        .into_iter()
+        .count();
     tokens += mechanism_codegen::equations_text(&model, &eqs).len();
     Ok(tokens)
 }
@@ -117,10 +142,24 @@ pub fn model_ops(source: &str) -> Result<ModelOps> {
     let e = mechanism_codegen::derive(&mut model)?;
     let arena = &model.arena;
     let ops = |ms: &[&Matrix]| Program::new(arena, ms).map(|p| p.op_counts());
-    let (kin, pot) = (Matrix::column(vec![e.kinetic]), Matrix::column(vec![e.potential]));
+    let (kin, pot) = (
+        Matrix::column(vec![e.kinetic]),
+        Matrix::column(vec![e.potential]),
+    );
     Ok(ModelOps {
         five: ops(&five_outputs(&e))?,
-        evaluate: ops(&[&e.mass, &e.coriolis_forces, &e.gravity, &e.forces, &e.phi, &e.phi_q, &e.phi_t, &e.gamma, &kin, &pot])?,
+        evaluate: ops(&[
+            &e.mass,
+            &e.coriolis_forces,
+            &e.gravity,
+            &e.forces,
+            &e.phi,
+            &e.phi_q,
+            &e.phi_t,
+            &e.gamma,
+            &kin,
+            &pot,
+        ])?,
         each: vec![
             ("mass_matrix", ops(&[&e.mass])?),
             ("coriolis_forces", ops(&[&e.coriolis_forces])?),
@@ -161,15 +200,30 @@ pub struct Case {
 
 /// A [`Case`] from its compiled form; the interpreter route is derived from `source` and the
 /// AD route built by `ad` with the compiled form's names and parameter values.
-pub fn case(name: &'static str, source: &'static str, compiled: Box<dyn System>, ad: fn(&dyn System) -> Box<dyn System>) -> Case {
-    let interpreted = Box::new(Interpreted::from_source(source).unwrap_or_else(|e| panic!("{name}: {e}")));
+pub fn case(
+    name: &'static str,
+    source: &'static str,
+    compiled: Box<dyn System>,
+    ad: fn(&dyn System) -> Box<dyn System>,
+) -> Case {
+    let interpreted =
+        Box::new(Interpreted::from_source(source).unwrap_or_else(|e| panic!("{name}: {e}")));
     let autodiff = ad(compiled.as_ref());
-    Case { name, source, compiled, interpreted, autodiff }
+    Case {
+        name,
+        source,
+        compiled,
+        interpreted,
+        autodiff,
+    }
 }
 
 fn builtin(name: &str) -> (&'static str, Box<dyn System>) {
     let source = mechanism::builtin::builtin_source(name).expect("built-in source");
-    (source, mechanism::builtin::builtin(name).expect("built-in mechanism"))
+    (
+        source,
+        mechanism::builtin::builtin(name).expect("built-in mechanism"),
+    )
 }
 
 /// The built-in cases: the seed crank-slider, the planar four-bar and the RSSR. (The chains
@@ -179,9 +233,15 @@ pub fn builtin_cases() -> Vec<Case> {
     let (four, four_c) = builtin("planar_four_bar");
     let (rssr, rssr_c) = builtin("spatial_four_bar");
     vec![
-        case("seed", seed, seed_c, |s| Box::new(AutoDiff::<SeedAd, 4, 3>::like(s))),
-        case("four_bar", four, four_c, |s| Box::new(AutoDiff::<FourBarAd, 3, 2>::like(s))),
-        case("rssr", rssr, rssr_c, |s| Box::new(AutoDiff::<RssrAd, 4, 3>::like(s))),
+        case("seed", seed, seed_c, |s| {
+            Box::new(AutoDiff::<SeedAd, 4, 3>::like(s))
+        }),
+        case("four_bar", four, four_c, |s| {
+            Box::new(AutoDiff::<FourBarAd, 3, 2>::like(s))
+        }),
+        case("rssr", rssr, rssr_c, |s| {
+            Box::new(AutoDiff::<RssrAd, 4, 3>::like(s))
+        }),
     ]
 }
 
@@ -189,9 +249,15 @@ pub fn builtin_cases() -> Vec<Case> {
 pub fn chain_case(n: usize, compiled: Box<dyn System>) -> Option<Case> {
     let source = chain_source(n)?;
     Some(match n {
-        8 => case("chain8", source, compiled, |s| Box::new(AutoDiff::<ChainAd<8>, 8, 2>::like(s))),
-        16 => case("chain16", source, compiled, |s| Box::new(AutoDiff::<ChainAd<16>, 16, 2>::like(s))),
-        32 => case("chain32", source, compiled, |s| Box::new(AutoDiff::<ChainAd<32>, 32, 2>::like(s))),
+        8 => case("chain8", source, compiled, |s| {
+            Box::new(AutoDiff::<ChainAd<8>, 8, 2>::like(s))
+        }),
+        16 => case("chain16", source, compiled, |s| {
+            Box::new(AutoDiff::<ChainAd<16>, 16, 2>::like(s))
+        }),
+        32 => case("chain32", source, compiled, |s| {
+            Box::new(AutoDiff::<ChainAd<32>, 32, 2>::like(s))
+        }),
         _ => return None,
     })
 }
@@ -206,8 +272,14 @@ pub fn state(system: &dyn System) -> (Vec<f64>, Vec<f64>) {
             first.velocity = 1.0;
         }
     }
-    let s = mechanism::assemble_from(system, 0.0, &ind, &system.info().initial_guess, &mechanism::AssemblyOptions::default())
-        .unwrap_or_else(|e| panic!("{}: assembly failed: {e}", system.info().name));
+    let s = mechanism::assemble_from(
+        system,
+        0.0,
+        &ind,
+        &system.info().initial_guess,
+        &mechanism::AssemblyOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{}: assembly failed: {e}", system.info().name));
     (s.q, s.qd)
 }
 
@@ -218,7 +290,10 @@ pub fn state(system: &dyn System) -> (Vec<f64>, Vec<f64>) {
 /// When a file is stale.
 pub fn check_chain_files() {
     for n in CHAIN_SIZES {
-        let path = format!("{}/mechanisms/closed_chain_{n}.mech", env!("CARGO_MANIFEST_DIR"));
+        let path = format!(
+            "{}/mechanisms/closed_chain_{n}.mech",
+            env!("CARGO_MANIFEST_DIR")
+        );
         let text = mechanism_codegen::closed_chain_source(n);
         if std::env::var_os("MECHANISM_BLESS").is_some() {
             std::fs::write(&path, &text).expect("write the chain file");
@@ -231,7 +306,10 @@ pub fn check_chain_files() {
 fn close(a: &[f64], b: &[f64], what: &str, name: &str) {
     let scale = a.iter().chain(b).fold(1.0_f64, |s, v| s.max(v.abs()));
     for (x, y) in a.iter().zip(b) {
-        assert!((x - y).abs() <= 1e-10 * scale, "{name} {what}: {a:?} vs {b:?}");
+        assert!(
+            (x - y).abs() <= 1e-10 * scale,
+            "{name} {what}: {a:?} vs {b:?}"
+        );
     }
 }
 
@@ -250,15 +328,48 @@ pub fn check_routes(c: &Case) {
         e
     };
     let reference = eval(c.compiled.as_ref());
-    for (route, e) in [("interpreted", eval(c.interpreted.as_ref())), ("autodiff", eval(c.autodiff.as_ref()))] {
+    for (route, e) in [
+        ("interpreted", eval(c.interpreted.as_ref())),
+        ("autodiff", eval(c.autodiff.as_ref())),
+    ] {
         let name = format!("{} {route}", c.name);
         close(reference.mass.as_slice(), e.mass.as_slice(), "M", &name);
-        close(reference.coriolis.as_slice(), e.coriolis.as_slice(), "C q'", &name);
-        close(reference.gravity.as_slice(), e.gravity.as_slice(), "g", &name);
-        close(reference.forces.as_slice(), e.forces.as_slice(), "tau", &name);
+        close(
+            reference.coriolis.as_slice(),
+            e.coriolis.as_slice(),
+            "C q'",
+            &name,
+        );
+        close(
+            reference.gravity.as_slice(),
+            e.gravity.as_slice(),
+            "g",
+            &name,
+        );
+        close(
+            reference.forces.as_slice(),
+            e.forces.as_slice(),
+            "tau",
+            &name,
+        );
         close(reference.phi.as_slice(), e.phi.as_slice(), "Phi", &name);
-        close(reference.phi_q.as_slice(), e.phi_q.as_slice(), "Phi_q", &name);
-        close(reference.gamma.as_slice(), e.gamma.as_slice(), "gamma", &name);
-        close(&[reference.kinetic, reference.potential], &[e.kinetic, e.potential], "T, Pi", &name);
+        close(
+            reference.phi_q.as_slice(),
+            e.phi_q.as_slice(),
+            "Phi_q",
+            &name,
+        );
+        close(
+            reference.gamma.as_slice(),
+            e.gamma.as_slice(),
+            "gamma",
+            &name,
+        );
+        close(
+            &[reference.kinetic, reference.potential],
+            &[e.kinetic, e.potential],
+            "T, Pi",
+            &name,
+        );
     }
 }

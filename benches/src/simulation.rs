@@ -21,7 +21,12 @@ pub fn options(method: Method, tol: f64, stabilization: Stabilization) -> Simula
     SimulationOptions {
         t_end: T_END,
         output_rate: OUTPUT_RATE,
-        integrator: IntegratorOptions { method, rtol: tol, atol: tol, ..IntegratorOptions::default() },
+        integrator: IntegratorOptions {
+            method,
+            rtol: tol,
+            atol: tol,
+            ..IntegratorOptions::default()
+        },
         stabilization,
         ..SimulationOptions::default()
     }
@@ -58,14 +63,23 @@ pub fn max_phi(traj: &Trajectory) -> f64 {
 
 /// The reference end state: DOP853 at rtol = atol = 1e-13 with projection.
 pub fn reference(system: &dyn System) -> Vec<f64> {
-    let traj = simulate(system, &options(Method::Dop853, 1e-13, Stabilization::Projection))
-        .unwrap_or_else(|e| panic!("{}: reference run failed: {e}", system.info().name));
+    let traj = simulate(
+        system,
+        &options(Method::Dop853, 1e-13, Stabilization::Projection),
+    )
+    .unwrap_or_else(|e| panic!("{}: reference run failed: {e}", system.info().name));
     final_q(&traj)
 }
 
 /// Runs `opts` `repeats` times on `system` and reports the median wall time with the
 /// statistics of the last run and its error against `reference`.
-pub fn measure(label: &str, system: &dyn System, opts: &SimulationOptions, reference: &[f64], repeats: usize) -> RunReport {
+pub fn measure(
+    label: &str,
+    system: &dyn System,
+    opts: &SimulationOptions,
+    reference: &[f64],
+    repeats: usize,
+) -> RunReport {
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats.max(1) {
@@ -79,7 +93,10 @@ pub fn measure(label: &str, system: &dyn System, opts: &SimulationOptions, refer
     match last {
         Some(Ok(traj)) => {
             let q = final_q(&traj);
-            let error = q.iter().zip(reference).fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+            let error = q
+                .iter()
+                .zip(reference)
+                .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
             RunReport {
                 label: label.to_string(),
                 wall_s,
@@ -92,7 +109,15 @@ pub fn measure(label: &str, system: &dyn System, opts: &SimulationOptions, refer
         }
         Some(Err(e)) => {
             eprintln!("{label}: failed: {e}");
-            RunReport { label: label.to_string(), wall_s, steps: 0, rejected: 0, rhs: 0, error: f64::NAN, max_phi: f64::NAN }
+            RunReport {
+                label: label.to_string(),
+                wall_s,
+                steps: 0,
+                rejected: 0,
+                rhs: 0,
+                error: f64::NAN,
+                max_phi: f64::NAN,
+            }
         }
         None => unreachable!("at least one run"),
     }
@@ -105,8 +130,22 @@ pub fn seed_methods() -> Vec<(&'static str, Method, f64)> {
         ("rk4, h = 1e-4", Method::Rk4 { h: 1e-4 }, 1e-10),
         ("dopri5, rtol = atol = 1e-10", Method::Dopri5, 1e-10),
         ("dop853, rtol = atol = 1e-10", Method::Dop853, 1e-10),
-        ("hht (alpha = -0.05), h = 1e-3", Method::Hht { h: 1e-3, alpha: -0.05 }, 1e-10),
-        ("hht (alpha = -0.05), h = 1e-4", Method::Hht { h: 1e-4, alpha: -0.05 }, 1e-10),
+        (
+            "hht (alpha = -0.05), h = 1e-3",
+            Method::Hht {
+                h: 1e-3,
+                alpha: -0.05,
+            },
+            1e-10,
+        ),
+        (
+            "hht (alpha = -0.05), h = 1e-4",
+            Method::Hht {
+                h: 1e-4,
+                alpha: -0.05,
+            },
+            1e-10,
+        ),
     ]
 }
 
@@ -114,7 +153,13 @@ pub fn seed_methods() -> Vec<(&'static str, Method, f64)> {
 pub fn stabilizations() -> Vec<(&'static str, Stabilization)> {
     vec![
         ("projection", Stabilization::Projection),
-        ("baumgarte (alpha = beta = 10)", Stabilization::Baumgarte { alpha: 10.0, beta: 10.0 }),
+        (
+            "baumgarte (alpha = beta = 10)",
+            Stabilization::Baumgarte {
+                alpha: 10.0,
+                beta: 10.0,
+            },
+        ),
         ("none", Stabilization::None),
     ]
 }

@@ -144,7 +144,12 @@ pub(crate) fn sub3(arena: &mut Arena, a: &Vec3, b: &Vec3) -> Vec3 {
 }
 
 /// The Jacobian dv/dq (3 x n) and dv/dt of a vector v(q, t).
-fn jacobian(arena: &mut Arena, d: &mut Differentiator, v: &Vec3, s: &Symbols) -> Result<(Matrix, Vec3)> {
+fn jacobian(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    v: &Vec3,
+    s: &Symbols,
+) -> Result<(Matrix, Vec3)> {
     let n = s.q.len();
     let mut j = Matrix::zeros(arena, 3, n);
     let mut vt = [arena.int(0); 3];
@@ -215,7 +220,12 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
                     }
                 };
                 for e in ids {
-                    check_position_level(a, model, e, &format!("orientation of body `{}`", b.name))?;
+                    check_position_level(
+                        a,
+                        model,
+                        e,
+                        &format!("orientation of body `{}`", b.name),
+                    )?;
                 }
             }
         }
@@ -224,7 +234,12 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
         check_position_level(a, model, e, "gravity vector")?;
     }
     for s in &system.springs {
-        for &e in s.ends.iter().flatten().chain([&s.stiffness, &s.free_length]) {
+        for &e in s
+            .ends
+            .iter()
+            .flatten()
+            .chain([&s.stiffness, &s.free_length])
+        {
             check_position_level(a, model, e, &format!("spring `{}`", s.name))?;
         }
     }
@@ -263,12 +278,28 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
             continue;
         }
         let (jv, vt) = jacobian(arena, &mut d, &body.position, &s)?;
-        add_quadratic(arena, &mut m_terms, &mut b_terms, &mut t0_terms, &jv, &vt, &Weight::Scalar(m))?;
+        add_quadratic(
+            arena,
+            &mut m_terms,
+            &mut b_terms,
+            &mut t0_terms,
+            &jv,
+            &vt,
+            &Weight::Scalar(m),
+        )?;
         if let (Some(o), Some(inertia)) = (&body.orientation, &body.inertia)
             && !inertia.is_zero(arena)
         {
             let (jw, wt) = o.angular_jacobian(arena, &mut d, &s.q, s.time)?;
-            add_quadratic(arena, &mut m_terms, &mut b_terms, &mut t0_terms, &jw, &wt, &Weight::Tensor(inertia))?;
+            add_quadratic(
+                arena,
+                &mut m_terms,
+                &mut b_terms,
+                &mut t0_terms,
+                &jw,
+                &wt,
+                &Weight::Tensor(inertia),
+            )?;
         }
         if let Some(g) = &system.gravity {
             // Pi = -m g . r
@@ -301,7 +332,7 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     }
     // T = 1/2 sum_i M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j' + b . q' + T_0.
     let mut t_terms = Vec::new();
-    for i in 0..n {
+    for (i, terms) in b_terms.iter().enumerate() {
         let vi = s.qd[i];
         let mii = mass.get(i, i);
         if !arena.is_zero(mii) {
@@ -314,7 +345,7 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
                 t_terms.push(arena.mul(&[mij, vi, s.qd[j]]));
             }
         }
-        let bi = arena.add(&b_terms[i]);
+        let bi = arena.add(terms);
         if !arena.is_zero(bi) {
             t_terms.push(arena.mul2(bi, vi));
         }

@@ -31,6 +31,7 @@ mod model;
 mod number;
 mod bodies;
 mod joints;
+mod lower_bodies;
 mod parse_bodies;
 mod rotation;
 mod vexpr;

@@ -35,21 +35,14 @@
 //! Everything is lowered in declaration order, so a body may use the points of bodies
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
-use std::collections::HashMap;
-
-use crate::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
 use crate::error::{Error, Location, Result};
-use crate::eval::eval;
-use crate::expr::{Arena, SymbolId};
-use crate::joints::{AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical};
 use crate::lex::{Cursor, Delim, Tok};
-use crate::matrix::Matrix;
-use crate::model::{Constraint, Model};
-use crate::rotation::{Axis, Orientation, RotationFactor};
-use crate::vexpr::{Op, VAst, VParser, VectorNames, lower_v, scalar, vec3};
+use crate::vexpr::{VAst, VParser};
 
 /// The top-level keywords of the body sections.
-pub(crate) const BODY_SECTIONS: &[&str] = &["body", "gravity", "point", "axis", "spring", "damper", "joints"];
+pub(crate) const BODY_SECTIONS: &[&str] = &[
+    "body", "gravity", "point", "axis", "spring", "damper", "joints",
+];
 
 /// True when `keyword` starts a body section.
 pub(crate) fn is_body_section(keyword: &str) -> bool {
@@ -59,21 +52,37 @@ pub(crate) fn is_body_section(keyword: &str) -> bool {
 /// `key = value` with where the key is.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Entry {
-    key: String,
-    name: Option<String>,
-    at: Location,
-    value: Vec<VAst>,
+    /// The key (`mass`, `point`, `between`, ...).
+    pub(crate) key: String,
+    /// The name after `point` or `axis`.
+    pub(crate) name: Option<String>,
+    /// Where the key is.
+    pub(crate) at: Location,
+    /// The value (two for `between`).
+    pub(crate) value: Vec<VAst>,
 }
 
 /// One top-level body item, in declaration order.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum BodyItem {
-    Body { name: String, at: Location, entries: Vec<Entry> },
+    Body {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
     Gravity(VAst, Location),
     Point(String, Location, VAst),
     Axis(String, Location, VAst),
-    Spring { name: String, at: Location, entries: Vec<Entry> },
-    Damper { name: String, at: Location, entries: Vec<Entry> },
+    Spring {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
+    Damper {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
     Joint(Joint),
 }
 
@@ -93,15 +102,21 @@ pub(crate) struct Bodies {
 impl Bodies {
     /// True when bodies or springs declare energy (then `kinetic` may be left out).
     pub(crate) fn declares_energy(&self) -> bool {
-        self.items.iter().any(|i| matches!(i, BodyItem::Body { .. } | BodyItem::Spring { .. }))
+        self.items
+            .iter()
+            .any(|i| matches!(i, BodyItem::Body { .. } | BodyItem::Spring { .. }))
     }
 
     /// The location of the first body item, if any.
     pub(crate) fn first_location(&self) -> Option<Location> {
-        self.items.iter().find_map(|i| match i {
-            BodyItem::Body { at, .. } | BodyItem::Spring { at, .. } | BodyItem::Damper { at, .. } => Some(*at),
-            BodyItem::Gravity(_, at) | BodyItem::Point(_, at, _) | BodyItem::Axis(_, at, _) => Some(*at),
-            BodyItem::Joint(Joint::Helper(_, _, at) | Joint::Row(_, _, at)) => Some(*at),
+        self.items.first().map(|i| match i {
+            BodyItem::Body { at, .. }
+            | BodyItem::Spring { at, .. }
+            | BodyItem::Damper { at, .. }
+            | BodyItem::Gravity(_, at)
+            | BodyItem::Point(_, at, _)
+            | BodyItem::Axis(_, at, _)
+            | BodyItem::Joint(Joint::Helper(_, _, at) | Joint::Row(_, _, at)) => *at,
         })
     }
 
@@ -131,17 +146,29 @@ impl Bodies {
                     "distance" => 1,
                     _ => 5,
                 },
-                BodyItem::Joint(Joint::Row(lhs, _, _)) => lhs.shape(&is_vector).map_or(1, |s| s.0 * s.1),
+                BodyItem::Joint(Joint::Row(lhs, _, _)) => {
+                    lhs.shape(&is_vector).map_or(1, |s| s.0 * s.1)
+                }
                 _ => 0,
             })
             .sum()
     }
 }
 
-const JOINT_HELPERS: &[(&str, usize)] = &[("spherical", 2), ("revolute", 4), ("prismatic", 4), ("distance", 3)];
+const JOINT_HELPERS: &[(&str, usize)] = &[
+    ("spherical", 2),
+    ("revolute", 4),
+    ("prismatic", 4),
+    ("distance", 3),
+];
 
 /// Parses the body section starting with `keyword` (already consumed, at `at`).
-pub(crate) fn parse_body_section(c: &mut Cursor<'_>, keyword: &str, at: Location, bodies: &mut Bodies) -> Result<()> {
+pub(crate) fn parse_body_section(
+    c: &mut Cursor<'_>,
+    keyword: &str,
+    at: Location,
+    bodies: &mut Bodies,
+) -> Result<()> {
     match keyword {
         "gravity" => {
             c.expect(&Tok::Punct('='), "`=` after `gravity`")?;
@@ -164,9 +191,21 @@ pub(crate) fn parse_body_section(c: &mut Cursor<'_>, keyword: &str, at: Location
             let (name, nat) = ident(c, keyword)?;
             let entries = block(c, |c| entry(c, keyword))?;
             bodies.items.push(match keyword {
-                "body" => BodyItem::Body { name, at: nat, entries },
-                "spring" => BodyItem::Spring { name, at: nat, entries },
-                _ => BodyItem::Damper { name, at: nat, entries },
+                "body" => BodyItem::Body {
+                    name,
+                    at: nat,
+                    entries,
+                },
+                "spring" => BodyItem::Spring {
+                    name,
+                    at: nat,
+                    entries,
+                },
+                _ => BodyItem::Damper {
+                    name,
+                    at: nat,
+                    entries,
+                },
             });
         }
         _ => {
@@ -189,7 +228,10 @@ fn ident(c: &mut Cursor<'_>, what: &str) -> Result<(String, Location)> {
 }
 
 /// `{ item; item; ... }` with an optional last `;`.
-fn block<T>(c: &mut Cursor<'_>, mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>) -> Result<Vec<T>> {
+fn block<T>(
+    c: &mut Cursor<'_>,
+    mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
+) -> Result<Vec<T>> {
     c.expect(&Tok::Open(Delim::Brace), "`{`")?;
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Brace)) {
@@ -205,7 +247,14 @@ fn block<T>(c: &mut Cursor<'_>, mut item: impl FnMut(&mut Cursor<'_>) -> Result<
 /// The keys each block accepts.
 fn keys(block: &str) -> &'static [&'static str] {
     match block {
-        "body" => &["mass", "position", "orientation", "inertia", "point", "axis"],
+        "body" => &[
+            "mass",
+            "position",
+            "orientation",
+            "inertia",
+            "point",
+            "axis",
+        ],
         "spring" => &["between", "stiffness", "free_length"],
         _ => &["between", "coefficient"],
     }
@@ -215,7 +264,10 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
     let (key, at) = ident(c, block)?;
     if !keys(block).contains(&key.as_str()) {
         return Err(Error::Parse {
-            message: format!("`{key}` is not an entry of a {block}; expected one of {}", keys(block).join(", ")),
+            message: format!(
+                "`{key}` is not an entry of a {block}; expected one of {}",
+                keys(block).join(", ")
+            ),
             location: at,
         });
     }
@@ -230,7 +282,12 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
         c.expect(&Tok::Punct(','), "`,` between the two points")?;
         value.push(VParser::parse(c)?);
     }
-    Ok(Entry { key, name, at, value })
+    Ok(Entry {
+        key,
+        name,
+        at,
+        value,
+    })
 }
 
 fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
@@ -241,348 +298,11 @@ fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
         return Ok(Joint::Row(lhs, Some(rhs), at));
     }
     Ok(match lhs {
-        VAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => Joint::Helper(f, args, at),
+        VAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => {
+            Joint::Helper(f, args, at)
+        }
         other => Joint::Row(other, None, at),
     })
 }
 
-/// The lowering context: named world vectors, axis frames and body frames.
-#[derive(Default)]
-struct Scope {
-    vectors: HashMap<String, Vec3>,
-    axes: HashMap<String, AxisFrame>,
-}
-
-impl VectorNames for Scope {
-    fn vector(&self, name: &str) -> Option<[crate::expr::Id; 3]> {
-        self.vectors.get(name).copied()
-    }
-}
-
-fn declaration(message: String, location: Location) -> Error {
-    Error::Declaration { message, location }
-}
-
-/// The parameter defaults of `model`, for choosing axis perpendiculars.
-fn defaults(model: &Model) -> Vec<(SymbolId, f64)> {
-    model
-        .parameters
-        .iter()
-        .filter_map(|p| model.arena.as_symbol(p.symbol).map(|s| (s, p.default)))
-        .collect()
-}
-
-/// The axis frame of the body direction `a0` (body components) turned by `r`.
-fn axis_frame(arena: &mut Arena, a0: &Vec3, r: &Matrix, known: &[(SymbolId, f64)], at: Location) -> Result<AxisFrame> {
-    let env = |s: SymbolId| known.iter().find(|k| k.0 == s).map(|k| k.1);
-    let mut vals = [0.0; 3];
-    for (v, &e) in vals.iter_mut().zip(a0) {
-        *v = eval(arena, e, &env).map_err(|e| {
-            declaration(format!("an axis must be a constant direction in its body (parameters allowed): {e}"), at)
-        })?;
-    }
-    if vals.iter().all(|v| *v == 0.0) {
-        return Err(declaration("an axis cannot be the zero vector".into(), at));
-    }
-    let k = least_aligned(vals);
-    let [p1, p2] = perpendiculars(arena, a0, k);
-    let turn = |arena: &mut Arena, v: &Vec3| -> Result<Vec3> {
-        let w = r.mul(arena, &Matrix::column(v.to_vec()))?;
-        Ok([w.data[0], w.data[1], w.data[2]])
-    };
-    Ok(AxisFrame {
-        direction: turn(arena, a0)?,
-        perpendicular: [turn(arena, &p1)?, turn(arena, &p2)?],
-    })
-}
-
-/// The orientation of a body: the top-level product's factors, elementary where written
-/// `rot_x/y/z(angle)`, explicit 3x3 otherwise.
-fn orientation(arena: &mut Arena, ast: &VAst, scope: &Scope) -> Result<Orientation> {
-    let mut factors = Vec::new();
-    let mut stack = vec![ast];
-    let mut flat = Vec::new();
-    while let Some(a) = stack.pop() {
-        match a {
-            VAst::Binary(Op::Mul, l, r, _) => {
-                stack.push(r);
-                stack.push(l);
-            }
-            other => flat.push(other),
-        }
-    }
-    for f in flat {
-        match f {
-            VAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
-                let axis = match name.as_str() {
-                    "rot_x" => Axis::X,
-                    "rot_y" => Axis::Y,
-                    _ => Axis::Z,
-                };
-                let v = lower_v(arena, &args[0], scope)?;
-                factors.push(RotationFactor::Elementary(axis, scalar(&v, "a rotation angle", *at)?));
-            }
-            other => {
-                let m = lower_v(arena, other, scope)?;
-                if (m.rows, m.cols) != (3, 3) {
-                    return Err(declaration(
-                        format!("an orientation factor must be 3x3; this is {}x{}", m.rows, m.cols),
-                        other.location(),
-                    ));
-                }
-                factors.push(RotationFactor::Explicit(m));
-            }
-        }
-    }
-    Ok(Orientation { factors })
-}
-
-fn take<'e>(entries: &'e [Entry], key: &str, owner: &str) -> Result<Option<&'e Entry>> {
-    let mut found = entries.iter().filter(|e| e.key == key);
-    let first = found.next();
-    if let Some(second) = found.next() {
-        return Err(declaration(format!("`{key}` is given twice in `{owner}`"), second.at));
-    }
-    Ok(first)
-}
-
-fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
-    if scope.vectors.insert(name.to_string(), v).is_some() {
-        return Err(declaration(format!("the name `{name}` is declared twice among bodies, points and axes"), at));
-    }
-    Ok(())
-}
-
-/// Lowers the body sections into `model`: adds T, Pi and the damper forces
-/// ([`add_body_terms`]) and appends the joint rows to `model.constraints`.
-pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
-    if bodies.items.is_empty() {
-        return Ok(());
-    }
-    let known = defaults(model);
-    let mut scope = Scope::default();
-    let mut system = BodySystem::default();
-    let mut rows: Vec<Constraint> = Vec::new();
-    for name in model.parameters.iter().map(|p| p.name.as_str()).chain(model.coordinates.iter().map(|c| c.name.as_str())) {
-        if let Some(at) = named_at(bodies, name) {
-            return Err(declaration(format!("`{name}` is already a parameter or coordinate; a body, point or axis needs its own name"), at));
-        }
-    }
-    for item in &bodies.items {
-        let arena = &mut model.arena;
-        match item {
-            BodyItem::Gravity(v, at) => {
-                if system.gravity.is_some() {
-                    return Err(declaration("`gravity` is given twice".into(), *at));
-                }
-                let m = lower_v(arena, v, &scope)?;
-                system.gravity = Some(vec3(&m, "the gravity vector", *at)?);
-            }
-            BodyItem::Point(name, at, v) => {
-                let m = lower_v(arena, v, &scope)?;
-                let p = vec3(&m, &format!("the point `{name}`"), *at)?;
-                define(&mut scope, name, *at, p)?;
-            }
-            BodyItem::Axis(name, at, v) => {
-                let m = lower_v(arena, v, &scope)?;
-                let a = vec3(&m, &format!("the axis `{name}`"), *at)?;
-                let id = Matrix::identity(arena, 3);
-                let frame = axis_frame(arena, &a, &id, &known, *at)?;
-                define(&mut scope, name, *at, frame.direction)?;
-                scope.axes.insert(name.clone(), frame);
-            }
-            BodyItem::Body { name, at, entries } => {
-                let body = lower_body(arena, name, *at, entries, &mut scope, &known)?;
-                system.bodies.push(body);
-            }
-            BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
-                let spring = matches!(item, BodyItem::Spring { .. });
-                let what = if spring { "spring" } else { "damper" };
-                let between = take(entries, "between", name)?
-                    .ok_or_else(|| declaration(format!("the {what} `{name}` needs `between = P, Q;`"), *at))?;
-                let mut ends = Vec::new();
-                for v in &between.value {
-                    let m = lower_v(arena, v, &scope)?;
-                    ends.push(vec3(&m, &format!("an end of `{name}`"), v.location())?);
-                }
-                let ends = [ends[0], ends[1]];
-                let value = |arena: &mut Arena, key: &str, scope: &Scope| -> Result<Option<crate::expr::Id>> {
-                    match take(entries, key, name)? {
-                        Some(e) => {
-                            let m = lower_v(arena, &e.value[0], scope)?;
-                            Ok(Some(scalar(&m, &format!("`{key}`"), e.at)?))
-                        }
-                        None => Ok(None),
-                    }
-                };
-                if spring {
-                    let stiffness = value(arena, "stiffness", &scope)?
-                        .ok_or_else(|| declaration(format!("the spring `{name}` needs `stiffness = k;`"), *at))?;
-                    let free_length = match value(arena, "free_length", &scope)? {
-                        Some(l) => l,
-                        None => arena.int(0),
-                    };
-                    system.springs.push(Spring { name: name.clone(), ends, stiffness, free_length });
-                } else {
-                    let coefficient = value(arena, "coefficient", &scope)?
-                        .ok_or_else(|| declaration(format!("the damper `{name}` needs `coefficient = c;`"), *at))?;
-                    system.dampers.push(Damper { name: name.clone(), ends, coefficient });
-                }
-            }
-            BodyItem::Joint(j) => rows.extend(lower_joint(arena, j, &scope)?),
-        }
-    }
-    add_body_terms(model, &system)?;
-    model.constraints.extend(rows);
-    Ok(())
-}
-
-/// Where `name` is declared as a body, point or axis.
-fn named_at(bodies: &Bodies, name: &str) -> Option<Location> {
-    bodies.items.iter().find_map(|i| match i {
-        BodyItem::Body { name: n, at, entries } => {
-            if n == name {
-                return Some(*at);
-            }
-            entries.iter().find(|e| e.name.as_deref() == Some(name)).map(|e| e.at)
-        }
-        BodyItem::Point(n, at, _) | BodyItem::Axis(n, at, _) if n == name => Some(*at),
-        _ => None,
-    })
-}
-
-fn lower_body(
-    arena: &mut Arena,
-    name: &str,
-    at: Location,
-    entries: &[Entry],
-    scope: &mut Scope,
-    known: &[(SymbolId, f64)],
-) -> Result<Body> {
-    let mass = match take(entries, "mass", name)? {
-        Some(e) => {
-            let m = lower_v(arena, &e.value[0], scope)?;
-            scalar(&m, "the mass", e.at)?
-        }
-        None => arena.int(0),
-    };
-    let pe = take(entries, "position", name)?
-        .ok_or_else(|| declaration(format!("the body `{name}` needs `position = [x, y, z];` (its centre of mass)"), at))?;
-    let pm = lower_v(arena, &pe.value[0], scope)?;
-    let position = vec3(&pm, "the position", pe.at)?;
-    let orient = match take(entries, "orientation", name)? {
-        Some(e) => Some(orientation(arena, &e.value[0], scope)?),
-        None => None,
-    };
-    let inertia = match take(entries, "inertia", name)? {
-        Some(e) => {
-            if orient.is_none() {
-                return Err(declaration(
-                    format!("the body `{name}` has an inertia but no `orientation`: give R (a point mass has only mass and position)"),
-                    e.at,
-                ));
-            }
-            let m = lower_v(arena, &e.value[0], scope)?;
-            if (m.rows, m.cols) != (3, 3) {
-                return Err(declaration(
-                    format!("an inertia tensor is 3x3 (`diag(Ixx, Iyy, Izz)` or `[[..], [..], [..]]`); this is {}x{}", m.rows, m.cols),
-                    e.at,
-                ));
-            }
-            Some(m)
-        }
-        None => None,
-    };
-    let r = match &orient {
-        Some(o) => o.matrix(arena)?,
-        None => Matrix::identity(arena, 3),
-    };
-    define(scope, name, at, position)?;
-    for e in entries.iter().filter(|e| e.key == "point" || e.key == "axis") {
-        let pname = e.name.clone().unwrap_or_default();
-        if orient.is_none() {
-            return Err(declaration(
-                format!("the {} `{pname}` is on the point mass `{name}`: give the body an `orientation` (its points are in body axes)", e.key),
-                e.at,
-            ));
-        }
-        let m = lower_v(arena, &e.value[0], scope)?;
-        let p = vec3(&m, &format!("the {} `{pname}`", e.key), e.at)?;
-        if e.key == "point" {
-            let rp = r.mul(arena, &Matrix::column(p.to_vec()))?;
-            let world = [0, 1, 2].map(|i| arena.add2(position[i], rp.data[i]));
-            define(scope, &pname, e.at, world)?;
-        } else {
-            let frame = axis_frame(arena, &p, &r, known, e.at)?;
-            define(scope, &pname, e.at, frame.direction)?;
-            scope.axes.insert(pname, frame);
-        }
-    }
-    Ok(Body {
-        name: name.to_string(),
-        mass,
-        position,
-        orientation: orient,
-        inertia,
-    })
-}
-
-fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
-    let (exprs, at) = match j {
-        Joint::Row(lhs, rhs, at) => {
-            let l = lower_v(arena, lhs, scope)?;
-            let v = match rhs {
-                Some(r) => {
-                    let r = lower_v(arena, r, scope)?;
-                    if (l.rows, l.cols) != (r.rows, r.cols) {
-                        return Err(declaration(
-                            format!("the two sides of a joint row differ in shape: {}x{} and {}x{}", l.rows, l.cols, r.rows, r.cols),
-                            *at,
-                        ));
-                    }
-                    l.sub(arena, &r)?
-                }
-                None => l,
-            };
-            (v.data, *at)
-        }
-        Joint::Helper(h, args, at) => {
-            let v = |arena: &mut Arena, i: usize| -> Result<Vec3> {
-                let m = lower_v(arena, &args[i], scope)?;
-                vec3(&m, &format!("argument {} of `{h}`", i + 1), args[i].location())
-            };
-            let frame = |i: usize| -> Result<AxisFrame> {
-                match &args[i] {
-                    VAst::Name(n, _) if scope.axes.contains_key(n) => Ok(scope.axes[n].clone()),
-                    other => Err(declaration(
-                        format!("argument {} of `{h}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)", i + 1),
-                        other.location(),
-                    )),
-                }
-            };
-            let (p, q) = (v(arena, 0)?, v(arena, 1)?);
-            let rows = match h.as_str() {
-                "spherical" => spherical(arena, &p, &q),
-                "distance" => {
-                    let m = lower_v(arena, &args[2], scope)?;
-                    let l = scalar(&m, "the distance", args[2].location())?;
-                    distance(arena, &p, &q, l)
-                }
-                "revolute" => {
-                    let a = v(arena, 2)?;
-                    let b = frame(3)?;
-                    revolute(arena, &p, &q, &a, &b)
-                }
-                _ => {
-                    let (a, b) = (frame(2)?, frame(3)?);
-                    prismatic(arena, &p, &q, &a, &b)
-                }
-            };
-            (rows, *at)
-        }
-    };
-    Ok(exprs
-        .into_iter()
-        .map(|expr| Constraint { expr, location: at })
-        .collect())
-}
+pub(crate) use crate::lower_bodies::build_bodies;

@@ -242,7 +242,9 @@ impl<'c, 'a> VParser<'c, 'a> {
         match &t.tok {
             Tok::Literal(s) => {
                 let n = number(s).ok_or_else(|| Error::Parse {
-                    message: format!("`{s}` is not a number of the language (write e.g. 2, 0.04 or 1e-4)"),
+                    message: format!(
+                        "`{s}` is not a number of the language (write e.g. 2, 0.04 or 1e-4)"
+                    ),
                     location: t.location,
                 })?;
                 self.c.next();
@@ -253,6 +255,14 @@ impl<'c, 'a> VParser<'c, 'a> {
                 if !self.c.at(&Tok::Open(Delim::Paren)) {
                     return Ok(VAst::Name(name.clone(), t.location));
                 }
+                if name == "der" || name == "der2" {
+                    return Err(Error::Declaration {
+                        message: format!(
+                            "`{name}(..)` cannot appear in a body, point, spring or joint: they are position-level (functions of q and t)"
+                        ),
+                        location: t.location,
+                    });
+                }
                 self.c.next();
                 let args = self.list(Delim::Paren, "`,` or `)` after a function argument")?;
                 match VFUNCTIONS.iter().find(|f| f.0 == name) {
@@ -261,7 +271,10 @@ impl<'c, 'a> VParser<'c, 'a> {
                         location: t.location,
                     }),
                     Some(&(_, arity)) if arity != args.len() => Err(Error::Parse {
-                        message: format!("`{name}` takes {arity} argument(s), found {}", args.len()),
+                        message: format!(
+                            "`{name}` takes {arity} argument(s), found {}",
+                            args.len()
+                        ),
                         location: t.location,
                     }),
                     Some(_) => Ok(VAst::Call(name.clone(), args, t.location)),
@@ -270,7 +283,8 @@ impl<'c, 'a> VParser<'c, 'a> {
             Tok::Open(Delim::Paren) => {
                 self.c.next();
                 let inner = self.sum()?;
-                self.c.expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
+                self.c
+                    .expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
                 Ok(inner)
             }
             Tok::Open(Delim::Bracket) => {
@@ -330,7 +344,10 @@ pub(crate) fn scalar(m: &Matrix, what: &str, at: Location) -> Result<Id> {
         Ok(m.data[0])
     } else {
         Err(shape_error(
-            format!("{what} must be a scalar; this is a {}x{} value", m.rows, m.cols),
+            format!(
+                "{what} must be a scalar; this is a {}x{} value",
+                m.rows, m.cols
+            ),
             at,
         ))
     }
@@ -342,7 +359,10 @@ pub(crate) fn vec3(m: &Matrix, what: &str, at: Location) -> Result<[Id; 3]> {
         Ok([m.data[0], m.data[1], m.data[2]])
     } else {
         Err(shape_error(
-            format!("{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value", m.rows, m.cols),
+            format!(
+                "{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value",
+                m.rows, m.cols
+            ),
             at,
         ))
     }
@@ -423,7 +443,11 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             if (x.rows, x.cols) != (y.rows, y.cols) {
                 return Err(mismatch("a sum needs values of one shape"));
             }
-            if op == Op::Add { x.add(arena, y) } else { x.sub(arena, y) }
+            if op == Op::Add {
+                x.add(arena, y)
+            } else {
+                x.sub(arena, y)
+            }
         }
         Op::Mul => {
             if (x.rows, x.cols) == (1, 1) {
@@ -433,7 +457,9 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             } else if x.cols == y.rows {
                 x.mul(arena, y)
             } else {
-                Err(mismatch("a matrix product needs as many columns on the left as rows on the right"))
+                Err(mismatch(
+                    "a matrix product needs as many columns on the left as rows on the right",
+                ))
             }
         }
         Op::Div => {
@@ -455,10 +481,18 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
     }
 }
 
-fn call(arena: &mut Arena, f: &str, args: &[VAst], at: Location, names: &dyn VectorNames) -> Result<Matrix> {
+fn call(
+    arena: &mut Arena,
+    f: &str,
+    args: &[VAst],
+    at: Location,
+    names: &dyn VectorNames,
+) -> Result<Matrix> {
     if HELPERS.contains(&f) {
         return Err(shape_error(
-            format!("`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"),
+            format!(
+                "`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"
+            ),
             at,
         ));
     }

@@ -53,7 +53,9 @@ fn parts(e: &Equations) -> [(&'static str, &mechanism_codegen::Matrix); 6] {
 #[test]
 fn body_declared_rssr_matches_energy_declared() {
     let (em, ee) = load(include_str!("../../mechanisms/spatial_four_bar.mech"));
-    let (bm, be) = load(include_str!("../../mechanisms/spatial_four_bar_bodies.mech"));
+    let (bm, be) = load(include_str!(
+        "../../mechanisms/spatial_four_bar_bodies.mech"
+    ));
     assert_eq!((be.n, be.m), (4, 3));
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     for _ in 0..25 {
@@ -94,7 +96,12 @@ fn crank_inertia_contributes_its_share() {
     assert_ne!(full, bare);
     let (fm, fe) = load(full);
     let (bm, be) = load(&bare);
-    let state = vec![("phi".to_string(), 0.3), ("beta".to_string(), 1.2), ("gamma".to_string(), 1.1), ("psi".to_string(), -1.4)];
+    let state = vec![
+        ("phi".to_string(), 0.3),
+        ("beta".to_string(), 1.2),
+        ("gamma".to_string(), 1.1),
+        ("psi".to_string(), -1.4),
+    ];
     let a = eval_matrix(&fm.arena, &fe.mass, &env(&fm, &state)).expect("evaluates");
     let b = eval_matrix(&bm.arena, &be.mass, &env(&bm, &state)).expect("evaluates");
     let (m1, l1) = (0.5, 0.1);

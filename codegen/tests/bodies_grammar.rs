@@ -1,0 +1,229 @@
+//! The body sections of the declaration grammar: what they accept (vector rows, explicit
+//! matrices, full inertia tensors, `cross`/`dot`/`norm`) and the errors they report, one line
+//! per case.
+
+use mechanism_codegen::{Error, Model, SymbolId, derive, eval, parse_model_str};
+
+/// A declaration around `body` (one coordinate pair x, y; parameters m, l, g).
+fn declaration(body: &str) -> String {
+    format!(
+        "/// Test.
+         pub struct T;
+         parameters {{ m = 1.0; l = 0.5; g = 9.81; }}
+         coordinates {{ x = 0.5; y = 0.0; }}
+         independent {{ x = 0.5; der(x) = 0.0; y = 0.0; der(y) = 0.0; }}
+         {body}"
+    )
+}
+
+fn error_of(body: &str) -> Error {
+    match parse_model_str(&declaration(body)) {
+        Ok(_) => panic!("accepted: {body}"),
+        Err(e) => e,
+    }
+}
+
+/// Each case: the body sections, then a phrase the error message must contain.
+const ERRORS: &[(&str, &str)] = &[
+    (
+        "body b { mass = m; position = [x, y, 0]; inertia = diag(1, 1, 1); }",
+        "no `orientation`",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; point P = [1, 0, 0]; }",
+        "give the body an `orientation`",
+    ),
+    ("body b { mass = m; position = [x, y]; }", "3-vector"),
+    (
+        "body b { mass = m; position = [x, yy, 0]; }",
+        "unknown symbol `yy`",
+    ),
+    (
+        "body b { masss = m; position = [x, y, 0]; }",
+        "not an entry of a body",
+    ),
+    ("body b { mass = m; }", "needs `position"),
+    (
+        "body b { mass = m; position = [der(x), y, 0]; }",
+        "position-level",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; mass = 2; }",
+        "given twice",
+    ),
+    (
+        "body m { mass = 1; position = [x, y, 0]; }",
+        "already a parameter or coordinate",
+    ),
+    (
+        "point P = [0, 0, 0]; point P = [1, 0, 0]; body b { mass = m; position = [x, y, 0]; }",
+        "declared twice",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x) * [1, 0, 0]; }",
+        "3x3",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = [1, 2, 3]; }",
+        "3x3",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } joints { revolute(b, O, O, O); }",
+        "must be the name of an axis",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } joints { b = 0; }",
+        "differ in shape",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } joints { b.x = spherical(b, O); }",
+        "is a joint",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } joints { b.w = 0; }",
+        "expected `x`, `y` or `z`",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } spring s { between = b, O; }",
+        "needs `stiffness",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } damper d { between = b, O; stiffness = 1; }",
+        "not an entry of a damper",
+    ),
+    (
+        "axis a = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; }",
+        "zero vector",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0] + 1; }",
+        "one shape",
+    ),
+    (
+        "gravity = [0, 0, -g]; gravity = [0, 0, g]; body b { mass = m; position = [x, y, 0]; }",
+        "given twice",
+    ),
+];
+
+#[test]
+fn body_section_errors() {
+    for (body, phrase) in ERRORS {
+        let e = error_of(body);
+        assert!(
+            e.to_string().contains(phrase),
+            "`{body}`: expected `{phrase}` in `{e}`"
+        );
+    }
+}
+
+/// Without bodies (or springs) the kinetic energy is still required.
+#[test]
+fn kinetic_is_required_without_bodies() {
+    let e = error_of("point O = [0, 0, 0];");
+    assert!(e.to_string().contains("no kinetic energy"), "{e}");
+}
+
+/// Errors point at the offending line of the file.
+#[test]
+fn errors_carry_the_line() {
+    let text = "/// Test.\npub struct T;\nparameters { m = 1.0; }\ncoordinates { x = 0.5; }\nindependent { x = 0.5; }\nbody b {\n    mass = m;\n    position = [x, 0];\n}\n";
+    let e = parse_model_str(text).unwrap_err();
+    assert_eq!(e.location().map(|l| l.line), Some(8), "{e}");
+}
+
+fn env(model: &Model, state: &[(&str, f64)]) -> impl Fn(SymbolId) -> Option<f64> {
+    let table: Vec<(SymbolId, f64)> = model
+        .parameters
+        .iter()
+        .filter_map(|p| model.arena.as_symbol(p.symbol).map(|s| (s, p.default)))
+        .chain(
+            state
+                .iter()
+                .filter_map(|(n, v)| model.arena.lookup(n).map(|s| (s, *v))),
+        )
+        .collect();
+    move |s| table.iter().find(|e| e.0 == s).map(|e| e.1)
+}
+
+/// Component rows, vector rows, explicit 3x3 orientations, full inertia tensors and the
+/// vector functions lower to the expected values; the row count (2 rows from `[..] = [..]`,
+/// 1 from `b.z = ..`) is what the degrees-of-freedom check counts (3 - 3 = 0: no independent
+/// coordinate needed).
+#[test]
+fn vector_rows_and_explicit_matrices() {
+    let text = "/// Test.
+        pub struct T;
+        parameters { m = 2.0; l = 0.5; }
+        coordinates { x = 0.5; y = 0.0; z = 0.1; }
+        body b {
+            mass = m;
+            position = [x, y, z];
+            orientation = [[cos(x), -sin(x), 0], [sin(x), cos(x), 0], [0, 0, 1]];
+            inertia = [[1, 0.1, 0], [0.1, 2, 0], [0, 0, 3]];
+            point P = [l, 0, 0];
+        }
+        point O = [0, 0, 0];
+        joints {
+            [P.x, P.y] = [dot(P - O, [0, 1, 0]), norm(cross(P, [0, 0, 1])) - 1];
+            b.z = l*2;
+        }";
+    let mut model = parse_model_str(text).unwrap();
+    assert_eq!(model.constraints.len(), 3);
+    let e = derive(&mut model).unwrap();
+    let state = [
+        ("x", 0.3),
+        ("y", -0.2),
+        ("z", 0.7),
+        ("der(x)", 1.1),
+        ("der(y)", 0.4),
+        ("der(z)", -0.6),
+    ];
+    let env = env(&model, &state);
+    let v = |id| eval(&model.arena, id, &env).unwrap();
+    let (x, y, z, l) = (0.3_f64, -0.2_f64, 0.7_f64, 0.5_f64);
+    let p = [x + l * x.cos(), y + l * x.sin(), z];
+    // Row 1: P.x - dot(P, e_y); row 2: P.y - (|P x e_z| - 1); row 3: z - 2 l.
+    let rows = [
+        p[0] - p[1],
+        p[1] - ((p[0] * p[0] + p[1] * p[1]).sqrt() - 1.0),
+        z - 2.0 * l,
+    ];
+    for (k, (c, r)) in model.constraints.iter().zip(rows).enumerate() {
+        assert!(
+            (v(c.expr) - r).abs() < 1e-14,
+            "row {k}: {} vs {r}",
+            v(c.expr)
+        );
+    }
+    // T = 1/2 m |v|^2 + 1/2 w^T I w with w = (0, 0, x') for the explicit rot_z(x): I_zz = 3.
+    let t = 0.5 * 2.0 * (1.1_f64.powi(2) + 0.4_f64.powi(2) + 0.6_f64.powi(2))
+        + 0.5 * 3.0 * 1.1_f64.powi(2);
+    assert!(
+        (v(e.kinetic) - t).abs() < 1e-14,
+        "T = {}, expected {t}",
+        v(e.kinetic)
+    );
+}
+
+/// Hand-written energies add to the derived ones.
+#[test]
+fn hand_written_energies_are_added() {
+    let text = declaration(
+        "kinetic = 1/2*5*der(y)^2;
+         potential = 7*y;
+         gravity = [0, -g, 0];
+         body b { mass = m; position = [x, y, 0]; }",
+    );
+    let model = parse_model_str(&text).unwrap();
+    let env = env(
+        &model,
+        &[("x", 0.2), ("y", 0.3), ("der(x)", 2.0), ("der(y)", -1.0)],
+    );
+    let t = eval(&model.arena, model.kinetic, &env).unwrap();
+    let pi = eval(&model.arena, model.potential, &env).unwrap();
+    assert!(
+        (t - (0.5 * 5.0 + 0.5 * (4.0 + 1.0))).abs() < 1e-14,
+        "T = {t}"
+    );
+    assert!((pi - (7.0 * 0.3 + 9.81 * 0.3)).abs() < 1e-14, "Pi = {pi}");
+}
