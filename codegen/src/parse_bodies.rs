@@ -1,5 +1,6 @@
-//! The body sections of a declaration: their grammar, and their lowering into a
-//! [`BodySystem`](crate::BodySystem) and constraint rows of the [`Model`].
+//! The body sections of a declaration: their grammar and syntax tree (lowered into a
+//! [`BodySystem`](crate::BodySystem) and constraint rows of the [`Model`](crate::Model) by
+//! `lower_bodies.rs`).
 //!
 //! ```text
 //! body_section := "body" NAME "{" (body_item ";")* "}"

@@ -2,7 +2,7 @@
 //! `impl ::mechanism::Mechanism<N, M>`. `quote!` only; the bodies come from
 //! [`crate::generate`].
 
-use proc_macro2::{Literal, Span, TokenStream};
+use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
 use syn::Ident;
 
@@ -18,18 +18,11 @@ pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
     Ok(expand_declaration(&decl, &generated))
 }
 
-/// An `f64` literal (finite values; the checks reject non-finite defaults and guesses).
+/// An `f64` constant for the generated code: codegen's literal form, which names the
+/// `core::f64::consts` values (`2*pi` is `TAU`) so that clippy's `approx_constant` stays
+/// quiet in the user's crate. The checks reject non-finite defaults and guesses.
 fn float(x: f64) -> TokenStream {
-    if x.is_finite() {
-        let lit = Literal::f64_suffixed(x);
-        quote!(#lit)
-    } else if x.is_nan() {
-        quote!(::core::f64::NAN)
-    } else if x > 0.0 {
-        quote!(::core::f64::INFINITY)
-    } else {
-        quote!(::core::f64::NEG_INFINITY)
-    }
+    mechanism_codegen::f64_tokens(x)
 }
 
 /// The whole expansion.
@@ -85,7 +78,7 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
                 const _: &str = ::core::include_str!(#path);
             )
         }
-        Source::Inline { .. } => quote!(),
+        Source::Inline => quote!(),
     };
     let equations = &g.equations;
 
@@ -122,13 +115,15 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
             )*
         }
 
+        // Declared values are the user's numbers: a guess such as 1.570796 is not pi/2.
+        #[allow(clippy::approx_constant, clippy::excessive_precision)]
         impl ::core::default::Default for #name {
             fn default() -> Self {
                 Self { #(#fields: #defaults,)* }
             }
         }
 
-        #[allow(dead_code)]
+        #[allow(dead_code, clippy::approx_constant, clippy::excessive_precision)]
         impl #name {
             /// Name of the mechanism.
             pub const NAME: &'static str = #name_str;
