@@ -22,8 +22,14 @@ crate::mechanism!(crate = crate, file = "mechanisms/spatial_four_bar.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/closed_chain.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/planar_slider_crank.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/cartesian_pendulum.mech");
-crate::mechanism!(crate = crate, file = "mechanisms/spatial_four_bar_bodies.mech");
-crate::mechanism!(crate = crate, file = "mechanisms/spatial_crank_slider_rigid.mech");
+crate::mechanism!(
+    crate = crate,
+    file = "mechanisms/spatial_four_bar_bodies.mech"
+);
+crate::mechanism!(
+    crate = crate,
+    file = "mechanisms/spatial_crank_slider_rigid.mech"
+);
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -51,9 +57,7 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "planar_slider_crank" => Box::new(Compiled::new(PlanarSliderCrank::default())),
         "cartesian_pendulum" => Box::new(Compiled::new(CartesianPendulum::default())),
         "spatial_four_bar_bodies" => Box::new(Compiled::new(SpatialFourBarBodies::default())),
-        "spatial_crank_slider_rigid" => {
-            Box::new(Compiled::new(SpatialCrankSliderRigid::default()))
-        }
+        "spatial_crank_slider_rigid" => Box::new(Compiled::new(SpatialCrankSliderRigid::default())),
         _ => return None,
     };
     Some(system)

@@ -42,19 +42,30 @@ pub enum DriveError {
 /// # Errors
 /// [`DriveError`] naming the problem.
 pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError> {
-    let (name, expr) = text.split_once('=').ok_or_else(|| DriveError::Form(text.to_string()))?;
+    let (name, expr) = text
+        .split_once('=')
+        .ok_or_else(|| DriveError::Form(text.to_string()))?;
     let (name, expr) = (name.trim(), expr.trim());
     let info = system.info();
-    let coordinate = info.coordinate_index(name).ok_or_else(|| DriveError::UnknownCoordinate {
-        name: name.to_string(),
-        known: info.coordinates.join(", "),
-    })?;
-    let wrap = |source| DriveError::Expression { text: text.to_string(), source };
+    let coordinate = info
+        .coordinate_index(name)
+        .ok_or_else(|| DriveError::UnknownCoordinate {
+            name: name.to_string(),
+            known: info.coordinates.join(", "),
+        })?;
+    let wrap = |source| DriveError::Expression {
+        text: text.to_string(),
+        source,
+    };
     let mut arena = Arena::new();
     let t = arena.symbol_id("t", SymbolKind::Time);
     let mut values = vec![0.0; info.parameters.len()];
     system.parameter_values(&mut values);
-    let params: Vec<_> = info.parameters.iter().map(|p| arena.symbol_id(p, SymbolKind::Parameter)).collect();
+    let params: Vec<_> = info
+        .parameters
+        .iter()
+        .map(|p| arena.symbol_id(p, SymbolKind::Parameter))
+        .collect();
     let f = mechanism_codegen::parse_expr(&mut arena, expr).map_err(wrap)?;
     let mut d = Differentiator::new();
     let f1 = d.diff(&mut arena, f, t).map_err(wrap)?;

@@ -24,7 +24,11 @@ impl Scratch {
     fn new(program: &Program, symbols: usize) -> Self {
         let tape = Tape::new(program);
         let out = vec![0.0; tape.output_len()];
-        Self { tape, inputs: vec![0.0; symbols], out }
+        Self {
+            tape,
+            inputs: vec![0.0; symbols],
+            out,
+        }
     }
 }
 
@@ -53,7 +57,9 @@ pub struct Interpreted {
 
 impl std::fmt::Debug for Interpreted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Interpreted").field("info", &self.info).finish_non_exhaustive()
+        f.debug_struct("Interpreted")
+            .field("info", &self.info)
+            .finish_non_exhaustive()
     }
 }
 
@@ -107,10 +113,17 @@ impl Interpreted {
     ///
     /// # Errors
     /// A compilation error from codegen.
-    pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, mechanism_codegen::Error> {
+    pub fn from_equations(
+        mut model: Model,
+        eqs: Equations,
+    ) -> Result<Self, mechanism_codegen::Error> {
         let tangent = residual_tangent(&mut model, &eqs)?;
         let arena = &model.arena;
-        let sym = |id| arena.as_symbol(id).expect("coordinates and parameters are symbol nodes");
+        let sym = |id| {
+            arena
+                .as_symbol(id)
+                .expect("coordinates and parameters are symbol nodes")
+        };
         let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
         let full = Program::new(
             arena,
@@ -139,7 +152,11 @@ impl Interpreted {
             independent: model
                 .independent
                 .iter()
-                .map(|i| Independent { coordinate: i.coordinate, position: i.position, velocity: i.velocity })
+                .map(|i| Independent {
+                    coordinate: i.coordinate,
+                    position: i.position,
+                    velocity: i.velocity,
+                })
                 .collect(),
             constraints: eqs.m,
         };
@@ -187,7 +204,14 @@ impl Interpreted {
 
     /// Runs one tape; a failed evaluation (non-finite value) fills the outputs with NaN so
     /// the solver's finiteness checks report it with t and q.
-    fn run(&self, cell: &Mutex<Scratch>, t: f64, q: &[f64], qd: Option<&[f64]>, sink: impl FnOnce(&[f64])) {
+    fn run(
+        &self,
+        cell: &Mutex<Scratch>,
+        t: f64,
+        q: &[f64],
+        qd: Option<&[f64]>,
+        sink: impl FnOnce(&[f64]),
+    ) {
         let mut guard = cell.lock().unwrap_or_else(|p| p.into_inner());
         let s = &mut *guard;
         self.load(s, t, q, qd);
@@ -263,12 +287,25 @@ impl System for Interpreted {
         });
     }
 
-    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
+    fn tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        lambda: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
         let n = self.info.n();
         let mut guard = self.tangent.lock().unwrap_or_else(|p| p.into_inner());
         let s = &mut *guard;
         self.load(s, t, q, Some(qd));
-        for (sym, v) in self.qdd_symbols.iter().zip(qdd).chain(self.lambda_symbols.iter().zip(lambda)) {
+        for (sym, v) in self
+            .qdd_symbols
+            .iter()
+            .zip(qdd)
+            .chain(self.lambda_symbols.iter().zip(lambda))
+        {
             s.inputs[sym.0 as usize] = *v;
         }
         // On a non-finite tangent the caller falls back to finite differences.

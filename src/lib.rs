@@ -26,28 +26,32 @@ mod simulate;
 mod stabilization;
 mod sweep;
 
-pub use crate::mechanism::{Compiled, Evaluation, Independent, Mechanism, StaticEvaluation, System, SystemInfo};
 pub use crate::drive::{DriveError, parse_drive};
 pub use crate::interpreted::Interpreted;
+pub use crate::mechanism::{
+    Compiled, Evaluation, Independent, Mechanism, StaticEvaluation, System, SystemInfo,
+};
 pub use crate::trajectory::{Sample, SolverStats, Trajectory};
 
 pub use crate::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 pub use crate::error::Error;
 pub use crate::integrators::{IntegratorOptions, Method};
-pub use crate::kinematics::{
-    AssemblyOptions, Drive, KinematicState, assemble, assemble_from, check_constraint_rank, kinematic_analysis,
-    solve_accelerations, solve_positions, solve_velocities,
+pub use crate::inverse::{
+    InverseDynamics, InverseResult, InverseSample, inverse_dynamics, sample_times,
 };
-pub use crate::inverse::{InverseDynamics, InverseResult, InverseSample, inverse_dynamics, sample_times};
-pub use crate::mechanism::Tangent;
-pub use crate::simulate::{
-    EventFn,
-    Event, EventAction, EventHit, InitialState, Simulation, SimulationOptions, Simulator, simulate, simulate_with_events,
+pub use crate::kinematics::{
+    AssemblyOptions, Drive, KinematicState, assemble, assemble_from, check_constraint_rank,
+    kinematic_analysis, solve_accelerations, solve_positions, solve_velocities,
 };
 pub use crate::linearize::{Linearization, linearize};
+pub use crate::mechanism::Tangent;
+pub use crate::progress::Progress;
+pub use crate::simulate::{
+    Event, EventAction, EventFn, EventHit, InitialState, Simulation, SimulationOptions, Simulator,
+    simulate, simulate_with_events,
+};
 pub use crate::stabilization::{Projector, Stabilization};
 pub use crate::sweep::{ParameterSet, sweep, sweep_simulate, with_parameters};
-pub use crate::progress::Progress;
 pub use mechanism_macros::mechanism;
 pub use nalgebra;
 
@@ -59,6 +63,6 @@ pub mod prelude {
 
 #[doc(hidden)]
 pub mod __private {
-    pub use nalgebra::{SMatrix, SVector};
     pub use nalgebra::ArrayStorage;
+    pub use nalgebra::{SMatrix, SVector};
 }

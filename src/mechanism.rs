@@ -82,7 +82,12 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// g(q) = dPi/dq.
     fn gravity(&self, q: &SVector<f64, N>) -> SVector<f64, N>;
     /// tau(t, q, q').
-    fn generalized_forces(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> SVector<f64, N>;
+    fn generalized_forces(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
     /// Phi(q, t).
     fn constraints(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, M>;
     /// Phi_q(q, t).
@@ -90,13 +95,19 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// Phi_t(q, t) = dPhi/dt at fixed q (zero for scleronomic constraints).
     fn constraint_time_derivative(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, M>;
     /// gamma(t, q, q') = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt.
-    fn constraint_gamma(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> SVector<f64, M>;
+    fn constraint_gamma(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> SVector<f64, M>;
     /// T(q, q').
     fn kinetic_energy(&self, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> f64;
     /// Pi(q).
     fn potential_energy(&self, q: &SVector<f64, N>) -> f64;
     /// All of the above at one (t, q, q'), sharing sin, cos and common subexpressions.
-    fn evaluate(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> StaticEvaluation<N, M>;
+    fn evaluate(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>)
+    -> StaticEvaluation<N, M>;
     /// The derived equations as readable text (what the snapshot tests pin).
     fn equations() -> &'static str;
 
@@ -216,7 +227,15 @@ pub trait System: Send + Sync {
     /// `out.stiffness` = dF/dq and `out.damping` = dF/dq' (n x n), for the Newton iteration of
     /// implicit integrators (HHT). Returns `None` when not provided (the default); the
     /// solver then uses finite differences. The codegen crate will emit these symbolically.
-    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
+    fn tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        lambda: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
         let _ = (t, q, qd, qdd, lambda, out);
         None
     }
@@ -235,7 +254,10 @@ pub struct Tangent {
 impl Tangent {
     /// Zero matrices for n coordinates.
     pub fn zeros(n: usize) -> Self {
-        Self { stiffness: DMatrix::zeros(n, n), damping: DMatrix::zeros(n, n) }
+        Self {
+            stiffness: DMatrix::zeros(n, n),
+            damping: DMatrix::zeros(n, n),
+        }
     }
 }
 
@@ -300,11 +322,24 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
         phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
     }
-    fn tangent(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64], out: &mut Tangent) -> Option<()> {
-        let (k, d) = self.mechanism.residual_tangent(t, &to_static(q), &to_static(qd), &to_static(qdd), &to_static(lambda))?;
+    fn tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        lambda: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let (k, d) = self.mechanism.residual_tangent(
+            t,
+            &to_static(q),
+            &to_static(qd),
+            &to_static(qdd),
+            &to_static(lambda),
+        )?;
         out.stiffness.copy_from(&k);
         out.damping.copy_from(&d);
         Some(())
     }
-
 }

@@ -55,7 +55,11 @@ impl Trajectory {
     /// An empty trajectory for `info`, with room for `capacity` samples.
     pub fn with_capacity(info: SystemInfo, capacity: usize) -> Self {
         let stride = Self::stride_of(&info);
-        Self { info, stats: SolverStats::default(), data: Vec::with_capacity(capacity * stride) }
+        Self {
+            info,
+            stats: SolverStats::default(),
+            data: Vec::with_capacity(capacity * stride),
+        }
     }
 
     fn stride_of(info: &SystemInfo) -> usize {
@@ -87,7 +91,8 @@ impl Trajectory {
         self.data.extend_from_slice(qd);
         self.data.extend_from_slice(qdd);
         self.data.extend_from_slice(lambda);
-        self.data.extend_from_slice(&[constraint_error, velocity_constraint_error]);
+        self.data
+            .extend_from_slice(&[constraint_error, velocity_constraint_error]);
         self.data.extend_from_slice(&energies);
     }
 
@@ -139,7 +144,13 @@ impl Trajectory {
         h.extend(c.iter().map(|x| format!("{x}_dot")));
         h.extend(c.iter().map(|x| format!("{x}_ddot")));
         h.extend((1..=self.info.m()).map(|i| format!("lambda_{i}")));
-        for s in ["constraint_error", "velocity_constraint_error", "kinetic", "potential", "work"] {
+        for s in [
+            "constraint_error",
+            "velocity_constraint_error",
+            "kinetic",
+            "potential",
+            "work",
+        ] {
             h.push(s.to_string());
         }
         h

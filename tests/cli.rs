@@ -7,7 +7,11 @@ use std::process::Output;
 use assert_cmd::Command;
 
 fn mechanism(args: &[&str]) -> Output {
-    Command::cargo_bin("mechanism").expect("binary built").args(args).output().expect("runs")
+    Command::cargo_bin("mechanism")
+        .expect("binary built")
+        .args(args)
+        .output()
+        .expect("runs")
 }
 
 fn out_dir(name: &str) -> PathBuf {
@@ -22,7 +26,12 @@ fn stderr(o: &Output) -> String {
 
 fn csv_header(path: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(path).expect("csv written");
-    text.lines().next().unwrap_or("").split(',').map(str::to_string).collect()
+    text.lines()
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(str::to_string)
+        .collect()
 }
 
 /// A user error: exit status 1, exactly one line on stderr, no panic or backtrace.
@@ -32,13 +41,23 @@ fn assert_one_line_error(o: &Output, needle: &str) {
     assert_eq!(e.trim_end().lines().count(), 1, "one line: {e}");
     assert!(e.starts_with("error: "), "{e}");
     assert!(e.contains(needle), "`{needle}` in: {e}");
-    assert!(!e.contains("panicked") && !e.contains("RUST_BACKTRACE"), "{e}");
+    assert!(
+        !e.contains("panicked") && !e.contains("RUST_BACKTRACE"),
+        "{e}"
+    );
 }
 
 #[test]
 fn simulate_writes_the_seed_outputs() {
     let dir = out_dir("seed");
-    let o = mechanism(&["simulate", "spatial_crank_slider", "--t-end", "1", "--out", dir.to_str().unwrap()]);
+    let o = mechanism(&[
+        "simulate",
+        "spatial_crank_slider",
+        "--t-end",
+        "1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let header = csv_header(&dir.join("trajectory.csv"));
     let mut expected: Vec<String> = vec!["t".into()];
@@ -48,11 +67,22 @@ fn simulate_writes_the_seed_outputs() {
     expected.extend(q.iter().map(|s| format!("{s}_ddot")));
     expected.extend(["lambda_1", "lambda_2", "lambda_3"].map(String::from));
     expected.extend(
-        ["constraint_error", "velocity_constraint_error", "kinetic", "potential", "work"].map(String::from),
+        [
+            "constraint_error",
+            "velocity_constraint_error",
+            "kinetic",
+            "potential",
+            "work",
+        ]
+        .map(String::from),
     );
     assert_eq!(header, expected);
     // 1 s at 100 samples per second: t = 0, 0.01, ..., 1.
-    let rows = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap().lines().count() - 1;
+    let rows = std::fs::read_to_string(dir.join("trajectory.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
     assert_eq!(rows, 101);
 
     let summary: serde_json::Value =
@@ -84,7 +114,13 @@ fn simulate_writes_the_seed_outputs() {
     assert!((q0["gamma"].as_f64().unwrap() - gamma0).abs() < 1e-14);
     assert!((q0["beta"].as_f64().unwrap() - beta0).abs() < 1e-14);
     assert!((q0["x_c"].as_f64().unwrap() - 0.2).abs() < 1e-14);
-    for fig in ["fig_3_1_phi", "fig_3_2_beta", "fig_3_3_gamma", "fig_3_4_x_c", "fig_3_5_constraint_error"] {
+    for fig in [
+        "fig_3_1_phi",
+        "fig_3_2_beta",
+        "fig_3_3_gamma",
+        "fig_3_4_x_c",
+        "fig_3_5_constraint_error",
+    ] {
         for ext in ["png", "svg"] {
             assert!(dir.join(format!("{fig}.{ext}")).is_file(), "{fig}.{ext}");
         }
@@ -121,8 +157,18 @@ fn inverse_writes_the_driving_torque() {
 #[test]
 fn a_mech_file_runs_through_the_interpreter() {
     let dir = out_dir("file");
-    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/mechanisms/cartesian_pendulum.mech");
-    let o = mechanism(&["simulate", file, "--t-end", "0.5", "--out", dir.to_str().unwrap()]);
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/mechanisms/cartesian_pendulum.mech"
+    );
+    let o = mechanism(&[
+        "simulate",
+        file,
+        "--t-end",
+        "0.5",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.join("trajectory.csv").is_file());
     assert!(dir.join("constraint_error.png").is_file());
@@ -132,7 +178,10 @@ fn a_mech_file_runs_through_the_interpreter() {
 fn list_and_equations() {
     let o = mechanism(&["list"]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("spatial_crank_slider") && text.contains("planar_four_bar"), "{text}");
+    assert!(
+        text.contains("spatial_crank_slider") && text.contains("planar_four_bar"),
+        "{text}"
+    );
     let o = mechanism(&["equations", "spatial_crank_slider"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("Phi_q"), "{text}");
@@ -149,9 +198,18 @@ fn unknown_mechanism_lists_the_names() {
 
 #[test]
 fn bad_set_and_init_name_the_culprit() {
-    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--set", "l9=1"]), "`l9`");
-    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--init", "theta=1"]), "`theta`");
-    assert_one_line_error(&mechanism(&["simulate", "spatial_crank_slider", "--set", "l2=abc"]), "l2");
+    assert_one_line_error(
+        &mechanism(&["simulate", "spatial_crank_slider", "--set", "l9=1"]),
+        "`l9`",
+    );
+    assert_one_line_error(
+        &mechanism(&["simulate", "spatial_crank_slider", "--init", "theta=1"]),
+        "`theta`",
+    );
+    assert_one_line_error(
+        &mechanism(&["simulate", "spatial_crank_slider", "--set", "l2=abc"]),
+        "l2",
+    );
 }
 
 #[test]
@@ -159,7 +217,11 @@ fn syntax_error_in_a_file_gives_line_and_column() {
     let dir = out_dir("syntax");
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("broken.mech");
-    std::fs::write(&file, "pub struct Broken;\ncoordinates { x = 0.0; }\nkinetic = 1/2*der(x)^2 +* 3;\n").unwrap();
+    std::fs::write(
+        &file,
+        "pub struct Broken;\ncoordinates { x = 0.0; }\nkinetic = 1/2*der(x)^2 +* 3;\n",
+    )
+    .unwrap();
     let o = mechanism(&["simulate", file.to_str().unwrap()]);
     assert_one_line_error(&o, "broken.mech:3:");
 }
@@ -167,7 +229,14 @@ fn syntax_error_in_a_file_gives_line_and_column() {
 #[test]
 fn solver_failure_is_a_typed_message() {
     // A crank longer than the geometry allows cannot assemble: Newton fails with a message.
-    let o = mechanism(&["simulate", "spatial_crank_slider", "--set", "l2=0.05", "--t-end", "0.1"]);
+    let o = mechanism(&[
+        "simulate",
+        "spatial_crank_slider",
+        "--set",
+        "l2=0.05",
+        "--t-end",
+        "0.1",
+    ]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");

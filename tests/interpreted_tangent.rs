@@ -4,12 +4,20 @@
 
 use mechanism::builtin::{builtin, builtin_names, builtin_source};
 use mechanism::{
-    Evaluation, IntegratorOptions, Interpreted, Method, SimulationOptions, Stabilization, System, Tangent, simulate,
+    Evaluation, IntegratorOptions, Interpreted, Method, SimulationOptions, Stabilization, System,
+    Tangent, simulate,
 };
 
 /// F = M q'' + C q' + g - tau + Phi_q^T lambda, through `evaluate` (a route independent of
 /// the symbolic tangent).
-fn residual(sys: &dyn System, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], lambda: &[f64]) -> Vec<f64> {
+fn residual(
+    sys: &dyn System,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    lambda: &[f64],
+) -> Vec<f64> {
     let (n, m) = (sys.info().n(), sys.info().m());
     let mut e = Evaluation::zeros(n, m);
     sys.evaluate(t, q, qd, &mut e);
@@ -41,13 +49,19 @@ fn tangent_matches_central_differences_on_every_builtin() {
         let sys = Interpreted::from_source(builtin_source(name).unwrap()).unwrap();
         let (n, m) = (sys.info().n(), sys.info().m());
         for _ in 0..3 {
-            let q: Vec<f64> = sys.info().initial_guess.iter().map(|g| g + 0.2 * rng.next()).collect();
+            let q: Vec<f64> = sys
+                .info()
+                .initial_guess
+                .iter()
+                .map(|g| g + 0.2 * rng.next())
+                .collect();
             let qd: Vec<f64> = (0..n).map(|_| 2.0 * rng.next()).collect();
             let qdd: Vec<f64> = (0..n).map(|_| 5.0 * rng.next()).collect();
             let lambda: Vec<f64> = (0..m).map(|_| 3.0 * rng.next()).collect();
             let t = 0.3;
             let mut tan = Tangent::zeros(n);
-            sys.tangent(t, &q, &qd, &qdd, &lambda, &mut tan).expect("interpreted systems provide the tangent");
+            sys.tangent(t, &q, &qd, &qdd, &lambda, &mut tan)
+                .expect("interpreted systems provide the tangent");
             // Central differences: truncation O(h^2) ~ 1e-10 for these smooth, O(1)-scaled
             // functions, rounding ~ eps |F| / h ~ 1e-10; 1e-6 (abs + rel) leaves a wide margin
             // while a wrong entry (a missing term is O(1)) still fails.
@@ -58,13 +72,23 @@ fn tangent_matches_central_differences_on_every_builtin() {
                     plus[j] += h;
                     minus[j] -= h;
                     let (fp, fm) = if which == "dF/dq" {
-                        (residual(&sys, t, &plus, &qd, &qdd, &lambda), residual(&sys, t, &minus, &qd, &qdd, &lambda))
+                        (
+                            residual(&sys, t, &plus, &qd, &qdd, &lambda),
+                            residual(&sys, t, &minus, &qd, &qdd, &lambda),
+                        )
                     } else {
-                        (residual(&sys, t, &q, &plus, &qdd, &lambda), residual(&sys, t, &q, &minus, &qdd, &lambda))
+                        (
+                            residual(&sys, t, &q, &plus, &qdd, &lambda),
+                            residual(&sys, t, &q, &minus, &qdd, &lambda),
+                        )
                     };
                     for i in 0..n {
                         let fd = (fp[i] - fm[i]) / (2.0 * h);
-                        let exact = if which == "dF/dq" { tan.stiffness[(i, j)] } else { tan.damping[(i, j)] };
+                        let exact = if which == "dF/dq" {
+                            tan.stiffness[(i, j)]
+                        } else {
+                            tan.damping[(i, j)]
+                        };
                         assert!(
                             (fd - exact).abs() <= 1e-6 * (1.0 + exact.abs()),
                             "{name}: {which}[{i},{j}] exact {exact} vs finite difference {fd}"
@@ -83,7 +107,12 @@ fn hht_with_the_exact_tangent_is_second_order() {
         let options = SimulationOptions {
             t_end: 0.5,
             output_rate: 2.0,
-            integrator: IntegratorOptions { method, rtol: 1e-12, atol: 1e-12, ..IntegratorOptions::default() },
+            integrator: IntegratorOptions {
+                method,
+                rtol: 1e-12,
+                atol: 1e-12,
+                ..IntegratorOptions::default()
+            },
             stabilization: Stabilization::Projection,
             ..SimulationOptions::default()
         };
@@ -92,13 +121,19 @@ fn hht_with_the_exact_tangent_is_second_order() {
     let reference = run(Method::Dop853);
     let err = |h| {
         let q = run(Method::Hht { h, alpha: 0.0 });
-        q.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+        q.iter()
+            .zip(&reference)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
     };
     let (e1, e2) = (err(2e-3), err(1e-3));
     let ratio = e1 / e2;
     // Second order: halving h divides the error by 4 (3 to 5 allows for the asymptotic
     // regime not being reached exactly).
-    assert!((3.0..5.0).contains(&ratio), "errors {e1:e} and {e2:e}, ratio {ratio}");
+    assert!(
+        (3.0..5.0).contains(&ratio),
+        "errors {e1:e} and {e2:e}, ratio {ratio}"
+    );
 }
 
 #[test]
@@ -108,13 +143,22 @@ fn compiled_tangent_equals_the_interpreter_route() {
         let compiled = builtin(name).unwrap();
         let interpreted = Interpreted::from_source(builtin_source(name).unwrap()).unwrap();
         let (n, m) = (compiled.info().n(), compiled.info().m());
-        let q: Vec<f64> = compiled.info().initial_guess.iter().map(|g| g + 0.3 * rng.next()).collect();
+        let q: Vec<f64> = compiled
+            .info()
+            .initial_guess
+            .iter()
+            .map(|g| g + 0.3 * rng.next())
+            .collect();
         let qd: Vec<f64> = (0..n).map(|_| 2.0 * rng.next()).collect();
         let qdd: Vec<f64> = (0..n).map(|_| 5.0 * rng.next()).collect();
         let lambda: Vec<f64> = (0..m).map(|_| 3.0 * rng.next()).collect();
         let (mut a, mut b) = (Tangent::zeros(n), Tangent::zeros(n));
-        compiled.tangent(0.7, &q, &qd, &qdd, &lambda, &mut a).expect("emitted by mechanism!");
-        interpreted.tangent(0.7, &q, &qd, &qdd, &lambda, &mut b).unwrap();
+        compiled
+            .tangent(0.7, &q, &qd, &qdd, &lambda, &mut a)
+            .expect("emitted by mechanism!");
+        interpreted
+            .tangent(0.7, &q, &qd, &qdd, &lambda, &mut b)
+            .unwrap();
         // The same derived expressions evaluated by two back ends: they differ only by
         // reassociation in rounding, so 1e-12 relative to the largest entry.
         for (x, y) in [(&a.stiffness, &b.stiffness), (&a.damping, &b.damping)] {

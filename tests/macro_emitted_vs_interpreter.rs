@@ -297,14 +297,17 @@ fn cartesian_pendulum() {
 #[test]
 fn registry_systems_match_the_interpreter() {
     // Every declaration under mechanisms/ is compiled in, and nothing else is.
-    let mut files: Vec<String> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/mechanisms"))
-        .expect("mechanisms/ exists")
-        .filter_map(|e| {
-            let p = e.ok()?.path();
-            if p.extension()? != "mech" { return None; }
-            Some(p.file_stem()?.to_string_lossy().into_owned())
-        })
-        .collect();
+    let mut files: Vec<String> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/mechanisms"))
+            .expect("mechanisms/ exists")
+            .filter_map(|e| {
+                let p = e.ok()?.path();
+                if p.extension()? != "mech" {
+                    return None;
+                }
+                Some(p.file_stem()?.to_string_lossy().into_owned())
+            })
+            .collect();
     files.sort();
     let mut names: Vec<String> = builtin_names().iter().map(|s| s.to_string()).collect();
     names.sort();

@@ -346,8 +346,8 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     Ok(())
 }
 
-/// A name at the cursor.
-fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
+/// A name at the cursor (`section` names where, for the error).
+pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
     let t = c.peek();
     match &t.tok {
         Tok::Ident(s) => {
@@ -359,7 +359,7 @@ fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
 }
 
 /// `{ item; item; ... }` with an optional last `;`.
-fn block<T>(
+pub(crate) fn block<T>(
     c: &mut Cursor<'_>,
     mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
 ) -> Result<Vec<T>> {

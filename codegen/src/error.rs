@@ -32,7 +32,9 @@ pub enum Error {
         location: Location,
     },
     /// A call to a function the language does not have.
-    #[error("unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)")]
+    #[error(
+        "unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
+    )]
     UnknownFunction {
         /// The name written.
         name: String,
@@ -85,7 +87,9 @@ pub enum Error {
     },
     /// Matrix operands whose sizes do not fit the operation (or a matrix whose `data` length
     /// is not rows x cols).
-    #[error("matrix size mismatch in {operation}: {left_rows} x {left_cols} and {right_rows} x {right_cols}")]
+    #[error(
+        "matrix size mismatch in {operation}: {left_rows} x {left_cols} and {right_rows} x {right_cols}"
+    )]
     Shape {
         /// The operation (`mul`, `add`, ...).
         operation: &'static str,

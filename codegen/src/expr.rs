@@ -185,7 +185,12 @@ pub struct Arena {
 
 impl std::fmt::Debug for Arena {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Arena({} nodes, {} symbols)", self.nodes.len(), self.symbols.len())
+        write!(
+            f,
+            "Arena({} nodes, {} symbols)",
+            self.nodes.len(),
+            self.symbols.len()
+        )
     }
 }
 
@@ -239,7 +244,11 @@ impl Arena {
             return s;
         }
         let s = SymbolId(self.symbols.len() as u32);
-        self.symbols.push(Symbol { name: name.to_string(), kind, derivative: None });
+        self.symbols.push(Symbol {
+            name: name.to_string(),
+            kind,
+            derivative: None,
+        });
         self.by_name.insert(name.to_string(), s);
         let id = self.intern(Node::Sym(s));
         self.symbol_nodes.push(id);
@@ -305,7 +314,10 @@ impl Arena {
 
     /// A float constant (non-finite values are a domain error).
     pub fn float(&mut self, x: f64) -> Result<Id> {
-        let n = Number::float(x).ok_or_else(|| Error::Domain { function: "float", argument: format!("{x}") })?;
+        let n = Number::float(x).ok_or_else(|| Error::Domain {
+            function: "float",
+            argument: format!("{x}"),
+        })?;
         Ok(self.number(n))
     }
 
@@ -336,7 +348,11 @@ impl Arena {
             Node::Num(n) => (n, None),
             Node::Mul(fs) => match self.as_number(fs[0]) {
                 Some(c) => {
-                    let rest = if fs.len() == 2 { fs[1] } else { self.intern(Node::Mul(fs[1..].into())) };
+                    let rest = if fs.len() == 2 {
+                        fs[1]
+                    } else {
+                        self.intern(Node::Mul(fs[1..].into()))
+                    };
                     (c, Some(rest))
                 }
                 None => (Number::int(1), Some(id)),
@@ -443,18 +459,29 @@ impl Arena {
                 _ => vec![r],
             };
             for (k, &f) in factors.iter().enumerate() {
-                let Node::Pow(b, e) = *self.node(f) else { continue };
+                let Node::Pow(b, e) = *self.node(f) else {
+                    continue;
+                };
                 if self.as_number(e) != Some(two) {
                     continue;
                 }
-                let Node::Func(Func::Sin, x) = *self.node(b) else { continue };
+                let Node::Func(Func::Sin, x) = *self.node(b) else {
+                    continue;
+                };
                 let cos = self.func_raw(Func::Cos, x);
                 let cos2 = self.intern(Node::Pow(cos, e));
                 let mut partner: Vec<Id> = factors.clone();
                 partner[k] = cos2;
                 partner.sort();
-                let pkey = if partner.len() == 1 { partner[0] } else { self.intern(Node::Mul(partner.into())) };
-                let hit = terms.iter().enumerate().position(|(j, &(pr, pc))| !removed[j] && j != i && pr == pkey && pc == c);
+                let pkey = if partner.len() == 1 {
+                    partner[0]
+                } else {
+                    self.intern(Node::Mul(partner.into()))
+                };
+                let hit = terms
+                    .iter()
+                    .enumerate()
+                    .position(|(j, &(pr, pc))| !removed[j] && j != i && pr == pkey && pc == c);
                 if let Some(j) = hit {
                     removed[i] = true;
                     removed[j] = true;
@@ -665,7 +692,11 @@ impl Arena {
             Node::Num(n) => n.is_negative(),
             Node::Mul(fs) => self.as_number(fs[0]).is_some_and(Number::is_negative),
             Node::Add(ts) => {
-                let first = if self.as_number(ts[0]).is_some() { ts.get(1) } else { ts.first() };
+                let first = if self.as_number(ts[0]).is_some() {
+                    ts.get(1)
+                } else {
+                    ts.first()
+                };
                 first.is_some_and(|&t| self.is_negative_form(t))
             }
             _ => false,
@@ -684,7 +715,10 @@ impl Arena {
             let v = n.to_f64();
             match f {
                 Func::Ln if v <= 0.0 => {
-                    return Err(Error::Domain { function: "ln", argument: n.to_string() });
+                    return Err(Error::Domain {
+                        function: "ln",
+                        argument: n.to_string(),
+                    });
                 }
                 Func::Abs => {
                     let a = if n.is_negative() { -n } else { n };
@@ -720,12 +754,14 @@ impl Arena {
 
     /// sin x.
     pub fn sin(&mut self, x: Id) -> Id {
-        self.func(Func::Sin, x).unwrap_or_else(|_| self.func_raw(Func::Sin, x))
+        self.func(Func::Sin, x)
+            .unwrap_or_else(|_| self.func_raw(Func::Sin, x))
     }
 
     /// cos x.
     pub fn cos(&mut self, x: Id) -> Id {
-        self.func(Func::Cos, x).unwrap_or_else(|_| self.func_raw(Func::Cos, x))
+        self.func(Func::Cos, x)
+            .unwrap_or_else(|_| self.func_raw(Func::Cos, x))
     }
 
     /// atan2(y, x): the angle of the point (x, y) in (-pi, pi].

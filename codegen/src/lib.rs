@@ -6,57 +6,57 @@
 //! subexpression elimination, Rust emission, an interpreter and a pretty printer.
 #![warn(missing_docs)]
 
+mod bodies;
+mod build_model;
 mod chain;
-mod diff;
+mod check;
 mod cse;
+mod declaration;
+mod diff;
 mod emit;
 mod equations;
 mod error;
 mod eval;
 mod expr;
-mod build_model;
-mod check;
-mod declaration;
+mod joints;
+mod lagrange;
 mod latex;
 mod lex;
 mod lower;
-mod parse;
-mod pretty;
-mod render;
-mod tangent;
-mod tape;
-mod lagrange;
+mod lower_bodies;
 mod matrix;
 mod model;
 mod number;
-mod bodies;
-mod joints;
-mod lower_bodies;
+mod parse;
 mod parse_bodies;
+mod pretty;
+mod render;
 mod rotation;
+mod tangent;
+mod tape;
 mod vexpr;
 
-pub use chain::{closed_chain_arch, closed_chain_model, closed_chain_source};
-pub use diff::Differentiator;
-pub use emit::{emit_body, f64_tokens, EmitBindings, EmittedBody, OutputTarget};
-pub use cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
-pub use equations::Equations;
-pub use error::{Error, Location, Result};
-pub use eval::{eval, eval_many, eval_matrix};
-pub use expr::{Arena, Func, FxHashMap, FxHasher, Id, Node, Symbol, SymbolId, SymbolKind};
-pub use lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};
-pub use number::Number;
-pub use matrix::Matrix;
-pub use model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use bodies::{Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms};
 pub use build_model::{
     ModelSpans, ParsedModel, SpannedError, parse_declaration, parse_declaration_str, parse_model,
     parse_model_str,
 };
-pub use latex::{equations_latex, matrix_to_latex, to_latex};
-pub use parse::parse_expr;
-pub use tape::Tape;
-pub use pretty::{equations_text, matrix_to_text, to_text};
-pub use tangent::{ResidualTangent, lambda_symbol_name, residual_tangent};
-pub use bodies::{Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms};
+pub use chain::{closed_chain_arch, closed_chain_model, closed_chain_source};
+pub use cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
+pub use diff::Differentiator;
+pub use emit::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
+pub use equations::Equations;
+pub use error::{Error, Location, Result};
+pub use eval::{eval, eval_many, eval_matrix};
+pub use expr::{Arena, Func, FxHashMap, FxHasher, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use joints::{AxisFrame, distance, parallel, prismatic, revolute, spherical};
+pub use lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};
+pub use latex::{equations_latex, matrix_to_latex, to_latex};
+pub use matrix::Matrix;
+pub use model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use number::Number;
+pub use parse::parse_expr;
+pub use pretty::{equations_text, matrix_to_text, to_text};
 pub use rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
+pub use tangent::{ResidualTangent, lambda_symbol_name, residual_tangent};
+pub use tape::Tape;

@@ -50,7 +50,8 @@ impl Number {
 
     /// A float constant; `None` when not finite. -0.0 becomes 0.0.
     pub fn float(x: f64) -> Option<Self> {
-        x.is_finite().then_some(Number::Float(if x == 0.0 { 0.0 } else { x }))
+        x.is_finite()
+            .then_some(Number::Float(if x == 0.0 { 0.0 } else { x }))
     }
 
     /// The value as f64.
@@ -106,7 +107,9 @@ impl Number {
                     _ => Number::float((n as f64 / d as f64).powf(e as f64)),
                 }
             }
-            Number::Float(x) => Number::float(x.powi(e.clamp(i32::MIN as i64, i32::MAX as i64) as i32)),
+            Number::Float(x) => {
+                Number::float(x.powi(e.clamp(i32::MIN as i64, i32::MAX as i64) as i32))
+            }
         }
     }
 
@@ -121,10 +124,11 @@ impl std::ops::Add for Number {
     /// a + b (exact when both are rational and the result fits).
     fn add(self, o: Number) -> Number {
         match (self, o) {
-            (Number::Rational(a, b), Number::Rational(c, d)) => {
-                Self::from_i128(a as i128 * d as i128 + c as i128 * b as i128, b as i128 * d as i128)
-                    .unwrap_or(Number::Float(0.0))
-            }
+            (Number::Rational(a, b), Number::Rational(c, d)) => Self::from_i128(
+                a as i128 * d as i128 + c as i128 * b as i128,
+                b as i128 * d as i128,
+            )
+            .unwrap_or(Number::Float(0.0)),
             _ => Number::float(self.to_f64() + o.to_f64()).unwrap_or(Number::Float(0.0)),
         }
     }
@@ -136,7 +140,8 @@ impl std::ops::Mul for Number {
     fn mul(self, o: Number) -> Number {
         match (self, o) {
             (Number::Rational(a, b), Number::Rational(c, d)) => {
-                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128).unwrap_or(Number::Float(0.0))
+                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128)
+                    .unwrap_or(Number::Float(0.0))
             }
             _ => Number::float(self.to_f64() * o.to_f64()).unwrap_or(Number::Float(0.0)),
         }

@@ -36,8 +36,9 @@
 //! Everything is lowered in declaration order, so a body may use the points of bodies
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
+use crate::declaration::{block, name};
 use crate::error::{Error, Location, Result};
-use crate::lex::{Cursor, Delim, Tok};
+use crate::lex::{Cursor, Tok};
 use crate::vexpr::{VAst, VParser};
 
 /// The top-level keywords of the body sections.
@@ -178,7 +179,7 @@ pub(crate) fn parse_body_section(
             bodies.items.push(BodyItem::Gravity(v, at));
         }
         "point" | "axis" => {
-            let (name, nat) = ident(c, keyword)?;
+            let (name, nat) = name(c, keyword)?;
             c.expect(&Tok::Punct('='), &format!("`=` after `{keyword} {name}`"))?;
             let v = VParser::parse(c)?;
             c.expect(&Tok::Punct(';'), "`;` or an operator")?;
@@ -189,7 +190,7 @@ pub(crate) fn parse_body_section(
             });
         }
         "body" | "spring" | "damper" => {
-            let (name, nat) = ident(c, keyword)?;
+            let (name, nat) = name(c, keyword)?;
             let entries = block(c, |c| entry(c, keyword))?;
             bodies.items.push(match keyword {
                 "body" => BodyItem::Body {
@@ -217,34 +218,6 @@ pub(crate) fn parse_body_section(
     Ok(())
 }
 
-fn ident(c: &mut Cursor<'_>, what: &str) -> Result<(String, Location)> {
-    let t = c.peek();
-    match &t.tok {
-        Tok::Ident(s) => {
-            c.next();
-            Ok((s.clone(), t.location))
-        }
-        _ => Err(c.error_here(&format!("expected a name after `{what}`"))),
-    }
-}
-
-/// `{ item; item; ... }` with an optional last `;`.
-fn block<T>(
-    c: &mut Cursor<'_>,
-    mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
-) -> Result<Vec<T>> {
-    c.expect(&Tok::Open(Delim::Brace), "`{`")?;
-    let mut out = Vec::new();
-    while !c.at(&Tok::Close(Delim::Brace)) {
-        out.push(item(c)?);
-        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
-            return Err(c.error_here("expected `;` or an operator"));
-        }
-    }
-    c.next();
-    Ok(out)
-}
-
 /// The keys each block accepts.
 fn keys(block: &str) -> &'static [&'static str] {
     match block {
@@ -262,7 +235,7 @@ fn keys(block: &str) -> &'static [&'static str] {
 }
 
 fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
-    let (key, at) = ident(c, block)?;
+    let (key, at) = name(c, block)?;
     if !keys(block).contains(&key.as_str()) {
         return Err(Error::Parse {
             message: format!(
@@ -273,7 +246,7 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
         });
     }
     let name = if key == "point" || key == "axis" {
-        Some(ident(c, &key)?.0)
+        Some(name(c, &key)?.0)
     } else {
         None
     };

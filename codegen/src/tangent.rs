@@ -37,11 +37,20 @@ pub fn lambda_symbol_name(k: usize) -> String {
 pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
     let (n, m) = (eqs.n, eqs.m);
     let arena = &mut model.arena;
-    let lambda: Vec<SymbolId> =
-        (0..m).map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free)).collect();
+    let lambda: Vec<SymbolId> = (0..m)
+        .map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free))
+        .collect();
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
-    let q: Vec<SymbolId> = model.coordinates.iter().filter_map(|c| arena.as_symbol(c.q)).collect();
-    let qd: Vec<SymbolId> = model.coordinates.iter().filter_map(|c| arena.as_symbol(c.qd)).collect();
+    let q: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| arena.as_symbol(c.q))
+        .collect();
+    let qd: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| arena.as_symbol(c.qd))
+        .collect();
     let qdd: Vec<Id> = model.coordinates.iter().map(|c| c.qdd).collect();
     let mut residual = Vec::with_capacity(n);
     for i in 0..n {
@@ -70,8 +79,16 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
         }
     }
     Ok(ResidualTangent {
-        stiffness: Matrix { rows: n, cols: n, data: stiffness },
-        damping: Matrix { rows: n, cols: n, data: damping },
+        stiffness: Matrix {
+            rows: n,
+            cols: n,
+            data: stiffness,
+        },
+        damping: Matrix {
+            rows: n,
+            cols: n,
+            data: damping,
+        },
         lambda,
     })
 }

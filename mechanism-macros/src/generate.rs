@@ -8,7 +8,8 @@
 //! all outputs, so sin/cos pairs and common subexpressions are computed once.
 
 use mechanism_codegen::{
-    EmitBindings, Equations, Matrix, Model, OutputTarget, Program, ResidualTangent, emit_body, residual_tangent,
+    EmitBindings, Equations, Matrix, Model, OutputTarget, Program, ResidualTangent, emit_body,
+    residual_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;

@@ -9,12 +9,25 @@ use crate::builtin::{builtin, builtin_names};
 /// The table printed by `mechanism list`: name, n, m, degrees of freedom n - m.
 pub fn list() -> Result<String, CliError> {
     let mut s = String::new();
-    let w = builtin_names().iter().map(|n| n.len()).max().unwrap_or(0).max("mechanism".len());
+    let w = builtin_names()
+        .iter()
+        .map(|n| n.len())
+        .max()
+        .unwrap_or(0)
+        .max("mechanism".len());
     let _ = writeln!(s, "{:<w$} {:>3} {:>3} {:>4}", "mechanism", "n", "m", "dof");
     for name in builtin_names() {
-        let sys = builtin(name).ok_or_else(|| CliError::Mechanism(format!("built-in `{name}` is missing")))?;
+        let sys = builtin(name)
+            .ok_or_else(|| CliError::Mechanism(format!("built-in `{name}` is missing")))?;
         let info = sys.info();
-        let _ = writeln!(s, "{:<w$} {:>3} {:>3} {:>4}", name, info.n(), info.m(), info.n().saturating_sub(info.m()));
+        let _ = writeln!(
+            s,
+            "{:<w$} {:>3} {:>3} {:>4}",
+            name,
+            info.n(),
+            info.m(),
+            info.n().saturating_sub(info.m())
+        );
     }
     Ok(s)
 }

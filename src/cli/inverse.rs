@@ -31,7 +31,11 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     let info = &result.info;
     let table = InverseTable {
         coordinates: info.coordinates.clone(),
-        driven: result.driven.iter().map(|&k| info.coordinates[k].clone()).collect(),
+        driven: result
+            .driven
+            .iter()
+            .map(|&k| info.coordinates[k].clone())
+            .collect(),
         constraints: info.m(),
         rows: result.rows(),
     };
@@ -43,13 +47,29 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
         let q: Vec<f64> = result.samples.iter().map(|s| s.q[i]).collect();
         let qd: Vec<f64> = result.samples.iter().map(|s| s.qd[i]).collect();
         let stem = dir.join(figure_stem(&loaded.key, Figure::Coordinate(name)));
-        files.extend(plot_coordinate(&stem, name, Unit::guess(name), &t, &q, &qd)?);
+        files.extend(plot_coordinate(
+            &stem,
+            name,
+            Unit::guess(name),
+            &t,
+            &q,
+            &qd,
+        )?);
     }
     let stem = dir.join(figure_stem(&loaded.key, Figure::DrivingTorque));
     files.extend(plot_driving_torque(&stem, &table, Unit::guess)?);
-    let peak = |k: usize| result.samples.iter().fold(0.0_f64, |a, s| a.max(s.driving[k].abs()));
+    let peak = |k: usize| {
+        result
+            .samples
+            .iter()
+            .fold(0.0_f64, |a, s| a.max(s.driving[k].abs()))
+    };
     for (k, name) in table.driven.iter().enumerate() {
-        println!("tau_{name}: max |tau| = {:.6e} over {} samples", peak(k), result.samples.len());
+        println!(
+            "tau_{name}: max |tau| = {:.6e} over {} samples",
+            peak(k),
+            result.samples.len()
+        );
     }
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     println!("wrote {}", names.join(", "));

@@ -31,12 +31,23 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
     if spec.ends_with(".mech") || path.is_file() {
         let source = std::fs::read_to_string(path)
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
-        let system = Interpreted::from_source(&source).map_err(|e| CliError::Mechanism(located(spec, &e)))?;
-        let key = path.file_stem().map_or_else(|| "mechanism".into(), |s| s.to_string_lossy().into_owned());
-        return Ok(Loaded { system: Box::new(system), key, source });
+        let system = Interpreted::from_source(&source)
+            .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
+        let key = path
+            .file_stem()
+            .map_or_else(|| "mechanism".into(), |s| s.to_string_lossy().into_owned());
+        return Ok(Loaded {
+            system: Box::new(system),
+            key,
+            source,
+        });
     }
     match (builtin(spec), builtin_source(spec)) {
-        (Some(system), Some(source)) => Ok(Loaded { system, key: spec.to_string(), source: source.to_string() }),
+        (Some(system), Some(source)) => Ok(Loaded {
+            system,
+            key: spec.to_string(),
+            source: source.to_string(),
+        }),
         _ => Err(CliError::Mechanism(format!(
             "unknown mechanism `{spec}`; available: {} (or a path to a .mech file)",
             builtin_names().join(", ")
@@ -48,7 +59,9 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
 fn located(file: &str, e: &mechanism_codegen::Error) -> String {
     use mechanism_codegen::Error as E;
     match e {
-        E::Parse { message, location } => format!("{file}:{}:{}: {message}", location.line, location.column),
+        E::Parse { message, location } => {
+            format!("{file}:{}:{}: {message}", location.line, location.column)
+        }
         E::UnknownFunction { location, .. } | E::UnknownSymbol { location, .. } => {
             format!("{file}:{}:{}: {e}", location.line, location.column)
         }
@@ -62,8 +75,10 @@ pub fn constant(text: &str) -> Result<f64, String> {
         return Ok(v);
     }
     let mut arena = Arena::new();
-    let e = mechanism_codegen::parse_expr(&mut arena, text).map_err(|e| format!("`{text}` is not a constant: {e}"))?;
-    mechanism_codegen::eval(&arena, e, &|_| None).map_err(|e| format!("`{text}` is not a constant: {e}"))
+    let e = mechanism_codegen::parse_expr(&mut arena, text)
+        .map_err(|e| format!("`{text}` is not a constant: {e}"))?;
+    mechanism_codegen::eval(&arena, e, &|_| None)
+        .map_err(|e| format!("`{text}` is not a constant: {e}"))
 }
 
 /// Applies every `--set NAME=VALUE`.
@@ -73,11 +88,16 @@ pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliErr
             .ok_or_else(|| CliError::Argument(format!("--set takes PARAM=VALUE, got `{s}`")))?;
         let info = system.info();
         let index = info.parameter_index(name).ok_or_else(|| {
-            CliError::Argument(format!("--set: unknown parameter `{name}`; parameters: {}", info.parameters.join(", ")))
+            CliError::Argument(format!(
+                "--set: unknown parameter `{name}`; parameters: {}",
+                info.parameters.join(", ")
+            ))
         })?;
         let v = constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
         if !v.is_finite() {
-            return Err(CliError::Argument(format!("--set {name}: the value must be finite")));
+            return Err(CliError::Argument(format!(
+                "--set {name}: the value must be finite"
+            )));
         }
         system.set_parameter(index, v);
     }
@@ -87,19 +107,28 @@ pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliErr
 /// The independent coordinates and the guess after every `--init COORD=VALUE` or
 /// `--init 'der(COORD)=VALUE'`. A dependent coordinate's value replaces its guess (to pick
 /// an assembly branch).
-pub fn initial_values(system: &dyn System, common: &CommonArgs) -> Result<(Vec<Independent>, Vec<f64>), CliError> {
+pub fn initial_values(
+    system: &dyn System,
+    common: &CommonArgs,
+) -> Result<(Vec<Independent>, Vec<f64>), CliError> {
     let info = system.info();
     let mut independent = info.independent.clone();
     let mut guess = info.initial_guess.clone();
     for s in &common.init {
-        let (lhs, value) = split_assignment(s)
-            .ok_or_else(|| CliError::Argument(format!("--init takes COORD=VALUE or der(COORD)=VALUE, got `{s}`")))?;
+        let (lhs, value) = split_assignment(s).ok_or_else(|| {
+            CliError::Argument(format!(
+                "--init takes COORD=VALUE or der(COORD)=VALUE, got `{s}`"
+            ))
+        })?;
         let (name, rate) = match lhs.strip_prefix("der(").and_then(|r| r.strip_suffix(')')) {
             Some(inner) => (inner.trim(), true),
             None => (lhs, false),
         };
         let k = info.coordinate_index(name).ok_or_else(|| {
-            CliError::Argument(format!("--init: unknown coordinate `{name}`; coordinates: {}", info.coordinates.join(", ")))
+            CliError::Argument(format!(
+                "--init: unknown coordinate `{name}`; coordinates: {}",
+                info.coordinates.join(", ")
+            ))
         })?;
         let v = constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
         match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
@@ -107,7 +136,10 @@ pub fn initial_values(system: &dyn System, common: &CommonArgs) -> Result<(Vec<I
             (Some(ind), true) => ind.velocity = v,
             (None, false) => guess[k] = v,
             (None, true) => {
-                let names: Vec<&str> = independent.iter().map(|i| info.coordinates[i.coordinate].as_str()).collect();
+                let names: Vec<&str> = independent
+                    .iter()
+                    .map(|i| info.coordinates[i.coordinate].as_str())
+                    .collect();
                 return Err(CliError::Argument(format!(
                     "--init: der({name}) follows from the constraints; rates can be set for the independent coordinates ({})",
                     names.join(", ")

@@ -8,7 +8,12 @@ use crate::output::Summary;
 /// The initial state the seed paper printed (Section 2.2): phi, beta, gamma, x_C. It
 /// violates the constraints; ERRATA item 2 explains the swapped names and the lost
 /// decimal point.
-pub const SEED_PRINTED: [(&str, f64); 4] = [("phi", 0.0), ("beta", 0.841069), ("gamma", 0.201082), ("x_c", 2.0)];
+pub const SEED_PRINTED: [(&str, f64); 4] = [
+    ("phi", 0.0),
+    ("beta", 0.841069),
+    ("gamma", 0.201082),
+    ("x_c", 2.0),
+];
 
 /// True for the seed mechanism's built-in name or struct name.
 pub fn is_seed(key: &str, system: &dyn System) -> bool {
@@ -28,9 +33,16 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         info.m(),
         info.n().saturating_sub(info.m())
     );
-    let _ = writeln!(s, "consistent initial state (positions by Newton on Phi = 0, rates from Phi_q q' = -Phi_t):");
+    let _ = writeln!(
+        s,
+        "consistent initial state (positions by Newton on Phi = 0, rates from Phi_q q' = -Phi_t):"
+    );
     let header = if seed { "   paper printed" } else { "" };
-    let _ = writeln!(s, "  {:<10} {:>20} {:>20}{header}", "coordinate", "q(0)", "q'(0)");
+    let _ = writeln!(
+        s,
+        "  {:<10} {:>20} {:>20}{header}",
+        "coordinate", "q(0)", "q'(0)"
+    );
     let q0 = &summary.consistent_initial_state.q.0;
     let qd0 = &summary.consistent_initial_state.q_dot.0;
     for ((name, q), (_, qd)) in q0.iter().zip(qd0) {
@@ -60,15 +72,31 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         (Some(r), Some(a)) => format!(" (rtol {r:e}, atol {a:e})"),
         _ => String::new(),
     };
-    let _ = writeln!(s, "integrator {}{tol}, stabilization {}", summary.integrator, summary.stabilization);
+    let _ = writeln!(
+        s,
+        "integrator {}{tol}, stabilization {}",
+        summary.integrator, summary.stabilization
+    );
     let _ = writeln!(
         s,
         "steps {} (rejected {}), right-hand sides {}, wall time {:.3} s",
         summary.steps, summary.rejected_steps, summary.rhs_evaluations, summary.wall_time_s
     );
-    let _ = writeln!(s, "max |Phi|_inf                  = {:.3e}", summary.max_constraint_error);
-    let _ = writeln!(s, "max |Phi_q q' + Phi_t|_inf     = {:.3e}", summary.max_velocity_constraint_error);
-    let _ = writeln!(s, "max |T + Pi - W - (T + Pi)(0)| = {:.3e} J", summary.max_energy_balance_error);
+    let _ = writeln!(
+        s,
+        "max |Phi|_inf                  = {:.3e}",
+        summary.max_constraint_error
+    );
+    let _ = writeln!(
+        s,
+        "max |Phi_q q' + Phi_t|_inf     = {:.3e}",
+        summary.max_velocity_constraint_error
+    );
+    let _ = writeln!(
+        s,
+        "max |T + Pi - W - (T + Pi)(0)| = {:.3e} J",
+        summary.max_energy_balance_error
+    );
     let _ = writeln!(s, "wrote {}", files.join(", "));
     s
 }

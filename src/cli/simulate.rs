@@ -43,10 +43,16 @@ pub fn default_args() -> SimulateArgs {
 /// Checks the time span and sampling arguments shared by simulate and inverse.
 pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
     if !(c.t_end.is_finite() && c.t_end > 0.0) {
-        return Err(CliError::Argument(format!("--t-end must be a positive number of seconds, got {}", c.t_end)));
+        return Err(CliError::Argument(format!(
+            "--t-end must be a positive number of seconds, got {}",
+            c.t_end
+        )));
     }
     if !(c.samples_per_second.is_finite() && c.samples_per_second > 0.0) {
-        return Err(CliError::Argument(format!("--samples-per-second must be positive, got {}", c.samples_per_second)));
+        return Err(CliError::Argument(format!(
+            "--samples-per-second must be positive, got {}",
+            c.samples_per_second
+        )));
     }
     Ok(())
 }
@@ -54,10 +60,14 @@ pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
 /// The integrator options the flags ask for.
 fn integrator(a: &SimulateArgs) -> Result<(IntegratorOptions, String), CliError> {
     if let Some(h) = a.step.filter(|h| !(h.is_finite() && *h > 0.0)) {
-        return Err(CliError::Argument(format!("--step must be a positive number of seconds, got {h}")));
+        return Err(CliError::Argument(format!(
+            "--step must be a positive number of seconds, got {h}"
+        )));
     }
     if !(a.rtol > 0.0 && a.atol > 0.0) {
-        return Err(CliError::Argument("--rtol and --atol must be positive".into()));
+        return Err(CliError::Argument(
+            "--rtol and --atol must be positive".into(),
+        ));
     }
     let h = a.step.unwrap_or(DEFAULT_STEP);
     let (method, name) = match a.integrator {
@@ -79,7 +89,10 @@ fn integrator(a: &SimulateArgs) -> Result<(IntegratorOptions, String), CliError>
 
 /// The output folder: `--out`, or `out/<key>`.
 pub fn out_dir(common: &CommonArgs, key: &str) -> PathBuf {
-    common.out.clone().unwrap_or_else(|| Path::new("out").join(key))
+    common
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(key))
 }
 
 /// Per-row constraint residuals |Phi_i| at every sample (for the constraint-error figure).
@@ -108,7 +121,13 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     let (integrator_options, integrator_name) = integrator(a)?;
     let (stabilization, stab_name) = match a.stabilization {
         StabilizationArg::Projection => (Stabilization::Projection, "projection"),
-        StabilizationArg::Baumgarte => (Stabilization::Baumgarte { alpha: BAUMGARTE_GAIN, beta: BAUMGARTE_GAIN }, "baumgarte"),
+        StabilizationArg::Baumgarte => (
+            Stabilization::Baumgarte {
+                alpha: BAUMGARTE_GAIN,
+                beta: BAUMGARTE_GAIN,
+            },
+            "baumgarte",
+        ),
         StabilizationArg::None => (Stabilization::None, "none"),
     };
     let options = SimulationOptions {
@@ -116,7 +135,10 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
         output_rate: a.common.samples_per_second,
         integrator: integrator_options,
         stabilization,
-        initial: InitialState::Consistent { q: start.q.clone(), qd: start.qd.clone() },
+        initial: InitialState::Consistent {
+            q: start.q.clone(),
+            qd: start.qd.clone(),
+        },
         assembly,
         ..SimulationOptions::default()
     };
