@@ -246,8 +246,13 @@ def main():
     ap.add_argument("--skip-scipy", action="store_true")
     a = ap.parse_args()
     os.makedirs(RESULTS, exist_ok=True)
-    out = dict(sympy=sp.__version__, derivation={}, c_code={}, scipy={})
     path = os.path.join(RESULTS, "baselines.json")
+    # Merge into earlier results, so that partial reruns (e.g. `--chains` with no sizes)
+    # keep the rest.
+    out = json.load(open(path)) if os.path.exists(path) else {}
+    out["sympy"] = sp.__version__
+    for k in ("derivation", "c_code", "scipy"):
+        out.setdefault(k, {})
 
     def save():
         json.dump(out, open(path, "w"), indent=1)

@@ -25,7 +25,23 @@ pub struct SpannedError {
 impl SpannedError {
     /// The message without the "at line L, column C" part (the span shows the place).
     pub fn message(&self) -> String {
-        match &self.error {
+        self.error.message()
+    }
+}
+
+impl std::fmt::Display for SpannedError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+impl std::error::Error for SpannedError {}
+
+impl Error {
+    /// The message without the "at line L, column C" part, for callers that show the
+    /// place themselves (a span, or `file:line:column:`).
+    pub fn message(&self) -> String {
+        match self {
             Error::Declaration { message, .. } => message.clone(),
             Error::Parse { message, .. } => format!("parse error: {message}"),
             Error::UnknownSymbol {
@@ -45,17 +61,7 @@ impl SpannedError {
             other => other.to_string(),
         }
     }
-}
 
-impl std::fmt::Display for SpannedError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.error.fmt(f)
-    }
-}
-
-impl std::error::Error for SpannedError {}
-
-impl Error {
     /// Where in the declaration the error is, for the variants that know it.
     pub fn location(&self) -> Option<Location> {
         match self {

@@ -11,6 +11,7 @@ fn ui() {
         "sizes",
         "syntax",
         "files",
+        "bodies",
     ] {
         t.compile_fail(format!("tests/ui/{category}/*.rs"));
     }

@@ -57,15 +57,9 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
 
 /// `file:line:column: message` for a codegen error that has a location, else `file: message`.
 fn located(file: &str, e: &mechanism_codegen::Error) -> String {
-    use mechanism_codegen::Error as E;
-    match e {
-        E::Parse { message, location } => {
-            format!("{file}:{}:{}: {message}", location.line, location.column)
-        }
-        E::UnknownFunction { location, .. } | E::UnknownSymbol { location, .. } => {
-            format!("{file}:{}:{}: {e}", location.line, location.column)
-        }
-        _ => format!("{file}: {e}"),
+    match e.location() {
+        Some(l) => format!("{file}:{}:{}: {}", l.line, l.column, e.message()),
+        None => format!("{file}: {e}"),
     }
 }
 
