@@ -124,7 +124,7 @@ pub enum Error {
     Model(String),
 }
 
-/// Result with the crate's [`Error`].
+/// Result with the crate's [`Error`](enum@Error).
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// `"; did you mean `x`?"` for an unknown-symbol message, or nothing.

@@ -21,7 +21,7 @@ pub struct ResidualTangent {
     pub stiffness: Matrix,
     /// dF/dq' (n x n).
     pub damping: Matrix,
-    /// The symbols lambda[1]..lambda[m] the matrices read.
+    /// The symbols `lambda[1]`..`lambda[m]` the matrices read.
     pub lambda: Vec<SymbolId>,
 }
 

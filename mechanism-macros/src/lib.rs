@@ -1,12 +1,12 @@
 //! The `mechanism!` proc-macro: a declared mechanism in, specialised dynamics code out.
 //!
 //! The pipeline has one stage per file:
-//! - [`ast`]: the input, either the declaration's tokens or `file = "mechanisms/x.mech"`,
+//! - `ast`: the input, either the declaration's tokens or `file = "mechanisms/x.mech"`,
 //!   parsed into a [`mechanism_codegen::Model`] with every error mapped to a span;
-//! - [`check`]: the rules the macro adds on top of the parser (one `check_*` per rule);
-//! - [`generate`]: derivation (Lagrange equations with multipliers), CSE and emission of the
+//! - `check`: the rules the macro adds on top of the parser (one `check_*` per rule);
+//! - `generate`: derivation (Lagrange equations with multipliers), CSE and emission of the
 //!   method bodies;
-//! - [`expand`]: the struct and the trait impl, `quote!` only.
+//! - `expand`: the struct and the trait impl, `quote!` only.
 //!
 //! See the `mechanism` crate for the declaration language and the trait it implements.
 

@@ -53,7 +53,7 @@ pub struct CommonArgs {
     /// (`--init 'der(phi)=3'`), or a new guess for a dependent one to pick an assembly branch.
     #[arg(long = "init", value_name = "COORD=VALUE")]
     pub init: Vec<String>,
-    /// Output folder (default: out/<mechanism>).
+    /// Output folder (default: `out/<mechanism>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
