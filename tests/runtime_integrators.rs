@@ -72,11 +72,40 @@ fn hht_converges_to_the_explicit_solution() {
     // alpha = 0: second order, halving h divides the error by about 4.
     assert!((3.5..4.5).contains(&(a1 / a2)), "ratio {}", a1 / a2);
     assert!(a2 < 1e-4, "{a2:e}");
-    // alpha = -0.05: convergent, first order on this index-3 DAE (see the hht module docs).
-    assert!(
-        (1.7..4.5).contains(&(b1 / b2)) && b2 < 1e-3,
-        "{b1:e} {b2:e}"
-    );
+    // alpha = -0.05: convergent, but only first order on this mechanism, whose M depends on
+    // q (the order reduction the hht module docs describe); halving h must at least about
+    // halve the error.
+    assert!((1.7..4.5).contains(&(b1 / b2)), "{b1:e} {b2:e}");
+}
+
+/// With a configuration-independent M (the seed), HHT-alpha with alpha < 0 is second order
+/// in Negrut's HHT-I3 form (constraint forces alpha-weighted with the applied forces).
+#[test]
+fn hht_with_damping_is_second_order_on_the_seed() {
+    let sys = mechanism::builtin::builtin("spatial_crank_slider").expect("built in");
+    let run = |method| {
+        let o = mechanism::SimulationOptions {
+            t_end: 0.5,
+            output_rate: 2.0,
+            integrator: mechanism::IntegratorOptions {
+                method,
+                rtol: 1e-13,
+                atol: 1e-13,
+                ..mechanism::IntegratorOptions::default()
+            },
+            ..mechanism::SimulationOptions::default()
+        };
+        mechanism::simulate(sys.as_ref(), &o)
+            .expect("simulates")
+            .last()
+            .expect("samples")
+            .q[0]
+    };
+    let reference = run(Method::Dop853);
+    let err = |h| (run(Method::Hht { h, alpha: -0.05 }) - reference).abs();
+    let (e1, e2) = (err(5e-4), err(2.5e-4));
+    // Measured 4.1e-5 and 1.0e-5: ratio 4 (3.5 to 4.5 for the asymptotic regime).
+    assert!((3.5..4.5).contains(&(e1 / e2)), "errors {e1:e}, {e2:e}");
 }
 
 /// The seed reduced to phi by the chain rule. With alpha = 0 the constraints give

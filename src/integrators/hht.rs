@@ -5,18 +5,18 @@
 //! ```text
 //! q_{n+1} = q_n + h q'_n + h^2/2 [(1 - 2 beta) a_n + 2 beta a]
 //! q'_{n+1} = q'_n + h [(1 - gamma) a_n + gamma a]
-//! R1 = M(q_{n+1}) a - (1 + alpha) Q_{n+1} + alpha Q_n + Phi_q(q_{n+1})^T lambda = 0
+//! R1 = M(q_{n+1}) a + (1 + alpha) [Phi_q^T lambda - Q]_{n+1} - alpha [Phi_q^T lambda - Q]_n = 0
 //! R2 = Phi(q_{n+1}, t_{n+1}) / (beta h^2) = 0
 //! ```
 //!
-//! with Q = tau - C q' - g, alpha in [-1/3, 0], gamma = 1/2 - alpha, beta = (1 - alpha)^2/4.
-//! The applied and inertial forces are alpha-weighted as in HHT; the constraint force is
-//! taken at t_{n+1} (lambda is the multiplier of the discrete step). The scaling of R2 by
+//! with Q = tau - C q' - g, alpha in [-1/3, 0], gamma = 1/2 - alpha, beta = (1 - alpha)^2/4:
+//! Negrut et al.'s HHT-I3, in which the constraint forces are alpha-weighted together with
+//! the applied forces (lambda_{n+1} is the multiplier at t_{n+1}). The scaling of R2 by
 //! 1/(beta h^2) keeps the Newton matrix
 //!
 //! ```text
-//! [ M + (1 + alpha)(beta h^2 K + gamma h D)   Phi_q^T ]
-//! [ Phi_q                                     0       ]
+//! [ M + (1 + alpha)(beta h^2 K + gamma h D)   (1 + alpha) Phi_q^T ]
+//! [ Phi_q                                     0                   ]
 //! ```
 //!
 //! well conditioned as h -> 0; K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau +
@@ -24,12 +24,15 @@
 //! forward differences (2n evaluations). The matrix is formed once per step (modified Newton)
 //! and refreshed if the iteration is slow.
 //!
-//! Accuracy (measured on the four-bar, `tests/runtime_integrators.rs`): alpha = 0 (the
-//! trapezoidal Newmark rule) converges at second order in q. With alpha < 0 we measure first
-//! order on constrained systems: the order reduction of HHT / generalised-alpha on index-3
-//! DAEs analysed by Arnold & Brüls (Multibody Syst. Dyn. 18, 2007), who restore second order
-//! with perturbed starting values (not implemented yet). Positions satisfy Phi = 0 to the
-//! Newton tolerance at every step; velocities satisfy Phi_q q' + Phi_t = 0 only to O(h^2),
+//! Accuracy (`tests/runtime_integrators.rs`): alpha = 0 (the trapezoidal Newmark rule) is
+//! second order on the four-bar but has no numerical damping, and on the seed (singular M)
+//! its Newton iteration diverges: use alpha < 0 on index-3 DAEs (the CLI uses -0.05). With
+//! alpha < 0 the seed, whose M is constant, converges at second order; the four-bar, whose
+//! M depends on q, only at first order: M a is taken at t_{n+1} while the velocity-dependent
+//! inertial forces C q' are alpha-weighted with Q. Arnold & Brüls (Multibody Syst. Dyn. 18,
+//! 2007) analyse such order reductions of HHT / generalised-alpha on index-3 DAEs. Positions
+//! satisfy Phi = 0 to the Newton tolerance at every step; velocities satisfy
+//! Phi_q q' + Phi_t = 0 only to O(h^2),
 //! so the driver projects the recorded samples but never the internal Newmark state.
 
 use crate::error::Error;
@@ -126,10 +129,10 @@ impl Hht {
         Self::dynamic_term(&self.eval, &self.lam_n, qd.len(), &mut self.term_n);
     }
 
-    /// -Q = -tau + C q' + g.
-    fn dynamic_term(e: &Evaluation, _lam: &[f64], n: usize, out: &mut [f64]) {
+    /// Phi_q^T lambda - Q = Phi_q^T lambda - tau + C q' + g: the force term HHT weights.
+    fn dynamic_term(e: &Evaluation, lam: &[f64], n: usize, out: &mut [f64]) {
         for (i, o) in out.iter_mut().enumerate().take(n) {
-            *o = -e.forces[i] + e.coriolis[i] + e.gravity[i];
+            *o = -e.forces[i] + e.coriolis[i] + e.gravity[i] + Self::constraint_force(e, lam, i);
         }
     }
 
@@ -145,8 +148,7 @@ impl Hht {
         let n = a.len();
         Self::dynamic_term(e, lam, n, out);
         for (i, o) in out.iter_mut().enumerate() {
-            *o += (0..n).map(|j| e.mass[(i, j)] * a[j]).sum::<f64>()
-                + Self::constraint_force(e, lam, i);
+            *o += (0..n).map(|j| e.mass[(i, j)] * a[j]).sum::<f64>();
         }
     }
 
@@ -169,8 +171,7 @@ impl Hht {
         Self::dynamic_term(&self.eval, &self.lam, n, &mut self.term);
         for i in 0..n {
             let ma: f64 = (0..n).map(|j| self.eval.mass[(i, j)] * self.a[j]).sum();
-            self.r[i] = ma + (1.0 + self.alpha) * self.term[i] - self.alpha * self.term_n[i]
-                + Self::constraint_force(&self.eval, &self.lam, i);
+            self.r[i] = ma + (1.0 + self.alpha) * self.term[i] - self.alpha * self.term_n[i];
         }
         let s = 1.0 / (self.beta * h * h);
         let mut phi_max = 0.0f64;
@@ -241,7 +242,7 @@ impl Hht {
         }
         for r in 0..m {
             for j in 0..n {
-                a[(j, n + r)] = e.phi_q[(r, j)];
+                a[(j, n + r)] = ap * e.phi_q[(r, j)];
                 a[(n + r, j)] = e.phi_q[(r, j)];
             }
             for c in 0..m {
@@ -277,7 +278,9 @@ impl Hht {
         let qscale = 1.0 + q.iter().fold(0.0f64, |x, y| x.max(y.abs()));
         let mut converged = false;
         let mut iterations = 0;
-        'refresh: for _ in 0..3 {
+        // Up to 10 refreshes of the Newton matrix: where accelerations change fast the
+        // Newmark predictor is poor and the first corrections are large.
+        'refresh: for _ in 0..10 {
             self.jacobian(system, t1, h)?;
             let mut prev = f64::INFINITY;
             for _ in 0..self.max_iterations {
@@ -302,7 +305,14 @@ impl Hht {
                     break 'refresh;
                 }
                 if dq > 0.5 * prev {
-                    continue 'refresh; // slow: refresh the Newton matrix
+                    // No longer contracting: at the rounding floor (a correction a thousand
+                    // times the tolerance, ~1e-9 relative, is noise there) accept, else the
+                    // iteration is slow: refresh the Newton matrix.
+                    if dq <= 1e3 * self.newton_tolerance * qscale {
+                        converged = true;
+                        break 'refresh;
+                    }
+                    continue 'refresh;
                 }
                 prev = dq;
             }
