@@ -197,7 +197,11 @@ pub fn emit_body(
             )));
         }
     }
-    let e = Emitter { b: bindings };
+    // Above this many instructions the registers live in one array: rustc's debug-info
+    // emission nests one lexical scope per `let`, and at tens of thousands of nested scopes
+    // (a 32-bar chain) it overflows its stack in a default (debuginfo) build.
+    let array = p.instructions().len() > ARRAY_REGISTERS_ABOVE;
+    let e = Emitter { b: bindings, array };
     let mut writes = TokenStream::new();
     for (o, t) in p.outputs().iter().zip(&targets) {
         let (name, zeroed, matrix) = match t {
@@ -230,6 +234,11 @@ pub fn emit_body(
         _ => false,
     };
     let mut tokens = TokenStream::new();
+    if array {
+        let name = e.file();
+        let size = Literal::usize_unsuffixed(p.registers());
+        tokens.extend(quote!(let mut #name = [0.0_f64; #size];));
+    }
     for (k, i) in p.instructions().iter().enumerate() {
         if inline_last && k + 1 == n {
             break;
@@ -265,18 +274,34 @@ fn is_identifier(s: &str) -> bool {
         && c.all(|x| x.is_ascii_alphanumeric() || x == '_')
 }
 
+/// Instruction count above which [`emit_body`] keeps registers in one array (`v[k]`)
+/// instead of one `let` per register.
+pub const ARRAY_REGISTERS_ABOVE: usize = 2000;
+
 struct Emitter<'a> {
     b: &'a EmitBindings,
+    /// Registers as elements of one array rather than separate `let`s.
+    array: bool,
 }
 
 impl Emitter<'_> {
-    fn reg(&self, r: Reg) -> Ident {
-        Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site())
+    /// The register array's name (the binding prefix).
+    fn file(&self) -> Ident {
+        Ident::new(&self.b.prefix, Span::call_site())
+    }
+
+    fn reg(&self, r: Reg) -> TokenStream {
+        if self.array {
+            let (name, k) = (self.file(), Literal::usize_unsuffixed(r.0 as usize));
+            quote!(#name[#k])
+        } else {
+            Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
+        }
     }
 
     fn operand(&self, o: Operand) -> TokenStream {
         match o {
-            Operand::Reg(r) => self.reg(r).into_token_stream(),
+            Operand::Reg(r) => self.reg(r),
             Operand::Sym(s) => self.b.get(s).cloned().unwrap_or_default(),
             Operand::Const(c) => f64_tokens(c),
         }
@@ -297,11 +322,19 @@ impl Emitter<'_> {
         match *i {
             Instr::SinCos { sin, cos, .. } => {
                 let (s, c) = (self.reg(sin), self.reg(cos));
-                quote!(let (#s, #c): (f64, f64) = #rhs;)
+                if self.array {
+                    quote!((#s, #c) = #rhs;)
+                } else {
+                    quote!(let (#s, #c): (f64, f64) = #rhs;)
+                }
             }
             Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
                 let d = self.reg(dst);
-                quote!(let #d: f64 = #rhs;)
+                if self.array {
+                    quote!(#d = #rhs;)
+                } else {
+                    quote!(let #d: f64 = #rhs;)
+                }
             }
         }
     }

@@ -44,7 +44,9 @@ pub use build_model::{
 pub use chain::{closed_chain_arch, closed_chain_model, closed_chain_source};
 pub use cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
 pub use diff::Differentiator;
-pub use emit::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
+pub use emit::{
+    ARRAY_REGISTERS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens,
+};
 pub use equations::Equations;
 pub use error::{Error, Location, Result};
 pub use eval::{eval, eval_many, eval_matrix};
