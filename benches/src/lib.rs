@@ -267,10 +267,10 @@ pub fn chain_case(n: usize, compiled: Box<dyn System>) -> Option<Case> {
 /// velocity with the first independent rate set to 1 rad/s.
 pub fn state(system: &dyn System) -> (Vec<f64>, Vec<f64>) {
     let mut ind = system.info().independent.clone();
-    if ind.iter().all(|i| i.velocity == 0.0) {
-        if let Some(first) = ind.first_mut() {
-            first.velocity = 1.0;
-        }
+    if ind.iter().all(|i| i.velocity == 0.0)
+        && let Some(first) = ind.first_mut()
+    {
+        first.velocity = 1.0;
     }
     let s = mechanism::assemble_from(
         system,
