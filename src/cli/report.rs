@@ -48,8 +48,10 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
     for ((name, q), (_, qd)) in q0.iter().zip(qd0) {
         let printed = SEED_PRINTED.iter().find(|p| p.0 == name).filter(|_| seed);
         let p = printed.map_or(String::new(), |p| format!(" {:>15}", p.1));
-        // + 0.0 turns a -0.0 from round-off into 0.0 for display.
-        let (q, qd) = (q + 0.0, qd + 0.0);
+        // Values that round to zero at the 15 printed decimals (e.g. -7e-49 from round-off)
+        // print as 0, not -0.000000000000000.
+        let clean = |x: f64| if x.abs() < 5e-16 { 0.0 } else { x };
+        let (q, qd) = (clean(*q), clean(*qd));
         let _ = writeln!(s, "  {name:<10} {q:>20.15} {qd:>20.15}{p}");
     }
     if seed {
