@@ -131,7 +131,7 @@ impl Dynamics {
         // itself. Conditioning changes gradually along a trajectory, so it is estimated on
         // every ESTIMATE_EVERY-th solve, and on every solve once it is within a factor 1e3 of
         // the limit (an exactly singular matrix is always caught by the factorisation).
-        let near = !(self.condition <= self.condition_limit * 1e-3);
+        let near = self.condition.is_nan() || self.condition > self.condition_limit * 1e-3;
         if near || self.since_estimate >= ESTIMATE_EVERY {
             self.condition = self.lu.condition_estimate();
             self.since_estimate = 0;
