@@ -119,10 +119,13 @@ impl Interpreted {
     ) -> Result<Self, mechanism_codegen::Error> {
         let tangent = residual_tangent(&mut model, &eqs)?;
         let arena = &model.arena;
-        let sym = |id| {
-            arena
-                .as_symbol(id)
-                .expect("coordinates and parameters are symbol nodes")
+        // A hand-built Model may put any expression where a symbol belongs: say so.
+        let sym = |id, what: &str| {
+            arena.as_symbol(id).ok_or_else(|| {
+                mechanism_codegen::Error::Model(format!(
+                    "{what} is not a symbol of the model's arena"
+                ))
+            })
         };
         let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
         let full = Program::new(
@@ -163,10 +166,26 @@ impl Interpreted {
         let equations_text = mechanism_codegen::equations_text(&model, &eqs);
         Ok(Self {
             parameters: model.parameters.iter().map(|p| p.default).collect(),
-            parameter_symbols: model.parameters.iter().map(|p| sym(p.symbol)).collect(),
-            q_symbols: model.coordinates.iter().map(|c| sym(c.q)).collect(),
-            qd_symbols: model.coordinates.iter().map(|c| sym(c.qd)).collect(),
-            qdd_symbols: model.coordinates.iter().map(|c| sym(c.qdd)).collect(),
+            parameter_symbols: model
+                .parameters
+                .iter()
+                .map(|p| sym(p.symbol, &format!("parameter `{}`", p.name)))
+                .collect::<Result<_, _>>()?,
+            q_symbols: model
+                .coordinates
+                .iter()
+                .map(|c| sym(c.q, &format!("coordinate `{}`", c.name)))
+                .collect::<Result<_, _>>()?,
+            qd_symbols: model
+                .coordinates
+                .iter()
+                .map(|c| sym(c.qd, &format!("the rate of `{}`", c.name)))
+                .collect::<Result<_, _>>()?,
+            qdd_symbols: model
+                .coordinates
+                .iter()
+                .map(|c| sym(c.qdd, &format!("the acceleration of `{}`", c.name)))
+                .collect::<Result<_, _>>()?,
             lambda_symbols: tangent.lambda.clone(),
             time_symbol: arena.as_symbol(model.time),
             full: Mutex::new(Scratch::new(&full, symbols)),

@@ -4,9 +4,10 @@
 //!
 //! The counter is thread-local so that the test harness's other threads cannot disturb it.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::hint::black_box;
+
+#[path = "../codegen/tests/alloc_support/mod.rs"]
+mod alloc_support;
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
@@ -15,40 +16,13 @@ use mechanism::builtin::{
 };
 use nalgebra::SVector;
 
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
-
 /// Runs every method once and returns the number of allocations they made.
 fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usize {
     let mech = T::default();
     let q = SVector::<f64, N>::from(T::INITIAL_GUESS);
     let qd = SVector::<f64, N>::from_fn(|i, _| 0.3 + i as f64);
     let t = 0.25;
-    let before = allocations();
+    let before = alloc_support::allocations();
     black_box(mech.mass_matrix(black_box(&q)));
     black_box(mech.coriolis_matrix(&q, &qd));
     black_box(mech.coriolis_forces(&q, &qd));
@@ -62,15 +36,15 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(mech.potential_energy(&q));
     black_box(mech.parameter(0));
     black_box(mech.evaluate(black_box(t), &q, &qd));
-    allocations() - before
+    alloc_support::allocations() - before
 }
 
 #[test]
 fn the_counter_counts() {
     // Guards the test itself: an allocation between two readings is seen.
-    let before = allocations();
+    let before = alloc_support::allocations();
     let v: Vec<u8> = black_box(Vec::with_capacity(16));
-    assert!(allocations() > before);
+    assert!(alloc_support::allocations() > before);
     drop(v);
 }
 

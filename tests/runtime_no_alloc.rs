@@ -3,39 +3,11 @@
 //! for every integrator and stabilisation.
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAlloc};
-use std::cell::Cell;
+#[path = "../codegen/tests/alloc_support/mod.rs"]
+mod alloc_support;
 
 use common::{CrankSlider, FourBar};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, Simulator, Stabilization, System};
-
-struct Counting;
-
-thread_local! {
-    static ARMED: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if ARMED.with(|a| a.get()) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        unsafe { SystemAlloc.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAlloc.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if ARMED.with(|a| a.get()) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        unsafe { SystemAlloc.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 fn allocations_in_steps(
     system: &dyn System,
@@ -59,13 +31,12 @@ fn allocations_in_steps(
         sim.step().unwrap();
     }
     let before = sim.trajectory().len();
-    COUNT.with(|c| c.set(0));
-    ARMED.with(|a| a.set(true));
+    let counted = alloc_support::allocations();
     for _ in 0..steps {
         sim.step().unwrap();
     }
-    ARMED.with(|a| a.set(false));
-    (COUNT.with(|c| c.get()), sim.trajectory().len() - before)
+    let made = alloc_support::allocations() - counted;
+    (made, sim.trajectory().len() - before)
 }
 
 #[test]

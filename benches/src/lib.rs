@@ -333,40 +333,20 @@ pub fn check_routes(c: &Case) {
         ("autodiff", eval(c.autodiff.as_ref())),
     ] {
         let name = format!("{} {route}", c.name);
-        close(reference.mass.as_slice(), e.mass.as_slice(), "M", &name);
+        let (r, e) = (&reference, &e);
+        for (what, x, y) in [
+            ("M", r.mass.as_slice(), e.mass.as_slice()),
+            ("C q'", r.coriolis.as_slice(), e.coriolis.as_slice()),
+            ("g", r.gravity.as_slice(), e.gravity.as_slice()),
+            ("tau", r.forces.as_slice(), e.forces.as_slice()),
+            ("Phi", r.phi.as_slice(), e.phi.as_slice()),
+            ("Phi_q", r.phi_q.as_slice(), e.phi_q.as_slice()),
+            ("gamma", r.gamma.as_slice(), e.gamma.as_slice()),
+        ] {
+            close(x, y, what, &name);
+        }
         close(
-            reference.coriolis.as_slice(),
-            e.coriolis.as_slice(),
-            "C q'",
-            &name,
-        );
-        close(
-            reference.gravity.as_slice(),
-            e.gravity.as_slice(),
-            "g",
-            &name,
-        );
-        close(
-            reference.forces.as_slice(),
-            e.forces.as_slice(),
-            "tau",
-            &name,
-        );
-        close(reference.phi.as_slice(), e.phi.as_slice(), "Phi", &name);
-        close(
-            reference.phi_q.as_slice(),
-            e.phi_q.as_slice(),
-            "Phi_q",
-            &name,
-        );
-        close(
-            reference.gamma.as_slice(),
-            e.gamma.as_slice(),
-            "gamma",
-            &name,
-        );
-        close(
-            &[reference.kinetic, reference.potential],
+            &[r.kinetic, r.potential],
             &[e.kinetic, e.potential],
             "T, Pi",
             &name,

@@ -9,7 +9,7 @@
 
 use crate::diff::Differentiator;
 use crate::equations::Equations;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::expr::{Id, SymbolId, SymbolKind};
 use crate::matrix::Matrix;
 use crate::model::Model;
@@ -41,16 +41,19 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
         .map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free))
         .collect();
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
-    let q: Vec<SymbolId> = model
-        .coordinates
-        .iter()
-        .filter_map(|c| arena.as_symbol(c.q))
-        .collect();
-    let qd: Vec<SymbolId> = model
-        .coordinates
-        .iter()
-        .filter_map(|c| arena.as_symbol(c.qd))
-        .collect();
+    let symbol = |id, what: &str, name: &str| {
+        arena.as_symbol(id).ok_or_else(|| {
+            Error::Model(format!(
+                "{what}`{name}` is not a symbol of the model's arena"
+            ))
+        })
+    };
+    let q = (model.coordinates.iter())
+        .map(|c| symbol(c.q, "coordinate ", &c.name))
+        .collect::<Result<Vec<SymbolId>>>()?;
+    let qd = (model.coordinates.iter())
+        .map(|c| symbol(c.qd, "the rate of coordinate ", &c.name))
+        .collect::<Result<Vec<SymbolId>>>()?;
     let qdd: Vec<Id> = model.coordinates.iter().map(|c| c.qdd).collect();
     let mut residual = Vec::with_capacity(n);
     for i in 0..n {

@@ -23,20 +23,12 @@ use crate::joints::cross;
 use crate::lex::{Cursor, Delim, Tok};
 use crate::matrix::Matrix;
 use crate::number::Number;
-use crate::parse::{ArenaResolver, Resolver};
+use crate::parse::{ArenaResolver, FUNCTIONS, Resolver};
 use crate::rotation::{Axis, elementary_rotation};
 
-/// Functions of vector expressions and their arities.
-const VFUNCTIONS: &[(&str, usize)] = &[
-    ("sin", 1),
-    ("cos", 1),
-    ("tan", 1),
-    ("exp", 1),
-    ("ln", 1),
-    ("sqrt", 1),
-    ("abs", 1),
-    ("atan2", 2),
-    ("pow", 2),
+/// Functions that only vector expressions have, with their arities; the scalar ones come
+/// from the expression parser's table (`der` is refused before the lookup).
+const VECTOR_FUNCTIONS: &[(&str, usize)] = &[
     ("rot_x", 1),
     ("rot_y", 1),
     ("rot_z", 1),
@@ -265,7 +257,11 @@ impl<'c, 'a> VParser<'c, 'a> {
                 }
                 self.c.next();
                 let args = self.list(Delim::Paren, "`,` or `)` after a function argument")?;
-                match VFUNCTIONS.iter().find(|f| f.0 == name) {
+                match FUNCTIONS
+                    .iter()
+                    .chain(VECTOR_FUNCTIONS)
+                    .find(|f| f.0 == name)
+                {
                     None => Err(Error::UnknownFunction {
                         name: name.clone(),
                         location: t.location,

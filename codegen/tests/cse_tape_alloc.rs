@@ -1,31 +1,10 @@
 //! `Tape::eval` allocates nothing: a counting global allocator (this test binary only)
 //! sees zero allocations across many evaluations of a realistic program.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+#[path = "alloc_support/mod.rs"]
+mod alloc_support;
 
 use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
-
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 #[test]
 fn tape_eval_does_not_allocate() {
@@ -54,12 +33,12 @@ fn tape_eval_does_not_allocate() {
     let mut inputs = vec![0.3; nsym];
     let mut out = vec![0.0; tape.output_len()];
     tape.eval(&inputs, &mut out).unwrap();
-    let before = ALLOCS.load(Ordering::SeqCst);
+    let before = alloc_support::allocations();
     for k in 0..1000 {
         inputs[0] = 0.001 * k as f64;
         tape.eval(&inputs, &mut out).unwrap();
     }
-    let after = ALLOCS.load(Ordering::SeqCst);
+    let after = alloc_support::allocations();
     assert_eq!(after - before, 0, "Tape::eval allocated");
     assert!(out.iter().all(|v| v.is_finite()));
 }

@@ -1,33 +1,13 @@
 //! The emitted functions allocate nothing: a counting global allocator (this test binary
 //! only) sees no allocation while every generated function runs.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use mechanism_emit_check::generated::{MATRICES, P, SCALARS};
 use nalgebra::{SMatrix, SVector};
 
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "../../codegen/tests/alloc_support/mod.rs"]
+mod alloc_support;
 
 #[test]
 fn emitted_functions_do_not_allocate() {
@@ -35,7 +15,7 @@ fn emitted_functions_do_not_allocate() {
     let q = SVector::<f64, 2>::new(0.3, -1.1);
     let mut all = [SMatrix::<f64, 2, 3>::zeros(); MATRICES.len()];
     let mut sink = 0.0;
-    let before = ALLOCS.load(Ordering::SeqCst);
+    let before = alloc_support::allocations();
     for step in 0..10 {
         let t = 0.1 * step as f64;
         for f in SCALARS {
@@ -46,7 +26,7 @@ fn emitted_functions_do_not_allocate() {
         }
         p.all(black_box(&q), t, black_box(&mut all));
     }
-    let after = ALLOCS.load(Ordering::SeqCst);
+    let after = alloc_support::allocations();
     assert_eq!(after - before, 0, "emitted code allocated");
     black_box(sink);
 }
