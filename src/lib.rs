@@ -47,8 +47,8 @@ pub use crate::linearize::{Linearization, linearize};
 pub use crate::mechanism::Tangent;
 pub use crate::progress::Progress;
 pub use crate::simulate::{
-    Event, EventAction, EventFn, EventHit, InitialState, Simulation, SimulationOptions, Simulator,
-    simulate, simulate_with_events,
+    Event, EventAction, EventFn, EventHit, InitialState, MAX_OUTPUT_SAMPLES, Simulation,
+    SimulationOptions, Simulator, simulate, simulate_with_events,
 };
 pub use crate::stabilization::{Projector, Stabilization};
 pub use crate::sweep::{ParameterSet, sweep, sweep_simulate, with_parameters};

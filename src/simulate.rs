@@ -24,8 +24,14 @@ use crate::integrators::{
 };
 use crate::kinematics::{AssemblyOptions, assemble, assemble_from};
 use crate::mechanism::{Independent, System};
+use crate::output::csv::format_f64;
 use crate::stabilization::{Projector, Stabilization};
 use crate::trajectory::Trajectory;
+
+/// Most output samples one run records (each is a row of 3n + m + 6 numbers).
+pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
+/// Output samples whose storage is reserved before the first step.
+const RESERVED_SAMPLES: usize = 1_000_000;
 
 /// Where the simulation starts.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -299,8 +305,20 @@ impl<'a> Simulator<'a> {
             }
         }
         let span = options.t_end - t0;
-        let outputs = ((span * options.output_rate) - 1e-9).ceil().max(1.0) as usize;
-        let trajectory = Trajectory::with_capacity(info.clone(), outputs + 1 + 64);
+        let outputs = ((span * options.output_rate) - 1e-9).ceil().max(1.0);
+        // t_end > t0 and rate > 0 were checked above, so outputs is not NaN.
+        if outputs > MAX_OUTPUT_SAMPLES as f64 {
+            return Err(Error::InvalidInput(format!(
+                "{} s at {} samples per second would record {outputs:e} samples, more than the {MAX_OUTPUT_SAMPLES:e} this run allows: shorten the time span or lower the output rate",
+                format_f64(span),
+                format_f64(options.output_rate)
+            )));
+        }
+        // Reserve the whole output up front (the step loop then never grows it) unless it is
+        // very long; beyond that the buffer grows as it fills.
+        let outputs = outputs as usize;
+        let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
+        let trajectory = Trajectory::with_capacity(info.clone(), reserve);
         let stepper = match io.method {
             Method::Hht { alpha, .. } => {
                 let mut hht = Box::new(Hht::new(info, alpha)?);

@@ -241,3 +241,41 @@ fn solver_failure_is_a_typed_message() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");
 }
+
+#[test]
+fn absurd_sample_counts_are_refused_not_a_crash() {
+    // 1e300 s at 100 samples per second cannot be stored: a one-line error, before any
+    // buffer is reserved, for both commands.
+    let o = mechanism(&["simulate", "cartesian_pendulum", "--t-end", "1e300"]);
+    assert_one_line_error(&o, "samples");
+    let o = mechanism(&[
+        "inverse",
+        "cartesian_pendulum",
+        "--drive",
+        "x = 0.1*sin(t)",
+        "--t-end",
+        "1e300",
+    ]);
+    assert_one_line_error(&o, "samples");
+    let o = mechanism(&[
+        "simulate",
+        "cartesian_pendulum",
+        "--t-end",
+        "1",
+        "--samples-per-second",
+        "1e15",
+    ]);
+    assert_one_line_error(&o, "samples");
+}
+
+#[test]
+fn the_library_refuses_them_too() {
+    // The same limit in `Simulator::new`, for callers that do not go through the CLI.
+    let system = mechanism::builtin::builtin("cartesian_pendulum").expect("built in");
+    let options = mechanism::SimulationOptions {
+        t_end: 1e300,
+        ..Default::default()
+    };
+    let err = mechanism::simulate(system.as_ref(), &options).expect_err("refused");
+    assert!(err.to_string().contains("samples"), "{err}");
+}

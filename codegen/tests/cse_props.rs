@@ -111,13 +111,26 @@ proptest! {
         prop_assert_eq!(r.outputs().len(), 1);
         let alone = Program::new(&a, &[&row]).unwrap();
         prop_assert_eq!(alone.op_counts(), c1, "restriction = a program built for that output alone");
+        let mut tp = Tape::new(&p);
         let mut t1 = Tape::new(&r);
         let mut t2 = Tape::new(&alone);
+        let mut op = vec![0.0; tp.output_len()];
         let mut o1 = vec![0.0; t1.output_len()];
         let mut o2 = vec![0.0; t2.output_len()];
-        if t1.eval(&x, &mut o1).is_ok() {
+        if tp.eval(&x, &mut op).is_ok() {
+            // Restriction keeps the very instructions: bit for bit the full program's values.
+            t1.eval(&x, &mut o1).unwrap();
+            prop_assert_eq!(&o1[..], &op[col.data.len()..]);
+            // Built alone, sin(u) may be a lone `sin` where the full program paired it into
+            // `sin_cos` (libm's two may differ in the last ulp): equal within the first-order
+            // rounding bound of the DAG.
             t2.eval(&x, &mut o2).unwrap();
-            prop_assert_eq!(o1, o2);
+            let mut memo = HashMap::new();
+            for ((a1, a2), id) in o1.iter().zip(&o2).zip(&row.data) {
+                let bound = dag(&a, *id, &|s| x[s.0 as usize], &mut memo).e;
+                prop_assume!(bound.is_finite());
+                prop_assert!(close(*a1, *a2, bound, bound), "restricted {a1} vs alone {a2} (bound {bound})");
+            }
         }
     }
 }

@@ -10,6 +10,7 @@ use super::report::summary_text;
 use crate::integrators::{IntegratorOptions, Method};
 use crate::kinematics::{AssemblyOptions, assemble_from};
 use crate::mechanism::System;
+use crate::output::csv::format_f64;
 use crate::output::{RunSettings, Summary, plot_trajectory, write_summary, write_trajectory_csv};
 use crate::progress::Progress;
 use crate::simulate::{InitialState, SimulationOptions, Simulator};
@@ -52,6 +53,15 @@ pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
         return Err(CliError::Argument(format!(
             "--samples-per-second must be positive, got {}",
             c.samples_per_second
+        )));
+    }
+    let samples = c.t_end * c.samples_per_second;
+    if samples > crate::MAX_OUTPUT_SAMPLES as f64 {
+        return Err(CliError::Argument(format!(
+            "--t-end {} at --samples-per-second {} asks for {samples:e} samples; at most {} are recorded",
+            format_f64(c.t_end),
+            format_f64(c.samples_per_second),
+            crate::MAX_OUTPUT_SAMPLES
         )));
     }
     Ok(())
