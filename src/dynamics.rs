@@ -82,22 +82,23 @@ impl Dynamics {
         self.evaluations += 1;
         system.evaluate(t, q, qd, &mut self.eval);
         let e = &self.eval;
-        let a = self.lu.matrix_mut();
+        let k = n + m;
+        // Column-major fill of [M Phi_q^T; Phi_q 0], column by column.
+        let a = self.lu.matrix_mut().as_mut_slice();
+        let (mass, phi_q) = (e.mass.as_slice(), e.phi_q.as_slice());
         for j in 0..n {
-            for i in 0..n {
-                a[(i, j)] = e.mass[(i, j)];
-            }
+            let col = &mut a[j * k..(j + 1) * k];
+            col[..n].copy_from_slice(&mass[j * n..(j + 1) * n]);
+            col[n..].copy_from_slice(&phi_q[j * m..(j + 1) * m]);
         }
         for r in 0..m {
-            for j in 0..n {
-                let v = e.phi_q[(r, j)];
-                a[(n + r, j)] = v;
-                a[(j, n + r)] = v;
+            let col = &mut a[(n + r) * k..(n + r + 1) * k];
+            for (j, v) in col[..n].iter_mut().enumerate() {
+                *v = phi_q[j * m + r];
             }
-            for c in 0..m {
-                a[(n + r, n + c)] = 0.0;
-            }
+            col[n..].fill(0.0);
         }
+        let finite_matrix = a.iter().fold(true, |ok, v| ok & v.is_finite());
         for i in 0..n {
             self.sol[i] = e.forces[i] - e.coriolis[i] - e.gravity[i];
         }
@@ -113,7 +114,7 @@ impl Dynamics {
             }
             self.sol[n + r] = g;
         }
-        if self.sol.iter().any(|v| !v.is_finite()) || a.iter().any(|v| !v.is_finite()) {
+        if !finite_matrix || !self.sol.iter().fold(true, |ok, v| ok & v.is_finite()) {
             return Err(self.non_finite(
                 "the equations of motion (M, C q', g, tau, Phi_q or gamma)",
                 t,
