@@ -53,9 +53,13 @@ def main():
     cc = base.get("c_code", {})
     print(f"Machine: {machine()}\n")
 
+    pr = base.get("c_code_per_routine", {})
     print("### Combined evaluation of M, C q', g, Phi, Phi_q (median per call)\n")
-    print("| model | ours: `evaluate` (all 10 outputs) | ours: 5 separate fns | SymPy-cse C, all five | ratio ours/C (target <= 0.25) | interpreter | autodiff (num-dual) | interp / ours | AD / ours |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("SymPy-C two ways (see \"What is compared\"): *strict* = one C function after one joint `cse` of all five; "
+          "*per routine* = `sympy.utilities.codegen`'s one CSE'd routine per matrix, called in turn. Ratios are ours / C "
+          "(target <= 0.25); like for like: `evaluate` vs strict, 5 separate fns vs per routine.\n")
+    print("| model | ours: `evaluate` (all 10 outputs) | ours: 5 separate fns | SymPy-C strict | evaluate / strict | SymPy-C per routine | evaluate / per routine | 5 fns / per routine | interpreter | autodiff (num-dual) | interp / ours | AD / ours |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for m in MODELS:
         ev = median(m, "evaluate_static")
         sep = median(m, "five_separate_static")
@@ -63,9 +67,11 @@ def main():
         src = "" if c is not None else " (issue)"
         if c is None:
             c = ISSUE_C.get(m)
+        r = pr.get(m, {}).get("ns")
         it, ad = median(m, "evaluate_interpreted"), median(m, "evaluate_autodiff")
         ours_dyn = median(m, "evaluate_compiled")
-        print(f"| {m} | {fmt(ev)} | {fmt(sep)} | {fmt(c)}{src if c else ''} | {'-' if c is None or ev is None else f'{ev / c:.2f}'} | {fmt(it)} | {fmt(ad)} | {ratio(it, ours_dyn)} | {ratio(ad, ours_dyn)} |")
+        q = lambda a, b: "-" if a is None or b is None else f"{a / b:.2f}"
+        print(f"| {m} | {fmt(ev)} | {fmt(sep)} | {fmt(c)}{src if c else ''} | {q(ev, c)} | {fmt(r)} | {q(ev, r)} | {q(sep, r)} | {fmt(it)} | {fmt(ad)} | {ratio(it, ours_dyn)} | {ratio(ad, ours_dyn)} |")
     print("\n(interp / ours and AD / ours compare the three routes through the same run-time `System::evaluate` interface; ours there = "
           "`Compiled<T>` adapter, which adds the copies into the caller's `Evaluation`.)\n")
 
@@ -108,20 +114,43 @@ def main():
     if os.path.exists(sim):
         print("\n## Whole simulations\n")
         print(open(sim).read())
-    sc = base.get("scipy", {}).get("seed_dop853_1e-10")
+    scipy = base.get("scipy", {})
     simj = json.load(open(os.path.join(RES, "simulation.json"))) if os.path.exists(os.path.join(RES, "simulation.json")) else {}
     ours = median("simulate_10s", "seed_dop853_1e-10")
     if ours is not None:
-        wall = sc["wall_s"] if sc else 1.55
-        src = "measured" if sc else "issue"
         ours_err = simj.get("seed dop853, rtol = atol = 1e-10", {}).get("error")
-        print(f"\nSeed, 10 s, DOP853 at 1e-10: ours {fmt(ours)} (criterion median), scipy {wall:.3f} s ({src}): {wall * 1e9 / ours:.0f}x faster "
-              f"(target 1000x). Error at 10 s: ours {ours_err:.1e}" + (f", scipy {sc['error']:.1e}; scipy {sc['steps']} steps, {sc['rhs']} RHS, max abs(Phi) {sc['max_phi']:.1e}" if sc and sc.get("error") is not None else "") + ".")
+        print("\n#### Seed, 10 s, DOP853 at rtol = atol = 1e-10: ours against scipy\n")
+        print("| run | wall | ours faster by (target 1000x) | steps | RHS evals | us per RHS | error at 10 s | max abs(Phi) |")
+        print("|---|---|---|---|---|---|---|---|")
+        print(f"| ours (criterion median) | {fmt(ours)} | - | - | - | - | {ours_err:.1e} | - |")
+        for key, label in (("seed_dop853_1e-10", "scipy, lambdify(cse=True), preallocated KKT"),
+                           ("seed_dop853_1e-10_lambdify_default", "scipy, lambdify defaults, np.block per call")):
+            sc = scipy.get(key)
+            if sc:
+                err = f"{sc['error']:.1e}" if sc.get("error") is not None else "-"
+                print(f"| {label} | {sc['wall_s']:.3f} s | {sc['wall_s'] * 1e9 / ours:.0f}x | {sc['steps']} | {sc['rhs']} | "
+                      f"{sc.get('us_per_rhs', sc['wall_s'] * 1e6 / sc['rhs']):.1f} | {err} | {sc['max_phi']:.1e} |")
+        print(f"| scipy (issue) | 1.55 s | {1.55e9 / ours:.0f}x | - | - | - | - | - |")
     for k in ("four_bar_dop853_1e-9", "four_bar_dop853_1e-8"):
         t = median("simulate_10s", k)
         if t is not None:
             print(f"\nFour-bar 10 s, {k}: {fmt(t)} = {10 / (t * 1e-9):.0f} simulated s per wall s.")
 
+    mj_path = os.path.join(RES, "mujoco.json")
+    if os.path.exists(mj_path):
+        mj = json.load(open(mj_path))
+        print(f"\n#### Four-bar, 10 s: MuJoCo {mj.get('mujoco_version', '?')} against ours\n")
+        print("| run | simulated s per wall s | crank angle error at 10 s (rad) | max loop violation (m) |")
+        print("|---|---|---|---|")
+        for name, r in mj.get("runs", {}).items():
+            st = r.get("settings", {})
+            desc = ", ".join(f"{k} {v}" for k, v in st.items() if k in ("integrator", "timestep", "solref"))
+            print(f"| MuJoCo {name} ({desc or 'defaults'}) | {r['sim_per_wall']:.0f} (rollout: {r.get('sim_per_wall_rollout', float('nan')):.0f}) | "
+                  f"{r['th1_error_rad']:.1e} | {r['max_loop_violation_m']:.1e} |")
+        fb = simj.get("four_bar dop853")
+        if fb:
+            print(f"| ours, DOP853 at {fb['tol']:g} (projection; simulation.json) | {fb['sim_per_wall']:.0f} | {fb['error']:.1e} | "
+                  f"{simj.get('phi four-bar projection', {}).get('max_phi', float('nan')):.1e} (max abs(Phi)) |")
 
 if __name__ == "__main__":
     main()

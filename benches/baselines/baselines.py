@@ -6,7 +6,23 @@ Run through `benches/baselines/run.sh` (it creates the venv). Models:
 - the closed N-bar chain is built as a SymPy user would (issue 2's definition), for the
   derivation timings, and read from `benches/mechanisms/closed_chain_N.mech` for the C code.
 
-Everything is written to target/bench-results/baselines.json (and .md).
+Two variants of each peer (issue 6 asks for "SymPy's CSE'd C code" and "scipy's DOP853 with
+SymPy-lambdified equations"; both are routes a SymPy user takes, see VARIANTS):
+- C, strict (`c_code`): the five matrices in ONE function after ONE joint `sympy.cse`, so every
+  angle's sin/cos is computed once and gcc merges each pair into one `sincos` call; the
+  strongest SymPy-C there is.
+- C, per routine (`c_code_per_routine`): `sympy.utilities.codegen` with
+  `C99CodeGen(cse=True)`, one routine per matrix (each CSE'd on its own), called one after
+  another from a separate file; every routine computes its own sin/cos.
+- scipy, `seed_dop853_1e-10`: lambdify(cse=True), parameters substituted, KKT matrix in
+  preallocated arrays; `seed_dop853_1e-10_lambdify_default`: lambdify with its defaults (no
+  cse), one function per matrix, `np.block` per call.
+Every number is stored with the load average at the time (`load`, `*_load`) and, where the
+wall clock is distorted by a busy machine, with this thread's CPU time (`ns_cpu`, `cpu_s`,
+`*_cpu_s`); `ns` / `*_s` stay the wall-clock medians / times as before. `libm` holds the cost
+of one glibc sin / cos / sincos call here.
+
+Everything is written to target/bench-results/baselines.json (merged into earlier results).
 """
 
 import argparse
@@ -21,6 +37,15 @@ import time
 import numpy as np
 import sympy as sp
 from sympy.physics.mechanics import LagrangesMethod, dynamicsymbols
+
+VARIANTS = {
+    "c_code": "Strict SymPy-C: M, C q', g, Phi, Phi_q emitted by ccode as ONE C function after ONE joint sympy.cse of all five (each sin/cos once, gcc merges pairs into sincos), gcc -O3 -march=native.",
+    "c_code_per_routine": "Typical SymPy-C: sympy.utilities.codegen with C99CodeGen(cse=True) emits one C routine per matrix (M, C q', g, Phi, Phi_q), each CSE'd on its own, called one after another from a separate file, so each routine recomputes its own sin/cos; gcc -O3 -march=native.",
+    "scipy.seed_dop853_1e-10": "solve_ivp DOP853 (rtol = atol = 1e-10) on SymPy-lambdified equations with cse=True and the parameters substituted, the KKT matrix filled into preallocated arrays and solved with numpy.linalg.solve.",
+    "scipy.seed_dop853_1e-10_lambdify_default": "solve_ivp DOP853 (rtol = atol = 1e-10) on lambdify with its defaults (no cse), one function per matrix taking (q, q', p, t), the KKT matrix built with np.block on every call and solved with numpy.linalg.solve.",
+    "derivation": "SymPy derivation of the closed N-bar chain: direct_s = differentiation and jacobians on plain symbols; lagranges_s = sympy.physics.mechanics.LagrangesMethod(...).form_lagranges_equations() with the loop closure as hol_coneqs.",
+    "libm": "ns per glibc call, gcc -O3 -march=native: *_dependent = each argument is the previous result (latency), *_independent = arguments from a table (throughput); sincos = sin(x) and cos(x) of one x, which gcc merges into one sincos call.",
+}
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 RESULTS = os.path.join(ROOT, "target", "bench-results")
@@ -121,10 +146,25 @@ def chain_lagranges(n):
     return lm.mass_matrix_full, lm.forcing_full
 
 
+def load_avg():
+    """The 1, 5 and 15 minute load averages (as `uptime` shows them), recorded with each number."""
+    try:
+        return " ".join(open("/proc/loadavg").read().split()[:3])
+    except OSError:
+        return None
+
+
 def timed(f, *a):
     t0 = time.perf_counter()
     r = f(*a)
     return time.perf_counter() - t0, r
+
+
+def timed_cpu(f, *a):
+    """(wall s, this thread's CPU s, result): CPU time is what a busy shared machine distorts least."""
+    t0, c0 = time.perf_counter(), time.thread_time()
+    r = f(*a)
+    return time.perf_counter() - t0, time.thread_time() - c0, r
 
 
 # ---------------------------------------------------------------- C code
@@ -133,24 +173,27 @@ C_MAIN = r"""
 #include <stdlib.h>
 #include <time.h>
 void all5(const double *x, double *out);
-static double now(void) { struct timespec ts; clock_gettime(CLOCK_MONOTONIC, &ts); return ts.tv_sec + 1e-9 * ts.tv_nsec; }
+static double clock_s(clockid_t c) { struct timespec ts; clock_gettime(c, &ts); return ts.tv_sec + 1e-9 * ts.tv_nsec; }
 static int cmp(const void *a, const void *b) { double d = *(const double *)a - *(const double *)b; return (d > 0) - (d < 0); }
 int main(int argc, char **argv) {
     double x[NX], out[NOUT];
     for (int i = 0; i < NX; i++) x[i] = atof(argv[1 + i]);
-    long iters = ITERS; double samples[21], sink = 0;
+    long iters = ITERS; double samples[21], cpu[21], sink = 0;
     for (int r = 0; r < 21; r++) {
-        double t0 = now();
+        double t0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID);
         for (long k = 0; k < iters; k++) {
             x[0] += 1e-15;
             all5(x, out);
             __asm__ volatile("" : : "r"(out) : "memory");
             sink += out[0];
         }
-        samples[r] = (now() - t0) / iters * 1e9;
+        samples[r] = (clock_s(CLOCK_MONOTONIC) - t0) / iters * 1e9;
+        cpu[r] = (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0) / iters * 1e9;
     }
     qsort(samples, 21, sizeof(double), cmp);
-    printf("%.3f %g\n", samples[10], sink);
+    qsort(cpu, 21, sizeof(double), cmp);
+    /* median wall, minimum wall, median thread CPU time (ns per call) */
+    printf("%.3f %.3f %.3f %g\n", samples[10], samples[0], cpu[10], sink);
     return 0;
 }
 """
@@ -173,15 +216,128 @@ def c_code(model, exprs):
 
 
 def time_c(model, exprs, values, iters=2_000_000):
+    """The strict variant: one function, one joint cse of the five (same build as the
+    per-routine variant: one object per file, gcc -O3 -march=native)."""
     src, nx, nout, ops = c_code(model, exprs)
+    t, calls = build_and_time({"f.c": src}, nx, nout, values, iters, "f.o")
+    return t, ops, calls
+
+
+C_PER_ROUTINE = [("mass_matrix", "M"), ("coriolis", "Cqd"), ("gravity", "g"), ("constraints", "Phi"), ("constraint_jacobian", "Phi_q")]
+
+
+def libm_calls(obj):
+    """Calls into libm in an object file (objdump -dr relocations): {name: count}."""
+    dis = subprocess.run(["objdump", "-dr", obj], check=True, capture_output=True, text=True).stdout
+    calls = {}
+    for name in re.findall(r"R_X86_64_PLT32\s+(\w+)", dis):
+        if name in ("sin", "cos", "sincos", "tan", "pow", "sqrt", "exp", "log", "atan2"):
+            calls[name] = calls.get(name, 0) + 1
+    return calls
+
+
+def c_code_per_routine(model, d):
+    """What `sympy.utilities.codegen` gives a user who asks for CSE: one C routine per matrix.
+
+    `codegen([(name, matrix), ...], code_gen=C99CodeGen(cse=True))` (SymPy 1.14's `codegen()`
+    has no `cse=` keyword; CSE is the code generator's `cse` flag) runs `cse` on each matrix
+    on its own and emits one function per matrix with its own arguments, in alphabetical
+    order. The caller (a separate file, as a user's program would be) calls the five one after
+    another, so each routine computes its own sin/cos. Returns (routines source, caller source,
+    nx, nout, ops)."""
+    from sympy.utilities.codegen import C99CodeGen
+
+    inputs = model["q"] + model["qd"] + list(model["params"].keys()) + [model.get("t", sp.Symbol("t"))]
+    index = {s.name: i for i, s in enumerate(inputs)}
+    gen = C99CodeGen(project="mechanism", cse=True)
+    routines = [gen.routine(name, d[key], None, None) for name, key in C_PER_ROUTINE]
+    [(_, src), (_, header)] = gen.write(routines, "routines", header=False, empty=False)
+    ops = 0
+    calls, offset = [], 0
+    for r, (_, key) in zip(routines, C_PER_ROUTINE):
+        ops += sum(sp.count_ops(v.expr) for v in r.local_vars) + sum(sp.count_ops(a.expr) for a in r.arguments if hasattr(a, "expr"))
+        args = []
+        for a in r.arguments:
+            if a.__class__.__name__ == "InputArgument":
+                args.append(f"x[{index[str(a.name)]}]")
+            else:
+                args.append(f"out + {offset}")
+        offset += len(d[key])
+        calls.append(f"  {r.name}({', '.join(args)});")
+    caller = '#include "routines.h"\nvoid all5(const double *x, double *out) {\n' + "\n".join(calls) + "\n}\n"
+    return src, header, caller, len(inputs), offset, int(ops)
+
+
+def build_and_time(files, nx, nout, values, iters, objdump=None):
+    """Compiles `files` ({name: source}) with C_MAIN, gcc -O3 -march=native, one object per
+    file (no LTO, so nothing is inlined across files); returns (ns per call, libm calls in
+    the object `objdump`)."""
     with tempfile.TemporaryDirectory() as d:
-        open(os.path.join(d, "f.c"), "w").write(src)
-        open(os.path.join(d, "main.c"), "w").write(C_MAIN)
+        files = dict(files, **{"main.c": C_MAIN})
+        objs = []
+        for name, text in files.items():
+            open(os.path.join(d, name), "w").write(text)
+        for name in files:
+            if name.endswith(".c"):
+                o = os.path.join(d, name[:-2] + ".o")
+                subprocess.run(["gcc", "-O3", "-march=native", f"-DNX={nx}", f"-DNOUT={nout}", f"-DITERS={iters}",
+                                "-c", os.path.join(d, name), "-o", o], check=True, cwd=d)
+                objs.append(o)
         exe = os.path.join(d, "bench")
-        subprocess.run(["gcc", "-O3", "-march=native", f"-DNX={nx}", f"-DNOUT={nout}", f"-DITERS={iters}",
-                        os.path.join(d, "f.c"), os.path.join(d, "main.c"), "-lm", "-o", exe], check=True)
-        ns = float(subprocess.run([exe] + [repr(v) for v in values], check=True, capture_output=True, text=True).stdout.split()[0])
-    return ns, ops
+        subprocess.run(["gcc"] + objs + ["-lm", "-o", exe], check=True)
+        res = subprocess.run([exe] + [repr(v) for v in values], check=True, capture_output=True, text=True).stdout.split()
+        calls = libm_calls(os.path.join(d, objdump)) if objdump else None
+    return dict(ns=float(res[0]), ns_min=float(res[1]), ns_cpu=float(res[2])), calls
+
+
+def time_c_per_routine(model, d, values, iters=2_000_000):
+    src, header, caller, nx, nout, ops = c_code_per_routine(model, d)
+    t, calls = build_and_time({"routines.c": src, "routines.h": header, "calls.c": caller}, nx, nout, values, iters, "routines.o")
+    return t, ops, calls
+
+
+LIBM_BENCH = r"""
+#define _GNU_SOURCE
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+static double now(void) { struct timespec ts; clock_gettime(CLOCK_MONOTONIC, &ts); return ts.tv_sec + 1e-9 * ts.tv_nsec; }
+static int cmp(const void *a, const void *b) { double d = *(const double *)a - *(const double *)b; return (d > 0) - (d < 0); }
+volatile double vin = 0.7;
+static double xs[1024], s[101], sink;
+#define N 100000
+#define RUN(label, ...) for (int r = 0; r < 101; r++) { double x = vin, acc = 0, t0 = now(); \
+    for (long k = 0; k < N; k++) { __VA_ARGS__ } s[r] = (now() - t0) / N * 1e9; sink += x + acc; } \
+    qsort(s, 101, sizeof s[0], cmp); printf("%s %.3f %.3f\n", label, s[0], s[50]);
+int main(void) {
+    for (int i = 0; i < 1024; i++) xs[i] = 0.3 + 1.2 * i / 1024.0;
+    RUN("sin_dependent", x = sin(x) + 0.7;)
+    RUN("sin_independent", acc += sin(xs[k & 1023] + vin * 1e-300);)
+    RUN("cos_dependent", x = cos(x) + 0.7;)
+    RUN("sincos_dependent", { double a = sin(x), b = cos(x); x = a + 0.5 * b + 0.3; })
+    RUN("sincos_independent", { double y = xs[k & 1023] + vin * 1e-300; acc += sin(y) + cos(y); })
+    RUN("fma_dependent", x = x * 0.5 + 0.7;)
+    fprintf(stderr, "%g\n", sink);
+    return 0;
+}
+"""
+
+
+def libm_cost():
+    """ns per libm call (glibc, gcc -O3 -march=native): min and median of 101 batches of 1e5.
+    `dependent`: each call's argument is the previous result (latency); `independent`:
+    arguments from a table (throughput). sin(x) and cos(x) of the same x: gcc emits sincos."""
+    with tempfile.TemporaryDirectory() as d:
+        open(os.path.join(d, "libm.c"), "w").write(LIBM_BENCH)
+        exe = os.path.join(d, "libm")
+        subprocess.run(["gcc", "-O3", "-march=native", os.path.join(d, "libm.c"), "-lm", "-o", exe], check=True)
+        text = subprocess.run([exe], check=True, capture_output=True, text=True).stdout
+    res = {}
+    for line in text.splitlines():
+        name, lo, med = line.split()
+        res[name] = dict(min_ns=float(lo), median_ns=float(med))
+    return res
 
 
 def five(d):
@@ -218,23 +374,65 @@ def seed_scipy(model, rtol, reference=None):
         x = np.linalg.solve(A, b)
         return np.concatenate([y[n:], x[:n]])
 
-    # Consistent initial state (ERRATA item 2): closed forms, then Phi_q q' = 0 with phi' = 2 pi.
+    y0 = seed_initial_state(ps, lambda q0: Phiq_f(*q0, *np.zeros(n), 0.0))
+    t0, c0 = time.perf_counter(), time.thread_time()
+    sol = solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=rtol, atol=rtol)
+    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
+    qend = sol.y[:n, -1]
+    max_phi = max(np.abs(Phi_f(*sol.y[:, k], sol.t[k])).max() for k in range(sol.y.shape[1]))
+    err = float(np.abs(qend - np.array(reference)).max()) if reference is not None else None
+    return dict(wall_s=wall, cpu_s=cpu, steps=int(len(sol.t) - 1), rhs=int(sol.nfev), us_per_rhs=wall / sol.nfev * 1e6,
+                q_end=list(map(float, qend)), max_phi=float(max_phi), error=err)
+
+
+def seed_scipy_default(model, rtol, reference=None):
+    """The plain SymPy user's route: `sympy.lambdify` with its defaults (no cse, modules =
+    scipy + numpy), one function per matrix taking (q, q', p, t) with the parameters as a
+    vector argument, the KKT system built with `np.block` on every call and solved with
+    `numpy.linalg.solve`; same integrator, tolerance and initial state as `seed_scipy`."""
+    from scipy.integrate import solve_ivp
+
+    d = direct(model)
+    n, m = len(model["q"]), len(model["Phi"])
+    ps = model["params"]
+    q, qd, p, t = model["q"], model["qd"], list(ps.keys()), model["t"]
+    pv = np.array(list(ps.values()))
+    f = lambda e: sp.lambdify((q, qd, p, t), sp.Matrix(e))
+    M_f, C_f, g_f, tau_f = f(d["M"]), f(d["Cqd"]), f(d["g"]), f(model["tau"])
+    Phiq_f, gamma_f, Phi_f = f(d["Phi_q"]), f(d["gamma"]), f(d["Phi"])
+
+    def rhs(t, y):
+        q, qd = y[:n], y[n:]
+        M = M_f(q, qd, pv, t)
+        J = Phiq_f(q, qd, pv, t)
+        A = np.block([[M, J.T], [J, np.zeros((m, m))]])
+        F = tau_f(q, qd, pv, t) - C_f(q, qd, pv, t) - g_f(q, qd, pv, t)
+        b = np.concatenate([F.ravel(), gamma_f(q, qd, pv, t).ravel()])
+        x = np.linalg.solve(A, b)
+        return np.concatenate([qd, x[:n]])
+
+    y0 = seed_initial_state(ps, lambda q0: Phiq_f(q0, np.zeros(n), pv, 0.0))
+    t0, c0 = time.perf_counter(), time.thread_time()
+    sol = solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=rtol, atol=rtol)
+    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
+    qend = sol.y[:n, -1]
+    max_phi = max(np.abs(Phi_f(sol.y[:n, k], sol.y[n:, k], pv, sol.t[k])).max() for k in range(sol.y.shape[1]))
+    err = float(np.abs(qend - np.array(reference)).max()) if reference is not None else None
+    return dict(wall_s=wall, cpu_s=cpu, steps=int(len(sol.t) - 1), rhs=int(sol.nfev), us_per_rhs=wall / sol.nfev * 1e6,
+                q_end=list(map(float, qend)), max_phi=float(max_phi), error=err)
+
+
+def seed_initial_state(ps, phiq):
+    """Consistent initial state (ERRATA item 2): closed forms, then Phi_q q' = 0 with phi' = 2 pi."""
     P = {s.name: v for s, v in ps.items()}
     g0 = np.arccos((P["h"] + P["l1"]) / P["l2"])
     b0 = np.arcsin(P["d"] / (P["l2"] * np.sin(g0)))
     q0 = np.array([0.0, b0, g0, 0.2])
-    J = Phiq_f(*q0, *np.zeros(n), 0.0)
-    qd0 = np.zeros(n)
+    J = phiq(q0)
+    qd0 = np.zeros(len(q0))
     qd0[0] = 2 * np.pi
     qd0[1:] = np.linalg.solve(J[:, 1:], -J[:, 0] * qd0[0])
-    y0 = np.concatenate([q0, qd0])
-    t0 = time.perf_counter()
-    sol = solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=rtol, atol=rtol)
-    wall = time.perf_counter() - t0
-    qend = sol.y[:n, -1]
-    max_phi = max(np.abs(Phi_f(*sol.y[:, k], sol.t[k])).max() for k in range(sol.y.shape[1]))
-    err = float(np.abs(qend - np.array(reference)).max()) if reference is not None else None
-    return dict(wall_s=wall, steps=int(len(sol.t) - 1), rhs=int(sol.nfev), q_end=list(map(float, qend)), max_phi=float(max_phi), error=err)
+    return np.concatenate([q0, qd0])
 
 
 # ---------------------------------------------------------------- main
@@ -244,18 +442,35 @@ def main():
     ap.add_argument("--lagranges", type=int, nargs="*", default=[4, 8, 16])
     ap.add_argument("--c-chains", type=int, nargs="*", default=[8, 16])
     ap.add_argument("--skip-scipy", action="store_true")
+    ap.add_argument("--skip-c", action="store_true", help="skip the SymPy-C timings (all variants)")
+    ap.add_argument("--c-variants", nargs="*", default=["strict", "per_routine"], choices=["strict", "per_routine"])
     a = ap.parse_args()
     os.makedirs(RESULTS, exist_ok=True)
     path = os.path.join(RESULTS, "baselines.json")
     # Merge into earlier results, so that partial reruns (e.g. `--chains` with no sizes)
     # keep the rest.
-    out = json.load(open(path)) if os.path.exists(path) else {}
-    out["sympy"] = sp.__version__
-    for k in ("derivation", "c_code", "scipy"):
-        out.setdefault(k, {})
+    # Only what this run measured is written: `save` rereads the file and merges this run's
+    # entries into it (two entries deep), so that concurrent runs (e.g. a long N = 32
+    # LagrangesMethod run in the background) do not overwrite each other.
+    out = {"sympy": sp.__version__, "variants": VARIANTS}
 
     def save():
-        json.dump(out, open(path, "w"), indent=1)
+        old = json.load(open(path)) if os.path.exists(path) else {}
+        for k, v in out.items():
+            if isinstance(v, dict) and isinstance(old.get(k), dict):
+                for kk, vv in v.items():
+                    if isinstance(vv, dict) and isinstance(old[k].get(kk), dict):
+                        old[k][kk].update(vv)
+                    else:
+                        old[k][kk] = vv
+            else:
+                old[k] = v
+        tmp = path + f".tmp{os.getpid()}"
+        json.dump(old, open(tmp, "w"), indent=1)
+        os.replace(tmp, path)
+
+    for k in ("derivation", "c_code", "scipy"):
+        out.setdefault(k, {})
 
     mechs = {
         "seed": read_mech(os.path.join(ROOT, "mechanisms", "spatial_crank_slider.mech")),
@@ -264,35 +479,53 @@ def main():
     }
     for n in a.c_chains:
         mechs[f"chain{n}"] = read_mech(os.path.join(ROOT, "benches", "mechanisms", f"closed_chain_{n}.mech"))
-    for name, model in mechs.items():
-        dt, d = timed(direct, model)
-        ns, ops = time_c(model, five(d), c_inputs(model))
-        out["c_code"][name] = dict(ns=ns, ops=ops, derive_s=dt)
-        print(f"C (SymPy cse, gcc -O3 -march=native) {name}: M, C q', g, Phi, Phi_q in {ns:.1f} ns, {ops} ops", flush=True)
+    if not a.skip_c:
+        out["libm"] = dict(libm_cost(), load=load_avg())
+        lm = out["libm"]
+        print("libm (ns per call, min/median): " + ", ".join(f"{k} {v['min_ns']:.1f}/{v['median_ns']:.1f}" for k, v in lm.items() if k != "load") + f"; load {lm['load']}", flush=True)
         save()
+    for name, model in ({} if a.skip_c else mechs).items():
+        dt, d = timed(direct, model)
+        if "strict" in a.c_variants:
+            t, ops, calls = time_c(model, five(d), c_inputs(model))
+            out["c_code"][name] = dict(t, ops=ops, derive_s=dt, libm_calls=calls, load=load_avg())
+            print(f"C strict (one function, one joint cse) {name}: M, C q', g, Phi, Phi_q in {t['ns']:.1f} ns (min {t['ns_min']:.1f}, cpu {t['ns_cpu']:.1f}), {ops} ops, libm {calls}, load {load_avg()}", flush=True)
+            save()
+        if "per_routine" in a.c_variants:
+            t, ops, calls = time_c_per_routine(model, d, c_inputs(model))
+            out.setdefault("c_code_per_routine", {})[name] = dict(t, ops=ops, libm_calls=calls, load=load_avg())
+            print(f"C per routine (codegen, C99CodeGen(cse=True), 5 routines) {name}: {t['ns']:.1f} ns (min {t['ns_min']:.1f}, cpu {t['ns_cpu']:.1f}), {ops} ops, libm {calls}, load {load_avg()}", flush=True)
+            save()
 
     for n in a.chains:
-        dt, d = timed(lambda: direct(chain_direct(n)))
+        dt, dc, d = timed_cpu(lambda: direct(chain_direct(n)))
         ct, (repl, red) = timed(lambda: sp.cse([e for k in ("M", "Cqd", "g", "Phi", "Phi_q", "gamma") for e in d[k]]))
         ops = int(sum(sp.count_ops(r) for _, r in repl) + sum(sp.count_ops(r) for r in red))
-        entry = dict(direct_s=dt, cse_s=ct, ops_after_cse=ops)
-        print(f"SymPy direct chain N = {n}: {dt:.2f} s (+ cse {ct:.2f} s, {ops} ops)", flush=True)
-        if n in a.lagranges:
-            lt, _ = timed(chain_lagranges, n)
-            entry["lagranges_s"] = lt
-            print(f"SymPy LagrangesMethod chain N = {n}: {lt:.2f} s", flush=True)
+        entry = dict(direct_s=dt, direct_cpu_s=dc, cse_s=ct, ops_after_cse=ops, direct_load=load_avg())
+        print(f"SymPy direct chain N = {n}: {dt:.2f} s (cpu {dc:.2f} s; + cse {ct:.2f} s, {ops} ops), load {entry['direct_load']}", flush=True)
         out["derivation"][str(n)] = entry
-        save()
+        save()  # before LagrangesMethod, which takes minutes at N = 32
+        if n in a.lagranges:
+            lt, lc, _ = timed_cpu(chain_lagranges, n)
+            entry["lagranges_s"] = lt
+            entry["lagranges_cpu_s"] = lc
+            entry["lagranges_load"] = load_avg()
+            print(f"SymPy LagrangesMethod chain N = {n}: {lt:.2f} s (cpu {lc:.2f} s), load {entry['lagranges_load']}", flush=True)
+            save()
 
     if not a.skip_scipy:
         ref = None
         sim = os.path.join(RESULTS, "simulation.json")
         if os.path.exists(sim):
             ref = json.load(open(sim)).get("seed_reference_q")
-        r = seed_scipy(mechs["seed"], 1e-10, ref)
-        out["scipy"]["seed_dop853_1e-10"] = r
-        print(f"scipy DOP853 seed 10 s at 1e-10: {r['wall_s']:.3f} s, {r['steps']} steps, {r['rhs']} RHS, error {r['error']}, max |Phi| {r['max_phi']:.1e}", flush=True)
-        save()
+        for key, f, what in (("seed_dop853_1e-10", seed_scipy, "lambdify(cse=True), parameters substituted, KKT in preallocated arrays"),
+                             ("seed_dop853_1e-10_lambdify_default", seed_scipy_default, "lambdify defaults (no cse), one function per matrix, np.block per call")):
+            r = f(mechs["seed"], 1e-10, ref)
+            r["load"] = load_avg()
+            r["variant"] = what
+            out["scipy"][key] = r
+            print(f"scipy DOP853 seed 10 s at 1e-10, {what}: {r['wall_s']:.3f} s (cpu {r['cpu_s']:.3f} s), {r['steps']} steps, {r['rhs']} RHS ({r['us_per_rhs']:.1f} us each), error {r['error']}, max |Phi| {r['max_phi']:.1e}, load {r['load']}", flush=True)
+            save()
     print(f"wrote {path}")
 
 
