@@ -1,7 +1,9 @@
 //! Rust emission: a [`Program`] as the statements of a function body in SSA form.
 //!
 //! Each instruction becomes one `let x12: f64 = x3 * x7;` (a `sin_cos` pair becomes
-//! `let (x4, x5): (f64, f64) = q[1].sin_cos();`). Symbols are read through caller-supplied
+//! `let (x4, x5): (f64, f64) = q[1].sin_cos();`, or a call of the function set with
+//! [`EmitBindings::set_sin_cos`]: `::mechanism::trig::sin_cos(q[1])`, which lone sines and
+//! cosines then use too, as `.0` and `.1`). Symbols are read through caller-supplied
 //! tokens ([`EmitBindings`]: `self.l1`, `q[2]`, `qd[2]`, `t`), and each output matrix is
 //! written into a caller-named nalgebra matrix (`out_mass[(i, j)] = x12;`), a vector
 //! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]).
@@ -32,6 +34,8 @@ use crate::expr::{FxHashMap, SymbolId};
 pub struct EmitBindings {
     reads: FxHashMap<SymbolId, TokenStream>,
     prefix: String,
+    /// The path of a `fn(f64) -> (f64, f64)` computing (sin, cos); `None`: the f64 methods.
+    sin_cos: Option<TokenStream>,
 }
 
 impl Default for EmitBindings {
@@ -46,6 +50,7 @@ impl EmitBindings {
         Self {
             reads: FxHashMap::default(),
             prefix: "x".to_string(),
+            sin_cos: None,
         }
     }
 
@@ -59,6 +64,17 @@ impl EmitBindings {
     /// identifier.
     pub fn set_prefix(&mut self, prefix: &str) -> &mut Self {
         self.prefix = prefix.to_string();
+        self
+    }
+
+    /// Computes sines and cosines by calling `path` (a path to a `fn(f64) -> (f64, f64)`
+    /// returning (sin x, cos x), such as `::mechanism_codegen::trig::sin_cos`): a pair as
+    /// `path(x)`, a lone sine as `path(x).0` and a lone cosine as `path(x).1`, so that every
+    /// value is rounded as that function rounds it (the [`crate::Tape`] calls
+    /// [`crate::trig::sin_cos`]). Without it the code calls the f64 methods `x.sin_cos()`,
+    /// `x.sin()` and `x.cos()`.
+    pub fn set_sin_cos(&mut self, path: TokenStream) -> &mut Self {
+        self.sin_cos = Some(path);
         self
     }
 
@@ -349,6 +365,11 @@ impl Emitter<'_> {
                 quote!(-#a)
             }
             Instr::Unary { op, arg, .. } => {
+                if let (Some(f), UnOp::Sin | UnOp::Cos) = (&self.b.sin_cos, op) {
+                    let a = self.operand(arg);
+                    let k = Literal::usize_unsuffixed(usize::from(op == UnOp::Cos));
+                    return quote!(#f(#a).#k);
+                }
                 let a = self.receiver(arg);
                 let f = Ident::new(
                     match op {
@@ -364,10 +385,16 @@ impl Emitter<'_> {
                 );
                 quote!(#a.#f())
             }
-            Instr::SinCos { arg, .. } => {
-                let a = self.receiver(arg);
-                quote!(#a.sin_cos())
-            }
+            Instr::SinCos { arg, .. } => match &self.b.sin_cos {
+                Some(f) => {
+                    let a = self.operand(arg);
+                    quote!(#f(#a))
+                }
+                None => {
+                    let a = self.receiver(arg);
+                    quote!(#a.sin_cos())
+                }
+            },
             Instr::Powi { base, exp, .. } => {
                 let a = self.receiver(base);
                 let k = Literal::u32_unsuffixed(exp.unsigned_abs());

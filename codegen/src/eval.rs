@@ -9,9 +9,10 @@
 //! DAG once.
 
 use crate::error::{Error, Result};
-use crate::expr::{Arena, Id, Node, SymbolId};
+use crate::expr::{Arena, Func, Id, Node, SymbolId};
 use crate::matrix::Matrix;
 use crate::number::Number;
+use crate::trig::sin_cos;
 
 /// The value of the expression `id`, with each symbol s bound to `env(s)`.
 ///
@@ -25,13 +26,13 @@ use crate::number::Number;
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::{eval, Arena, SymbolKind};
+/// use mechanism_codegen::{eval, trig, Arena, SymbolKind};
 /// let mut a = Arena::new();
 /// let x = a.symbol("x", SymbolKind::Free);
 /// let s = a.sin(x);
 /// let e = a.mul2(x, s);
 /// let v = eval(&a, e, &|_| Some(0.5)).unwrap();
-/// assert_eq!(v, 0.5 * 0.5_f64.sin());
+/// assert_eq!(v, 0.5 * trig::sin_cos(0.5).0);
 /// ```
 pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Result<f64> {
     let v = eval_many(arena, &[id], env)?;
@@ -154,7 +155,7 @@ fn node_value(
             }
             return Ok(r);
         }
-        Node::Func(f, a) => (f.apply(v(a)), f.name()),
+        Node::Func(f, a) => (apply(*f, v(a)), f.name()),
         Node::Atan2(y, x) => (v(y).atan2(v(x)), "atan2"),
     };
     if r.is_finite() {
@@ -167,6 +168,15 @@ fn node_value(
             _ => vec![],
         };
         Err(non_finite(op, &args))
+    }
+}
+
+/// f(x), with sin and cos from [`crate::trig::sin_cos`] as in the tape and the emitted code.
+fn apply(f: Func, x: f64) -> f64 {
+    match f {
+        Func::Sin => sin_cos(x).0,
+        Func::Cos => sin_cos(x).1,
+        _ => f.apply(x),
     }
 }
 

@@ -34,6 +34,7 @@ mod render;
 mod rotation;
 mod tangent;
 mod tape;
+pub mod trig;
 mod vexpr;
 
 pub use bodies::{Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms};

@@ -9,6 +9,7 @@
 use crate::cse::{BinOp, Instr, Operand, Program, UnOp};
 use crate::error::{Error, Result};
 use crate::expr::{FxHashMap, SymbolId};
+use crate::trig::sin_cos;
 
 /// One tape operation; operands and destinations are register-file slots.
 #[derive(Clone, Copy, Debug)]
@@ -48,7 +49,7 @@ impl Tape {
     ///
     /// # Example
     /// ```
-    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
+    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape, trig};
     ///
     /// let mut a = Arena::new();
     /// let x = a.symbol("x", SymbolKind::Free);
@@ -57,7 +58,7 @@ impl Tape {
     /// let mut tape = Tape::new(&Program::new(&a, &[&m]).unwrap());
     /// let mut out = [0.0; 2];
     /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
-    /// assert_eq!(out, [2.0, 0.5_f64.sin()]);
+    /// assert_eq!(out, [2.0, trig::sin_cos(0.5).0]);
     /// ```
     pub fn new(program: &Program) -> Tape {
         let mut consts: Vec<u64> = Vec::new();
@@ -208,8 +209,8 @@ impl Tape {
                 Op::Atan2(a, b, t) => r[t as usize] = r[a as usize].atan2(r[b as usize]),
                 Op::Powf(a, b, t) => r[t as usize] = r[a as usize].powf(r[b as usize]),
                 Op::Neg(a, t) => r[t as usize] = -r[a as usize],
-                Op::Sin(a, t) => r[t as usize] = r[a as usize].sin(),
-                Op::Cos(a, t) => r[t as usize] = r[a as usize].cos(),
+                Op::Sin(a, t) => r[t as usize] = sin_cos(r[a as usize]).0,
+                Op::Cos(a, t) => r[t as usize] = sin_cos(r[a as usize]).1,
                 Op::Tan(a, t) => r[t as usize] = r[a as usize].tan(),
                 Op::Exp(a, t) => r[t as usize] = r[a as usize].exp(),
                 Op::Ln(a, t) => r[t as usize] = r[a as usize].ln(),
@@ -217,7 +218,7 @@ impl Tape {
                 Op::Abs(a, t) => r[t as usize] = r[a as usize].abs(),
                 Op::Powi(a, k, t) => r[t as usize] = r[a as usize].powi(k),
                 Op::SinCos(a, s, c) => {
-                    let (x, y) = r[a as usize].sin_cos();
+                    let (x, y) = sin_cos(r[a as usize]);
                     r[s as usize] = x;
                     r[c as usize] = y;
                 }

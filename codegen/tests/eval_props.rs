@@ -108,12 +108,13 @@ fn invalid_ids_and_bad_matrices_are_errors() {
 #[test]
 fn deep_chain_does_not_overflow_the_stack() {
     // sin(sin(...sin(x)...)) nested 200_000 deep: a recursive evaluator would overflow.
+    // (`eval` computes sin with `trig::sin_cos`, as the tape and the emitted code do.)
     let (mut a, x, _) = arena_xy();
     let mut e = x;
     let mut want = 0.7_f64;
     for _ in 0..200_000 {
         e = a.sin(e);
-        want = want.sin();
+        want = mechanism_codegen::trig::sin_cos(want).0;
     }
     assert_eq!(eval(&a, e, &|_| Some(0.7)), Ok(want));
 }
@@ -158,10 +159,8 @@ fn matrix_entries_share_one_walk() {
         Some(if sym.0 == 0 { 0.4 } else { 3.0 })
     };
     let v = eval_matrix(&a, &m, &env).unwrap();
-    assert_eq!(
-        v,
-        vec![0.4_f64.sin(), 0.4_f64.cos(), 0.4_f64.sin() * 3.0, 0.4]
-    );
+    let (s, c) = mechanism_codegen::trig::sin_cos(0.4);
+    assert_eq!(v, vec![s, c, s * 3.0, 0.4]);
     assert_eq!(calls.get(), 2, "each symbol read once for the whole matrix");
 }
 

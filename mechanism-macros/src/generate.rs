@@ -92,12 +92,15 @@ struct Bodies<'a> {
 
 impl Bodies<'_> {
     /// How the emitted code reads each symbol: parameters from `self`, coordinates and
-    /// rates from `q` and `qd`, time from `t`.
+    /// rates from `q` and `qd`, time from `t`. Sines and cosines call the runtime crate's
+    /// `trig::sin_cos`, the function the interpreter (`Tape`) uses.
     fn bindings(&self) -> EmitBindings {
         let model = self.model;
         let arena = &model.arena;
+        let krate = self.krate;
         let mut b = EmitBindings::new();
         b.set_prefix("v");
+        b.set_sin_cos(quote!(#krate::trig::sin_cos));
         for (i, c) in model.coordinates.iter().enumerate() {
             if let Some(s) = arena.as_symbol(c.q) {
                 b.bind(s, quote!(q[#i]));
