@@ -117,6 +117,25 @@ const A: &[(usize, usize, f64)] = &[
 ];
 
 /// Weights b_j of the order-8 solution, stages 1 and 6..12.
+/// `A[ROWS[s - 1]..ROWS[s]]` are the entries of stage s (A is sorted by stage), so a stage
+/// reads its own row instead of filtering all of A.
+const ROWS: [usize; 17] = {
+    let mut rows = [0; 17];
+    let mut k = 0;
+    while k < A.len() {
+        rows[A[k].0] = k + 1;
+        k += 1;
+    }
+    let mut s = 1;
+    while s < 17 {
+        if rows[s] < rows[s - 1] {
+            rows[s] = rows[s - 1];
+        }
+        s += 1;
+    }
+    rows
+};
+
 const B: [(usize, f64); 8] = [
     (1, 5.42937341165687622380535766363e-2),
     (6, 4.45031289275240888144113950566e0),
@@ -236,7 +255,8 @@ impl Dop853 {
         h: f64,
     ) -> Result<(), Error> {
         self.tmp.copy_from_slice(y);
-        for &(i, j, a) in A.iter().filter(|e| e.0 == s) {
+        for &(i, j, a) in &A[ROWS[s - 1]..ROWS[s]] {
+            debug_assert_eq!(i, s);
             debug_assert!(j < i);
             let kj = &self.k[j - 1];
             for (x, k) in self.tmp.iter_mut().zip(kj) {
