@@ -28,6 +28,7 @@ use quote::{ToTokens, TokenStreamExt, quote};
 use crate::cse::{BinOp, Instr, OpCounts, Operand, Program, Reg, UnOp};
 use crate::error::{Error, Result};
 use crate::expr::{FxHashMap, SymbolId};
+use crate::slots::{self, Slots};
 
 /// How the emitted code reads each symbol, and how it names its registers.
 #[derive(Clone, Debug)]
@@ -216,7 +217,7 @@ pub fn emit_body(
     // Above this many instructions the registers live in one array: rustc's debug-info
     // emission nests one lexical scope per `let`, and at tens of thousands of nested scopes
     // (a 32-bar chain) it overflows its stack in a default (debuginfo) build.
-    let array = p.instructions().len() > ARRAY_REGISTERS_ABOVE;
+    let array = (p.instructions().len() > ARRAY_REGISTERS_ABOVE).then(|| slots::assign(&p, ret));
     let e = Emitter { b: bindings, array };
     let mut writes = TokenStream::new();
     for (o, t) in p.outputs().iter().zip(&targets) {
@@ -250,9 +251,9 @@ pub fn emit_body(
         _ => false,
     };
     let mut tokens = TokenStream::new();
-    if array {
+    if let Some(slots) = &e.array {
         let name = e.file();
-        let size = Literal::usize_unsuffixed(p.registers());
+        let size = Literal::usize_unsuffixed(slots.len);
         tokens.extend(quote!(let mut #name = [0.0_f64; #size];));
     }
     for (k, i) in p.instructions().iter().enumerate() {
@@ -291,13 +292,17 @@ fn is_identifier(s: &str) -> bool {
 }
 
 /// Instruction count above which [`emit_body`] keeps registers in one array (`v[k]`)
-/// instead of one `let` per register.
-pub const ARRAY_REGISTERS_ABOVE: usize = 2000;
+/// instead of one `let` per register. Separate `let`s are faster (the values stay in
+/// machine registers; array elements go through memory), so the array is kept for the
+/// bodies whose nested `let` scopes would overflow rustc's stack in a debuginfo build: that
+/// happened at ~8,000 (the 32-bar chain's `evaluate`); 2,512 (its mass matrix, compiled by
+/// `tests/macro_large_mechanism.rs`) builds.
+pub const ARRAY_REGISTERS_ABOVE: usize = 3000;
 
 struct Emitter<'a> {
     b: &'a EmitBindings,
-    /// Registers as elements of one array rather than separate `let`s.
-    array: bool,
+    /// Registers as elements of one array (at these slots) rather than separate `let`s.
+    array: Option<Slots>,
 }
 
 impl Emitter<'_> {
@@ -307,8 +312,9 @@ impl Emitter<'_> {
     }
 
     fn reg(&self, r: Reg) -> TokenStream {
-        if self.array {
-            let (name, k) = (self.file(), Literal::usize_unsuffixed(r.0 as usize));
+        if let Some(slots) = &self.array {
+            let k = Literal::u32_unsuffixed(slots.slots[r.0 as usize]);
+            let name = self.file();
             quote!(#name[#k])
         } else {
             Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
@@ -338,7 +344,7 @@ impl Emitter<'_> {
         match *i {
             Instr::SinCos { sin, cos, .. } => {
                 let (s, c) = (self.reg(sin), self.reg(cos));
-                if self.array {
+                if self.array.is_some() {
                     quote!((#s, #c) = #rhs;)
                 } else {
                     quote!(let (#s, #c): (f64, f64) = #rhs;)
@@ -346,7 +352,7 @@ impl Emitter<'_> {
             }
             Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
                 let d = self.reg(dst);
-                if self.array {
+                if self.array.is_some() {
                     quote!(#d = #rhs;)
                 } else {
                     quote!(let #d: f64 = #rhs;)

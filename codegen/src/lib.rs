@@ -32,6 +32,7 @@ mod parse_bodies;
 mod pretty;
 mod render;
 mod rotation;
+mod slots;
 mod tangent;
 mod tape;
 pub mod trig;
