@@ -64,14 +64,15 @@ const C: [f64; 6] = [
 ///    (-cos r, sin r), chosen with bit masks (no branch).
 ///
 /// # Accuracy and range
-/// The fast path is taken for 2^-26 <= |r| and |x| < 2^20 (about 1.05e6). Its largest error
+/// The fast path is taken for |x| < 2^20 (about 1.05e6) when 2^-26 <= |r| or k = 0 (then
+/// r = x exactly). Its largest error
 /// measured against a double-double reference (1e7 random x in each of [-10, 10],
 /// [-1000, 1000] and [-2^20, 2^20], and every multiple of pi/2 and pi/4 with its neighbours
 /// within 3 ulps) is 0.82 ulp: the result is one of the two doubles around the exact value,
 /// and differs from a correctly rounded one (and from glibc's) by at most 1 ulp. Everything
-/// else, |x| >= 2^20, x within 2^-26 of a multiple of pi/2 (0, -0.0 and subnormals
-/// included), infinities and NaN, is `f64::sin_cos` (one rarely taken branch): so
-/// sin(-0.0) = -0.0 and sin and cos of infinities and NaN are NaN.
+/// else, |x| >= 2^20, x within 2^-26 of a nonzero multiple of pi/2, -0.0, infinities and
+/// NaN, is `f64::sin_cos` (one rarely taken branch): so sin(-0.0) = -0.0 and sin and cos
+/// of infinities and NaN are NaN.
 ///
 /// # Example
 /// ```
@@ -93,8 +94,12 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     let lo = (s - hi) - c;
     // |x| < BOUND and |hi| >= TINY, on the bits (sign shifted out): NaN and infinities fail
     // the first. Integer compares keep the floating-point units free for the arithmetic.
+    // With k = 0 the reduction is exact (r = x), so small |x| (0 included: a parameter
+    // such as the seed's alpha = 0 is evaluated on every call) stays on the fast path, except
+    // -0.0, whose sign the subtraction of k P3 = -0.0 would lose.
     let fast = ((x.to_bits() << 1) < (BOUND.to_bits() << 1))
-        & ((hi.to_bits() << 1) >= (TINY.to_bits() << 1));
+        & (((hi.to_bits() << 1) >= (TINY.to_bits() << 1))
+            | ((k == 0.0) & (x.to_bits() != (-0.0_f64).to_bits())));
     if !fast {
         return libm_sin_cos(x);
     }
