@@ -1,6 +1,6 @@
-//! A large declaration (the closed 32-bar chain, N = 32 coordinates): its emitted code keeps
-//! the registers in one array (more than `ARRAY_REGISTERS_ABOVE` instructions) so that a
-//! default debuginfo build compiles, and must still equal the interpreter route.
+//! A large declaration (the closed 32-bar chain, N = 32 coordinates): its emitted code groups
+//! the `let`s into nested blocks (more than `BLOCK_LETS_ABOVE` instructions) so that a
+//! debuginfo build (this test profile's) compiles, and must still equal the interpreter route.
 
 use mechanism::{Compiled, Evaluation, Interpreted, System};
 

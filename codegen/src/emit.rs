@@ -28,7 +28,7 @@ use quote::{ToTokens, TokenStreamExt, quote};
 use crate::cse::{BinOp, Instr, OpCounts, Operand, Program, Reg, UnOp};
 use crate::error::{Error, Result};
 use crate::expr::{FxHashMap, SymbolId};
-use crate::slots::{self, Slots};
+use crate::liveness;
 
 /// How the emitted code reads each symbol, and how it names its registers.
 #[derive(Clone, Debug)]
@@ -214,11 +214,7 @@ pub fn emit_body(
             )));
         }
     }
-    // Above this many instructions the registers live in one array: rustc's debug-info
-    // emission nests one lexical scope per `let`, and at tens of thousands of nested scopes
-    // (a 32-bar chain) it overflows its stack in a default (debuginfo) build.
-    let array = (p.instructions().len() > ARRAY_REGISTERS_ABOVE).then(|| slots::assign(&p, ret));
-    let e = Emitter { b: bindings, array };
+    let e = Emitter { b: bindings };
     let mut writes = TokenStream::new();
     for (o, t) in p.outputs().iter().zip(&targets) {
         let (name, zeroed, matrix) = match t {
@@ -251,16 +247,34 @@ pub fn emit_body(
         _ => false,
     };
     let mut tokens = TokenStream::new();
-    if let Some(slots) = &e.array {
-        let name = e.file();
-        let size = Literal::usize_unsuffixed(slots.len);
-        tokens.extend(quote!(let mut #name = [0.0_f64; #size];));
-    }
-    for (k, i) in p.instructions().iter().enumerate() {
-        if inline_last && k + 1 == n {
-            break;
+    let end = if inline_last { n - 1 } else { n };
+    if n > BLOCK_LETS_ABOVE {
+        // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
+        // (a 32-bar chain) overflow its stack in a default debuginfo build. Blocks of
+        // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
+        // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
+        let last = liveness::last_reads(&p, ret);
+        let mut start = 0;
+        while end - start > BLOCK_LEN {
+            let range = start..start + BLOCK_LEN;
+            let body: TokenStream = p.instructions()[range.clone()]
+                .iter()
+                .map(|i| e.instr(i))
+                .collect();
+            let out: Vec<TokenStream> = liveness::live_out(&p, &last, range.clone())
+                .into_iter()
+                .map(|r| e.reg(r))
+                .collect();
+            tokens.extend(quote!(let (#(#out,)*) = { #body (#(#out,)*) };));
+            start = range.end;
         }
-        tokens.extend(e.instr(i));
+        for i in &p.instructions()[start..end] {
+            tokens.extend(e.instr(i));
+        }
+    } else {
+        for i in &p.instructions()[..end] {
+            tokens.extend(e.instr(i));
+        }
     }
     tokens.extend(writes);
     if let Some(r) = ret {
@@ -291,34 +305,21 @@ fn is_identifier(s: &str) -> bool {
         && c.all(|x| x.is_ascii_alphanumeric() || x == '_')
 }
 
-/// Instruction count above which [`emit_body`] keeps registers in one array (`v[k]`)
-/// instead of one `let` per register. Separate `let`s are faster (the values stay in
-/// machine registers; array elements go through memory), so the array is kept for the
-/// bodies whose nested `let` scopes would overflow rustc's stack in a debuginfo build: that
-/// happened at ~8,000 (the 32-bar chain's `evaluate`); 2,512 (its mass matrix, compiled by
-/// `tests/macro_large_mechanism.rs`) builds.
-pub const ARRAY_REGISTERS_ABOVE: usize = 3000;
+/// Instruction count above which [`emit_body`] groups the `let`s into nested blocks of
+/// `BLOCK_LEN`, each returning the values read after it (a flat run of ~8,000 `let`s, the
+/// 32-bar chain's `evaluate`, overflowed rustc's stack in a debuginfo build; 2,512 built).
+pub const BLOCK_LETS_ABOVE: usize = 2000;
+
+/// `let`s per block above [`BLOCK_LETS_ABOVE`].
+const BLOCK_LEN: usize = 1000;
 
 struct Emitter<'a> {
     b: &'a EmitBindings,
-    /// Registers as elements of one array (at these slots) rather than separate `let`s.
-    array: Option<Slots>,
 }
 
 impl Emitter<'_> {
-    /// The register array's name (the binding prefix).
-    fn file(&self) -> Ident {
-        Ident::new(&self.b.prefix, Span::call_site())
-    }
-
     fn reg(&self, r: Reg) -> TokenStream {
-        if let Some(slots) = &self.array {
-            let k = Literal::u32_unsuffixed(slots.slots[r.0 as usize]);
-            let name = self.file();
-            quote!(#name[#k])
-        } else {
-            Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
-        }
+        Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
     }
 
     fn operand(&self, o: Operand) -> TokenStream {
@@ -344,19 +345,11 @@ impl Emitter<'_> {
         match *i {
             Instr::SinCos { sin, cos, .. } => {
                 let (s, c) = (self.reg(sin), self.reg(cos));
-                if self.array.is_some() {
-                    quote!((#s, #c) = #rhs;)
-                } else {
-                    quote!(let (#s, #c): (f64, f64) = #rhs;)
-                }
+                quote!(let (#s, #c): (f64, f64) = #rhs;)
             }
             Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
                 let d = self.reg(dst);
-                if self.array.is_some() {
-                    quote!(#d = #rhs;)
-                } else {
-                    quote!(let #d: f64 = #rhs;)
-                }
+                quote!(let #d: f64 = #rhs;)
             }
         }
     }

@@ -22,6 +22,7 @@ mod joints;
 mod lagrange;
 mod latex;
 mod lex;
+mod liveness;
 mod lower;
 mod lower_bodies;
 mod matrix;
@@ -32,7 +33,6 @@ mod parse_bodies;
 mod pretty;
 mod render;
 mod rotation;
-mod slots;
 mod tangent;
 mod tape;
 pub mod trig;
@@ -46,9 +46,7 @@ pub use build_model::{
 pub use chain::{closed_chain_arch, closed_chain_model, closed_chain_source};
 pub use cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
 pub use diff::Differentiator;
-pub use emit::{
-    ARRAY_REGISTERS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens,
-};
+pub use emit::{BLOCK_LETS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use equations::Equations;
 pub use error::{Error, Location, Result};
 pub use eval::{eval, eval_many, eval_matrix};
