@@ -74,12 +74,18 @@ impl Lu {
 
     /// Solves A x = b in place (b becomes x; its first n entries are used). Requires a
     /// successful factorisation.
+    ///
+    /// # Panics
+    /// If `b` is shorter than the order n.
     pub fn solve(&self, b: &mut [f64]) {
         let n = self.dim();
         kernels::dispatch!(n, solve(self.lu.as_slice(), n, &self.piv, b));
     }
 
     /// Solves A^T x = b in place: U^T z = b, L^T w = z, x = P^T w.
+    ///
+    /// # Panics
+    /// If `b` is shorter than the order n.
     pub fn solve_transpose(&self, b: &mut [f64]) {
         let n = self.dim();
         kernels::dispatch!(n, solve_transpose(self.lu.as_slice(), n, &self.piv, b));

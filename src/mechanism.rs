@@ -226,7 +226,8 @@ pub trait System: Send + Sync {
     /// F = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q(q, t)^T lambda:
     /// `out.stiffness` = dF/dq and `out.damping` = dF/dq' (n x n), for the Newton iteration of
     /// implicit integrators (HHT). Returns `None` when not provided (the default); the
-    /// solver then uses finite differences. The codegen crate will emit these symbolically.
+    /// solver then uses finite differences. `mechanism!` and [`crate::Interpreted`] provide
+    /// them, derived symbolically by codegen (`residual_tangent`).
     fn tangent(
         &self,
         t: f64,

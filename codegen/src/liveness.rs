@@ -55,3 +55,56 @@ pub(crate) fn live_out(
         .filter(|r| last[r.0 as usize].is_some_and(|k| k >= end))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Replays block-structured scoping: inside a block only its own definitions and what
+    /// earlier blocks handed on are visible. Every read, and every output at the end, must
+    /// find its register visible; and blocks hand on only a fraction of what they define.
+    #[test]
+    fn blocks_hand_on_every_value_read_later() {
+        let mut model = crate::closed_chain_model(12);
+        let eqs = crate::derive(&mut model).unwrap();
+        let outs = [
+            &eqs.mass,
+            &eqs.coriolis_forces,
+            &eqs.gravity,
+            &eqs.phi_q,
+            &eqs.gamma,
+        ];
+        let p = Program::new(&model.arena, &outs).unwrap();
+        let last = last_reads(&p, None);
+        let n = p.instructions().len();
+        let mut visible = vec![false; p.registers()];
+        let (mut handed, mut defined) = (0, 0);
+        for start in (0..n).step_by(100) {
+            let range = start..(start + 100).min(n);
+            let mut local = visible.clone();
+            for i in &p.instructions()[range.clone()] {
+                i.for_each_operand(|o| {
+                    if let Operand::Reg(r) = o {
+                        assert!(local[r.0 as usize], "r{} read but not in scope", r.0);
+                    }
+                });
+                for r in defs(i).into_iter().flatten() {
+                    local[r.0 as usize] = true;
+                    defined += 1;
+                }
+            }
+            for r in live_out(&p, &last, range) {
+                visible[r.0 as usize] = true;
+                handed += 1;
+            }
+        }
+        for o in p.outputs() {
+            for e in &o.entries {
+                if let Operand::Reg(r) = e {
+                    assert!(visible[r.0 as usize], "output r{} not handed on", r.0);
+                }
+            }
+        }
+        assert!(handed * 2 < defined, "{handed} of {defined} handed on");
+    }
+}

@@ -154,7 +154,6 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
             unused_mut,
             clippy::approx_constant,
             clippy::excessive_precision,
-            clippy::assign_op_pattern,
             clippy::unreadable_literal,
             clippy::too_many_lines,
             clippy::many_single_char_names,
