@@ -11,7 +11,7 @@ use std::sync::Mutex;
 use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape, residual_tangent};
 use nalgebra::DMatrix;
 
-use crate::mechanism::{Evaluation, Independent, System, SystemInfo, Tangent};
+use crate::mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
 
 /// Which evaluations a tape computes.
 struct Scratch {
@@ -162,6 +162,22 @@ impl Interpreted {
                 })
                 .collect(),
             constraints: eqs.m,
+            constraint_rows: model
+                .constraints
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    if c.joint.is_empty() {
+                        // A hand-built Model that did not name its rows.
+                        ConstraintRow::unnamed(k)
+                    } else {
+                        ConstraintRow {
+                            joint: c.joint.clone(),
+                            component: c.component.clone(),
+                        }
+                    }
+                })
+                .collect(),
         };
         let equations_text = mechanism_codegen::equations_text(&model, &eqs);
         Ok(Self {

@@ -29,7 +29,8 @@ mod sweep;
 pub use crate::drive::{DriveError, parse_drive};
 pub use crate::interpreted::Interpreted;
 pub use crate::mechanism::{
-    Compiled, Evaluation, Independent, Mechanism, StaticEvaluation, System, SystemInfo,
+    Compiled, ConstraintRow, Evaluation, Independent, Mechanism, StaticEvaluation, System,
+    SystemInfo,
 };
 pub use crate::trajectory::{Sample, SolverStats, Trajectory};
 

@@ -346,3 +346,170 @@ fn registry_systems_match_the_interpreter() {
         );
     }
 }
+
+/// Expands a declaration with `mechanism!` and keeps the same tokens as text (`$source`),
+/// so that the interpreter route reads exactly what the macro compiled.
+macro_rules! declared_twice {
+    ($source:ident; $($declaration:tt)*) => {
+        mechanism::mechanism! { $($declaration)* }
+        const $source: &str = stringify!($($declaration)*);
+    };
+}
+
+declared_twice! {
+    CRANK_SLIDER_BODIES;
+    /// A crank turning about the ground z axis at O, and a slider on the x axis held at the
+    /// distance L from the crank tip (a massless coupler).
+    pub struct LabelledCrankSlider;
+    parameters { m = 1.0; l = 1.0; L = 2.0; g = 9.81; }
+    coordinates { x = 0.5; y = 0.0; z = 0.0; th = 0.0; ph = 0.0; ps = 0.0; s = 3.0; }
+    independent { th = 0.0; der(th) = 1.0; }
+    gravity = [0, -g, 0];
+    point O = [0, 0, 0];
+    axis up = [0, 0, 1];
+    body crank {
+        mass = m;
+        position = [x, y, z];
+        orientation = rot_z(th) * rot_y(ph) * rot_x(ps);
+        inertia = diag(m*l^2/1200, m*l^2/12, m*l^2/12);
+        point A = [-l/2, 0, 0];
+        point B = [l/2, 0, 0];
+        axis k = [0, 0, 1];
+    }
+    body slider { mass = m; position = [s, 0, 0]; }
+    joints {
+        revolute(A, O, k, up);
+        distance(B, slider, L);
+    }
+}
+
+declared_twice! {
+    CONSTRAINT_BLOCK;
+    /// A point on a circle in the plane z = 0 of a fourth coordinate w = 0: one scalar
+    /// statement, then a vector equation.
+    pub struct LabelledBlock;
+    parameters { m = 1.0; l = 1.0; }
+    coordinates { x = 0.6; y = -0.8; z = 0.0; w = 0.0; }
+    independent { x = 0.6; der(x) = 0.0; }
+    kinetic = 1/2*m*(der(x)^2 + der(y)^2 + der(z)^2 + der(w)^2);
+    constraints {
+        x^2 + y^2 - l^2;
+        [z, w] = [0, 0];
+    }
+}
+
+/// The labels of the rows, (joint, component), as `mechanism!` emits them, as `Compiled`
+/// carries them, and as the interpreter route reads them from the same text: all equal to
+/// `expected`.
+fn assert_rows<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(
+    source: &str,
+    expected: &[(&str, &str)],
+) {
+    assert_eq!(T::CONSTRAINT_ROWS, expected, "{}: emitted", T::NAME);
+    let compiled = mechanism::Compiled::new(T::default());
+    let interpreted = mechanism::Interpreted::from_source(source).expect("the text parses");
+    let expected: Vec<mechanism::ConstraintRow> = expected
+        .iter()
+        .map(|&(joint, component)| mechanism::ConstraintRow {
+            joint: joint.into(),
+            component: component.into(),
+        })
+        .collect();
+    for (route, info) in [
+        ("Compiled", mechanism::System::info(&compiled)),
+        ("Interpreted", mechanism::System::info(&interpreted)),
+    ] {
+        assert_eq!(info.constraint_rows, expected, "{}: {route}", T::NAME);
+        assert_eq!(info.m(), M, "{}: {route}", T::NAME);
+    }
+}
+
+/// A body declaration with two joints: each row names its joint as written and its
+/// component, in row order, on both routes; `constraint_label` and `joints_of` read them.
+#[test]
+fn body_joint_rows_are_labelled_on_both_routes() {
+    let revolute = "revolute(A, O, k, up)";
+    let distance = "distance(B, slider, L)";
+    assert_rows::<LabelledCrankSlider, 7, 6>(
+        CRANK_SLIDER_BODIES,
+        &[
+            (revolute, "x"),
+            (revolute, "y"),
+            (revolute, "z"),
+            (revolute, "axis 1"),
+            (revolute, "axis 2"),
+            (distance, ""),
+        ],
+    );
+    let compiled = mechanism::Compiled::new(LabelledCrankSlider::default());
+    let info = mechanism::System::info(&compiled);
+    assert_eq!(info.constraint_label(1), "revolute(A, O, k, up) y");
+    assert_eq!(info.constraint_label(3), "revolute(A, O, k, up) axis 1");
+    assert_eq!(info.constraint_label(5), "distance(B, slider, L)");
+    assert_eq!(info.constraint_label(6), "row 7", "out of range");
+    assert_eq!(
+        info.joints_of(&[5, 0, 4, 5]),
+        ["distance(B, slider, L)", "revolute(A, O, k, up)"]
+    );
+    assert!(info.joints_of(&[]).is_empty());
+}
+
+/// A plain `constraints { .. }` block: rows are named by statement (1-based), and a vector
+/// equation's rows by component.
+#[test]
+fn constraint_block_rows_are_labelled_on_both_routes() {
+    assert_rows::<LabelledBlock, 4, 3>(
+        CONSTRAINT_BLOCK,
+        &[
+            ("constraint 1", ""),
+            ("constraint 2", "x"),
+            ("constraint 2", "y"),
+        ],
+    );
+    let compiled = mechanism::Compiled::new(LabelledBlock::default());
+    let info = mechanism::System::info(&compiled);
+    assert_eq!(info.constraint_label(0), "constraint 1");
+    assert_eq!(info.constraint_label(2), "constraint 2 y");
+    assert_eq!(info.joints_of(&[2, 1, 0]), ["constraint 2", "constraint 1"]);
+}
+
+/// Every library mechanism: the rows `mechanism!` labelled are the rows codegen labels from
+/// the same file (no row left unnamed).
+#[test]
+fn library_rows_are_labelled_like_the_interpreter() {
+    for name in builtin_names() {
+        let source = builtin_source(name).expect("registered");
+        let compiled = builtin(name).expect("registered");
+        let interpreted = mechanism::Interpreted::from_source(source).expect("parses");
+        let rows = &compiled.info().constraint_rows;
+        assert_eq!(
+            rows,
+            &mechanism::System::info(&interpreted).constraint_rows,
+            "{name}"
+        );
+        assert_eq!(rows.len(), compiled.info().m(), "{name}");
+        assert!(
+            rows.iter().all(|r| !r.joint.starts_with("row ")),
+            "{name}: {rows:?}"
+        );
+    }
+}
+
+/// Rows nobody named (what `Compiled::new` records for a hand-written `Mechanism` without
+/// `CONSTRAINT_ROWS`) read `row 1`, `row 2`, ..
+#[test]
+fn unnamed_rows_are_numbered() {
+    use mechanism::{ConstraintRow, SystemInfo};
+    let info = SystemInfo {
+        name: "hand".into(),
+        coordinates: vec!["x".into()],
+        parameters: vec![],
+        initial_guess: vec![0.0],
+        independent: vec![],
+        constraints: 2,
+        constraint_rows: (0..2).map(ConstraintRow::unnamed).collect(),
+    };
+    assert_eq!(info.constraint_label(0), "row 1");
+    assert_eq!(info.constraint_label(1), "row 2");
+    assert_eq!(info.joints_of(&[1, 1]), ["row 2"]);
+}

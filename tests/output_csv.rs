@@ -6,7 +6,7 @@ use std::path::Path;
 
 use mechanism::output::csv::format_f64;
 use mechanism::output::{InverseTable, OutputError, write_inverse_csv, write_trajectory_csv};
-use mechanism::{SystemInfo, Trajectory};
+use mechanism::{ConstraintRow, SystemInfo, Trajectory};
 use output_support::{SAMPLES, info, temp_dir, trajectory};
 
 /// Reads a CSV file back: (header, rows of f64).
@@ -132,6 +132,7 @@ fn awkward_values_round_trip() {
     // The same values through a whole file, NaN included.
     let info = SystemInfo {
         constraints: 1,
+        constraint_rows: vec![ConstraintRow::unnamed(0)],
         ..info("awkward")
     };
     let mut tr = Trajectory::with_capacity(info, 2);

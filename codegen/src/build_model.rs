@@ -127,8 +127,9 @@ pub struct ParsedModel {
 /// The first syntax error, or else every violated rule (see `check.rs`): unknown symbols,
 /// duplicates, rates in the potential or the constraints, `der` of a parameter, an empty
 /// `coordinates`, forces or independent values on unknown coordinates, non-constant
-/// defaults, a missing `kinetic`, more constraint rows than coordinates, too few independent
-/// coordinates; then errors evaluating constants (a division by zero, ln of a negative).
+/// defaults, a missing `kinetic`, too few independent coordinates; then errors evaluating
+/// constants (a division by zero, ln of a negative). More constraint rows than coordinates
+/// are allowed (redundant rows): the runtime reports the rank of Phi_q and the mobility.
 pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<SpannedError>> {
     let toks = tokens_from_stream(tokens);
     let spans = toks.spans();
@@ -353,6 +354,8 @@ fn build(d: &Declaration) -> Result<ParsedModel> {
         constraints.push(Constraint {
             expr,
             location: row.at,
+            joint: format!("constraint {}", row.statement),
+            component: row.component.clone(),
         });
     }
     let zero = arena.int(0);

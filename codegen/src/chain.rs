@@ -113,10 +113,14 @@ pub fn closed_chain_model(n: usize) -> Model {
         Constraint {
             expr: a.add(&xs),
             location: Location::default(),
+            joint: "constraint 1".into(),
+            component: String::new(),
         },
         Constraint {
             expr: a.add(&sin),
             location: Location::default(),
+            joint: "constraint 2".into(),
+            component: String::new(),
         },
     ];
     let zero = a.int(0);

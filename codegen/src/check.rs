@@ -90,7 +90,6 @@ pub(crate) fn check(d: &Declaration) -> Vec<Error> {
     check_expressions(d, &scope, &mut errors);
     check_forces(d, &scope, &mut errors);
     check_independent(d, &scope, &mut errors);
-    check_constraint_count(d, &scope, &mut errors);
     check_degrees_of_freedom(d, &scope, &mut errors);
     errors.sort_by_key(|e| e.location().map(|l| (l.line, l.column)).unwrap_or((0, 0)));
     errors
@@ -408,25 +407,10 @@ fn check_independent(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>
     }
 }
 
-/// At most as many constraint rows as coordinates: m > n leaves no motion (or no solution).
-fn check_constraint_count(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
-    let n = scope.coordinates.len();
-    if let Some(c) = &d.constraints
-        && n > 0
-        && c.body.len() > n
-    {
-        errors.push(declaration_error(
-            format!(
-                "more constraint rows ({}) than coordinates ({n}): the constraints over-determine the mechanism; remove redundant rows or add coordinates",
-                c.body.len()
-            ),
-            c.at,
-        ));
-    }
-}
-
 /// The n - m degrees of freedom are each fixed by an independent coordinate; with fewer the
-/// other coordinates cannot be determined from Phi(q) = 0 at t = 0.
+/// other coordinates cannot be determined from Phi(q) = 0 at t = 0. Redundant rows make the
+/// mobility n - rank(Phi_q) larger than n - m, so n - m is only a lower bound (the runtime
+/// knows the rank); with m > n there is nothing to check here.
 fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
     let n = scope.coordinates.len();
     let m = d.constraints.as_ref().map_or(0, |s| s.body.len()) + d.bodies.constraint_rows();

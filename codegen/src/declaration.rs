@@ -65,6 +65,12 @@ pub(crate) struct Row {
     pub(crate) rhs: Option<Ast>,
     /// Where the row (or its vector component) starts.
     pub(crate) at: Location,
+    /// The 1-based index of the statement in `constraints { .. }` (a vector equation is one
+    /// statement of several rows).
+    pub(crate) statement: usize,
+    /// The component of a vector statement (`x`, `y`, `z` or `1`, `2`, ..); empty for a
+    /// scalar row (see [`crate::model::components`]).
+    pub(crate) component: String,
 }
 
 /// `name: expr;` in `forces`.
@@ -306,10 +312,16 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             if d.constraints.is_some() {
                 return Err(duplicate_section(keyword, at));
             }
-            d.constraints = Some(Section {
-                at,
-                body: rows.into_iter().flatten().collect(),
-            });
+            let mut body = Vec::new();
+            for (k, rows) in rows.into_iter().enumerate() {
+                let labels = crate::model::components(rows.len(), 1);
+                for (mut row, component) in rows.into_iter().zip(labels) {
+                    row.statement = k + 1;
+                    row.component = component;
+                    body.push(row);
+                }
+            }
+            d.constraints = Some(Section { at, body });
         }
         "forces" => {
             let body = block(c, |c| {
@@ -385,13 +397,25 @@ fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
         } else {
             None
         };
-        return Ok(vec![Row { lhs, rhs, at }]);
+        return Ok(vec![Row {
+            lhs,
+            rhs,
+            at,
+            statement: 0,
+            component: String::new(),
+        }]);
     }
     let lhs = vector(c)?;
     if !c.at_punct('=') {
         return Ok(lhs
             .into_iter()
-            .map(|(lhs, at)| Row { lhs, rhs: None, at })
+            .map(|(lhs, at)| Row {
+                lhs,
+                rhs: None,
+                at,
+                statement: 0,
+                component: String::new(),
+            })
             .collect());
     }
     let eq = c.next().location;
@@ -418,6 +442,8 @@ fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
             lhs: l,
             rhs: Some(r),
             at,
+            statement: 0,
+            component: String::new(),
         })
         .collect())
 }

@@ -12,7 +12,7 @@ use crate::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
 use crate::matrix::Matrix;
-use crate::model::{Constraint, Model};
+use crate::model::{Constraint, Model, components};
 use crate::parse_bodies::{Bodies, BodyItem, Entry, Joint};
 use crate::rotation::{Axis, Orientation, RotationFactor};
 use crate::vexpr::{Op, VAst, VectorNames, lower_v, scalar, vec3};
@@ -368,8 +368,10 @@ fn lower_body(
     })
 }
 
+/// The rows of one `joints` statement, labelled with the statement as written and the
+/// component of each row (see [`Constraint::joint`]).
 fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
-    let (exprs, at) = match j {
+    let (exprs, components, joint, at) = match j {
         Joint::Row(lhs, rhs, at) => {
             let l = lower_v(arena, lhs, scope)?;
             let v = match rhs {
@@ -388,7 +390,11 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
                 }
                 None => l,
             };
-            (v.data, *at)
+            let joint = match rhs {
+                Some(r) => format!("{} = {}", lhs.text(), r.text()),
+                None => lhs.text(),
+            };
+            (v.data, components(v.rows, v.cols), joint, *at)
         }
         Joint::Helper(h, args, at) => {
             let v = |arena: &mut Arena, i: usize| -> Result<Vec3> {
@@ -412,28 +418,44 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
                 }
             };
             let (p, q) = (v(arena, 0)?, v(arena, 1)?);
-            let rows = match h.as_str() {
-                "spherical" => spherical(arena, &p, &q),
+            let (rows, components): (_, &[&str]) = match h.as_str() {
+                "spherical" => (spherical(arena, &p, &q), &["x", "y", "z"]),
                 "distance" => {
                     let m = lower_v(arena, &args[2], scope)?;
                     let l = scalar(&m, "the distance", args[2].location())?;
-                    distance(arena, &p, &q, l)
+                    (distance(arena, &p, &q, l), &[""])
                 }
                 "revolute" => {
                     let a = v(arena, 2)?;
                     let b = frame(3)?;
-                    revolute(arena, &p, &q, &a, &b)
+                    (
+                        revolute(arena, &p, &q, &a, &b),
+                        &["x", "y", "z", "axis 1", "axis 2"],
+                    )
                 }
                 _ => {
                     let (a, b) = (frame(2)?, frame(3)?);
-                    prismatic(arena, &p, &q, &a, &b)
+                    (
+                        prismatic(arena, &p, &q, &a, &b),
+                        &["axis 1", "axis 2", "slide 1", "slide 2", "twist"],
+                    )
                 }
             };
-            (rows, *at)
+            let written: Vec<String> = args.iter().map(VAst::text).collect();
+            let joint = format!("{h}({})", written.join(", "));
+            let components = components.iter().map(|c| c.to_string()).collect();
+            (rows, components, joint, *at)
         }
     };
+    debug_assert_eq!(exprs.len(), components.len());
     Ok(exprs
         .into_iter()
-        .map(|expr| Constraint { expr, location: at })
+        .zip(components)
+        .map(|(expr, component)| Constraint {
+            expr,
+            location: at,
+            joint: joint.clone(),
+            component,
+        })
         .collect())
 }

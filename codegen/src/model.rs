@@ -53,6 +53,50 @@ pub struct Constraint {
     pub expr: Id,
     /// Where it was declared.
     pub location: Location,
+    /// The statement the row comes from, as the user reads it: `constraint 2` for the second
+    /// statement of `constraints { .. }`, or the joint as written, `revolute(B1, B2, z, z)`,
+    /// `P = Q`, `P.z = 0`.
+    pub joint: String,
+    /// Which row of that statement: `x`, `y`, `z` (the components of a point, or of a vector
+    /// equation of 2 or 3 rows), `1`, `2`, .. (of a longer vector equation), `(i, j)` (of a
+    /// matrix equation), `axis 1`, `axis 2`
+    /// (the parallel-axis rows of `revolute` and `prismatic`), `slide 1`, `slide 2`, `twist`
+    /// (the other rows of `prismatic`); empty for a statement with one row.
+    pub component: String,
+}
+
+impl Constraint {
+    /// The label of the row: the joint, then a space and the component when there is one
+    /// (`revolute(B1, B2, z, z) y`, `constraint 2`).
+    pub fn label(&self) -> String {
+        if self.component.is_empty() {
+            self.joint.clone()
+        } else {
+            format!("{} {}", self.joint, self.component)
+        }
+    }
+}
+
+/// The component labels of the rows x cols entries of a vector or matrix statement, in the
+/// (row-major) order of its rows: `""` for a scalar, `x`, `y` (, `z`) for a vector of 2 (3)
+/// entries, `1`, `2`, .. for a longer vector, `(i, j)` (1-based) for a matrix.
+pub(crate) fn components(rows: usize, cols: usize) -> Vec<String> {
+    let len = rows * cols;
+    if len == 1 {
+        return vec![String::new()];
+    }
+    if rows == 1 || cols == 1 {
+        if len <= 3 {
+            return ["x", "y", "z"][..len]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+        }
+        return (1..=len).map(|k| k.to_string()).collect();
+    }
+    (0..len)
+        .map(|k| format!("({}, {})", k / cols + 1, k % cols + 1))
+        .collect()
 }
 
 /// A whole declaration.

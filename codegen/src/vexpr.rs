@@ -80,6 +80,47 @@ impl VAst {
         }
     }
 
+    /// The expression as text, with the parentheses its precedence needs (`B1`,
+    /// `P.z`, `l2/2`, `rot_z(beta)*[0, 0, 1]`): what names a joint in constraint labels.
+    pub(crate) fn text(&self) -> String {
+        self.text_in(0)
+    }
+
+    /// The text inside a context of binding strength `outer` (0 none, 1 sum, 2 product,
+    /// 3 unary, 4 power, 5 postfix), parenthesised when `self` binds more loosely.
+    fn text_in(&self, outer: u8) -> String {
+        let (strength, s) = match self {
+            VAst::Number(n, _) => (5, n.to_string()),
+            VAst::Name(n, _) => (5, n.clone()),
+            VAst::Neg(a, _) => (3, format!("-{}", a.text_in(3))),
+            VAst::Binary(op, a, b, _) => match op {
+                Op::Add | Op::Sub => {
+                    let sign = if *op == Op::Add { '+' } else { '-' };
+                    (1, format!("{} {sign} {}", a.text_in(1), b.text_in(2)))
+                }
+                Op::Mul | Op::Div => {
+                    let sign = if *op == Op::Mul { '*' } else { '/' };
+                    (2, format!("{}{sign}{}", a.text_in(2), b.text_in(3)))
+                }
+                Op::Pow => (4, format!("{}^{}", a.text_in(5), b.text_in(3))),
+            },
+            VAst::Call(f, args, _) => {
+                let a: Vec<String> = args.iter().map(VAst::text).collect();
+                (5, format!("{f}({})", a.join(", ")))
+            }
+            VAst::Member(a, k, _) => (5, format!("{}.{}", a.text_in(5), ["x", "y", "z"][*k])),
+            VAst::Brackets(items, _) => {
+                let a: Vec<String> = items.iter().map(VAst::text).collect();
+                (5, format!("[{}]", a.join(", ")))
+            }
+        };
+        if strength < outer {
+            format!("({s})")
+        } else {
+            s
+        }
+    }
+
     /// (rows, cols) of the value, knowing which names are 3-vectors; `None` when the shapes
     /// do not fit (lowering reports it).
     pub(crate) fn shape(&self, is_vector: &dyn Fn(&str) -> bool) -> Option<(usize, usize)> {

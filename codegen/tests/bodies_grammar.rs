@@ -227,3 +227,73 @@ fn hand_written_energies_are_added() {
     );
     assert!((pi - (7.0 * 0.3 + 9.81 * 0.3)).abs() < 1e-14, "Pi = {pi}");
 }
+
+/// Each row of `joints { .. }` is labelled with the joint as written and its component:
+/// x, y, z for point rows, axis 1/2 for the parallel-axis rows, slide 1/2 and twist for the
+/// rest of `prismatic`, nothing for a scalar statement.
+#[test]
+fn joint_rows_are_labelled() {
+    let text = "/// Test.
+        pub struct T;
+        parameters { m = 2.0; l = 0.5; }
+        coordinates { x = 0.5; y = 0.0; z = 0.1; a = 0.0; b = 0.0; c = 0.0; }
+        body b1 {
+            mass = m;
+            position = [x, y, z];
+            orientation = rot_x(a) * rot_y(b) * rot_z(c);
+            inertia = diag(1, 2, 3);
+            point P = [l, 0, 0];
+            axis u = [0, 0, 1];
+        }
+        point O = [0, 0, 0];
+        axis w = [0, 0, 1];
+        joints {
+            revolute(P, O, u, w);
+            prismatic(P, O, u, w);
+            spherical(P, O);
+            distance(P, O, l/2);
+            P = O + [l, -(l - 1), 0];
+            P.z = 0;
+            [P.x, P.y] = [2*l^2, 0];
+        }
+        constraints { x - l; }";
+    let model = parse_model_str(text).unwrap();
+    let labels: Vec<(&str, &str)> = model
+        .constraints
+        .iter()
+        .map(|c| (c.joint.as_str(), c.component.as_str()))
+        .collect();
+    let revolute = "revolute(P, O, u, w)";
+    let prismatic = "prismatic(P, O, u, w)";
+    let equal = "P = O + [l, -(l - 1), 0]";
+    let pair = "[P.x, P.y] = [2*l^2, 0]";
+    assert_eq!(
+        labels,
+        [
+            ("constraint 1", ""),
+            (revolute, "x"),
+            (revolute, "y"),
+            (revolute, "z"),
+            (revolute, "axis 1"),
+            (revolute, "axis 2"),
+            (prismatic, "axis 1"),
+            (prismatic, "axis 2"),
+            (prismatic, "slide 1"),
+            (prismatic, "slide 2"),
+            (prismatic, "twist"),
+            ("spherical(P, O)", "x"),
+            ("spherical(P, O)", "y"),
+            ("spherical(P, O)", "z"),
+            ("distance(P, O, l/2)", ""),
+            (equal, "x"),
+            (equal, "y"),
+            (equal, "z"),
+            ("P.z = 0", ""),
+            (pair, "x"),
+            (pair, "y"),
+        ]
+    );
+    assert_eq!(model.constraints[4].label(), "revolute(P, O, u, w) axis 1");
+    assert_eq!(model.constraints[14].label(), "distance(P, O, l/2)");
+    assert_eq!(model.constraints[15].label(), "P = O + [l, -(l - 1), 0] x");
+}

@@ -61,6 +61,12 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
         })
         .collect();
     let k = independent.len();
+    let row_joints: Vec<&str> = model.constraints.iter().map(|c| c.joint.as_str()).collect();
+    let row_components: Vec<&str> = model
+        .constraints
+        .iter()
+        .map(|c| c.component.as_str())
+        .collect();
     let indices: Vec<usize> = (0..p).collect();
 
     let mut doc: Vec<String> = model.doc.clone();
@@ -141,6 +147,9 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
             pub const INITIAL_GUESS: [f64; #n] = [#(#guesses),*];
             /// The independent coordinates and their initial values.
             pub const INDEPENDENT: [#krate::Independent; #k] = [#(#independent),*];
+            /// The joint and the component of each constraint row, in row order.
+            pub const CONSTRAINT_ROWS: [(&'static str, &'static str); #m] =
+                [#((#row_joints, #row_components)),*];
 
             /// The derived equations as readable text.
             pub fn equations() -> &'static str {
@@ -172,6 +181,8 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
             const PARAMETERS: &'static [&'static str] = &[#(#parameter_names),*];
             const INITIAL_GUESS: [f64; #n] = [#(#guesses),*];
             const INDEPENDENT: &'static [#krate::Independent] = &[#(#independent),*];
+            const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] =
+                &[#((#row_joints, #row_components)),*];
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
                 match index {

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use mechanism::nalgebra::DMatrix;
-use mechanism::{Evaluation, Independent, System, SystemInfo};
+use mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo};
 
 /// A generalised force on one coordinate as a function of (t, q, q').
 pub type Force = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
@@ -26,6 +26,7 @@ fn info(
         initial_guess: guess,
         independent,
         constraints: m,
+        constraint_rows: (0..m).map(ConstraintRow::unnamed).collect(),
     }
 }
 

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
-use mechanism::{Independent, SolverStats, SystemInfo, Trajectory};
+use mechanism::{ConstraintRow, Independent, SolverStats, SystemInfo, Trajectory};
 
 /// Samples: t = 0, 0.01, ..., 10 s.
 pub const SAMPLES: usize = 1001;
@@ -32,6 +32,7 @@ pub fn info(name: &str) -> SystemInfo {
             velocity: 2.0 * PI,
         }],
         constraints: 3,
+        constraint_rows: (0..3).map(ConstraintRow::unnamed).collect(),
     }
 }
 

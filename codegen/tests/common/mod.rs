@@ -286,9 +286,12 @@ pub fn bare_model(
         potential,
         constraints: constraints
             .into_iter()
-            .map(|expr| Constraint {
+            .enumerate()
+            .map(|(k, expr)| Constraint {
                 expr,
                 location: Location::default(),
+                joint: format!("constraint {}", k + 1),
+                component: String::new(),
             })
             .collect(),
         forces: vec![zero; coords.len()],
