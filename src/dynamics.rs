@@ -5,8 +5,18 @@
 //! [ Phi_q  0       ] [ lambda ] = [ gamma_s                  ]
 //! ```
 //!
-//! (Van Khang 2011; seed eq. 2.11 as corrected in ERRATA item 6), solved by LU with partial
-//! pivoting, never by inverting M (which may be singular: seed ERRATA item 7). With
+//! (Van Khang 2011; the seed's eq. 2.11 written out), never by inverting M (which may be
+//! singular: the seed lumps its rod into two point masses). Two routes give the same q'':
+//!
+//! - **LU** with partial pivoting of the whole matrix, for small systems (n + m <= 24) whose
+//!   matrix is regular and well conditioned (condition estimate <= `condition_limit`);
+//! - the **augmented Lagrangian** iteration ([`AugmentedLagrangian`]) otherwise: large
+//!   systems (factored inside their band), redundant constraint rows (the matrix above is
+//!   then singular although q'' is unique) and configurations near a singular one.
+//!
+//! An error is raised only where q'' itself is undetermined: M not positive definite on the
+//! null space of Phi_q ([`Error::UndeterminedMotion`]). With redundant rows lambda is not
+//! unique; [`Dynamics::min_norm_multipliers`] gives the minimum-norm choice. With
 //! Baumgarte stabilisation (Baumgarte 1972) the acceleration right-hand side is
 //!
 //! ```text
@@ -16,13 +26,18 @@
 //! otherwise gamma_s = gamma. Sign convention: lambda enters as +Phi_q^T lambda on the left,
 //! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
 
+use crate::augmented_lagrangian::AugmentedLagrangian;
 use crate::error::Error;
-use crate::linalg::Lu;
+use crate::linalg::{Lu, RowBasis};
 use crate::mechanism::{Evaluation, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
-/// configuration is reported as singular.
-pub const DEFAULT_CONDITION_LIMIT: f64 = 1e13;
+/// LU route hands the solve to the augmented Lagrangian route (where LU would lose more than
+/// about 8 of its 16 digits).
+pub const DEFAULT_CONDITION_LIMIT: f64 = 1e8;
+
+/// Largest n + m solved by LU first (dense LU costs (n + m)^3 / 3).
+const LU_MAX_ORDER: usize = 24;
 
 /// Solves between two condition estimates of the augmented matrix (one DOP853 step has 12).
 const ESTIMATE_EVERY: usize = 8;
@@ -39,8 +54,17 @@ pub struct Dynamics {
     /// Solves since the condition was last estimated.
     since_estimate: usize,
     names: Vec<String>,
-    /// Condition-estimate limit (default [`DEFAULT_CONDITION_LIMIT`]).
+    augmented: AugmentedLagrangian,
+    basis: RowBasis,
+    direction: Vec<f64>,
+    /// Q = tau - C q' - g of the last augmented solve (for the multipliers), and whether the
+    /// last solve took that route.
+    force: Vec<f64>,
+    last_augmented: bool,
+    /// Condition-estimate limit of the LU route (default [`DEFAULT_CONDITION_LIMIT`]).
     pub condition_limit: f64,
+    /// Solves done by the augmented Lagrangian route.
+    pub augmented_solves: usize,
     /// Baumgarte (alpha, beta) in 1/s, or `None` for gamma_s = gamma.
     pub baumgarte: Option<(f64, f64)>,
     /// Number of augmented solves performed (right-hand-side evaluations).
@@ -60,7 +84,13 @@ impl Dynamics {
             condition: f64::NAN,
             since_estimate: usize::MAX,
             names: info.coordinates.clone(),
+            augmented: AugmentedLagrangian::new(n, m),
+            basis: RowBasis::new(m, n),
+            direction: vec![0.0; n],
+            force: vec![0.0; n],
+            last_augmented: false,
             condition_limit: DEFAULT_CONDITION_LIMIT,
+            augmented_solves: 0,
             baumgarte: None,
             evaluations: 0,
         }
@@ -69,8 +99,8 @@ impl Dynamics {
     /// Evaluates the system at (t, q, q') and solves the augmented system for q'' and lambda.
     ///
     /// Errors: [`Error::NonFinite`] when the evaluation or the solution is not finite;
-    /// [`Error::SingularConfiguration`] when a pivot vanishes or the condition estimate
-    /// exceeds [`Dynamics::condition_limit`].
+    /// [`Error::UndeterminedMotion`] when M is not positive definite on the null space of
+    /// Phi_q (see the module docs).
     pub fn solve(
         &mut self,
         system: &dyn System,
@@ -82,23 +112,7 @@ impl Dynamics {
         self.evaluations += 1;
         system.evaluate(t, q, qd, &mut self.eval);
         let e = &self.eval;
-        let k = n + m;
-        // Column-major fill of [M Phi_q^T; Phi_q 0], column by column.
-        let a = self.lu.matrix_mut().as_mut_slice();
-        let (mass, phi_q) = (e.mass.as_slice(), e.phi_q.as_slice());
-        for j in 0..n {
-            let col = &mut a[j * k..(j + 1) * k];
-            col[..n].copy_from_slice(&mass[j * n..(j + 1) * n]);
-            col[n..].copy_from_slice(&phi_q[j * m..(j + 1) * m]);
-        }
-        for r in 0..m {
-            let col = &mut a[(n + r) * k..(n + r + 1) * k];
-            for (j, v) in col[..n].iter_mut().enumerate() {
-                *v = phi_q[j * m + r];
-            }
-            col[n..].fill(0.0);
-        }
-        let finite_matrix = a.iter().fold(true, |ok, v| ok & v.is_finite());
+        let finite_matrix = e.mass.iter().chain(e.phi_q.iter()).all(|v| v.is_finite());
         for i in 0..n {
             self.sol[i] = e.forces[i] - e.coriolis[i] - e.gravity[i];
         }
@@ -120,13 +134,46 @@ impl Dynamics {
                 t,
             ));
         }
+        self.last_augmented = !(n + m <= LU_MAX_ORDER && self.solve_lu());
+        if self.last_augmented {
+            self.solve_augmented(t, q)?;
+        }
+        if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
+            let what = if i < n {
+                format!("q'' of {}", self.names[i])
+            } else {
+                format!("lambda_{}", i - n + 1)
+            };
+            return Err(Error::NonFinite { what, t });
+        }
+        Ok(())
+    }
+
+    /// The LU route: factors [M Phi_q^T; Phi_q 0] and solves in place when the matrix is
+    /// regular and its condition estimate is within the limit; false (nothing solved)
+    /// otherwise.
+    fn solve_lu(&mut self) -> bool {
+        let (n, m) = (self.n, self.m);
+        let e = &self.eval;
+        let k = n + m;
+        // Column-major fill of [M Phi_q^T; Phi_q 0], column by column.
+        let a = self.lu.matrix_mut().as_mut_slice();
+        let (mass, phi_q) = (e.mass.as_slice(), e.phi_q.as_slice());
+        for j in 0..n {
+            let col = &mut a[j * k..(j + 1) * k];
+            col[..n].copy_from_slice(&mass[j * n..(j + 1) * n]);
+            col[n..].copy_from_slice(&phi_q[j * m..(j + 1) * m]);
+        }
+        for r in 0..m {
+            let col = &mut a[(n + r) * k..(n + r + 1) * k];
+            for (j, v) in col[..n].iter_mut().enumerate() {
+                *v = phi_q[j * m + r];
+            }
+            col[n..].fill(0.0);
+        }
         if !self.lu.factor() {
             self.condition = f64::INFINITY;
-            return Err(Error::SingularConfiguration {
-                t,
-                q: q.to_vec(),
-                condition: f64::INFINITY,
-            });
+            return false;
         }
         // The Hager-Higham estimate costs several triangular solves, more than the solve
         // itself. Conditioning changes gradually along a trajectory, so it is estimated on
@@ -138,23 +185,73 @@ impl Dynamics {
             self.since_estimate = 0;
         }
         self.since_estimate += 1;
-        if self.condition > self.condition_limit {
-            return Err(Error::SingularConfiguration {
-                t,
-                q: q.to_vec(),
-                condition: self.condition,
-            });
+        if !(self.condition <= self.condition_limit) {
+            return false;
         }
         self.lu.solve(&mut self.sol);
-        if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
-            let what = if i < n {
-                format!("q'' of {}", self.names[i])
-            } else {
-                format!("lambda_{}", i - n + 1)
-            };
-            return Err(Error::NonFinite { what, t });
+        true
+    }
+
+    /// The augmented Lagrangian route, with the right-hand side [Q; gamma_s] in `sol`.
+    fn solve_augmented(&mut self, t: f64, q: &[f64]) -> Result<(), Error> {
+        let n = self.n;
+        self.augmented_solves += 1;
+        let (rhs_q, rhs_g) = self.sol.split_at(n);
+        self.force.copy_from_slice(rhs_q);
+        let e = &self.eval;
+        if let Err(failure) = self.augmented.solve(&e.mass, &e.phi_q, rhs_q, rhs_g) {
+            self.augmented
+                .undetermined_direction(failure, &mut self.direction);
+            return Err(self.undetermined(t, q));
         }
+        self.sol[..n].copy_from_slice(self.augmented.solution());
+        self.sol[n..].copy_from_slice(self.augmented.multipliers());
         Ok(())
+    }
+
+    /// [`Error::UndeterminedMotion`] naming the coordinates that move in `self.direction`.
+    fn undetermined(&self, t: f64, q: &[f64]) -> Error {
+        let mut involved: Vec<(usize, f64)> = (0..self.n)
+            .map(|i| (i, self.direction[i].abs()))
+            .filter(|&(_, v)| v > 1e-6)
+            .collect();
+        involved.sort_by(|a, b| b.1.total_cmp(&a.1));
+        Error::UndeterminedMotion {
+            t,
+            coordinates: involved
+                .iter()
+                .map(|&(i, _)| self.names[i].clone())
+                .collect(),
+            q: q.to_vec(),
+        }
+    }
+
+    /// The minimum-norm multipliers of the last solve: lambda with the same forces
+    /// Phi_q^T lambda and no component in the null space of Phi_q^T (the part redundant
+    /// rows leave undetermined), written over [`Dynamics::multipliers`]. After the LU route
+    /// (full rank) they are the LU multipliers; after the augmented Lagrangian route they are
+    /// recovered from the constraint force Phi_q^T lambda = Q - M q'', which is accurate to
+    /// round-off (the iteration's own lambda carries the penalty's 1e6 eps).
+    /// Allocates nothing.
+    pub fn min_norm_multipliers(&mut self) -> &[f64] {
+        let (n, m) = (self.n, self.m);
+        if m == 0 {
+            return &self.sol[n..];
+        }
+        let e = &self.eval;
+        self.basis.factor(&e.phi_q);
+        if self.last_augmented {
+            for i in 0..n {
+                let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * self.sol[j]).sum();
+                self.direction[i] = self.force[i] - mx;
+            }
+            let (_, lambda) = self.sol.split_at_mut(n);
+            self.basis
+                .multipliers_for(&e.phi_q, &self.direction, lambda);
+        } else {
+            self.basis.min_norm(&mut self.sol[n..]);
+        }
+        &self.sol[n..]
     }
 
     fn non_finite(&self, what: &str, t: f64) -> Error {

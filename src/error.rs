@@ -40,18 +40,38 @@ pub enum Error {
         /// 1-norm condition estimate of the matrix that failed (infinite for a zero pivot).
         condition: f64,
     },
-    /// The constraint Jacobian Phi_q has fewer independent rows than constraints: some loop
-    /// equations repeat others, so the multipliers are not unique.
+    /// The accelerations are not determined: the mass matrix is singular (or indefinite) on
+    /// a motion the constraints allow, so M + alpha Phi_q^T Phi_q is not positive definite.
+    /// A body or coordinate without mass or inertia that the constraints leave free.
     #[error(
-        "redundant constraints: Phi_q has rank {rank} but {rows} rows at q = {q:?}; remove \
-         {} repeated constraint equation(s)", rows - rank
+        "the motion is undetermined at t = {t} s: the mass matrix gives no inertia to an \
+         allowed motion of {coordinates:?} (no mass or inertia on it, and the constraints do \
+         not fix it); q = {q:?}"
     )]
-    RedundantConstraints {
-        /// Numerical rank of Phi_q.
-        rank: usize,
-        /// Number of constraint rows m.
-        rows: usize,
-        /// Configuration where the rank was measured.
+    UndeterminedMotion {
+        /// Time (s).
+        t: f64,
+        /// The coordinates that move in that motion (largest share first).
+        coordinates: Vec<String>,
+        /// Configuration q.
+        q: Vec<f64>,
+    },
+    /// The constraints cannot be satisfied near the initial guess: Newton stalls at a point
+    /// where Phi != 0 and cannot be decreased (a link too short to close the loop, a
+    /// position out of reach).
+    #[error(
+        "the constraints cannot be satisfied near the initial guess at t = {t} s: \
+         |Phi|_inf stays at {residual:e} (rows {rows:?}); check the lengths and the guesses \
+         (q = {q:?})"
+    )]
+    ConstraintsUnsatisfiable {
+        /// Time (s).
+        t: f64,
+        /// The residual |Phi|_inf that cannot be reduced.
+        residual: f64,
+        /// The rows with the largest residuals, by label.
+        rows: Vec<String>,
+        /// Where Newton stopped.
         q: Vec<f64>,
     },
     /// The independent coordinates chosen by the user leave the others undetermined: the
@@ -68,6 +88,24 @@ pub enum Error {
         dependent: usize,
         /// Rank of Phi_q restricted to the dependent columns.
         rank: usize,
+    },
+    /// A drive that the constraints and the drives before it already fix: its driving
+    /// force is not determined (more drives than degrees of freedom, or a drive on a
+    /// coordinate the loop closure fixes).
+    #[error(
+        "conflicting drives at t = {t} s: the motion of {drives:?} is already fixed by the \
+         constraints and the other drives ({drives_given} drive(s) on a mechanism with \
+         {degrees_of_freedom} degree(s) of freedom), so its driving force is not determined"
+    )]
+    ConflictingDrives {
+        /// Time (s).
+        t: f64,
+        /// The driven coordinates whose drives are redundant.
+        drives: Vec<String>,
+        /// Number of drives given.
+        drives_given: usize,
+        /// Degrees of freedom of the undriven mechanism (n - rank Phi_q).
+        degrees_of_freedom: usize,
     },
     /// The adaptive step size fell below the smallest allowed value.
     #[error(

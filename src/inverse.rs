@@ -15,7 +15,11 @@
 //! ```
 //!
 //! with E the unit rows of the driven coordinates and tau* the declared forces with the
-//! driven entries set to zero. Row k of the first block reads
+//! driven entries set to zero. The system is solved by the augmented Lagrangian route
+//! ([`AugmentedLagrangian`]) with the rows [Phi_q; E], so redundant constraint rows are
+//! accepted: their multipliers are reported as the minimum-norm choice. The driving forces
+//! stay unique as long as no drive row lies in the span of the other rows; a drive that the
+//! constraints and the other drives already fix is [`Error::ConflictingDrives`]. Row k of the first block reads
 //! (M q'' + C q' + g + Phi_q^T lambda)_k + lambda_d = 0, so the actuator must supply
 //! **tau_k = -lambda_d**: the total generalised force on q_k (N m for an angle, N for a
 //! length).
@@ -31,10 +35,12 @@
 //! by 1/c). For the seed crank-slider, Phi = r_C(crank and rod) - r_C(slider), so lambda is
 //! the force of the connecting rod on the slider at the spherical joint C, in x, y, z.
 
-use crate::dynamics::DEFAULT_CONDITION_LIMIT;
+use nalgebra::DMatrix;
+
+use crate::augmented_lagrangian::AugmentedLagrangian;
 use crate::error::Error;
 use crate::kinematics::{AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities};
-use crate::linalg::Lu;
+use crate::linalg::RowBasis;
 use crate::mechanism::{Evaluation, System, SystemInfo};
 
 /// One sample of an inverse-dynamics run.
@@ -61,12 +67,14 @@ pub struct InverseDynamics {
     fixed: Vec<usize>,
     q: Vec<f64>,
     eval: Evaluation,
-    lu: Lu,
+    rows: DMatrix<f64>,
+    augmented: AugmentedLagrangian,
+    basis: RowBasis,
     rhs: Vec<f64>,
+    gamma: Vec<f64>,
+    lambda: Vec<f64>,
     /// Newton options of the position solve.
     pub assembly: AssemblyOptions,
-    /// Condition-estimate limit of the augmented matrix.
-    pub condition_limit: f64,
 }
 
 impl InverseDynamics {
@@ -86,10 +94,13 @@ impl InverseDynamics {
             fixed,
             q: info.initial_guess.clone(),
             eval: Evaluation::zeros(n, m),
-            lu: Lu::new(n + m + k),
-            rhs: vec![0.0; n + m + k],
+            rows: DMatrix::zeros(m + k, n),
+            augmented: AugmentedLagrangian::new(n, m + k),
+            basis: RowBasis::new(m + k, n),
+            rhs: vec![0.0; n],
+            gamma: vec![0.0; m + k],
+            lambda: vec![0.0; m + k],
             assembly,
-            condition_limit: DEFAULT_CONDITION_LIMIT,
         })
     }
 
@@ -115,20 +126,10 @@ impl InverseDynamics {
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
         system.evaluate(t, &self.q, &qd, &mut self.eval);
         let e = &self.eval;
-        let a = self.lu.matrix_mut();
-        a.fill(0.0);
-        for i in 0..n {
-            for j in 0..n {
-                a[(i, j)] = e.mass[(i, j)];
-            }
-            for r in 0..m {
-                a[(n + r, i)] = e.phi_q[(r, i)];
-                a[(i, n + r)] = e.phi_q[(r, i)];
-            }
-        }
+        self.rows.fill(0.0);
+        self.rows.view_mut((0, 0), (m, n)).copy_from(&e.phi_q);
         for (j, &c) in self.fixed.iter().enumerate() {
-            a[(n + m + j, c)] = 1.0;
-            a[(c, n + m + j)] = 1.0;
+            self.rows[(m + j, c)] = 1.0;
         }
         for i in 0..n {
             let tau = if self.fixed.contains(&i) {
@@ -138,35 +139,64 @@ impl InverseDynamics {
             };
             self.rhs[i] = tau - e.coriolis[i] - e.gravity[i];
         }
-        self.rhs[n..n + m].copy_from_slice(e.gamma.as_slice());
-        self.rhs[n + m..].copy_from_slice(&fdd);
-        if self.rhs.iter().any(|v| !v.is_finite()) {
+        self.gamma[..m].copy_from_slice(e.gamma.as_slice());
+        self.gamma[m..].copy_from_slice(&fdd);
+        if self.rhs.iter().chain(&self.gamma).any(|v| !v.is_finite())
+            || e.mass.iter().any(|v| !v.is_finite())
+        {
             return Err(Error::NonFinite {
                 what: "the equations of motion along the prescribed motion".into(),
                 t,
             });
         }
-        let singular = |c| Error::SingularConfiguration {
-            t,
-            q: self.q.clone(),
-            condition: c,
-        };
-        if !self.lu.factor() {
-            return Err(singular(f64::INFINITY));
+        if let Err(failure) = self
+            .augmented
+            .solve(&e.mass, &self.rows, &self.rhs, &self.gamma)
+        {
+            let mut v = vec![0.0; n];
+            self.augmented.undetermined_direction(failure, &mut v);
+            let mut moving: Vec<usize> = (0..n).filter(|&i| v[i].abs() > 1e-6).collect();
+            moving.sort_by(|&x, &y| v[y].abs().total_cmp(&v[x].abs()));
+            return Err(Error::UndeterminedMotion {
+                t,
+                coordinates: moving
+                    .iter()
+                    .map(|&i| info.coordinates[i].clone())
+                    .collect(),
+                q: self.q.clone(),
+            });
         }
-        let c = self.lu.condition_estimate();
-        if c > self.condition_limit {
-            return Err(singular(c));
+        // Drives must be independent of the constraints and of each other, else their
+        // forces are not unique.
+        self.basis.factor(&self.rows);
+        let conflicting: Vec<String> = (0..k)
+            .filter(|&j| self.basis.is_redundant(m + j))
+            .map(|j| info.coordinates[self.fixed[j]].clone())
+            .collect();
+        if !conflicting.is_empty() {
+            return Err(Error::ConflictingDrives {
+                t,
+                drives: conflicting,
+                drives_given: k,
+                degrees_of_freedom: n - (0..m).filter(|&r| !self.basis.is_redundant(r)).count(),
+            });
         }
-        self.lu.solve(&mut self.rhs);
-        Error::check_finite(&self.rhs[..n], "q''", &info.coordinates, t)?;
+        // lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm).
+        let qdd = self.augmented.solution().to_vec();
+        for i in 0..n {
+            let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * qdd[j]).sum();
+            self.rhs[i] -= mx;
+        }
+        self.basis
+            .multipliers_for(&self.rows, &self.rhs, &mut self.lambda);
+        Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
         Ok(InverseSample {
             t,
             q: self.q.clone(),
             qd,
-            qdd: self.rhs[..n].to_vec(),
-            driving: self.rhs[n + m..].iter().map(|l| -l).collect(),
-            lambda: self.rhs[n..n + m].to_vec(),
+            qdd,
+            driving: self.lambda[m..].iter().map(|l| -l).collect(),
+            lambda: self.lambda[..m].to_vec(),
         })
     }
 }

@@ -348,33 +348,12 @@ fn solve_dependent(
     Error::check_finite(out, "rate", &info.coordinates, t)
 }
 
-/// Checks that Phi_q(q, t) has full row rank m, else [`Error::RedundantConstraints`].
-pub fn check_constraint_rank(
-    system: &dyn System,
-    t: f64,
-    q: &[f64],
-    options: &AssemblyOptions,
-) -> Result<(), Error> {
-    let info = system.info();
-    let (n, m) = (info.n(), info.m());
-    let mut phi_q = DMatrix::zeros(m, n);
-    let mut phi_t = vec![0.0; m];
-    system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
-    let (rank, _) = numerical_rank(&phi_q, options.rank_tolerance);
-    if rank < m {
-        return Err(Error::RedundantConstraints {
-            rank,
-            rows: m,
-            q: q.to_vec(),
-        });
-    }
-    Ok(())
-}
-
 /// Consistent initial state from independent coordinates: q_k = position, q_k' = velocity
 /// for each entry of `independent`; the rest by Newton from `guess` (positions), then
-/// Phi_q q' = -Phi_t (velocities). Checks that Phi_q has full rank (no redundant
-/// constraints) and that the independent set determines the others.
+/// Phi_q q' = -Phi_t (velocities). Redundant constraint rows are accepted (see
+/// [`crate::mobility`]); the independent set must determine the others. Where the
+/// constraints cannot be closed from the guesses the error is
+/// [`Error::ConstraintsUnsatisfiable`], naming the rows left with a residual.
 pub fn assemble_from(
     system: &dyn System,
     t: f64,
@@ -398,8 +377,12 @@ pub fn assemble_from(
         q[ind.coordinate] = ind.position;
         qd[ind.coordinate] = ind.velocity;
     }
-    solve_positions(system, t, &fixed, &mut q, options)?;
-    check_constraint_rank(system, t, &q, options)?;
+    solve_positions(system, t, &fixed, &mut q, options).map_err(|e| match e {
+        // At assembly there is no motion to be singular: Newton stopped where the loops
+        // cannot be closed.
+        Error::SingularConfiguration { q: stuck, .. } => unsatisfiable(system, t, stuck),
+        other => other,
+    })?;
     solve_velocities(system, t, &q, &fixed, &mut qd, options)?;
     Ok(KinematicState {
         t,
@@ -407,6 +390,25 @@ pub fn assemble_from(
         qd,
         qdd: vec![0.0; info.n()],
     })
+}
+
+/// [`Error::ConstraintsUnsatisfiable`] at `q`, naming the rows whose residual is within a
+/// factor 10 of the largest.
+fn unsatisfiable(system: &dyn System, t: f64, q: Vec<f64>) -> Error {
+    let info = system.info();
+    let mut phi = vec![0.0; info.m()];
+    system.constraints(t, &q, &mut phi);
+    let residual = inf_norm(&phi);
+    let rows = (0..info.m())
+        .filter(|&r| phi[r].abs() >= 0.1 * residual)
+        .map(|r| info.constraint_label(r))
+        .collect();
+    Error::ConstraintsUnsatisfiable {
+        t,
+        residual,
+        rows,
+        q,
+    }
 }
 
 /// [`assemble_from`] with the declared independent coordinates and initial guesses.

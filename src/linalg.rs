@@ -1,6 +1,9 @@
 //! Dense linear algebra for the step loop: an in-place LU factorisation with partial
 //! pivoting on preallocated storage, solves with A and A^T, and Hager's 1-norm condition
-//! estimate; plus a rank-revealing SVD for checks made outside the loop.
+//! estimate; an envelope (banded) Cholesky for the symmetric positive definite matrices of
+//! the augmented-Lagrangian solve and the projections ([`Envelope`]); the independent rows
+//! of a constraint Jacobian and the null space of its transpose ([`RowBasis`]); plus a
+//! rank-revealing SVD for checks made outside the loop.
 //!
 //! References: Golub & Van Loan, Matrix Computations (4th ed.), alg. 3.4.1 (LU with partial
 //! pivoting); Hager, "Condition estimates", SIAM J. Sci. Stat. Comput. 5 (1984) and Higham,
@@ -8,8 +11,13 @@
 
 use nalgebra::DMatrix;
 
+mod envelope;
 mod kernels;
+mod rows;
 use kernels::{factor, solve, solve_transpose};
+
+pub use envelope::{Envelope, NotPositiveDefinite};
+pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
 
 /// LU factorisation P A = L U of a square matrix, computed in place in a buffer allocated
 /// once. Fill [`Lu::matrix_mut`], call [`Lu::factor`], then [`Lu::solve`] any number of

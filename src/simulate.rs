@@ -24,7 +24,9 @@ use crate::integrators::{
 };
 use crate::kinematics::{AssemblyOptions, assemble, assemble_from};
 use crate::mechanism::{Independent, System};
+use crate::mobility::mobility;
 use crate::output::csv::format_f64;
+use crate::singular::SingularWatch;
 use crate::stabilization::{Projector, Stabilization};
 use crate::trajectory::Trajectory;
 
@@ -160,6 +162,9 @@ pub struct Simulation {
     pub events: Vec<EventHit>,
     /// Index of the event that stopped the run, if any.
     pub stopped_by: Option<usize>,
+    /// Why the run stopped before the end time, if it did (the trajectory then holds the
+    /// samples up to the failure).
+    pub failure: Option<Error>,
 }
 
 /// Simulates `system` and returns the recorded trajectory (see the module documentation).
@@ -167,12 +172,28 @@ pub fn simulate(system: &dyn System, options: &SimulationOptions) -> Result<Traj
     Ok(simulate_with_events(system, options)?.trajectory)
 }
 
-/// Simulates `system` and returns the trajectory with the located events.
+/// Simulates `system` and returns the trajectory with the located events; any failure is
+/// an error (the samples recorded before it are dropped: see [`simulate_recording`]).
 pub fn simulate_with_events(
     system: &dyn System,
     options: &SimulationOptions,
 ) -> Result<Simulation, Error> {
-    Simulator::new(system, options)?.run()
+    let simulation = simulate_recording(system, options)?;
+    match simulation.failure {
+        Some(e) => Err(e),
+        None => Ok(simulation),
+    }
+}
+
+/// Simulates `system`, keeping what was computed when the run stops early: an error is
+/// returned only when the run cannot start (assembly, invalid options); a failure during the
+/// integration ends the trajectory at the last recorded sample, with the error in
+/// [`Simulation::failure`].
+pub fn simulate_recording(
+    system: &dyn System,
+    options: &SimulationOptions,
+) -> Result<Simulation, Error> {
+    Ok(Simulator::new(system, options)?.run_recording())
 }
 
 /// y' = [q', q'', tau . q'] through the augmented system.
@@ -233,6 +254,7 @@ pub struct Simulator<'a> {
     trajectory: Trajectory,
     events: Vec<EventHit>,
     stopped_by: Option<usize>,
+    watch: SingularWatch,
     started: Instant,
 }
 
@@ -304,6 +326,8 @@ impl<'a> Simulator<'a> {
                 )));
             }
         }
+        let watch = SingularWatch::new(system, t0, &y[..n]);
+        let mobility = mobility(system, t0, &y[..n])?;
         let span = options.t_end - t0;
         let outputs = ((span * options.output_rate) - 1e-9).ceil().max(1.0);
         // t_end > t0 and rate > 0 were checked above, so outputs is not NaN.
@@ -318,7 +342,8 @@ impl<'a> Simulator<'a> {
         // very long; beyond that the buffer grows as it fills.
         let outputs = outputs as usize;
         let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
-        let trajectory = Trajectory::with_capacity(info.clone(), reserve);
+        let mut trajectory = Trajectory::with_capacity(info.clone(), reserve);
+        trajectory.mobility = Some(mobility);
         let stepper = match io.method {
             Method::Hht { alpha, .. } => {
                 let mut hht = Box::new(Hht::new(info, alpha)?);
@@ -368,6 +393,7 @@ impl<'a> Simulator<'a> {
             trajectory,
             events: Vec::with_capacity(16),
             stopped_by: None,
+            watch,
             started,
         };
         let _ = m;
@@ -446,21 +472,38 @@ impl<'a> Simulator<'a> {
         &self.trajectory
     }
 
-    /// Runs to the end time (or a stopping event).
-    pub fn run(mut self) -> Result<Simulation, Error> {
+    /// Runs to the end time (or a stopping event); any failure is an error.
+    pub fn run(self) -> Result<Simulation, Error> {
+        let simulation = self.run_recording();
+        match simulation.failure {
+            Some(e) => Err(e),
+            None => Ok(simulation),
+        }
+    }
+
+    /// Runs to the end time, a stopping event or the first failure, which is returned in
+    /// [`Simulation::failure`] with the samples recorded before it.
+    pub fn run_recording(mut self) -> Simulation {
+        let mut failure = None;
         while !self.finished {
-            self.step()?;
+            if let Err(e) = self.step() {
+                failure = Some(e);
+                break;
+            }
         }
-        self.trajectory.stats.wall_time_s = self.started.elapsed().as_secs_f64();
-        self.trajectory.stats.rhs_evaluations = self.dynamics.evaluations;
+        let stats = &mut self.trajectory.stats;
+        stats.wall_time_s = self.started.elapsed().as_secs_f64();
+        stats.rhs_evaluations = self.dynamics.evaluations;
+        stats.augmented_solves = self.dynamics.augmented_solves;
         if let Stepper::Hht { hht, .. } = &self.stepper {
-            self.trajectory.stats.rhs_evaluations += hht.evaluations;
+            stats.rhs_evaluations += hht.evaluations;
         }
-        Ok(Simulation {
+        Simulation {
             trajectory: self.trajectory,
             events: self.events,
             stopped_by: self.stopped_by,
-        })
+            failure,
+        }
     }
 
     /// Performs one accepted step (retrying rejected ones), records the output samples and
@@ -619,6 +662,9 @@ impl<'a> Simulator<'a> {
             }
             Stepper::Hht { .. } => {}
         }
+        if let Some(p) = self.watch.observe(self.system, self.t, &self.y[..n]) {
+            self.trajectory.singular_passages.push(p);
+        }
         for (i, ev) in self.options.events.iter().enumerate() {
             self.g_old[i] = (ev.g)(self.t, &self.y[..n], &self.y[n..2 * n]);
         }
@@ -679,6 +725,8 @@ impl<'a> Simulator<'a> {
             self.projector.project(self.system, ts, q, qd)?;
         }
         self.dynamics.solve(self.system, ts, q, qd)?;
+        // Redundant rows leave lambda undetermined: record the minimum-norm choice.
+        self.dynamics.min_norm_multipliers();
         let d = &self.dynamics;
         let e = d.evaluation();
         self.trajectory.push(

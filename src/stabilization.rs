@@ -10,15 +10,27 @@
 //!   drift but does not remove it.
 //! - [`Stabilization::Projection`] (default; Hairer & Wanner, Solving ODEs II, sec. VII.2;
 //!   Eich 1993): after each accepted step, Newton onto Phi(q, t) = 0 with the minimum-norm
-//!   correction dq = -Phi_q^T (Phi_q Phi_q^T)^-1 Phi, iterated until |Phi|_inf <= 1e-14 or
-//!   stalling, then the velocities onto Phi_q q' = -Phi_t with
-//!   dq' = -Phi_q^T (Phi_q Phi_q^T)^-1 (Phi_q q' + Phi_t). Closes the loops to round-off.
+//!   correction dq = -Phi_q^T (Phi_q Phi_q^T + mu I)^-1 Phi, iterated until
+//!   |Phi|_inf <= 1e-14 or stalling, then the velocities onto Phi_q q' = -Phi_t with
+//!   dq' = -Phi_q^T (Phi_q Phi_q^T + mu I)^-1 (Phi_q q' + Phi_t). Closes the loops to
+//!   round-off.
+//!
+//! The shift mu = 1e-12 max_i (Phi_q Phi_q^T)_ii (Levenberg–Marquardt) keeps the Gram
+//! matrix positive definite when rows are redundant or the configuration is singular: the
+//! correction is still the minimum-norm one in every direction where Phi_q has a singular
+//! value above 1e-6 of its largest, and no step is taken along directions the constraints
+//! no longer control (at a singular configuration Newton would otherwise jump branches).
+//! Redundant rows are consistent, so their residual lies in the controlled directions. The
+//! Gram matrix is formed from each row's nonzero span and factored inside its envelope.
 
 use nalgebra::DMatrix;
 
 use crate::error::Error;
-use crate::linalg::Lu;
+use crate::linalg::{Envelope, RowSpans};
 use crate::mechanism::{System, SystemInfo};
+
+/// Relative Levenberg–Marquardt shift of the Gram matrix (see the module docs).
+const GRAM_SHIFT: f64 = 1e-12;
 
 /// How the drift off Phi = 0 and Phi' = 0 is controlled.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -45,7 +57,8 @@ pub struct Projector {
     phi: Vec<f64>,
     phi_t: Vec<f64>,
     phi_q: DMatrix<f64>,
-    lu: Lu,
+    spans: RowSpans,
+    gram: Envelope,
     z: Vec<f64>,
     /// Target |Phi|_inf: iterate until below this (default 1e-14) ...
     pub tolerance: f64,
@@ -65,7 +78,8 @@ impl Projector {
             phi: vec![0.0; m],
             phi_t: vec![0.0; m],
             phi_q: DMatrix::zeros(m, n),
-            lu: Lu::new(m),
+            spans: RowSpans::new(m),
+            gram: Envelope::new(m),
             z: vec![0.0; m],
             tolerance: 1e-14,
             accept: 1e-12,
@@ -73,35 +87,35 @@ impl Projector {
         }
     }
 
-    fn factor_gram(&mut self, t: f64, q: &[f64]) -> Result<(), Error> {
-        let (n, m) = (self.n, self.m);
-        let g = self.lu.matrix_mut();
-        for i in 0..m {
-            for j in 0..=i {
-                let s: f64 = (0..n)
-                    .map(|k| self.phi_q[(i, k)] * self.phi_q[(j, k)])
-                    .sum();
-                g[(i, j)] = s;
-                g[(j, i)] = s;
-            }
-        }
-        if !self.lu.factor() {
-            return Err(Error::SingularConfiguration {
+    fn factor_gram(&mut self, t: f64) -> Result<(), Error> {
+        self.spans.scan(&self.phi_q);
+        self.spans.gram(&self.phi_q, 0.0, &mut self.gram);
+        let scale = (0..self.m).fold(0.0f64, |a, i| a.max(self.gram.get(i, i)));
+        if !scale.is_finite() {
+            return Err(Error::NonFinite {
+                what: "constraint Jacobian Phi_q in projection".into(),
                 t,
-                q: q.to_vec(),
-                condition: f64::INFINITY,
             });
         }
-        Ok(())
+        // A zero Jacobian (scale 0) gets the shift 1: no correction at all.
+        let mu = if scale > 0.0 { GRAM_SHIFT * scale } else { 1.0 };
+        for i in 0..self.m {
+            self.gram.add(i, i, mu);
+        }
+        self.gram.factor(0.0).map_err(|_| Error::NonFinite {
+            what: "constraint Jacobian Phi_q in projection".into(),
+            t,
+        })
     }
 
-    /// Subtracts Phi_q^T (Phi_q Phi_q^T)^-1 r from x, with r in `self.z`.
+    /// Subtracts Phi_q^T (Phi_q Phi_q^T + mu I)^-1 r from x, with r in `self.z`.
     fn correct(&mut self, x: &mut [f64]) {
-        self.lu.solve(&mut self.z);
-        for (k, xk) in x.iter_mut().enumerate() {
-            *xk -= (0..self.m)
-                .map(|i| self.phi_q[(i, k)] * self.z[i])
-                .sum::<f64>();
+        self.gram.solve(&mut self.z);
+        for r in 0..self.m {
+            let zr = self.z[r];
+            for k in self.spans.span(r) {
+                x[k] -= self.phi_q[(r, k)] * zr;
+            }
         }
     }
 
@@ -138,7 +152,7 @@ impl Projector {
             }
             prev = r;
             system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
-            self.factor_gram(t, q)?;
+            self.factor_gram(t)?;
             self.z.copy_from_slice(&self.phi);
             self.correct(q);
         }
@@ -157,7 +171,7 @@ impl Projector {
             return Ok(());
         }
         system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
-        self.factor_gram(t, q)?;
+        self.factor_gram(t)?;
         for i in 0..self.m {
             self.z[i] =
                 self.phi_t[i] + (0..self.n).map(|k| self.phi_q[(i, k)] * qd[k]).sum::<f64>();

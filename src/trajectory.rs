@@ -2,6 +2,8 @@
 //! recording a sample only grows one buffer.
 
 use crate::mechanism::SystemInfo;
+use crate::mobility::Mobility;
+use crate::singular::SingularPassage;
 
 /// One recorded sample, borrowed from a [`Trajectory`].
 #[derive(Clone, Copy, Debug)]
@@ -39,6 +41,9 @@ pub struct SolverStats {
     pub rhs_evaluations: usize,
     /// Wall-clock time of the run (s).
     pub wall_time_s: f64,
+    /// Right-hand sides solved by the augmented Lagrangian route (redundant rows, large
+    /// systems, near-singular configurations) rather than by LU.
+    pub augmented_solves: usize,
 }
 
 /// A recorded trajectory: rows of [t, q, q', q'', lambda, |Phi|, |Phi_q q' + Phi_t|, T, Pi, W].
@@ -48,6 +53,10 @@ pub struct Trajectory {
     pub info: SystemInfo,
     /// Run counters.
     pub stats: SolverStats,
+    /// Mobility at the first sample (rank of Phi_q, redundant rows).
+    pub mobility: Option<Mobility>,
+    /// Singular configurations passed through, in time order.
+    pub singular_passages: Vec<SingularPassage>,
     data: Vec<f64>,
 }
 
@@ -58,6 +67,8 @@ impl Trajectory {
         Self {
             info,
             stats: SolverStats::default(),
+            mobility: None,
+            singular_passages: Vec::new(),
             data: Vec::with_capacity(capacity * stride),
         }
     }

@@ -240,13 +240,27 @@ impl Hht {
                     e.mass[(i, j)] + ap * (bh2 * k.stiffness[(i, j)] + gh * k.damping[(i, j)]);
             }
         }
+        // Redundant rows make the exact Newton matrix singular (lambda is not unique). A
+        // shift -eps I in its zero block, far below the Schur complement Phi_q A^-1 Phi_q^T
+        // of any independent row, keeps it regular; Newton still converges to the residual's
+        // zero (only the iteration matrix changes), and the shift damps lambda's undetermined
+        // part to zero.
+        let mass_scale = (0..n).fold(0.0f64, |x, i| x.max(a[(i, i)].abs()));
+        let row_scale = (0..m).fold(0.0f64, |x, r| {
+            x.max((0..n).map(|j| e.phi_q[(r, j)].powi(2)).sum::<f64>())
+        });
+        let eps = if mass_scale > 0.0 {
+            1e-12 * row_scale / mass_scale
+        } else {
+            0.0
+        };
         for r in 0..m {
             for j in 0..n {
                 a[(j, n + r)] = ap * e.phi_q[(r, j)];
                 a[(n + r, j)] = e.phi_q[(r, j)];
             }
             for c in 0..m {
-                a[(n + r, n + c)] = 0.0;
+                a[(n + r, n + c)] = if c == r { -eps } else { 0.0 };
             }
         }
         if !self.lu.factor() {

@@ -1,0 +1,322 @@
+//! The augmented system of constrained dynamics, solved by the augmented Lagrangian method:
+//! well posed when the constraint Jacobian loses rank.
+//!
+//! ```text
+//! [ M  A^T ] [ x      ]   [ Q     ]        M q'' + Phi_q^T lambda = tau - C q' - g
+//! [ A  0   ] [ lambda ] = [ gamma ]        Phi_q q'' = gamma
+//! ```
+//!
+//! With redundant constraint rows (a planar loop closed by spatial joints, Bricard's
+//! linkage) or at a singular configuration passed for an instant (a chain of four-bar
+//! loops lying flat), A = Phi_q has rank r < m and the matrix above is singular, yet x = q''
+//! is unique whenever M is positive definite on the null space of A: the constraint forces
+//! A^T lambda are unique, only lambda is not. The augmented Lagrangian formulation (Bayo,
+//! García de Jalón & Serna, Comput. Methods Appl. Mech. Eng. 71, 1988; Bayo & Ledesma,
+//! Nonlinear Dyn. 9, 1996; the index-3 form ALI3-P of Cuadrado et al., used by the IFToMM
+//! benchmark's reference solutions) never factors that matrix. It factors
+//!
+//! ```text
+//! N = M + alpha A^T A,
+//! ```
+//!
+//! which is symmetric positive definite exactly when M is positive definite on the null
+//! space of A (M itself may be singular: the seed's lumped rod), and iterates
+//!
+//! ```text
+//! x_{k+1}      = x_k + N^-1 (r1 + alpha A^T r2),   r1 = Q - M x_k - A^T lambda_k,  r2 = gamma - A x_k
+//! lambda_{k+1} = lambda_k + alpha (A x_{k+1} - gamma)
+//! ```
+//!
+//! from x_0 = 0, lambda_0 = 0. (This is the classical iteration x_{k+1} = N^-1 (Q +
+//! alpha A^T gamma - A^T lambda_k) written in correction form: the residuals are computed
+//! from M and A, so the factorisation of N only has to be accurate enough to contract, as in
+//! iterative refinement.) The error of lambda in a direction where A has singular value
+//! sigma and the mass is mu shrinks by mu / (mu + alpha sigma^2) per iteration; with alpha
+//! = 1e6 max M_ii / max (A^T A)_ii two or three iterations reach round-off on regular
+//! configurations. lambda stays in the range of A, so it converges to the minimum-norm
+//! multipliers; where gamma has a part outside that range (the instant of a singular
+//! configuration) x still converges, since A^T never sees that part.
+//!
+//! N is banded for chains declared in order and is factored inside its envelope
+//! ([`Envelope`]); products with A skip each row's zeros ([`RowSpans`]).
+
+use nalgebra::DMatrix;
+
+use crate::linalg::{Envelope, NotPositiveDefinite, RowSpans};
+
+/// Default penalty factor kappa: alpha = kappa max_i M_ii / max_i (A^T A)_ii.
+pub const DEFAULT_PENALTY: f64 = 1e6;
+
+/// Workspace of the augmented Lagrangian solve; allocates nothing after
+/// [`AugmentedLagrangian::new`].
+#[derive(Clone, Debug)]
+pub struct AugmentedLagrangian {
+    n: usize,
+    m: usize,
+    spans: RowSpans,
+    matrix: Envelope,
+    x: Vec<f64>,
+    lambda: Vec<f64>,
+    r1: Vec<f64>,
+    r2: Vec<f64>,
+    work: Vec<f64>,
+    /// Penalty factor kappa (default [`DEFAULT_PENALTY`]).
+    pub penalty: f64,
+    /// Iteration limit per solve (default 60).
+    pub max_iterations: usize,
+    /// Iterations of the last solve.
+    pub iterations: usize,
+    /// Solves that reached the iteration limit before the correction of x stopped
+    /// decreasing (they return the last iterate).
+    pub unconverged: usize,
+}
+
+impl AugmentedLagrangian {
+    /// Workspace for n coordinates and m constraint rows.
+    pub fn new(n: usize, m: usize) -> Self {
+        Self {
+            n,
+            m,
+            spans: RowSpans::new(m),
+            matrix: Envelope::new(n),
+            x: vec![0.0; n],
+            lambda: vec![0.0; m],
+            r1: vec![0.0; n],
+            r2: vec![0.0; m],
+            work: vec![0.0; n],
+            penalty: DEFAULT_PENALTY,
+            max_iterations: 60,
+            iterations: 0,
+            unconverged: 0,
+        }
+    }
+
+    /// Solves the augmented system for x and lambda (see the module docs). `mass` is n x n
+    /// and symmetric (its upper triangle is read), `a` is m x n.
+    ///
+    /// Fails with [`NotPositiveDefinite`] when N = M + alpha A^T A is not positive definite:
+    /// M is singular or indefinite on the motions the constraints allow, so the
+    /// accelerations are not determined. [`AugmentedLagrangian::undetermined_direction`]
+    /// then gives that motion.
+    pub fn solve(
+        &mut self,
+        mass: &DMatrix<f64>,
+        a: &DMatrix<f64>,
+        q: &[f64],
+        gamma: &[f64],
+    ) -> Result<(), NotPositiveDefinite> {
+        let (n, m) = (self.n, self.m);
+        self.spans.scan(a);
+        let alpha = self.assemble(mass, a);
+        self.matrix.factor(1e-13)?;
+        self.x.fill(0.0);
+        self.lambda.fill(0.0);
+        let mut last = f64::INFINITY;
+        self.iterations = 0;
+        loop {
+            self.iterations += 1;
+            // r1 = Q - M x - A^T lambda, r2 = gamma - A x.
+            self.mass_times_x(mass);
+            self.spans.mul_transpose(a, &self.lambda, &mut self.r1);
+            for i in 0..n {
+                self.r1[i] = q[i] - self.work[i] - self.r1[i];
+            }
+            self.spans.mul(a, &self.x, &mut self.r2);
+            for r in 0..m {
+                self.r2[r] = gamma[r] - self.r2[r];
+            }
+            // delta = N^-1 (r1 + alpha A^T r2), kept in `work`.
+            self.spans.mul_transpose(a, &self.r2, &mut self.work);
+            for i in 0..n {
+                self.work[i] = self.r1[i] + alpha * self.work[i];
+            }
+            self.matrix.solve(&mut self.work);
+            let step = inf_norm(&self.work);
+            for i in 0..n {
+                self.x[i] += self.work[i];
+            }
+            // lambda += alpha (A x - gamma).
+            self.spans.mul(a, &self.x, &mut self.r2);
+            for r in 0..m {
+                self.lambda[r] += alpha * (self.r2[r] - gamma[r]);
+            }
+            let size = inf_norm(&self.x);
+            // Converged when the correction is at round-off, or has stopped shrinking near it.
+            let done = step <= 1e-15 * size
+                || step == 0.0
+                || (self.iterations > 1 && step >= 0.5 * last && step <= 1e-11 * size);
+            if done {
+                return Ok(());
+            }
+            if self.iterations >= self.max_iterations || !step.is_finite() {
+                self.unconverged += 1;
+                return Ok(());
+            }
+            last = step;
+        }
+    }
+
+    /// N = M + alpha A^T A into the envelope; returns alpha.
+    fn assemble(&mut self, mass: &DMatrix<f64>, a: &DMatrix<f64>) -> f64 {
+        let n = self.n;
+        let env = &mut self.matrix;
+        env.clear();
+        let ms = mass.as_slice();
+        let mut mass_scale = 0.0f64;
+        for i in 0..n {
+            mass_scale = mass_scale.max(ms[i + i * n].abs());
+            if let Some(j) = (0..i).find(|&j| ms[j + i * n] != 0.0) {
+                env.widen(i, j);
+            }
+        }
+        // max_i (A^T A)_ii = max_i sum_r A_ri^2.
+        let m = self.m;
+        let s = a.as_slice();
+        let mut constraint_scale = 0.0f64;
+        for i in 0..n {
+            let col = &s[i * m..(i + 1) * m];
+            constraint_scale = constraint_scale.max(col.iter().map(|v| v * v).sum::<f64>());
+        }
+        if mass_scale == 0.0 {
+            mass_scale = 1.0;
+        }
+        let alpha = if constraint_scale > 0.0 {
+            self.penalty * mass_scale / constraint_scale
+        } else {
+            0.0
+        };
+        self.spans.add_gram_transpose(a, alpha, env);
+        for i in 0..n {
+            for j in env.first(i)..=i {
+                let v = ms[j + i * n];
+                if v != 0.0 {
+                    env.add(i, j, v);
+                }
+            }
+        }
+        alpha
+    }
+
+    /// work = M x over the envelope (M symmetric; its upper triangle is read).
+    fn mass_times_x(&mut self, mass: &DMatrix<f64>) {
+        let n = self.n;
+        let ms = mass.as_slice();
+        self.work.fill(0.0);
+        for i in 0..n {
+            let xi = self.x[i];
+            let mut acc = ms[i + i * n] * xi;
+            for j in self.matrix.first(i)..i {
+                let v = ms[j + i * n];
+                acc += v * self.x[j];
+                self.work[j] += v * xi;
+            }
+            self.work[i] += acc;
+        }
+    }
+
+    /// x (q'') of the last solve.
+    pub fn solution(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// lambda of the last solve.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.lambda
+    }
+
+    /// After a failed solve: the motion v (length n, largest entry 1 in magnitude) on which
+    /// M + alpha A^T A is singular, i.e. an allowed motion (A v ~ 0) with no inertia.
+    pub fn undetermined_direction(&self, failure: NotPositiveDefinite, v: &mut [f64]) {
+        self.matrix.null_direction(failure.row, v);
+        let s = inf_norm(v);
+        if s > 0.0 {
+            v.iter_mut().for_each(|x| *x /= s);
+        }
+    }
+}
+
+fn inf_norm(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |a, v| a.max(v.abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact KKT solution by nalgebra's LU, for a regular system.
+    fn reference(mass: &DMatrix<f64>, a: &DMatrix<f64>, q: &[f64], g: &[f64]) -> Vec<f64> {
+        let (n, m) = (mass.nrows(), a.nrows());
+        let mut k = DMatrix::zeros(n + m, n + m);
+        k.view_mut((0, 0), (n, n)).copy_from(mass);
+        k.view_mut((n, 0), (m, n)).copy_from(a);
+        k.view_mut((0, n), (n, m)).copy_from(&a.transpose());
+        let mut rhs = nalgebra::DVector::zeros(n + m);
+        rhs.rows_mut(0, n).copy_from_slice(q);
+        rhs.rows_mut(n, m).copy_from_slice(g);
+        k.lu().solve(&rhs).unwrap().iter().copied().collect()
+    }
+
+    #[test]
+    fn regular_system_matches_lu_with_singular_mass() {
+        // M singular (zero rows for coordinates 2 and 3), regular on null(A): the seed's case.
+        let mass = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                2.0, 0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 0.0, 0.0, 1.5,
+            ],
+        );
+        let a = DMatrix::from_row_slice(
+            3,
+            4,
+            &[1.0, 0.2, 0.0, -1.0, 0.3, 0.0, 0.7, 0.1, -0.4, 0.5, 0.6, 0.0],
+        );
+        let (q, g) = ([0.3, -1.0, 0.2, 2.0], [0.5, -0.25, 1.0]);
+        let want = reference(&mass, &a, &q, &g);
+        let mut al = AugmentedLagrangian::new(4, 3);
+        al.solve(&mass, &a, &q, &g).unwrap();
+        for i in 0..4 {
+            assert!((al.solution()[i] - want[i]).abs() < 1e-12, "x{i}");
+        }
+        for r in 0..3 {
+            assert!(
+                (al.multipliers()[r] - want[4 + r]).abs() < 1e-10,
+                "lambda{r}"
+            );
+        }
+        assert!(al.iterations <= 6, "{} iterations", al.iterations);
+    }
+
+    #[test]
+    fn repeated_rows_give_unique_accelerations_and_minimum_norm_multipliers() {
+        // Point mass in the plane on x = 0, declared twice (once scaled by 2).
+        let mass = DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(&[3.0, 3.0]));
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 2.0, 0.0]);
+        let (q, g) = ([6.0, -9.0], [0.0, 0.0]);
+        let mut al = AugmentedLagrangian::new(2, 2);
+        al.solve(&mass, &a, &q, &g).unwrap();
+        // x'' = 0, y'' = -3; force A^T lambda = 6 on x, split minimum-norm: lambda = 6 (1, 2)/5.
+        let (x, l) = (al.solution(), al.multipliers());
+        assert!(x[0].abs() < 1e-13 && (x[1] + 3.0).abs() < 1e-13, "{x:?}");
+        assert!(
+            (l[0] - 1.2).abs() < 1e-9 && (l[1] - 2.4).abs() < 1e-9,
+            "{l:?}"
+        );
+    }
+
+    #[test]
+    fn no_inertia_on_an_allowed_motion_is_reported() {
+        // Two coordinates, one constraint x0 = 0, no mass on x1: x1'' undetermined.
+        let mass = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 0.0]);
+        let a = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
+        let mut al = AugmentedLagrangian::new(2, 1);
+        let err = al.solve(&mass, &a, &[1.0, 1.0], &[0.0]).unwrap_err();
+        let mut v = [0.0; 2];
+        al.undetermined_direction(err, &mut v);
+        assert_eq!(err.row, 1);
+        assert!(
+            v[0].abs() < 1e-15 && (v[1].abs() - 1.0).abs() < 1e-15,
+            "{v:?}"
+        );
+    }
+}

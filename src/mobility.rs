@@ -1,0 +1,77 @@
+//! Mobility of a mechanism at a configuration: how many degrees of freedom it really has,
+//! and which constraint rows repeat others.
+//!
+//! With n coordinates and m constraint rows, Grübler's count (Kutzbach's criterion in the
+//! coordinates declared) is n - m: it assumes every row independent. The true number of
+//! degrees of freedom is n - rank(Phi_q). They differ for overconstrained mechanisms: a
+//! planar four-bar declared with spatial revolute joints (18 coordinates, 20 rows, rank 17:
+//! Grübler -2, mobility 1), Bricard's linkage (30, 30, rank 29: Grübler 0, mobility 1).
+//! The rank and the redundant rows come from the independence test of
+//! [`RowBasis`] (a row is redundant when its distance to the span of the rows before it is
+//! below 1e-6 of its norm). The multipliers of the rows on which the null space of Phi_q^T
+//! is nonzero are not unique: only their combination Phi_q^T lambda (the constraint forces
+//! on the coordinates) is.
+
+use nalgebra::DMatrix;
+
+use crate::error::Error;
+use crate::linalg::RowBasis;
+use crate::mechanism::System;
+
+/// The mobility of a mechanism at one configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mobility {
+    /// Number of coordinates n.
+    pub n: usize,
+    /// Number of constraint rows m.
+    pub m: usize,
+    /// Rank of Phi_q at the configuration.
+    pub rank: usize,
+    /// Degrees of freedom n - rank.
+    pub degrees_of_freedom: usize,
+    /// Grübler's count n - m (every row taken as independent).
+    pub grubler: i64,
+    /// Rows that repeat rows before them (in row order), m - rank of them.
+    pub redundant_rows: Vec<usize>,
+    /// Rows whose multipliers are not unique (the support of the null space of Phi_q^T).
+    pub indeterminate_rows: Vec<usize>,
+}
+
+impl Mobility {
+    /// True when every constraint row is independent (the multipliers are unique).
+    pub fn full_rank(&self) -> bool {
+        self.rank == self.m
+    }
+}
+
+/// The [`Mobility`] of `system` at (q, t).
+pub fn mobility(system: &dyn System, t: f64, q: &[f64]) -> Result<Mobility, Error> {
+    let info = system.info();
+    let (n, m) = (info.n(), info.m());
+    if q.len() != n {
+        return Err(Error::InvalidInput(format!(
+            "q has {} entries, the mechanism {n} coordinates",
+            q.len()
+        )));
+    }
+    let mut phi_q = DMatrix::zeros(m, n);
+    let mut phi_t = vec![0.0; m];
+    system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
+    if phi_q.iter().any(|v| !v.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "constraint Jacobian Phi_q".into(),
+            t,
+        });
+    }
+    let mut basis = RowBasis::new(m, n);
+    let rank = basis.factor(&phi_q);
+    Ok(Mobility {
+        n,
+        m,
+        rank,
+        degrees_of_freedom: n - rank,
+        grubler: n as i64 - m as i64,
+        redundant_rows: (0..m).filter(|&r| basis.is_redundant(r)).collect(),
+        indeterminate_rows: basis.indeterminate_rows(),
+    })
+}
