@@ -13,6 +13,8 @@
 //! | `cartesian_pendulum`   | [`CartesianPendulum`] | 2 | 1 | pendulum in (x, y)              |
 //! | `spatial_four_bar_bodies` | [`SpatialFourBarBodies`] | 4 | 3 | the RSSR declared with bodies |
 //! | `spatial_crank_slider_rigid` | [`SpatialCrankSliderRigid`] | 4 | 3 | seed with a rigid rod |
+//! | `n_four_bar`           | [`NFourBar40`]        | 82 | 81 | IFToMM benchmark A02, N = 40 (rank 81; 41 where the rockers lie flat) |
+//! | `bricard`              | [`Bricard`]           | 30 | 30 | IFToMM benchmark A04 (rank 29: one redundant row) |
 
 use crate::{Compiled, System};
 
@@ -30,6 +32,8 @@ crate::mechanism!(
     crate = crate,
     file = "mechanisms/spatial_crank_slider_rigid.mech"
 );
+crate::mechanism!(crate = crate, file = "mechanisms/n_four_bar.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/bricard.mech");
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -43,6 +47,8 @@ pub fn builtin_names() -> &'static [&'static str] {
         "cartesian_pendulum",
         "spatial_four_bar_bodies",
         "spatial_crank_slider_rigid",
+        "n_four_bar",
+        "bricard",
     ]
 }
 
@@ -58,6 +64,8 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "cartesian_pendulum" => Box::new(Compiled::new(CartesianPendulum::default())),
         "spatial_four_bar_bodies" => Box::new(Compiled::new(SpatialFourBarBodies::default())),
         "spatial_crank_slider_rigid" => Box::new(Compiled::new(SpatialCrankSliderRigid::default())),
+        "n_four_bar" => Box::new(Compiled::new(NFourBar40::default())),
+        "bricard" => Box::new(Compiled::new(Bricard::default())),
         _ => return None,
     };
     Some(system)
@@ -77,6 +85,8 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         "spatial_crank_slider_rigid" => {
             include_str!("../mechanisms/spatial_crank_slider_rigid.mech")
         }
+        "n_four_bar" => include_str!("../mechanisms/n_four_bar.mech"),
+        "bricard" => include_str!("../mechanisms/bricard.mech"),
         _ => return None,
     })
 }

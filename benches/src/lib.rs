@@ -5,6 +5,7 @@
 
 pub mod ad_models;
 pub mod autodiff;
+pub mod n_four_bar;
 pub mod simulation;
 
 use mechanism::{Interpreted, System};
