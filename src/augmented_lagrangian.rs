@@ -170,13 +170,9 @@ impl AugmentedLagrangian {
             }
         }
         // max_i (A^T A)_ii = max_i sum_r A_ri^2.
-        let m = self.m;
-        let s = a.as_slice();
-        let mut constraint_scale = 0.0f64;
-        for i in 0..n {
-            let col = &s[i * m..(i + 1) * m];
-            constraint_scale = constraint_scale.max(col.iter().map(|v| v * v).sum::<f64>());
-        }
+        self.work.fill(0.0);
+        self.spans.column_squares(a, &mut self.work);
+        let constraint_scale = self.work.iter().fold(0.0f64, |x, &v| x.max(v));
         if mass_scale == 0.0 {
             mass_scale = 1.0;
         }
@@ -212,6 +208,11 @@ impl AugmentedLagrangian {
             }
             self.work[i] += acc;
         }
+    }
+
+    /// Entries below the diagonal in the envelope of N at the last solve.
+    pub fn profile(&self) -> usize {
+        self.matrix.profile()
     }
 
     /// x (q'') of the last solve.

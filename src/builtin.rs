@@ -15,6 +15,7 @@
 //! | `spatial_crank_slider_rigid` | [`SpatialCrankSliderRigid`] | 4 | 3 | seed with a rigid rod |
 //! | `n_four_bar`           | [`NFourBar40`]        | 82 | 81 | IFToMM benchmark A02, N = 40 (rank 81; 41 where the rockers lie flat) |
 //! | `bricard`              | [`Bricard`]           | 30 | 30 | IFToMM benchmark A04 (rank 29: one redundant row) |
+//! | `planar_four_bar_bodies` | [`PlanarFourBarBodies`] | 18 | 20 | the four-bar with bodies and spatial revolutes (rank 17) |
 
 use crate::{Compiled, System};
 
@@ -34,6 +35,10 @@ crate::mechanism!(
 );
 crate::mechanism!(crate = crate, file = "mechanisms/n_four_bar.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/bricard.mech");
+crate::mechanism!(
+    crate = crate,
+    file = "mechanisms/planar_four_bar_bodies.mech"
+);
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -49,6 +54,7 @@ pub fn builtin_names() -> &'static [&'static str] {
         "spatial_crank_slider_rigid",
         "n_four_bar",
         "bricard",
+        "planar_four_bar_bodies",
     ]
 }
 
@@ -66,6 +72,7 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "spatial_crank_slider_rigid" => Box::new(Compiled::new(SpatialCrankSliderRigid::default())),
         "n_four_bar" => Box::new(Compiled::new(NFourBar40::default())),
         "bricard" => Box::new(Compiled::new(Bricard::default())),
+        "planar_four_bar_bodies" => Box::new(Compiled::new(PlanarFourBarBodies::default())),
         _ => return None,
     };
     Some(system)
@@ -87,6 +94,7 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         }
         "n_four_bar" => include_str!("../mechanisms/n_four_bar.mech"),
         "bricard" => include_str!("../mechanisms/bricard.mech"),
+        "planar_four_bar_bodies" => include_str!("../mechanisms/planar_four_bar_bodies.mech"),
         _ => return None,
     })
 }

@@ -112,7 +112,13 @@ impl Dynamics {
         self.evaluations += 1;
         system.evaluate(t, q, qd, &mut self.eval);
         let e = &self.eval;
-        let finite_matrix = e.mass.iter().chain(e.phi_q.iter()).all(|v| v.is_finite());
+        // One pass that the compiler can vectorise (no early exit).
+        let finite_matrix = e
+            .mass
+            .as_slice()
+            .iter()
+            .chain(e.phi_q.as_slice())
+            .fold(true, |ok, v| ok & v.is_finite());
         for i in 0..n {
             self.sol[i] = e.forces[i] - e.coriolis[i] - e.gravity[i];
         }

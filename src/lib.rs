@@ -37,6 +37,7 @@ pub use crate::mechanism::{
 };
 pub use crate::trajectory::{Sample, SolverStats, Trajectory};
 
+pub use crate::augmented_lagrangian::{AugmentedLagrangian, DEFAULT_PENALTY};
 pub use crate::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 pub use crate::error::Error;
 pub use crate::integrators::{IntegratorOptions, Method};
@@ -44,12 +45,12 @@ pub use crate::inverse::{
     InverseDynamics, InverseResult, InverseSample, inverse_dynamics, sample_times,
 };
 pub use crate::kinematics::{
-    AssemblyOptions, Drive, KinematicState, assemble, assemble_from,
-    kinematic_analysis, solve_accelerations, solve_positions, solve_velocities,
+    AssemblyOptions, Drive, KinematicState, assemble, assemble_from, kinematic_analysis,
+    solve_accelerations, solve_positions, solve_velocities,
 };
 pub use crate::linearize::{Linearization, linearize};
-pub use crate::mobility::{Mobility, mobility};
 pub use crate::mechanism::Tangent;
+pub use crate::mobility::{Mobility, mobility};
 pub use crate::progress::Progress;
 pub use crate::simulate::{
     Event, EventAction, EventFn, EventHit, InitialState, MAX_OUTPUT_SAMPLES, Simulation,

@@ -254,7 +254,8 @@ pub struct Simulator<'a> {
     trajectory: Trajectory,
     events: Vec<EventHit>,
     stopped_by: Option<usize>,
-    watch: SingularWatch,
+    /// Taken out while it searches a step (it calls back into the dense output).
+    watch: Option<SingularWatch>,
     started: Instant,
 }
 
@@ -326,7 +327,7 @@ impl<'a> Simulator<'a> {
                 )));
             }
         }
-        let watch = SingularWatch::new(system, t0, &y[..n]);
+        let watch = Some(SingularWatch::new(system, t0, &y[..n]));
         let mobility = mobility(system, t0, &y[..n])?;
         let span = options.t_end - t0;
         let outputs = ((span * options.output_rate) - 1e-9).ceil().max(1.0);
@@ -491,6 +492,12 @@ impl<'a> Simulator<'a> {
                 break;
             }
         }
+        self.finish(failure)
+    }
+
+    /// Ends the run where it stands (after [`Simulator::step`] returned false or an error):
+    /// the trajectory so far, the run counters, and `failure` if the run stopped on one.
+    pub fn finish(mut self, failure: Option<Error>) -> Simulation {
         let stats = &mut self.trajectory.stats;
         stats.wall_time_s = self.started.elapsed().as_secs_f64();
         stats.rhs_evaluations = self.dynamics.evaluations;
@@ -627,6 +634,9 @@ impl<'a> Simulator<'a> {
             self.next_output += 1;
         }
         self.trajectory.stats.steps += 1;
+        if stop_event.is_none() {
+            self.watch_singular(h)?;
+        }
         if let Some(k) = stop_event {
             self.dense_at(((t_stop - self.t) / h).clamp(0.0, 1.0))?;
             self.record(t_stop)?;
@@ -662,9 +672,6 @@ impl<'a> Simulator<'a> {
             }
             Stepper::Hht { .. } => {}
         }
-        if let Some(p) = self.watch.observe(self.system, self.t, &self.y[..n]) {
-            self.trajectory.singular_passages.push(p);
-        }
         for (i, ev) in self.options.events.iter().enumerate() {
             self.g_old[i] = (ev.g)(self.t, &self.y[..n], &self.y[n..2 * n]);
         }
@@ -672,6 +679,25 @@ impl<'a> Simulator<'a> {
             self.finished = true;
         }
         Ok(!self.finished)
+    }
+
+    /// Records the singular configurations passed inside the step just taken (from self.t
+    /// to self.t + h, before it is accepted): see [`crate::singular`].
+    fn watch_singular(&mut self, h: f64) -> Result<(), Error> {
+        let Some(mut watch) = self.watch.take() else {
+            return Ok(());
+        };
+        let (n, t0) = (self.n, self.t);
+        let w1 = watch.measure(self.system, t0 + h, &self.y_new[..n]);
+        let found = watch.observe_step(t0, h, w1, |w, theta| {
+            self.dense_at(theta)?;
+            Ok::<f64, Error>(w.measure(self.system, t0 + theta * h, &self.y_dense[..n]))
+        });
+        self.watch = Some(watch);
+        if let Some(p) = found? {
+            self.trajectory.singular_passages.push(p);
+        }
+        Ok(())
     }
 
     fn output_time(&self, k: usize) -> f64 {

@@ -4,16 +4,18 @@
 //! four-bar loops lying flat, a press at toggle. The solvers integrate through them (see
 //! [`crate::Dynamics`]); this module only records where they happened.
 //!
-//! The test is the one [`crate::mobility`] uses for the rank, applied after every accepted
-//! step: the independence of each row (its distance to the span of the rows before it,
-//! relative to its norm; [`crate::linalg::RowBasis`]). Rows redundant at the start are left
-//! out; the **weakest** independence w of the others measures the distance to a singular
-//! configuration (w = 0 at one). A passage is recorded where w has a local minimum over the
-//! accepted steps that is below [`SingularWatch::threshold`] (default 0.05: a row within
-//! about 3 degrees of the span of the others). Its time is estimated by assuming w falls and
-//! rises at the same rate on both sides (w ~ |t - t*| near a simple passage), from the two
-//! steps around the minimum; its rank drop is the number of rows whose independence is below
-//! sqrt(w_min) there (the rows that fall together; the others stay near 1).
+//! The test is the one [`crate::mobility`] uses for the rank: the independence of each row
+//! (its distance to the span of the rows before it, relative to its norm;
+//! [`crate::linalg::RowBasis`]). Rows redundant at the start are left out; the **weakest**
+//! independence w of the others measures the distance to a singular configuration (w = 0
+//! at one, w ~ |t - t*| near a simple passage). After every accepted step with an end point
+//! within [`COARSE`] of singular, the minimum of w inside the step is located on the
+//! integrator's dense output by golden-section search (24 evaluations, to 1e-5 of the step;
+//! w is unimodal on a step that short). A
+//! passage is recorded where that minimum (or a step end) falls below
+//! [`SingularWatch::threshold`] (default 1e-3); another is recorded only after w has risen
+//! above [`COARSE`] again. Its rank drop is the number of rows whose independence is below
+//! sqrt(w) at the minimum (the rows that fall together; the others stay near 1).
 
 use nalgebra::DMatrix;
 
@@ -33,6 +35,10 @@ pub struct SingularPassage {
     pub independence: f64,
 }
 
+/// Above this weakest independence a step is not searched for a passage, and a new passage
+/// can be recorded only after w has been above it.
+pub const COARSE: f64 = 0.3;
+
 /// Watches the rank of Phi_q along a simulation; allocates only when it records a passage.
 #[derive(Clone, Debug)]
 pub(crate) struct SingularWatch {
@@ -41,13 +47,14 @@ pub(crate) struct SingularWatch {
     phi_t: Vec<f64>,
     /// Rows redundant at the start, left out of the weakest independence.
     redundant: Vec<bool>,
-    /// (t, w) at the last two observations, oldest first.
-    history: [(f64, f64); 2],
-    seen: usize,
-    /// Row independences at the previous observation.
-    previous: Vec<f64>,
+    /// Row independences at the last measurement, and at the lowest w of the current search.
     current: Vec<f64>,
-    /// Local minima of w below this are recorded (default 0.05).
+    best: Vec<f64>,
+    /// w at the end of the last accepted step.
+    last: f64,
+    /// False after a passage until w rises above [`COARSE`].
+    armed: bool,
+    /// Minima of w below this are recorded as passages (default 1e-3).
     pub threshold: f64,
 }
 
@@ -61,20 +68,23 @@ impl SingularWatch {
             phi_q: DMatrix::zeros(m, n),
             phi_t: vec![0.0; m],
             redundant: vec![false; m],
-            history: [(t0, 1.0); 2],
-            seen: 0,
-            previous: vec![1.0; m],
             current: vec![1.0; m],
-            threshold: 0.05,
+            best: vec![1.0; m],
+            last: 1.0,
+            armed: true,
+            threshold: 1e-3,
         };
         w.measure(system, t0, q0);
         for r in 0..m {
             w.redundant[r] = w.basis.is_redundant(r);
         }
+        w.last = w.measure(system, t0, q0);
+        w.armed = w.last > COARSE;
         w
     }
 
-    fn measure(&mut self, system: &dyn System, t: f64, q: &[f64]) -> f64 {
+    /// The weakest independence at (t, q); the row values stay in `current`.
+    pub(crate) fn measure(&mut self, system: &dyn System, t: f64, q: &[f64]) -> f64 {
         system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
         self.basis.factor(&self.phi_q);
         let mut weakest = 1.0f64;
@@ -87,37 +97,76 @@ impl SingularWatch {
         weakest
     }
 
-    /// Observes the accepted state at (t, q); returns a passage when the previous
-    /// observation was a local minimum of w below the threshold.
-    pub(crate) fn observe(
+    /// Observes an accepted step from t0 to t0 + h. `w1` is [`SingularWatch::measure`] at
+    /// its end (so `current` holds the end's rows); `at(theta)` gives w at t0 + theta h from
+    /// the dense output (and leaves its rows in `current`). Returns a passage when one is
+    /// found (see the module docs).
+    pub(crate) fn observe_step<E>(
         &mut self,
-        system: &dyn System,
-        t: f64,
-        q: &[f64],
-    ) -> Option<SingularPassage> {
-        std::mem::swap(&mut self.previous, &mut self.current);
-        let w = self.measure(system, t, q);
-        let [(t0, w0), (t1, w1)] = self.history;
-        self.history = [(t1, w1), (t, w)];
-        self.seen += 1;
-        if self.seen < 2 || !(w1 < w0 && w1 <= w && w1 < self.threshold) {
-            return None;
+        t0: f64,
+        h: f64,
+        w1: f64,
+        mut at: impl FnMut(&mut Self, f64) -> Result<f64, E>,
+    ) -> Result<Option<SingularPassage>, E> {
+        let w0 = self.last;
+        self.last = w1;
+        self.best.copy_from_slice(&self.current);
+        let (mut best_theta, mut best_w) = (1.0, w1);
+        if w0.min(w1) < COARSE {
+            {
+                // Golden-section search for the minimum of w on [0, 1].
+                let r = 0.5 * (5f64.sqrt() - 1.0);
+                let (mut a, mut b) = (0.0f64, 1.0f64);
+                let mut c = b - r * (b - a);
+                let mut d = a + r * (b - a);
+                let mut fc = at(self, c)?;
+                self.keep(c, fc, &mut best_theta, &mut best_w);
+                let mut fd = at(self, d)?;
+                self.keep(d, fd, &mut best_theta, &mut best_w);
+                for _ in 0..22 {
+                    if fc < fd {
+                        b = d;
+                        d = c;
+                        fd = fc;
+                        c = b - r * (b - a);
+                        fc = at(self, c)?;
+                        self.keep(c, fc, &mut best_theta, &mut best_w);
+                    } else {
+                        a = c;
+                        c = d;
+                        fc = fd;
+                        d = a + r * (b - a);
+                        fd = at(self, d)?;
+                        self.keep(d, fd, &mut best_theta, &mut best_w);
+                    }
+                }
+            }
         }
-        // The side of the V on which the zero lies is the one with the lower neighbour.
-        let t_star = if w <= w0 {
-            t1 + (t - t1) * w1 / (w1 + w).max(f64::MIN_POSITIVE)
-        } else {
-            t1 - (t1 - t0) * w1 / (w1 + w0).max(f64::MIN_POSITIVE)
-        };
-        let cut = w1.sqrt();
-        let rows: Vec<usize> = (0..self.previous.len())
-            .filter(|&r| !self.redundant[r] && self.previous[r] <= cut)
+        if !self.armed {
+            self.armed = w1 > COARSE;
+            return Ok(None);
+        }
+        if !(best_w < self.threshold) {
+            return Ok(None);
+        }
+        self.armed = w1 > COARSE;
+        let cut = best_w.sqrt();
+        let rows: Vec<usize> = (0..self.best.len())
+            .filter(|&r| !self.redundant[r] && self.best[r] <= cut)
             .collect();
-        Some(SingularPassage {
-            t: t_star,
+        Ok(Some(SingularPassage {
+            t: t0 + best_theta * h,
             rank_drop: rows.len().max(1),
             rows,
-            independence: w1,
-        })
+            independence: best_w,
+        }))
+    }
+
+    fn keep(&mut self, theta: f64, w: f64, best_theta: &mut f64, best_w: &mut f64) {
+        if w < *best_w {
+            *best_w = w;
+            *best_theta = theta;
+            self.best.copy_from_slice(&self.current);
+        }
     }
 }

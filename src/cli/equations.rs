@@ -5,8 +5,20 @@ use std::fmt::Write as _;
 use super::CliError;
 use super::load::load;
 use crate::builtin::{builtin, builtin_names};
+use crate::kinematics::{AssemblyOptions, assemble};
+use crate::mechanism::System;
+use crate::mobility::{Mobility, mobility};
 
-/// The table printed by `mechanism list`: name, n, m, degrees of freedom n - m.
+/// The mobility of `system` at its assembled initial configuration (declared independent
+/// coordinates and guesses), or why it could not be assembled.
+fn assembled_mobility(system: &dyn System) -> Result<Mobility, crate::Error> {
+    let state = assemble(system, 0.0, &AssemblyOptions::default())?;
+    mobility(system, 0.0, &state.q)
+}
+
+/// The table printed by `mechanism list`: name, n, m, the rank of Phi_q at the assembled
+/// configuration, the degrees of freedom n - rank, Grübler's count n - m and the number of
+/// redundant rows.
 pub fn list() -> Result<String, CliError> {
     let mut s = String::new();
     let w = builtin_names()
@@ -15,21 +27,71 @@ pub fn list() -> Result<String, CliError> {
         .max()
         .unwrap_or(0)
         .max("mechanism".len());
-    let _ = writeln!(s, "{:<w$} {:>3} {:>3} {:>4}", "mechanism", "n", "m", "dof");
+    let _ = writeln!(
+        s,
+        "{:<w$} {:>3} {:>3} {:>4} {:>4} {:>7} {:>9}",
+        "mechanism", "n", "m", "rank", "dof", "grubler", "redundant"
+    );
     for name in builtin_names() {
         let sys = builtin(name)
             .ok_or_else(|| CliError::Mechanism(format!("built-in `{name}` is missing")))?;
         let info = sys.info();
+        let (rank, dof, redundant) = match assembled_mobility(sys.as_ref()) {
+            Ok(mob) => (
+                mob.rank.to_string(),
+                mob.degrees_of_freedom.to_string(),
+                mob.redundant_rows.len().to_string(),
+            ),
+            Err(_) => ("-".into(), "-".into(), "-".into()),
+        };
         let _ = writeln!(
             s,
-            "{:<w$} {:>3} {:>3} {:>4}",
+            "{:<w$} {:>3} {:>3} {rank:>4} {dof:>4} {:>7} {redundant:>9}",
             name,
             info.n(),
             info.m(),
-            info.n().saturating_sub(info.m())
+            info.n() as i64 - info.m() as i64,
         );
     }
+    let _ = writeln!(
+        s,
+        "(rank of Phi_q at the assembled initial configuration; dof = n - rank; Grubler = n - m)"
+    );
     Ok(s)
+}
+
+/// The mobility paragraph of `mechanism equations`.
+fn mobility_text(system: &dyn System) -> String {
+    let info = system.info();
+    let mut s = String::new();
+    match assembled_mobility(system) {
+        Ok(mob) => {
+            let _ = writeln!(
+                s,
+                "Mobility at the assembled configuration: n = {}, m = {}, rank Phi_q = {}, \
+                 degrees of freedom n - rank = {} (Grubler's n - m = {}).",
+                mob.n, mob.m, mob.rank, mob.degrees_of_freedom, mob.grubler
+            );
+            if !mob.full_rank() {
+                let rows: Vec<String> = mob
+                    .redundant_rows
+                    .iter()
+                    .map(|&r| format!("row {} {}", r + 1, info.constraint_label(r)))
+                    .collect();
+                let _ = writeln!(s, "Redundant rows: {}.", rows.join("; "));
+                let _ = writeln!(
+                    s,
+                    "The multipliers of {} are not unique (their forces Phi_q^T lambda are); \
+                     results give the minimum-norm choice.",
+                    info.joints_of(&mob.indeterminate_rows).join(", ")
+                );
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(s, "Mobility: not assembled ({e}).");
+        }
+    }
+    s
 }
 
 /// The derived equations of a built-in mechanism or a `.mech` file, as text or LaTeX.
@@ -41,6 +103,9 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
     Ok(if latex {
         mechanism_codegen::equations_latex(&model, &eqs)
     } else {
-        mechanism_codegen::equations_text(&model, &eqs)
+        let mut text = mechanism_codegen::equations_text(&model, &eqs);
+        text.push('\n');
+        text.push_str(&mobility_text(loaded.system.as_ref()));
+        text
     })
 }

@@ -30,6 +30,16 @@ pub enum CliError {
     /// The solver failed (typed runtime error).
     #[error("{0}")]
     Solver(#[from] crate::Error),
+    /// The simulation stopped early; the samples up to `t` were written to `dir`.
+    #[error("{error} (the run stopped there; results up to t = {t} s are in {dir})")]
+    Stopped {
+        /// Time of the last sample written (s).
+        t: f64,
+        /// Output folder.
+        dir: String,
+        /// Why it stopped.
+        error: crate::Error,
+    },
     /// Writing a result file failed.
     #[error("{0}")]
     Output(#[from] crate::output::OutputError),

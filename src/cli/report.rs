@@ -20,19 +20,29 @@ pub fn is_seed(key: &str, system: &dyn System) -> bool {
     key == "spatial_crank_slider" || system.info().name == "SpatialCrankSlider"
 }
 
-/// Formats the run summary: the consistent initial state (with the paper's printed values
-/// and their constraint residual for the seed), the maxima and the counters.
+/// Formats the run summary: the mobility, the consistent initial state (with the paper's
+/// printed values and their constraint residual for the seed), the maxima, the counters and
+/// the singular configurations passed.
 pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[String]) -> String {
     let info = system.info();
     let seed = is_seed(key, system);
     let mut s = String::new();
+    let mob = &summary.mobility;
     let _ = writeln!(
         s,
         "{key}: {} coordinates, {} constraint rows, {} degree(s) of freedom",
-        info.n(),
-        info.m(),
-        info.n().saturating_sub(info.m())
+        mob.n, mob.m, mob.degrees_of_freedom
     );
+    if mob.rank < mob.m {
+        let _ = writeln!(
+            s,
+            "  Phi_q has rank {} (Grubler's n - m = {}); redundant rows: {}",
+            mob.rank,
+            mob.grubler,
+            mob.redundant_rows.join("; ")
+        );
+        let _ = writeln!(s, "  multipliers {}", mob.multipliers);
+    }
     let _ = writeln!(
         s,
         "consistent initial state (positions by Newton on Phi = 0, rates from Phi_q q' = -Phi_t):"
@@ -99,6 +109,29 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         "max |T + Pi - W - (T + Pi)(0)| = {:.3e} J",
         summary.max_energy_balance_error
     );
+    if !summary.singular_passages.is_empty() {
+        let times: Vec<String> = summary
+            .singular_passages
+            .iter()
+            .take(8)
+            .map(|p| format!("{:.4} s (rank drop {})", p.t, p.rank_drop))
+            .collect();
+        let more = summary.singular_passages.len().saturating_sub(8);
+        let tail = if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            s,
+            "passed {} singular configuration(s): {}{tail}",
+            summary.singular_passages.len(),
+            times.join(", ")
+        );
+    }
+    if let Some(e) = &summary.error {
+        let _ = writeln!(s, "stopped at t = {} s: {e}", summary.t_last);
+    }
     let _ = writeln!(s, "wrote {}", files.join(", "));
     s
 }

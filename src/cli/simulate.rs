@@ -154,11 +154,15 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     };
     let mut sim = Simulator::new(system, &options)?;
     let mut progress = Progress::new(a.common.t_end);
-    while sim.step()? {
-        progress.set(sim.time());
-    }
+    let failure = loop {
+        match sim.step() {
+            Ok(true) => progress.set(sim.time()),
+            Ok(false) => break None,
+            Err(e) => break Some(e),
+        }
+    };
     progress.finish();
-    let trajectory = sim.run()?.trajectory;
+    let trajectory = sim.finish(None).trajectory;
 
     let dir = out_dir(&a.common, &loaded.key);
     let mut files = Vec::new();
@@ -173,13 +177,26 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
         atol: adaptive.then_some(a.atol),
         stabilization: stab_name.to_string(),
     };
-    let summary = Summary::new(&trajectory, &params, &settings)?;
+    let mut summary = Summary::new(&trajectory, &params, &settings)?;
+    if let Some(e) = &failure {
+        summary.failed(e);
+    }
     write_summary(&dir.join("summary.json"), &summary)?;
     files.push(dir.join("summary.json"));
-    let res = residuals(system, &trajectory);
-    files.extend(plot_trajectory(&dir, &trajectory, None, Some(&res))?);
+    if trajectory.len() >= 2 {
+        let res = residuals(system, &trajectory);
+        files.extend(plot_trajectory(&dir, &trajectory, None, Some(&res))?);
+    }
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     print!("{}", summary_text(&loaded.key, system, &summary, &names));
     loaded.source.clear();
-    Ok(())
+    match failure {
+        // The samples up to the failure are written; the run still failed.
+        Some(e) => Err(CliError::Stopped {
+            t: summary.t_last,
+            dir: dir.display().to_string(),
+            error: e,
+        }),
+        None => Ok(()),
+    }
 }

@@ -19,6 +19,8 @@ pub struct Envelope {
     /// Column i, entries first[i]..=i: row i of the lower triangle (input), then of L.
     a: DMatrix<f64>,
     first: Vec<usize>,
+    /// 1 / L_ii after a factorisation (0 for dropped rows).
+    inverse: Vec<f64>,
 }
 
 /// Why [`Envelope::factor`] failed: the pivot of row `row` was not positive (relative to the
@@ -38,6 +40,7 @@ impl Envelope {
             n,
             a: DMatrix::zeros(n, n),
             first: vec![0; n],
+            inverse: vec![0.0; n],
         }
     }
 
@@ -63,6 +66,11 @@ impl Envelope {
         if col < self.first[i] {
             self.first[i] = col;
         }
+    }
+
+    /// Entries below the diagonal inside the envelope, sum_i (i - f_i).
+    pub fn profile(&self) -> usize {
+        self.first.iter().enumerate().map(|(i, f)| i - f).sum()
     }
 
     /// First column of row i's envelope.
@@ -121,6 +129,7 @@ impl Envelope {
                 });
             }
             s[i + i * n] = d.sqrt();
+            self.inverse[i] = 1.0 / s[i + i * n];
         }
         Ok(())
     }
@@ -190,10 +199,10 @@ impl Envelope {
             for p in self.first[i]..i {
                 v -= s[p + i * n] * b[p];
             }
-            b[i] = v / s[i + i * n];
+            b[i] = v * self.inverse[i];
         }
         for i in (0..k).rev() {
-            let x = b[i] / s[i + i * n];
+            let x = b[i] * self.inverse[i];
             b[i] = x;
             for p in self.first[i]..i {
                 b[p] -= s[p + i * n] * x;

@@ -41,21 +41,33 @@ impl RowSpans {
         }
     }
 
-    /// Finds the first and last nonzero column of every row of `a` (O(m n)).
+    /// Finds the first and last nonzero column of every row of `a` (O(m n), reading `a` in
+    /// storage order).
     pub fn scan(&mut self, a: &DMatrix<f64>) {
         let (m, n) = a.shape();
-        let s = a.as_slice();
-        for r in 0..m {
-            let mut lo = n;
-            let mut hi = 0;
-            for j in 0..n {
-                if s[r + j * m] != 0.0 {
-                    lo = lo.min(j);
-                    hi = j;
+        self.lo.fill(n);
+        self.hi.fill(0);
+        for (j, col) in a.as_slice().chunks_exact(m.max(1)).enumerate().take(n) {
+            for (r, &v) in col.iter().enumerate() {
+                if v != 0.0 {
+                    if self.lo[r] == n {
+                        self.lo[r] = j;
+                    }
+                    self.hi[r] = j;
                 }
             }
-            self.lo[r] = lo;
-            self.hi[r] = hi;
+        }
+    }
+
+    /// Adds the squared entries of each row to `out[j]` for column j: the diagonal of
+    /// A^T A (out must be zeroed by the caller).
+    pub fn column_squares(&self, a: &DMatrix<f64>, out: &mut [f64]) {
+        let m = a.nrows();
+        let s = a.as_slice();
+        for r in 0..m {
+            for j in self.span(r) {
+                out[j] += s[r + j * m] * s[r + j * m];
+            }
         }
     }
 

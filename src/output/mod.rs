@@ -19,7 +19,9 @@ pub use self::plot::{
     Figure, Unit, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
     plot_trajectory,
 };
-pub use self::summary::{RunSettings, Summary, TrajectoryMaxima, write_summary};
+pub use self::summary::{
+    MobilityReport, PassageReport, RunSettings, Summary, TrajectoryMaxima, write_summary,
+};
 
 use std::path::PathBuf;
 

@@ -8,6 +8,9 @@ use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
 use super::{OutputError, ensure_dir};
+use crate::mechanism::SystemInfo;
+use crate::mobility::Mobility;
+use crate::singular::SingularPassage;
 use crate::trajectory::Trajectory;
 
 /// Name -> value pairs that serialise as a JSON object in their given order.
@@ -103,6 +106,78 @@ impl TrajectoryMaxima {
     }
 }
 
+/// The mobility at the first sample, with rows named by their joints.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MobilityReport {
+    /// Coordinates n.
+    pub n: usize,
+    /// Constraint rows m.
+    pub m: usize,
+    /// Rank of Phi_q at the assembled configuration.
+    pub rank: usize,
+    /// n - rank.
+    pub degrees_of_freedom: usize,
+    /// Grübler's count n - m (every row taken as independent).
+    pub grubler: i64,
+    /// The rows that repeat rows before them, by label.
+    pub redundant_rows: Vec<String>,
+    /// `unique` at full rank; otherwise says that lambda is the minimum-norm choice and
+    /// which joints share its indeterminate part (only Phi_q^T lambda is unique).
+    pub multipliers: String,
+}
+
+impl MobilityReport {
+    /// Names the rows of `mobility` with the labels of `info`.
+    pub fn new(mobility: &Mobility, info: &SystemInfo) -> Self {
+        let multipliers = if mobility.full_rank() {
+            "unique".to_string()
+        } else {
+            format!(
+                "not unique: the CSV and plots give the minimum-norm lambda; the joints {} share \
+                 the indeterminate part (their constraint forces Phi_q^T lambda are unique)",
+                info.joints_of(&mobility.indeterminate_rows).join(", ")
+            )
+        };
+        Self {
+            n: mobility.n,
+            m: mobility.m,
+            rank: mobility.rank,
+            degrees_of_freedom: mobility.degrees_of_freedom,
+            grubler: mobility.grubler,
+            redundant_rows: mobility
+                .redundant_rows
+                .iter()
+                .map(|&r| info.constraint_label(r))
+                .collect(),
+            multipliers,
+        }
+    }
+}
+
+/// A singular configuration passed through, with its rows named.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PassageReport {
+    /// Estimated time (s), within one step.
+    pub t: f64,
+    /// Rows that lose their independence there.
+    pub rank_drop: usize,
+    /// The weakest row independence at the nearest step (0: exactly singular).
+    pub independence: f64,
+    /// The joints of those rows.
+    pub joints: Vec<String>,
+}
+
+impl PassageReport {
+    fn new(p: &SingularPassage, info: &SystemInfo) -> Self {
+        Self {
+            t: p.t,
+            rank_drop: p.rank_drop,
+            independence: p.independence,
+            joints: info.joints_of(&p.rows),
+        }
+    }
+}
+
 /// The contents of `summary.json` (keys as in issue 5, in this order).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
@@ -134,6 +209,18 @@ pub struct Summary {
     pub atol: Option<f64>,
     /// Constraint stabilisation.
     pub stabilization: String,
+    /// Right-hand sides solved by the augmented Lagrangian route instead of LU.
+    pub augmented_solves: usize,
+    /// Mobility at the assembled configuration.
+    pub mobility: MobilityReport,
+    /// Singular configurations the motion passed through, in time order.
+    pub singular_passages: Vec<PassageReport>,
+    /// `completed`, or `failed` when the run stopped before its end time.
+    pub status: String,
+    /// Time of the last sample written (s).
+    pub t_last: f64,
+    /// Why the run stopped early (`null` when completed).
+    pub error: Option<String>,
 }
 
 impl Summary {
@@ -180,7 +267,27 @@ impl Summary {
             rtol: settings.rtol,
             atol: settings.atol,
             stabilization: settings.stabilization.clone(),
+            augmented_solves: stats.augmented_solves,
+            mobility: trajectory
+                .mobility
+                .as_ref()
+                .map(|m| MobilityReport::new(m, info))
+                .unwrap_or_default(),
+            singular_passages: trajectory
+                .singular_passages
+                .iter()
+                .map(|p| PassageReport::new(p, info))
+                .collect(),
+            status: "completed".into(),
+            t_last: trajectory.last().map_or(0.0, |s| s.t),
+            error: None,
         })
+    }
+
+    /// Marks the run as stopped early by `error` (status `failed`).
+    pub fn failed(&mut self, error: &dyn std::fmt::Display) {
+        self.status = "failed".into();
+        self.error = Some(error.to_string());
     }
 }
 
