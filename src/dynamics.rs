@@ -191,7 +191,8 @@ impl Dynamics {
             self.since_estimate = 0;
         }
         self.since_estimate += 1;
-        if !(self.condition <= self.condition_limit) {
+        // NaN (no estimate) must hand over too.
+        if self.condition.is_nan() || self.condition > self.condition_limit {
             return false;
         }
         self.lu.solve(&mut self.sol);

@@ -122,6 +122,7 @@ impl InverseDynamics {
             qd[d.coordinate] = fd;
             fdd[j] = f2;
         }
+        self.check_drives(system, t)?;
         solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
         system.evaluate(t, &self.q, &qd, &mut self.eval);
@@ -166,21 +167,7 @@ impl InverseDynamics {
                 q: self.q.clone(),
             });
         }
-        // Drives must be independent of the constraints and of each other, else their
-        // forces are not unique.
         self.basis.factor(&self.rows);
-        let conflicting: Vec<String> = (0..k)
-            .filter(|&j| self.basis.is_redundant(m + j))
-            .map(|j| info.coordinates[self.fixed[j]].clone())
-            .collect();
-        if !conflicting.is_empty() {
-            return Err(Error::ConflictingDrives {
-                t,
-                drives: conflicting,
-                drives_given: k,
-                degrees_of_freedom: n - (0..m).filter(|&r| !self.basis.is_redundant(r)).count(),
-            });
-        }
         // lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm).
         let qdd = self.augmented.solution().to_vec();
         for i in 0..n {
@@ -197,6 +184,39 @@ impl InverseDynamics {
             qdd,
             driving: self.lambda[m..].iter().map(|l| -l).collect(),
             lambda: self.lambda[..m].to_vec(),
+        })
+    }
+}
+
+impl InverseDynamics {
+    /// Drives must be independent of the constraints and of each other, else their forces
+    /// are not unique (and their positions generally not reachable): the rows [Phi_q; E] at
+    /// the current configuration (the previous sample's, or the guesses) are tested with
+    /// the rank test of [`crate::mobility`].
+    fn check_drives(&mut self, system: &dyn System, t: f64) -> Result<(), Error> {
+        let info = system.info();
+        let (n, m, k) = (info.n(), info.m(), self.fixed.len());
+        let mut phi_t = vec![0.0; m];
+        let mut phi_q = nalgebra::DMatrix::zeros(m, n);
+        system.constraint_jacobian(t, &self.q, &mut phi_q, &mut phi_t);
+        self.rows.fill(0.0);
+        self.rows.view_mut((0, 0), (m, n)).copy_from(&phi_q);
+        for (j, &c) in self.fixed.iter().enumerate() {
+            self.rows[(m + j, c)] = 1.0;
+        }
+        self.basis.factor(&self.rows);
+        let conflicting: Vec<String> = (0..k)
+            .filter(|&j| self.basis.is_redundant(m + j))
+            .map(|j| info.coordinates[self.fixed[j]].clone())
+            .collect();
+        if conflicting.is_empty() {
+            return Ok(());
+        }
+        Err(Error::ConflictingDrives {
+            t,
+            drives: conflicting,
+            drives_given: k,
+            degrees_of_freedom: n - (0..m).filter(|&r| !self.basis.is_redundant(r)).count(),
         })
     }
 }

@@ -146,7 +146,8 @@ impl SingularWatch {
             self.armed = w1 > COARSE;
             return Ok(None);
         }
-        if !(best_w < self.threshold) {
+        // A NaN measure records nothing.
+        if best_w.is_nan() || best_w >= self.threshold {
             return Ok(None);
         }
         self.armed = w1 > COARSE;

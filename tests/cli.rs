@@ -279,3 +279,65 @@ fn the_library_refuses_them_too() {
     let err = mechanism::simulate(system.as_ref(), &options).expect_err("refused");
     assert!(err.to_string().contains("samples"), "{err}");
 }
+
+#[test]
+fn list_and_equations_report_rank_and_redundant_rows() {
+    let o = mechanism(&["list"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    // name, n, m, rank, dof, grubler, redundant
+    let row = |name: &str| -> Vec<String> {
+        text.lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("{name} in {text}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(row("bricard")[1..], ["30", "30", "29", "1", "0", "1"]);
+    assert_eq!(
+        row("planar_four_bar_bodies")[1..],
+        ["18", "20", "17", "1", "-2", "3"]
+    );
+    assert_eq!(row("n_four_bar")[1..], ["82", "81", "81", "1", "1", "0"]);
+    let o = mechanism(&["equations", "planar_four_bar_bodies"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("rank Phi_q = 17"), "{text}");
+    assert!(text.contains("Redundant rows: row "), "{text}");
+    assert!(text.contains("are not unique"), "{text}");
+}
+
+/// A run that stops midway writes what it computed, says where and why in summary.json,
+/// and exits 1 with one line.
+#[test]
+fn a_failed_run_writes_its_partial_results() {
+    let dir = out_dir("partial");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("failing.mech");
+    std::fs::write(
+        &file,
+        "struct Failing;\ncoordinates { x = 0.0; }\nindependent { x = 0.0; }\n\
+         kinetic = 1/2*der(x)^2;\nforces { x: sqrt(0.5 - t); }\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = mechanism(&[
+        "simulate",
+        file.to_str().unwrap(),
+        "--t-end",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&o, "results up to t = ");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "failed");
+    let t_last = summary["t_last"].as_f64().unwrap();
+    assert!(t_last > 0.4 && t_last <= 0.5, "{t_last}");
+    assert!(summary["error"].as_str().unwrap().contains("non-finite"));
+    let rows = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    assert_eq!(
+        rows.lines().count() - 1,
+        (t_last * 100.0).round() as usize + 1
+    );
+}

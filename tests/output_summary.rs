@@ -115,6 +115,12 @@ fn summary_json_has_every_key_with_its_value() {
         "rtol",
         "atol",
         "stabilization",
+        "augmented_solves",
+        "mobility",
+        "singular_passages",
+        "status",
+        "t_last",
+        "error",
     ];
     let object = json.as_object().expect("an object");
     assert_eq!(
@@ -181,6 +187,78 @@ fn summary_json_has_every_key_with_its_value() {
     assert_eq!(json["rtol"].as_f64(), Some(1e-10));
     assert_eq!(json["atol"].as_f64(), Some(1e-12));
     assert_eq!(json["stabilization"], "projection");
+    // A completed run of a trajectory without mobility data: status, last time, no error.
+    assert_eq!(json["status"], "completed");
+    assert!(json["error"].is_null());
+    assert_eq!(json["t_last"].as_f64(), Some(tr.last().unwrap().t));
+    assert_eq!(json["singular_passages"].as_array().map(Vec::len), Some(0));
+}
+
+/// The mobility, the multipliers note, the singular passages and a failure, as a run of the
+/// redundant four-bar (rows named by their joints) would write them.
+#[test]
+fn summary_names_redundant_rows_passages_and_failures() {
+    use mechanism::{SingularPassage, mobility};
+    let system = mechanism::builtin::builtin("planar_four_bar_bodies").unwrap();
+    let start =
+        mechanism::assemble(system.as_ref(), 0.0, &mechanism::AssemblyOptions::default()).unwrap();
+    let mut tr = Trajectory::with_capacity(system.info().clone(), 2);
+    let (n, m) = (system.info().n(), system.info().m());
+    for t in [0.0, 0.5] {
+        tr.push(
+            t,
+            &start.q,
+            &start.qd,
+            &vec![0.0; n],
+            &vec![0.0; m],
+            0.0,
+            0.0,
+            [1.0, 2.0, 0.0],
+        );
+    }
+    tr.mobility = Some(mobility(system.as_ref(), 0.0, &start.q).unwrap());
+    tr.singular_passages.push(SingularPassage {
+        t: 0.25,
+        rank_drop: 2,
+        rows: vec![0, 5],
+        independence: 1e-7,
+    });
+    let params = vec![0.0; system.info().parameters.len()];
+    let mut summary = Summary::new(&tr, &params, &settings()).expect("summary");
+    summary.failed(&"step size underflow at t = 0.5 s");
+    let json = serde_json::to_value(&summary).expect("serialise");
+    let mob = &json["mobility"];
+    assert_eq!(
+        (mob["n"].as_u64(), mob["m"].as_u64(), mob["rank"].as_u64()),
+        (Some(18), Some(20), Some(17))
+    );
+    assert_eq!(mob["degrees_of_freedom"], 1);
+    assert_eq!(mob["grubler"], -2);
+    let redundant: Vec<&str> = mob["redundant_rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(redundant.len(), 3);
+    assert!(
+        redundant.iter().all(|r| r.starts_with("revolute(")),
+        "{redundant:?}"
+    );
+    let note = mob["multipliers"].as_str().unwrap();
+    assert!(
+        note.starts_with("not unique") && note.contains("minimum-norm"),
+        "{note}"
+    );
+    let p = &json["singular_passages"][0];
+    assert_eq!(
+        (p["t"].as_f64(), p["rank_drop"].as_u64()),
+        (Some(0.25), Some(2))
+    );
+    assert_eq!(p["joints"].as_array().unwrap().len(), 2, "{p}");
+    assert_eq!(json["status"], "failed");
+    assert_eq!(json["t_last"].as_f64(), Some(0.5));
+    assert_eq!(json["error"], "step size underflow at t = 0.5 s");
 }
 
 #[test]

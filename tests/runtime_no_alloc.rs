@@ -69,6 +69,27 @@ fn step_loop_allocates_nothing() {
             Stabilization::Projection,
         ),
     ];
+    // Redundant rows (20 rows of rank 17): the augmented Lagrangian route, its banded
+    // factorisation, the minimum-norm multipliers of every sample and the rank watch.
+    let redundant = mechanism::builtin::builtin("planar_four_bar_bodies").unwrap();
+    let cases: Vec<(&dyn System, Method, Stabilization)> = cases
+        .into_iter()
+        .chain([
+            (
+                redundant.as_ref(),
+                Method::Dop853,
+                Stabilization::Projection,
+            ),
+            (
+                redundant.as_ref(),
+                Method::Hht {
+                    h: 1e-3,
+                    alpha: -0.05,
+                },
+                Stabilization::Projection,
+            ),
+        ])
+        .collect();
     for (s, method, stab) in cases {
         let (n, samples) = allocations_in_steps(s, method, stab, 400);
         println!(

@@ -10,6 +10,9 @@
 //! Storage is column-major with column i holding row i of L (L^T in the upper triangle), so
 //! every inner product runs over contiguous memory. Nothing allocates after [`Envelope::new`].
 
+// Comparisons are written `!(x > 0.0)` on purpose: NaN must fail them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use nalgebra::DMatrix;
 
 /// A symmetric matrix and, after [`Envelope::factor`], its Cholesky factor N = L L^T.
