@@ -1,4 +1,8 @@
-//! The `mechanism` command-line tool (see `mechanism --help`).
+//! The `mechanism` command-line tool (see `mechanism --help`): argument parsing, loading a
+//! mechanism by name or file, and the `list`, `equations`, `simulate` and `inverse`
+//! commands, on top of the library's public API.
+mod cli;
+
 fn main() -> std::process::ExitCode {
-    mechanism::cli::main_with_args(std::env::args_os())
+    cli::main_with_args(std::env::args_os())
 }

@@ -4,14 +4,14 @@ use std::fmt::Write as _;
 
 use super::CliError;
 use super::load::load;
-use crate::builtin::{builtin, builtin_names};
-use crate::kinematics::{AssemblyOptions, assemble};
-use crate::mechanism::System;
-use crate::mobility::{Mobility, mobility};
+use mechanism::System;
+use mechanism::builtin::{builtin, builtin_names};
+use mechanism::{AssemblyOptions, assemble};
+use mechanism::{Mobility, mobility};
 
 /// The mobility of `system` at its assembled initial configuration (declared independent
 /// coordinates and guesses), or why it could not be assembled.
-fn assembled_mobility(system: &dyn System) -> Result<Mobility, crate::Error> {
+fn assembled_mobility(system: &dyn System) -> Result<Mobility, mechanism::Error> {
     let state = assemble(system, 0.0, &AssemblyOptions::default())?;
     mobility(system, 0.0, &state.q)
 }

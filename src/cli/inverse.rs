@@ -4,11 +4,11 @@ use super::CliError;
 use super::args::InverseArgs;
 use super::load::{apply_sets, load};
 use super::simulate::{check_span, out_dir};
-use crate::drive::parse_drive;
-use crate::inverse::{inverse_dynamics, sample_times};
-use crate::kinematics::AssemblyOptions;
-use crate::output::plot::{Unit, figure_stem, plot_coordinate};
-use crate::output::{Figure, InverseTable, plot_driving_torque, write_inverse_csv};
+use mechanism::AssemblyOptions;
+use mechanism::output::plot::{Unit, figure_stem, plot_coordinate};
+use mechanism::output::{Figure, InverseTable, plot_driving_torque, write_inverse_csv};
+use mechanism::parse_drive;
+use mechanism::{inverse_dynamics, sample_times};
 
 /// Runs `inverse` with `a`.
 pub fn run(a: &InverseArgs) -> Result<(), CliError> {

@@ -6,9 +6,9 @@ use mechanism_codegen::Arena;
 
 use super::CliError;
 use super::args::{CommonArgs, split_assignment};
-use crate::builtin::{builtin, builtin_names, builtin_source};
-use crate::interpreted::Interpreted;
-use crate::mechanism::{Independent, System};
+use mechanism::Interpreted;
+use mechanism::builtin::{builtin, builtin_names, builtin_source};
+use mechanism::{Independent, System};
 
 /// A mechanism ready to run, with its declaration text.
 pub struct Loaded {

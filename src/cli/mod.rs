@@ -8,6 +8,7 @@ pub mod args;
 mod equations;
 mod inverse;
 mod load;
+mod progress;
 mod report;
 mod simulate;
 
@@ -16,7 +17,6 @@ use std::process::ExitCode;
 use clap::Parser;
 
 pub use self::args::{Cli, Command};
-pub use self::load::{Loaded, load};
 
 /// A failure of one command, printed as one line.
 #[derive(Debug, thiserror::Error)]
@@ -29,7 +29,7 @@ pub enum CliError {
     Argument(String),
     /// The solver failed (typed runtime error).
     #[error("{0}")]
-    Solver(#[from] crate::Error),
+    Solver(#[from] mechanism::Error),
     /// The simulation stopped early; the samples up to `t` were written to `dir`.
     #[error("{error} (the run stopped there; results up to t = {t} s are in {dir})")]
     Stopped {
@@ -38,11 +38,11 @@ pub enum CliError {
         /// Output folder.
         dir: String,
         /// Why it stopped.
-        error: crate::Error,
+        error: mechanism::Error,
     },
     /// Writing a result file failed.
     #[error("{0}")]
-    Output(#[from] crate::output::OutputError),
+    Output(#[from] mechanism::output::OutputError),
 }
 
 /// Runs the command line in `args` (the program name first) and returns the exit status.

@@ -2,8 +2,8 @@
 
 use std::fmt::Write as _;
 
-use crate::mechanism::System;
-use crate::output::Summary;
+use mechanism::System;
+use mechanism::output::Summary;
 
 /// The initial state the seed paper printed (Section 2.2): phi, beta, gamma, x_C. It
 /// violates the constraints; ERRATA item 2 explains the swapped names and the lost

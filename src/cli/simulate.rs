@@ -6,16 +6,18 @@ use std::path::{Path, PathBuf};
 use super::CliError;
 use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg};
 use super::load::{apply_sets, initial_values, load};
+use super::progress::Progress;
 use super::report::summary_text;
-use crate::integrators::{IntegratorOptions, Method};
-use crate::kinematics::{AssemblyOptions, assemble_from};
-use crate::mechanism::System;
-use crate::output::csv::format_f64;
-use crate::output::{RunSettings, Summary, plot_trajectory, write_summary, write_trajectory_csv};
-use crate::progress::Progress;
-use crate::simulate::{InitialState, SimulationOptions, Simulator};
-use crate::stabilization::Stabilization;
-use crate::trajectory::Trajectory;
+use mechanism::Stabilization;
+use mechanism::System;
+use mechanism::Trajectory;
+use mechanism::integrators::{IntegratorOptions, Method};
+use mechanism::output::csv::format_f64;
+use mechanism::output::{
+    RunSettings, Summary, plot_trajectory, write_summary, write_trajectory_csv,
+};
+use mechanism::{AssemblyOptions, assemble_from};
+use mechanism::{InitialState, SimulationOptions, Simulator};
 
 /// Default fixed step for rk4 and hht when `--step` is not given (s).
 const DEFAULT_STEP: f64 = 1e-3;
@@ -56,12 +58,12 @@ pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
         )));
     }
     let samples = c.t_end * c.samples_per_second;
-    if samples > crate::MAX_OUTPUT_SAMPLES as f64 {
+    if samples > mechanism::MAX_OUTPUT_SAMPLES as f64 {
         return Err(CliError::Argument(format!(
             "--t-end {} at --samples-per-second {} asks for {samples:e} samples; at most {} are recorded",
             format_f64(c.t_end),
             format_f64(c.samples_per_second),
-            crate::MAX_OUTPUT_SAMPLES
+            mechanism::MAX_OUTPUT_SAMPLES
         )));
     }
     Ok(())

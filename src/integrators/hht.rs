@@ -37,7 +37,7 @@
 
 use crate::error::Error;
 use crate::linalg::Lu;
-use crate::mechanism::{Evaluation, System, SystemInfo, Tangent};
+use crate::system::{Evaluation, System, SystemInfo, Tangent};
 
 /// HHT-alpha integrator state and preallocated Newton workspace.
 #[derive(Clone, Debug)]

@@ -6,7 +6,7 @@
 //! q' = q',   (q'', lambda) from the augmented system,   W' = tau . q'
 //! ```
 //!
-//! with a constraint stabilisation applied by the driver ([`crate::simulate`]):
+//! with a constraint stabilisation applied by the driver ([`crate::simulate()`]):
 //! - [`Rk4`]: classical fixed-step Runge–Kutta of order 4 (Hermite cubic dense output);
 //! - [`Dopri5`]: Dormand–Prince 5(4) with Shampine's dense output of order 4
 //!   (Hairer, Nørsett & Wanner, Solving ODEs I, sec. II.5 and II.6);

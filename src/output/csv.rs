@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use super::{OutputError, ensure_dir};
-use crate::trajectory::Trajectory;
+use crate::simulation::trajectory::Trajectory;
 
 /// Formats `x` with the fewest digits that parse back to exactly `x`.
 ///

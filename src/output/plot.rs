@@ -10,12 +10,14 @@
 
 mod axes;
 mod render;
+mod spec;
 
 use std::path::{Path, PathBuf};
 
-use self::render::{Line, Panel, Spec, render};
+use self::render::render;
+use self::spec::{Line, Panel, Spec};
 use super::{InverseTable, OutputError};
-use crate::trajectory::Trajectory;
+use crate::simulation::trajectory::Trajectory;
 
 /// Values below this are drawn at this height on logarithmic axes (so exact zeros show).
 pub const LOG_FLOOR: f64 = 1e-18;

@@ -8,10 +8,10 @@ use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
 use super::{OutputError, ensure_dir};
-use crate::mechanism::SystemInfo;
-use crate::mobility::Mobility;
-use crate::singular::SingularPassage;
-use crate::trajectory::Trajectory;
+use crate::algorithms::mobility::Mobility;
+use crate::simulation::singular::SingularPassage;
+use crate::simulation::trajectory::Trajectory;
+use crate::system::SystemInfo;
 
 /// Name -> value pairs that serialise as a JSON object in their given order.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -5,7 +5,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::SeriesLabelPosition;
 
 use super::LOG_FLOOR;
-use super::render::{LEGEND_MARGIN, Panel};
+use super::spec::{LEGEND_MARGIN, Panel};
 
 /// Lines with more points than this are thinned (min/max per bucket, so peaks survive).
 const MAX_POINTS: usize = 4000;

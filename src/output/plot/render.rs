@@ -1,5 +1,5 @@
-//! Drawing: the figure description ([`Spec`], [`Panel`], [`Line`]), the mesh and line
-//! styles, and [`render`] to PNG and SVG.
+//! Drawing: the mesh and line styles of a figure described by a [`Spec`], and [`render`]
+//! to PNG and SVG.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -11,10 +11,9 @@ use plotters::prelude::*;
 use super::axes::{
     Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
 };
+use super::spec::{LEGEND_MARGIN, Panel, Spec};
 use crate::output::{OutputError, ensure_dir};
 
-/// Distance of the legend box from the plot edges, and its inner padding (px).
-pub(super) const LEGEND_MARGIN: i32 = 14;
 const FONT: &str = "sans-serif";
 const WIDTH: u32 = 1000;
 /// MATLAB's default line colours.
@@ -37,30 +36,6 @@ fn register_font() -> Result<(), String> {
             .map_err(|_| "invalid bundled font".to_string())
     })
     .clone()
-}
-
-/// One line of a panel.
-pub(super) struct Line {
-    pub(super) label: String,
-    pub(super) y: Vec<f64>,
-}
-
-/// One set of axes.
-pub(super) struct Panel<'a> {
-    pub(super) t: &'a [f64],
-    pub(super) lines: Vec<Line>,
-    pub(super) y_label: String,
-    /// Draw the x-axis description (only the bottom panel does).
-    pub(super) x_label: bool,
-    /// y holds log10 of the data; axis ticks at whole decades.
-    pub(super) log: bool,
-}
-
-/// A figure: a title over panels stacked vertically.
-pub(super) struct Spec<'a> {
-    pub(super) title: String,
-    pub(super) height: u32,
-    pub(super) panels: Vec<Panel<'a>>,
 }
 
 /// Draws one panel into `area`.

@@ -5,9 +5,9 @@ use std::sync::Mutex;
 
 use mechanism_codegen::{Arena, Differentiator, Matrix, Program, SymbolKind, Tape};
 
+use crate::algorithms::kinematics::Drive;
 use crate::error::Error;
-use crate::kinematics::Drive;
-use crate::mechanism::System;
+use crate::system::System;
 
 /// Why a drive specification was refused.
 #[derive(Debug, thiserror::Error)]

@@ -27,7 +27,7 @@ use nalgebra::DMatrix;
 
 use crate::error::Error;
 use crate::linalg::{Envelope, RowSpans};
-use crate::mechanism::{System, SystemInfo};
+use crate::system::{System, SystemInfo};
 
 /// Relative Levenberg–Marquardt shift of the Gram matrix (see the module docs).
 const GRAM_SHIFT: f64 = 1e-12;

@@ -1,9 +1,9 @@
 //! The recorded output of a simulation: one row per output sample, stored flat so that
 //! recording a sample only grows one buffer.
 
-use crate::mechanism::SystemInfo;
-use crate::mobility::Mobility;
-use crate::singular::SingularPassage;
+use crate::algorithms::mobility::Mobility;
+use crate::simulation::singular::SingularPassage;
+use crate::system::SystemInfo;
 
 /// One recorded sample, borrowed from a [`Trajectory`].
 #[derive(Clone, Copy, Debug)]

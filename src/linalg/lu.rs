@@ -1,23 +1,11 @@
-//! Dense linear algebra for the step loop: an in-place LU factorisation with partial
-//! pivoting on preallocated storage, solves with A and A^T, and Hager's 1-norm condition
-//! estimate; an envelope (banded) Cholesky for the symmetric positive definite matrices of
-//! the augmented-Lagrangian solve and the projections ([`Envelope`]); the independent rows
-//! of a constraint Jacobian and the null space of its transpose ([`RowBasis`]); plus a
-//! rank-revealing SVD for checks made outside the loop.
-//!
-//! References: Golub & Van Loan, Matrix Computations (4th ed.), alg. 3.4.1 (LU with partial
-//! pivoting); Hager, "Condition estimates", SIAM J. Sci. Stat. Comput. 5 (1984) and Higham,
-//! ACM TOMS 14 (1988) for the 1-norm estimator.
+//! In-place LU factorisation with partial pivoting on preallocated storage, solves with A
+//! and A^T, and Hager's 1-norm condition estimate (Golub & Van Loan, Matrix Computations,
+//! 4th ed., alg. 3.4.1; Hager, SIAM J. Sci. Stat. Comput. 5, 1984; Higham, ACM TOMS 14,
+//! 1988).
 
 use nalgebra::DMatrix;
 
-mod envelope;
-mod kernels;
-mod rows;
-use kernels::{factor, solve, solve_transpose};
-
-pub use envelope::{Envelope, NotPositiveDefinite};
-pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
+use super::kernels::{self, factor, solve, solve_transpose};
 
 /// LU factorisation P A = L U of a square matrix, computed in place in a buffer allocated
 /// once. Fill [`Lu::matrix_mut`], call [`Lu::factor`], then [`Lu::solve`] any number of
@@ -147,40 +135,10 @@ impl Lu {
     }
 }
 
-/// Numerical rank of `a` by singular values: the count of sigma_i > rtol * sigma_max
-/// (and above an absolute floor of 1e-300). Uses an SVD, so it allocates: call it outside
-/// the step loop. Returns the rank and the singular values in decreasing order.
-pub fn numerical_rank(a: &DMatrix<f64>, rtol: f64) -> (usize, Vec<f64>) {
-    if a.nrows() == 0 || a.ncols() == 0 {
-        return (0, Vec::new());
-    }
-    let svd = a.clone().svd(false, false);
-    let mut s: Vec<f64> = svd.singular_values.iter().copied().collect();
-    s.sort_by(|x, y| y.total_cmp(x));
-    let smax = s.first().copied().unwrap_or(0.0);
-    let rank = s.iter().filter(|&&v| v > rtol * smax && v > 1e-300).count();
-    (rank, s)
-}
-
-/// Minimum-norm least-squares solution x of A x = b by SVD, treating singular values below
-/// rtol * sigma_max as zero. Allocates; for assembly and other work outside the step loop.
-pub fn least_squares(a: &DMatrix<f64>, b: &[f64], rtol: f64) -> Vec<f64> {
-    if a.nrows() == 0 || a.ncols() == 0 {
-        return vec![0.0; a.ncols()];
-    }
-    let svd = a.clone().svd(true, true);
-    let smax = svd.singular_values.max();
-    let eps = (rtol * smax).max(1e-300);
-    let rhs = nalgebra::DVector::from_column_slice(b);
-    match svd.solve(&rhs, eps) {
-        Ok(x) => x.iter().copied().collect(),
-        Err(_) => vec![0.0; a.ncols()],
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::numerical_rank;
 
     #[test]
     fn lu_solves_and_transposes() {

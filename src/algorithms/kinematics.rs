@@ -21,7 +21,7 @@ use nalgebra::DMatrix;
 
 use crate::error::Error;
 use crate::linalg::{least_squares, numerical_rank};
-use crate::mechanism::{Evaluation, Independent, System, SystemInfo};
+use crate::system::{Evaluation, Independent, System, SystemInfo};
 
 /// Tolerances of the position Newton iteration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -351,7 +351,7 @@ fn solve_dependent(
 /// Consistent initial state from independent coordinates: q_k = position, q_k' = velocity
 /// for each entry of `independent`; the rest by Newton from `guess` (positions), then
 /// Phi_q q' = -Phi_t (velocities). Redundant constraint rows are accepted (see
-/// [`crate::mobility`]); the independent set must determine the others. Where the
+/// [`crate::mobility()`]); the independent set must determine the others. Where the
 /// constraints cannot be closed from the guesses the error is
 /// [`Error::ConstraintsUnsatisfiable`], naming the rows left with a residual.
 pub fn assemble_from(

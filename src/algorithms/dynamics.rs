@@ -26,10 +26,10 @@
 //! otherwise gamma_s = gamma. Sign convention: lambda enters as +Phi_q^T lambda on the left,
 //! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
 
-use crate::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
 use crate::error::Error;
 use crate::linalg::{Lu, RowBasis};
-use crate::mechanism::{Evaluation, System, SystemInfo};
+use crate::system::{Evaluation, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
 /// LU route hands the solve to the augmented Lagrangian route (where LU would lose more than

@@ -4,7 +4,7 @@
 //! four-bar loops lying flat, a press at toggle. The solvers integrate through them (see
 //! [`crate::Dynamics`]); this module only records where they happened.
 //!
-//! The test is the one [`crate::mobility`] uses for the rank: the independence of each row
+//! The test is the one [`crate::mobility()`] uses for the rank: the independence of each row
 //! (its distance to the span of the rows before it, relative to its norm;
 //! [`crate::linalg::RowBasis`]). Rows redundant at the start are left out; the **weakest**
 //! independence w of the others measures the distance to a singular configuration (w = 0
@@ -20,7 +20,7 @@
 use nalgebra::DMatrix;
 
 use crate::linalg::RowBasis;
-use crate::mechanism::System;
+use crate::system::System;
 
 /// One passage through or near a singular configuration.
 #[derive(Clone, Debug, PartialEq)]

@@ -11,7 +11,7 @@ use std::sync::Mutex;
 use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape, residual_tangent};
 use nalgebra::DMatrix;
 
-use crate::mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
+use crate::system::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
 
 /// Which evaluations a tape computes.
 struct Scratch {

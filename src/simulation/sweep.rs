@@ -5,9 +5,9 @@
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::mechanism::System;
-use crate::simulate::{SimulationOptions, simulate};
-use crate::trajectory::Trajectory;
+use crate::simulation::simulator::{SimulationOptions, simulate};
+use crate::simulation::trajectory::Trajectory;
+use crate::system::System;
 
 /// A parameter set: (name, value) pairs; parameters not named keep the system's values.
 pub type ParameterSet = Vec<(String, f64)>;

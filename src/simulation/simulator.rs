@@ -16,19 +16,18 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
+use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
+use crate::algorithms::kinematics::{AssemblyOptions, assemble, assemble_from};
+use crate::algorithms::mobility::mobility;
+use crate::algorithms::stabilization::{Projector, Stabilization};
 use crate::error::Error;
 use crate::integrators::{
     Dense, Hht, IntegratorOptions, Method, OdeRhs, RungeKutta, Tolerance, explicit_stepper,
     initial_step,
 };
-use crate::kinematics::{AssemblyOptions, assemble, assemble_from};
-use crate::mechanism::{Independent, System};
-use crate::mobility::mobility;
-use crate::output::csv::format_f64;
-use crate::singular::SingularWatch;
-use crate::stabilization::{Projector, Stabilization};
-use crate::trajectory::Trajectory;
+use crate::simulation::singular::SingularWatch;
+use crate::simulation::trajectory::Trajectory;
+use crate::system::{Independent, System};
 
 /// Most output samples one run records (each is a row of 3n + m + 6 numbers).
 pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
@@ -335,8 +334,7 @@ impl<'a> Simulator<'a> {
         if outputs > MAX_OUTPUT_SAMPLES as f64 {
             return Err(Error::InvalidInput(format!(
                 "{} s at {} samples per second would record {outputs:e} samples, more than the {MAX_OUTPUT_SAMPLES:e} this run allows: shorten the time span or lower the output rate",
-                format_f64(span),
-                format_f64(options.output_rate)
+                span, options.output_rate
             )));
         }
         // Reserve the whole output up front (the step loop then never grows it) unless it is

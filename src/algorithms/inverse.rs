@@ -37,11 +37,13 @@
 
 use nalgebra::DMatrix;
 
-use crate::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::kinematics::{
+    AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
+};
 use crate::error::Error;
-use crate::kinematics::{AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities};
 use crate::linalg::RowBasis;
-use crate::mechanism::{Evaluation, System, SystemInfo};
+use crate::system::{Evaluation, System, SystemInfo};
 
 /// One sample of an inverse-dynamics run.
 #[derive(Clone, Debug, PartialEq)]
@@ -192,7 +194,7 @@ impl InverseDynamics {
     /// Drives must be independent of the constraints and of each other, else their forces
     /// are not unique (and their positions generally not reachable): the rows [Phi_q; E] at
     /// the current configuration (the previous sample's, or the guesses) are tested with
-    /// the rank test of [`crate::mobility`].
+    /// the rank test of [`crate::mobility()`].
     fn check_drives(&mut self, system: &dyn System, t: f64) -> Result<(), Error> {
         let info = system.info();
         let (n, m, k) = (info.n(), info.m(), self.fixed.len());

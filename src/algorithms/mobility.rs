@@ -16,7 +16,7 @@ use nalgebra::DMatrix;
 
 use crate::error::Error;
 use crate::linalg::RowBasis;
-use crate::mechanism::System;
+use crate::system::System;
 
 /// The mobility of a mechanism at one configuration.
 #[derive(Clone, Debug, PartialEq)]

@@ -19,10 +19,12 @@
 
 use nalgebra::{Complex, DMatrix};
 
-use crate::dynamics::Dynamics;
+use crate::algorithms::dynamics::Dynamics;
+use crate::algorithms::kinematics::{
+    AssemblyOptions, check_fixed, solve_positions, solve_velocities,
+};
 use crate::error::Error;
-use crate::kinematics::{AssemblyOptions, check_fixed, solve_positions, solve_velocities};
-use crate::mechanism::System;
+use crate::system::System;
 
 /// The linearised dynamics about one state.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,24 @@
+//! The algorithms that run on a [`crate::System`], one per file; none of them changes the
+//! system (the model is apart from the algorithms, as in Pinocchio's `multibody/` and
+//! `algorithm/`).
+//!
+//! - [`kinematics`]: assembly and kinematic analysis, Phi(q, t) = 0 at the position,
+//!   velocity and acceleration levels;
+//! - [`dynamics`]: q'' and lambda at one instant from the augmented system, by LU or by the
+//!   augmented Lagrangian iteration ([`augmented_lagrangian`]) where Phi_q loses rank;
+//! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s;
+//! - [`linearize`]: the tangent dynamics in the independent coordinates;
+//! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
+//! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows.
+//!
+//! Invariant: no file-system or terminal I/O, and nothing allocates inside the functions
+//! an integrator step calls ([`dynamics::Dynamics::solve`], the projections).
+
+pub(crate) mod augmented_lagrangian;
+pub(crate) mod drive;
+pub(crate) mod dynamics;
+pub(crate) mod inverse;
+pub(crate) mod kinematics;
+pub(crate) mod linearize;
+pub(crate) mod mobility;
+pub(crate) mod stabilization;

@@ -1,0 +1,24 @@
+//! Linear algebra for the solvers.
+//!
+//! - [`Lu`]: an in-place LU factorisation with partial pivoting on preallocated storage,
+//!   with solves by A and A^T and a 1-norm condition estimate (the KKT route of small
+//!   systems);
+//! - [`Envelope`]: Cholesky of a symmetric positive definite matrix inside its envelope (the
+//!   augmented Lagrangian's M + alpha Phi_q^T Phi_q, the projections' Gram matrices), O(n)
+//!   for banded chains;
+//! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
+//!   space of its transpose (minimum-norm multipliers);
+//! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop.
+//!
+//! Invariant: everything used inside an integrator step works in storage allocated once.
+
+mod envelope;
+mod kernels;
+mod lu;
+mod rows;
+mod svd;
+
+pub use envelope::{Envelope, NotPositiveDefinite};
+pub use lu::Lu;
+pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
+pub use svd::{least_squares, numerical_rank};

@@ -1,0 +1,14 @@
+//! Forward simulation: the index-3 DAE integrated as an ODE in y = [q, q', W] with the
+//! accelerations from [`crate::Dynamics`], a constraint stabilisation after each step, output
+//! samples from the dense output, located events and recorded singular passages.
+//!
+//! What enters: a [`crate::System`] and [`SimulationOptions`]. What leaves: a
+//! [`Trajectory`] (one row per output sample: t, q, q', q'', lambda, |Phi|,
+//! |Phi_q q' + Phi_t|, T, Pi, W) with its run counters, mobility and singular passages, and
+//! the events. Invariant: the step loop ([`Simulator::step`]) allocates nothing; every
+//! buffer is made in [`Simulator::new`].
+
+pub(crate) mod simulator;
+pub(crate) mod singular;
+pub(crate) mod sweep;
+pub(crate) mod trajectory;

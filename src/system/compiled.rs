@@ -1,0 +1,99 @@
+//! A compiled [`Mechanism`] (static sizes) seen as a run-time [`System`].
+
+use nalgebra::{DMatrix, SVector};
+
+use super::dynamic::{Evaluation, System, Tangent};
+use super::info::{ConstraintRow, SystemInfo};
+use super::mechanism::Mechanism;
+
+/// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.
+#[derive(Clone, Debug)]
+pub struct Compiled<T, const N: usize, const M: usize> {
+    /// The compiled mechanism (its fields are the parameters).
+    pub mechanism: T,
+    info: SystemInfo,
+}
+
+impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
+    /// Wraps `mechanism`, recording its names and declared data.
+    pub fn new(mechanism: T) -> Self {
+        let info = SystemInfo {
+            name: T::NAME.to_string(),
+            coordinates: T::COORDINATES.iter().map(|s| s.to_string()).collect(),
+            parameters: T::PARAMETERS.iter().map(|s| s.to_string()).collect(),
+            initial_guess: T::INITIAL_GUESS.to_vec(),
+            independent: T::INDEPENDENT.to_vec(),
+            constraints: M,
+            constraint_rows: (0..M)
+                .map(|k| match T::CONSTRAINT_ROWS.get(k) {
+                    Some(&(joint, component)) => ConstraintRow {
+                        joint: joint.to_string(),
+                        component: component.to_string(),
+                    },
+                    None => ConstraintRow::unnamed(k),
+                })
+                .collect(),
+        };
+        Self { mechanism, info }
+    }
+}
+
+fn to_static<const N: usize>(x: &[f64]) -> SVector<f64, N> {
+    SVector::<f64, N>::from_fn(|i, _| x[i])
+}
+
+impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, N, M> {
+    fn info(&self) -> &SystemInfo {
+        &self.info
+    }
+    fn parameter_values(&self, out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.mechanism.parameter(i).unwrap_or(f64::NAN);
+        }
+    }
+    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
+        self.mechanism.set_parameter(index, value)
+    }
+    fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
+        let e = self.mechanism.evaluate(t, &to_static(q), &to_static(qd));
+        out.mass.copy_from(&e.mass);
+        out.coriolis.copy_from(&e.coriolis);
+        out.gravity.copy_from(&e.gravity);
+        out.forces.copy_from(&e.forces);
+        out.phi.copy_from(&e.phi);
+        out.phi_q.copy_from(&e.phi_q);
+        out.phi_t.copy_from(&e.phi_t);
+        out.gamma.copy_from(&e.gamma);
+        out.kinetic = e.kinetic;
+        out.potential = e.potential;
+    }
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
+        let p = self.mechanism.constraints(t, &to_static(q));
+        phi.copy_from_slice(p.as_slice());
+    }
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        let qs = to_static(q);
+        phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
+        phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
+    }
+    fn tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        lambda: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let (k, d) = self.mechanism.residual_tangent(
+            t,
+            &to_static(q),
+            &to_static(qd),
+            &to_static(qdd),
+            &to_static(lambda),
+        )?;
+        out.stiffness.copy_from(&k);
+        out.damping.copy_from(&d);
+        Some(())
+    }
+}

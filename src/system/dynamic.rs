@@ -1,0 +1,105 @@
+//! The object-safe, run-time-sized face of a mechanism that every solver consumes, and the
+//! caller-owned buffers it evaluates into (so the step loop never allocates).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::info::SystemInfo;
+
+/// Caller-owned buffers for one evaluation of a [`System`] (sizes n and m fixed at creation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evaluation {
+    /// Mass matrix M(q), n x n.
+    pub mass: DMatrix<f64>,
+    /// C(q, q') q'.
+    pub coriolis: DVector<f64>,
+    /// g(q) = dPi/dq.
+    pub gravity: DVector<f64>,
+    /// tau(t, q, q').
+    pub forces: DVector<f64>,
+    /// Phi(q, t), length m.
+    pub phi: DVector<f64>,
+    /// Phi_q, m x n.
+    pub phi_q: DMatrix<f64>,
+    /// Phi_t, length m.
+    pub phi_t: DVector<f64>,
+    /// gamma, length m.
+    pub gamma: DVector<f64>,
+    /// T(q, q').
+    pub kinetic: f64,
+    /// Pi(q).
+    pub potential: f64,
+}
+
+impl Evaluation {
+    /// Zeroed buffers for n coordinates and m constraint rows.
+    pub fn zeros(n: usize, m: usize) -> Self {
+        Self {
+            mass: DMatrix::zeros(n, n),
+            coriolis: DVector::zeros(n),
+            gravity: DVector::zeros(n),
+            forces: DVector::zeros(n),
+            phi: DVector::zeros(m),
+            phi_q: DMatrix::zeros(m, n),
+            phi_t: DVector::zeros(m),
+            gamma: DVector::zeros(m),
+            kinetic: 0.0,
+            potential: 0.0,
+        }
+    }
+}
+
+/// The object-safe, run-time-sized view of a mechanism that the solvers use.
+///
+/// Every method writes into caller-owned buffers and allocates nothing.
+pub trait System: Send + Sync {
+    /// Names, sizes and declared data.
+    fn info(&self) -> &SystemInfo;
+    /// Current parameter values, in declaration order (written into `out`).
+    fn parameter_values(&self, out: &mut [f64]);
+    /// Sets parameter `index`; returns false when out of range.
+    fn set_parameter(&mut self, index: usize, value: f64) -> bool;
+    /// Everything at (t, q, q'): see [`Evaluation`].
+    fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation);
+    /// Phi(q, t) into `phi` (length m).
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
+    /// Phi_q (m x n) and Phi_t (m) at (q, t).
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
+    /// Exact tangent matrices of the dynamic residual
+    /// F = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q(q, t)^T lambda:
+    /// `out.stiffness` = dF/dq and `out.damping` = dF/dq' (n x n), for the Newton iteration of
+    /// implicit integrators (HHT). Returns `None` when not provided (the default); the
+    /// solver then uses finite differences. `mechanism!` and [`crate::Interpreted`] provide
+    /// them, derived symbolically by codegen (`residual_tangent`).
+    fn tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        lambda: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let _ = (t, q, qd, qdd, lambda, out);
+        None
+    }
+}
+
+/// dF/dq and dF/dq' of the dynamic residual F = M q'' + C q' + g - tau + Phi_q^T lambda
+/// (see [`System::tangent`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tangent {
+    /// dF/dq, n x n ("stiffness").
+    pub stiffness: DMatrix<f64>,
+    /// dF/dq', n x n ("damping").
+    pub damping: DMatrix<f64>,
+}
+
+impl Tangent {
+    /// Zero matrices for n coordinates.
+    pub fn zeros(n: usize) -> Self {
+        Self {
+            stiffness: DMatrix::zeros(n, n),
+            damping: DMatrix::zeros(n, n),
+        }
+    }
+}

@@ -1,0 +1,128 @@
+//! The compiled face of a mechanism: [`Mechanism`] is what `mechanism!` emits, with static
+//! sizes (`N` coordinates, `M` constraint rows), specialised allocation-free code and one
+//! method per derived quantity. The solvers consume the run-time [`super::System`] instead;
+//! [`super::Compiled`] adapts one to the other.
+//!
+//! Equations (Van Khang 2011), with q the N redundant coordinates:
+//!
+//! ```text
+//! M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),   Phi(q, t) = 0
+//! Phi_q q'' = gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt
+//! ```
+
+use nalgebra::{SMatrix, SVector};
+
+/// One coordinate the user sets directly (`independent { phi = 0.0; der(phi) = 2*pi; }`):
+/// its index in q, its position and its rate at t = 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Independent {
+    /// Index of the coordinate in q.
+    pub coordinate: usize,
+    /// Prescribed position q_k(0).
+    pub position: f64,
+    /// Prescribed rate q_k'(0) (0 when the declaration gives none).
+    pub velocity: f64,
+}
+
+/// Everything the solver needs at one (t, q, q'), evaluated together so that sin, cos and
+/// common subexpressions are computed once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticEvaluation<const N: usize, const M: usize> {
+    /// Mass matrix M(q) = d2T/dq'dq'.
+    pub mass: SMatrix<f64, N, N>,
+    /// Velocity-dependent forces C(q, q') q'.
+    pub coriolis: SVector<f64, N>,
+    /// Conservative forces g(q) = dPi/dq.
+    pub gravity: SVector<f64, N>,
+    /// Applied generalised forces tau(t, q, q').
+    pub forces: SVector<f64, N>,
+    /// Constraint residuals Phi(q, t).
+    pub phi: SVector<f64, M>,
+    /// Constraint Jacobian Phi_q (M x N).
+    pub phi_q: SMatrix<f64, M, N>,
+    /// Explicit time derivative Phi_t.
+    pub phi_t: SVector<f64, M>,
+    /// Acceleration right-hand side gamma, with Phi_q q'' = gamma.
+    pub gamma: SVector<f64, M>,
+    /// Kinetic energy T(q, q').
+    pub kinetic: f64,
+    /// Potential energy Pi(q).
+    pub potential: f64,
+}
+
+/// A mechanism with derived equations and static sizes: `N` coordinates, `M` constraint rows.
+///
+/// Implemented by the code `mechanism!` emits. Every method is allocation-free.
+pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'static {
+    /// Name of the mechanism (the struct name).
+    const NAME: &'static str;
+    /// Coordinate names, in the order of q.
+    const COORDINATES: [&'static str; N];
+    /// Parameter names, in declaration order.
+    const PARAMETERS: &'static [&'static str];
+    /// Declared initial guesses for q (the start of the assembly Newton iteration).
+    const INITIAL_GUESS: [f64; N];
+    /// The independent coordinates and their initial values.
+    const INDEPENDENT: &'static [Independent];
+    /// The joint and the component of each constraint row, in row order (see
+    /// [`ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
+    /// for hand-written impls ([`Compiled::new`] then names the rows `row 1`, `row 2`, ..).
+    const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] = &[];
+
+    /// Value of parameter `index` (declaration order), or `None` out of range.
+    fn parameter(&self, index: usize) -> Option<f64>;
+    /// Sets parameter `index`; returns false when out of range.
+    fn set_parameter(&mut self, index: usize, value: f64) -> bool;
+    /// M(q) = d2T/dq'dq'.
+    fn mass_matrix(&self, q: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+    /// Khang's C(q, q') = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T.
+    fn coriolis_matrix(&self, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+    /// C(q, q') q'.
+    fn coriolis_forces(&self, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> SVector<f64, N>;
+    /// g(q) = dPi/dq.
+    fn gravity(&self, q: &SVector<f64, N>) -> SVector<f64, N>;
+    /// tau(t, q, q').
+    fn generalized_forces(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+    /// Phi(q, t).
+    fn constraints(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, M>;
+    /// Phi_q(q, t).
+    fn constraint_jacobian(&self, t: f64, q: &SVector<f64, N>) -> SMatrix<f64, M, N>;
+    /// Phi_t(q, t) = dPhi/dt at fixed q (zero for scleronomic constraints).
+    fn constraint_time_derivative(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, M>;
+    /// gamma(t, q, q') = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt.
+    fn constraint_gamma(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> SVector<f64, M>;
+    /// T(q, q').
+    fn kinetic_energy(&self, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> f64;
+    /// Pi(q).
+    fn potential_energy(&self, q: &SVector<f64, N>) -> f64;
+    /// All of the above at one (t, q, q'), sharing sin, cos and common subexpressions.
+    fn evaluate(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>)
+    -> StaticEvaluation<N, M>;
+    /// The derived equations as readable text (what the snapshot tests pin).
+    fn equations() -> &'static str;
+
+    /// K = dF/dq and D = dF/dq' of the residual F = M q'' + C q' + g - tau + Phi_q^T lambda,
+    /// derived symbolically (exact Jacobians for implicit integrators); `None` when the
+    /// mechanism does not provide them.
+    fn residual_tangent(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        lambda: &SVector<f64, M>,
+    ) -> Option<(SMatrix<f64, N, N>, SMatrix<f64, N, N>)> {
+        let _ = (t, q, qd, qdd, lambda);
+        None
+    }
+}
