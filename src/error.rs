@@ -160,9 +160,52 @@ pub enum Error {
         /// Number of coordinates n.
         n: usize,
     },
-    /// An option or input with the wrong size or an invalid value.
-    #[error("invalid input: {0}")]
-    InvalidInput(String),
+    /// A numeric option outside its allowed range.
+    #[error("invalid option: {option} = {value} (allowed: {allowed})")]
+    InvalidOption {
+        /// The option (`t_end`, `output_rate`, `rtol`, `atol`, `h`, `alpha`).
+        option: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// A vector given with the wrong number of entries.
+    #[error("{what} has {got} entries; the mechanism has {expected}")]
+    WrongLength {
+        /// Which vector (`q`, `q'`, `guess`).
+        what: &'static str,
+        /// Entries needed.
+        expected: usize,
+        /// Entries given.
+        got: usize,
+    },
+    /// The run would record more output samples than allowed.
+    #[error(
+        "{span} s at {rate} samples per second would record {samples:e} samples, more than \
+         the {limit:e} a run allows: shorten the time span or lower the output rate"
+    )]
+    TooManySamples {
+        /// Time span (s).
+        span: f64,
+        /// Output rate (1/s).
+        rate: f64,
+        /// Samples that would be recorded.
+        samples: f64,
+        /// The limit.
+        limit: usize,
+    },
+    /// A start state given as consistent is not: Phi or Phi_q q' + Phi_t is above 1e-8.
+    #[error(
+        "the given initial state is not consistent: |Phi| = {residual:e}, \
+         |Phi_q q' + Phi_t| = {velocity_residual:e} (at most 1e-8 allowed)"
+    )]
+    InconsistentInitialState {
+        /// |Phi|_inf.
+        residual: f64,
+        /// |Phi_q q' + Phi_t|_inf.
+        velocity_residual: f64,
+    },
 }
 
 impl Error {

@@ -37,9 +37,10 @@ pub use crate::algorithms::mobility::{Mobility, mobility};
 pub use crate::algorithms::stabilization::{Projector, Stabilization};
 pub use crate::error::Error;
 pub use crate::integrators::{IntegratorOptions, Method};
+pub use crate::simulation::events::{Event, EventAction, EventFn, EventHit};
+pub use crate::simulation::options::{InitialState, MAX_OUTPUT_SAMPLES, SimulationOptions};
 pub use crate::simulation::simulator::{
-    Event, EventAction, EventFn, EventHit, InitialState, MAX_OUTPUT_SAMPLES, Simulation,
-    SimulationOptions, Simulator, simulate, simulate_recording, simulate_with_events,
+    Simulation, Simulator, simulate, simulate_recording, simulate_with_events,
 };
 pub use crate::simulation::singular::SingularPassage;
 pub use crate::simulation::sweep::{ParameterSet, sweep, sweep_simulate, with_parameters};

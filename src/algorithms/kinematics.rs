@@ -157,10 +157,11 @@ pub fn solve_positions(
     let (n, m) = (info.n(), info.m());
     check_fixed(info, fixed)?;
     if q.len() != n {
-        return Err(Error::InvalidInput(format!(
-            "q has {} entries, the mechanism {n} coordinates",
-            q.len()
-        )));
+        return Err(Error::WrongLength {
+            what: "q",
+            expected: n,
+            got: q.len(),
+        });
     }
     Error::check_finite(q, "initial guess", &info.coordinates, t)?;
     let dep = dependent_of(n, fixed);
@@ -365,11 +366,11 @@ pub fn assemble_from(
     let fixed: Vec<usize> = independent.iter().map(|i| i.coordinate).collect();
     check_fixed(info, &fixed)?;
     if guess.len() != info.n() {
-        return Err(Error::InvalidInput(format!(
-            "guess has {} entries, the mechanism {} coordinates",
-            guess.len(),
-            info.n()
-        )));
+        return Err(Error::WrongLength {
+            what: "guess",
+            expected: info.n(),
+            got: guess.len(),
+        });
     }
     let mut q = guess.to_vec();
     let mut qd = vec![0.0; info.n()];

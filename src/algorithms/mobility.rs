@@ -49,10 +49,11 @@ pub fn mobility(system: &dyn System, t: f64, q: &[f64]) -> Result<Mobility, Erro
     let info = system.info();
     let (n, m) = (info.n(), info.m());
     if q.len() != n {
-        return Err(Error::InvalidInput(format!(
-            "q has {} entries, the mechanism {n} coordinates",
-            q.len()
-        )));
+        return Err(Error::WrongLength {
+            what: "q",
+            expected: n,
+            got: q.len(),
+        });
     }
     let mut phi_q = DMatrix::zeros(m, n);
     let mut phi_t = vec![0.0; m];

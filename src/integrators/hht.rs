@@ -77,9 +77,11 @@ impl Hht {
     /// Workspace for `info` with numerical damping `alpha` in [-1/3, 0].
     pub fn new(info: &SystemInfo, alpha: f64) -> Result<Self, Error> {
         if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-            return Err(Error::InvalidInput(format!(
-                "HHT alpha = {alpha} is outside [-1/3, 0]"
-            )));
+            return Err(Error::InvalidOption {
+                option: "alpha",
+                value: alpha,
+                allowed: "[-1/3, 0]",
+            });
         }
         let (n, m) = (info.n(), info.m());
         let v = |k| vec![0.0; k];

@@ -8,7 +8,10 @@
 //! the events. Invariant: the step loop ([`Simulator::step`]) allocates nothing; every
 //! buffer is made in [`Simulator::new`].
 
+pub(crate) mod events;
+pub(crate) mod options;
 pub(crate) mod simulator;
 pub(crate) mod singular;
+pub(crate) mod stepper;
 pub(crate) mod sweep;
 pub(crate) mod trajectory;

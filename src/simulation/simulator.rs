@@ -12,145 +12,22 @@
 // Comparisons are written `!(x > 0.0)` on purpose: NaN must fail them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use std::fmt;
-use std::sync::Arc;
 use std::time::Instant;
 
-use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
-use crate::algorithms::kinematics::{AssemblyOptions, assemble, assemble_from};
+use crate::algorithms::dynamics::Dynamics;
+use crate::algorithms::kinematics::{assemble, assemble_from};
 use crate::algorithms::mobility::mobility;
 use crate::algorithms::stabilization::{Projector, Stabilization};
 use crate::error::Error;
-use crate::integrators::{
-    Dense, Hht, IntegratorOptions, Method, OdeRhs, RungeKutta, Tolerance, explicit_stepper,
-    initial_step,
+use crate::integrators::{Dense, Hht, Method, OdeRhs, Tolerance, explicit_stepper, initial_step};
+use crate::simulation::events::{EventAction, EventHit, EventLog};
+use crate::simulation::options::{
+    InitialState, MAX_OUTPUT_SAMPLES, RESERVED_SAMPLES, SimulationOptions,
 };
 use crate::simulation::singular::SingularWatch;
+use crate::simulation::stepper::{Rhs, StateBuffers, StepControl, Stepper};
 use crate::simulation::trajectory::Trajectory;
-use crate::system::{Independent, System};
-
-/// Most output samples one run records (each is a row of 3n + m + 6 numbers).
-pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
-/// Output samples whose storage is reserved before the first step.
-const RESERVED_SAMPLES: usize = 1_000_000;
-
-/// Where the simulation starts.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum InitialState {
-    /// Assemble from the declared independent coordinates and guesses.
-    #[default]
-    Declared,
-    /// Assemble from these independent coordinates (declared guesses for the rest).
-    Independent(Vec<Independent>),
-    /// A state the user asserts is consistent (checked: |Phi| and |Phi_q q' + Phi_t| below
-    /// 1e-8, then projected when the stabilisation is projection).
-    Consistent {
-        /// Positions q(t0).
-        q: Vec<f64>,
-        /// Rates q'(t0).
-        qd: Vec<f64>,
-    },
-}
-
-/// What to do when an event function changes sign.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EventAction {
-    /// Record the crossing and end the simulation there (last sample at the crossing).
-    Stop,
-    /// Record the crossing and continue.
-    Record,
-}
-
-/// An event function g(t, q, q').
-pub type EventFn = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
-
-/// A user function g(t, q, q') whose sign changes are located to round-off on the dense
-/// output of the step in which they occur.
-#[derive(Clone)]
-pub struct Event {
-    /// Name for reports.
-    pub name: String,
-    /// g(t, q, q'); should not allocate.
-    pub g: EventFn,
-    /// Stop or record.
-    pub action: EventAction,
-}
-
-impl Event {
-    /// An event called `name` with function `g` and `action`.
-    pub fn new(
-        name: &str,
-        action: EventAction,
-        g: impl Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync + 'static,
-    ) -> Self {
-        Self {
-            name: name.to_string(),
-            g: Arc::new(g),
-            action,
-        }
-    }
-}
-
-impl fmt::Debug for Event {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Event")
-            .field("name", &self.name)
-            .field("action", &self.action)
-            .finish_non_exhaustive()
-    }
-}
-
-/// One located sign change of an event function.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EventHit {
-    /// Index of the event in [`SimulationOptions::events`].
-    pub event: usize,
-    /// Time of the crossing (s).
-    pub t: f64,
-    /// q at the crossing.
-    pub q: Vec<f64>,
-    /// q' at the crossing.
-    pub qd: Vec<f64>,
-}
-
-/// Everything a forward simulation needs besides the system.
-#[derive(Clone, Debug)]
-pub struct SimulationOptions {
-    /// Start time (s).
-    pub t_start: f64,
-    /// End time (s).
-    pub t_end: f64,
-    /// Output samples per second (default 100); the end time is always a sample.
-    pub output_rate: f64,
-    /// Method and step-size control.
-    pub integrator: IntegratorOptions,
-    /// Constraint stabilisation (default projection).
-    pub stabilization: Stabilization,
-    /// Initial state.
-    pub initial: InitialState,
-    /// Newton options for the assembly.
-    pub assembly: AssemblyOptions,
-    /// Event functions.
-    pub events: Vec<Event>,
-    /// Condition-estimate limit of the augmented matrix ([`Error::SingularConfiguration`]).
-    pub condition_limit: f64,
-}
-
-impl Default for SimulationOptions {
-    fn default() -> Self {
-        Self {
-            t_start: 0.0,
-            t_end: 10.0,
-            output_rate: 100.0,
-            integrator: IntegratorOptions::default(),
-            stabilization: Stabilization::default(),
-            initial: InitialState::default(),
-            assembly: AssemblyOptions::default(),
-            events: Vec::new(),
-            condition_limit: DEFAULT_CONDITION_LIMIT,
-        }
-    }
-}
+use crate::system::System;
 
 /// The result of [`simulate_with_events`].
 #[derive(Clone, Debug)]
@@ -195,64 +72,22 @@ pub fn simulate_recording(
     Ok(Simulator::new(system, options)?.run_recording())
 }
 
-/// y' = [q', q'', tau . q'] through the augmented system.
-struct Rhs<'s> {
-    system: &'s dyn System,
-    dynamics: &'s mut Dynamics,
-    n: usize,
-}
-
-impl OdeRhs for Rhs<'_> {
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        let n = self.n;
-        let (q, rest) = y.split_at(n);
-        let qd = &rest[..n];
-        self.dynamics.solve(self.system, t, q, qd)?;
-        dy[..n].copy_from_slice(qd);
-        dy[n..2 * n].copy_from_slice(self.dynamics.accelerations());
-        dy[2 * n] = self.dynamics.power(qd);
-        Ok(())
-    }
-}
-
-enum Stepper {
-    Explicit(Box<dyn RungeKutta>),
-    Hht {
-        hht: Box<Hht>,
-        hermite: Dense,
-        f0: Vec<f64>,
-        f1: Vec<f64>,
-        power: f64,
-    },
-}
-
 /// The forward-dynamics driver, one accepted step at a time ([`Simulator::step`]) or to the
 /// end ([`Simulator::run`]).
 pub struct Simulator<'a> {
     system: &'a dyn System,
     options: &'a SimulationOptions,
     n: usize,
-    t: f64,
-    h: f64,
-    y: Vec<f64>,
-    y_new: Vec<f64>,
-    y_dense: Vec<f64>,
-    scratch: Vec<f64>,
-    g_old: Vec<f64>,
-    roots: Vec<f64>,
-    h_step: f64,
+    clock: StepControl,
+    state: StateBuffers,
     stepper: Stepper,
-    dense_ready: bool,
     dynamics: Dynamics,
     projector: Projector,
+    /// Output samples: the next one's index, how many in all, and the trajectory.
     next_output: usize,
     outputs: usize,
-    errold: f64,
-    rejected_last: bool,
-    finished: bool,
     trajectory: Trajectory,
-    events: Vec<EventHit>,
-    stopped_by: Option<usize>,
+    events: EventLog,
     /// Taken out while it searches a step (it calls back into the dense output).
     watch: Option<SingularWatch>,
     started: Instant,
@@ -264,50 +99,17 @@ impl<'a> Simulator<'a> {
     pub fn new(system: &'a dyn System, options: &'a SimulationOptions) -> Result<Self, Error> {
         let started = Instant::now();
         let info = system.info();
-        let (n, m) = (info.n(), info.m());
-        let t0 = options.t_start;
-        let mut params = vec![0.0; info.parameters.len()];
-        system.parameter_values(&mut params);
-        Error::check_finite(&params, "parameter", &info.parameters, t0)?;
-        let io = &options.integrator;
-        if !(options.t_end > t0)
-            || !(options.output_rate > 0.0)
-            || !(io.rtol > 0.0)
-            || !(io.atol >= 0.0)
-        {
-            return Err(Error::InvalidInput(format!(
-                "need t_end > t_start, output_rate > 0, rtol > 0, atol >= 0 (got t = [{t0}, {}], rate {}, rtol {}, atol {})",
-                options.t_end, options.output_rate, io.rtol, io.atol
-            )));
-        }
-        let (q, qd) = match &options.initial {
-            InitialState::Declared => {
-                let s = assemble(system, t0, &options.assembly)?;
-                (s.q, s.qd)
-            }
-            InitialState::Independent(ind) => {
-                let s = assemble_from(system, t0, ind, &info.initial_guess, &options.assembly)?;
-                (s.q, s.qd)
-            }
-            InitialState::Consistent { q, qd } => {
-                if q.len() != n || qd.len() != n {
-                    return Err(Error::InvalidInput(format!(
-                        "initial q and q' need {n} entries"
-                    )));
-                }
-                (q.clone(), qd.clone())
-            }
-        };
-        Error::check_finite(&q, "initial position", &info.coordinates, t0)?;
-        Error::check_finite(&qd, "initial rate", &info.coordinates, t0)?;
+        let (n, t0) = (info.n(), options.t_start);
+        check_options(system, options)?;
+        let outputs = output_count(options)?;
+        let (q, qd) = initial_state(system, options)?;
         let mut dynamics = Dynamics::new(info);
         dynamics.condition_limit = options.condition_limit;
         if let Stabilization::Baumgarte { alpha, beta } = options.stabilization {
             dynamics.baumgarte = Some((alpha, beta));
         }
         let mut projector = Projector::new(info);
-        let dim = 2 * n + 1;
-        let mut y = vec![0.0; dim];
+        let mut y = vec![0.0; 2 * n + 1];
         y[..n].copy_from_slice(&q);
         y[n..2 * n].copy_from_slice(&qd);
         if options.stabilization == Stabilization::Projection {
@@ -321,87 +123,39 @@ impl<'a> Simulator<'a> {
                 dynamics.velocity_constraint_error(&y[n..2 * n]),
             );
             if e > 1e-8 || ev > 1e-8 {
-                return Err(Error::InvalidInput(format!(
-                    "the given initial state is not consistent: |Phi| = {e:e}, |Phi_q q' + Phi_t| = {ev:e}"
-                )));
+                return Err(Error::InconsistentInitialState {
+                    residual: e,
+                    velocity_residual: ev,
+                });
             }
         }
         let watch = Some(SingularWatch::new(system, t0, &y[..n]));
-        let mobility = mobility(system, t0, &y[..n])?;
-        let span = options.t_end - t0;
-        let outputs = ((span * options.output_rate) - 1e-9).ceil().max(1.0);
-        // t_end > t0 and rate > 0 were checked above, so outputs is not NaN.
-        if outputs > MAX_OUTPUT_SAMPLES as f64 {
-            return Err(Error::InvalidInput(format!(
-                "{} s at {} samples per second would record {outputs:e} samples, more than the {MAX_OUTPUT_SAMPLES:e} this run allows: shorten the time span or lower the output rate",
-                span, options.output_rate
-            )));
-        }
         // Reserve the whole output up front (the step loop then never grows it) unless it is
         // very long; beyond that the buffer grows as it fills.
-        let outputs = outputs as usize;
         let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
         let mut trajectory = Trajectory::with_capacity(info.clone(), reserve);
-        trajectory.mobility = Some(mobility);
-        let stepper = match io.method {
-            Method::Hht { alpha, .. } => {
-                let mut hht = Box::new(Hht::new(info, alpha)?);
-                hht.start(
-                    system,
-                    t0,
-                    &y[..n],
-                    &y[n..2 * n],
-                    dynamics.accelerations(),
-                    dynamics.multipliers(),
-                );
-                Stepper::Hht {
-                    hht,
-                    hermite: Dense::new(dim, 4),
-                    f0: vec![0.0; dim],
-                    f1: vec![0.0; dim],
-                    power: dynamics.power(&y[n..2 * n]),
-                }
-            }
-            method => Stepper::Explicit(
-                explicit_stepper(method, dim)
-                    .ok_or_else(|| Error::InvalidInput("no stepper".into()))?,
-            ),
-        };
+        trajectory.mobility = Some(mobility(system, t0, &y[..n])?);
+        let stepper = make_stepper(system, options, t0, &y, &dynamics)?;
         let mut sim = Self {
             system,
             options,
             n,
-            t: t0,
-            h: 0.0,
-            y_new: y.clone(),
-            y_dense: y.clone(),
-            scratch: vec![0.0; 2 * dim],
-            g_old: vec![0.0; options.events.len()],
-            roots: vec![f64::NAN; options.events.len()],
-            h_step: 0.0,
-            y,
+            clock: StepControl::new(t0),
+            state: StateBuffers::new(y),
             stepper,
-            dense_ready: false,
             dynamics,
             projector,
             next_output: 1,
             outputs,
-            errold: 1e-4,
-            rejected_last: false,
-            finished: false,
             trajectory,
-            events: Vec::with_capacity(16),
-            stopped_by: None,
+            events: EventLog::new(options.events.len()),
             watch,
             started,
         };
-        let _ = m;
-        sim.y_dense.copy_from_slice(&sim.y);
         sim.record(t0)?;
-        for (i, ev) in options.events.iter().enumerate() {
-            sim.g_old[i] = (ev.g)(t0, &sim.y[..n], &sim.y[n..2 * n]);
-        }
-        sim.h = sim.first_step()?;
+        let (q0, qd0) = sim.state.y.split_at(n);
+        sim.events.restart(&options.events, t0, q0, &qd0[..n]);
+        sim.clock.h = sim.first_step()?;
         Ok(sim)
     }
 
@@ -412,9 +166,11 @@ impl<'a> Simulator<'a> {
         match (&mut self.stepper, io.method) {
             (_, Method::Rk4 { h }) | (_, Method::Hht { h, .. }) => {
                 if !(h > 0.0) {
-                    return Err(Error::InvalidInput(format!(
-                        "fixed step h = {h} must be positive"
-                    )));
+                    return Err(Error::InvalidOption {
+                        option: "h",
+                        value: h,
+                        allowed: "a positive step in seconds",
+                    });
                 }
                 if let Stepper::Explicit(rk) = &mut self.stepper {
                     let mut rhs = Rhs {
@@ -422,7 +178,7 @@ impl<'a> Simulator<'a> {
                         dynamics: &mut self.dynamics,
                         n: self.n,
                     };
-                    rhs.rhs(self.t, &self.y, rk.k1_mut())?;
+                    rhs.rhs(self.clock.t, &self.state.y, rk.k1_mut())?;
                 }
                 Ok(h.min(span))
             }
@@ -432,7 +188,7 @@ impl<'a> Simulator<'a> {
                     dynamics: &mut self.dynamics,
                     n: self.n,
                 };
-                rhs.rhs(self.t, &self.y, rk.k1_mut())?;
+                rhs.rhs(self.clock.t, &self.state.y, rk.k1_mut())?;
                 if let Some(h) = io.h_initial {
                     return Ok(h.min(h_max));
                 }
@@ -440,8 +196,8 @@ impl<'a> Simulator<'a> {
                 let f0 = rk.k1_mut().to_vec(); // before the loop: allowed
                 initial_step(
                     &mut rhs,
-                    self.t,
-                    &self.y,
+                    self.clock.t,
+                    &self.state.y,
                     &f0,
                     order,
                     Tolerance {
@@ -449,7 +205,7 @@ impl<'a> Simulator<'a> {
                         atol: io.atol,
                     },
                     h_max,
-                    &mut self.scratch,
+                    &mut self.state.scratch,
                 )
             }
             (Stepper::Hht { .. }, _) => unreachable!("HHT has a fixed step"),
@@ -458,12 +214,12 @@ impl<'a> Simulator<'a> {
 
     /// Current time (s).
     pub fn time(&self) -> f64 {
-        self.t
+        self.clock.t
     }
 
     /// True once the end time or a stopping event is reached.
     pub fn is_finished(&self) -> bool {
-        self.finished
+        self.clock.finished
     }
 
     /// The samples recorded so far.
@@ -484,7 +240,7 @@ impl<'a> Simulator<'a> {
     /// [`Simulation::failure`] with the samples recorded before it.
     pub fn run_recording(mut self) -> Simulation {
         let mut failure = None;
-        while !self.finished {
+        while !self.clock.finished {
             if let Err(e) = self.step() {
                 failure = Some(e);
                 break;
@@ -505,39 +261,70 @@ impl<'a> Simulator<'a> {
         }
         Simulation {
             trajectory: self.trajectory,
-            events: self.events,
-            stopped_by: self.stopped_by,
+            events: self.events.hits,
+            stopped_by: self.events.stopped_by,
             failure,
         }
     }
 
     /// Performs one accepted step (retrying rejected ones), records the output samples and
     /// events inside it and applies the stabilisation. Returns false when finished.
-    /// Allocates nothing (apart from event records, which are rare).
+    /// Allocates nothing (apart from event and passage records, which are rare).
     pub fn step(&mut self) -> Result<bool, Error> {
-        if self.finished {
+        if self.clock.finished {
             return Ok(false);
         }
-        let io = self.options.integrator;
-        if self.trajectory.stats.steps >= io.max_steps {
+        let max_steps = self.options.integrator.max_steps;
+        if self.trajectory.stats.steps >= max_steps {
             return Err(Error::TooManySteps {
-                t: self.t,
-                max_steps: io.max_steps,
+                t: self.clock.t,
+                max_steps,
             });
         }
-        let t_end = self.options.t_end;
-        let n = self.n;
+        let h = self.attempt_until_accepted()?;
+        self.state.dense_ready = false;
+        self.clock.h_step = h;
+        let t_new = self.clock.t + h;
+        self.check_new_state(t_new)?;
+        // Events: earliest sign change inside the step, located on the dense output.
+        let mut t_stop = t_new;
+        let mut stop_event = None;
+        if !self.options.events.is_empty() {
+            self.locate_events(h, &mut t_stop, &mut stop_event)?;
+        }
+        self.record_outputs(h, t_stop, stop_event.is_some())?;
+        self.trajectory.stats.steps += 1;
+        if let Some(k) = stop_event {
+            self.dense_at(((t_stop - self.clock.t) / h).clamp(0.0, 1.0))?;
+            self.record(t_stop)?;
+            self.events.stopped_by = Some(k);
+            self.clock.finished = true;
+            self.clock.t = t_stop;
+            return Ok(false);
+        }
+        self.watch_singular(h)?;
+        self.accept(t_new)?;
+        Ok(!self.clock.finished)
+    }
+
+    /// Tries steps from the current state until one is accepted (for the adaptive methods:
+    /// error norm <= 1, with Hairer's PI control of the next size); returns its size, with
+    /// the end state in `state.y_new`.
+    fn attempt_until_accepted(&mut self) -> Result<f64, Error> {
+        let io = self.options.integrator;
+        let (n, t_end) = (self.n, self.options.t_end);
         let h_max = io.h_max.unwrap_or(f64::INFINITY);
         let tol = Tolerance {
             rtol: io.rtol,
             atol: io.atol,
         };
-        let h = loop {
-            let mut h = self.h.min(h_max);
-            let last = self.t + h >= t_end - 1e-12 * t_end.abs().max(1.0);
+        loop {
+            let mut h = self.clock.h.min(h_max);
+            let last = self.clock.t + h >= t_end - 1e-12 * t_end.abs().max(1.0);
             if last {
-                h = t_end - self.t;
+                h = t_end - self.clock.t;
             }
+            let (t, state) = (self.clock.t, &mut self.state);
             match &mut self.stepper {
                 Stepper::Explicit(rk) => {
                     let mut rhs = Rhs {
@@ -545,151 +332,139 @@ impl<'a> Simulator<'a> {
                         dynamics: &mut self.dynamics,
                         n,
                     };
-                    let err = rk.attempt(&mut rhs, self.t, &self.y, h, &mut self.y_new, tol)?;
+                    let err = rk.attempt(&mut rhs, t, &state.y, h, &mut state.y_new, tol)?;
                     if !rk.adaptive() {
-                        rk.finish(&mut rhs, self.t, &self.y_new, h)?;
-                        break h;
+                        rk.finish(&mut rhs, t, &state.y_new, h)?;
+                        return Ok(h);
                     }
                     let expo = rk.exponent();
+                    let clock = &mut self.clock;
                     if err <= 1.0 && err.is_finite() {
-                        rk.finish(&mut rhs, self.t, &self.y_new, h)?;
+                        rk.finish(&mut rhs, t, &state.y_new, h)?;
                         let mut fac =
-                            0.9 * err.max(1e-10).powf(-expo) * self.errold.powf(rk.pi_beta());
+                            0.9 * err.max(1e-10).powf(-expo) * clock.errold.powf(rk.pi_beta());
                         fac = fac.clamp(0.2, rk.max_growth());
-                        if self.rejected_last {
+                        if clock.rejected_last {
                             fac = fac.min(1.0);
                         }
-                        self.errold = err.max(1e-4);
-                        self.rejected_last = false;
+                        clock.errold = err.max(1e-4);
+                        clock.rejected_last = false;
                         if !last {
-                            self.h = h * fac;
+                            clock.h = h * fac;
                         }
-                        break h;
+                        return Ok(h);
                     }
                     self.trajectory.stats.rejected_steps += 1;
-                    self.rejected_last = true;
+                    clock.rejected_last = true;
                     let fac = if err.is_finite() {
                         (0.9 * err.powf(-expo)).max(0.2)
                     } else {
                         0.2
                     };
-                    self.h = h * fac;
-                    if self.h < io.h_min {
-                        return Err(Error::StepSizeUnderflow {
-                            t: self.t,
-                            h: self.h,
-                        });
+                    clock.h = h * fac;
+                    if clock.h < io.h_min {
+                        return Err(Error::StepSizeUnderflow { t, h: clock.h });
                     }
                 }
                 Stepper::Hht {
                     hht, f0, f1, power, ..
                 } => {
-                    self.y_new.copy_from_slice(&self.y);
-                    f0[..n].copy_from_slice(&self.y[n..2 * n]);
+                    state.y_new.copy_from_slice(&state.y);
+                    f0[..n].copy_from_slice(&state.y[n..2 * n]);
                     f0[n..2 * n].copy_from_slice(hht.accelerations());
                     f0[2 * n] = *power;
-                    let (q, rest) = self.y_new.split_at_mut(n);
-                    hht.step(self.system, self.t, q, &mut rest[..n], h)?;
+                    let (q, rest) = state.y_new.split_at_mut(n);
+                    hht.step(self.system, t, q, &mut rest[..n], h)?;
                     let p1 = hht.power();
-                    self.y_new[2 * n] = self.y[2 * n] + 0.5 * h * (*power + p1);
-                    f1[..n].copy_from_slice(&self.y_new[n..2 * n]);
+                    state.y_new[2 * n] = state.y[2 * n] + 0.5 * h * (*power + p1);
+                    f1[..n].copy_from_slice(&state.y_new[n..2 * n]);
                     f1[n..2 * n].copy_from_slice(hht.accelerations());
                     f1[2 * n] = p1;
                     *power = p1;
-                    break h;
+                    return Ok(h);
                 }
             }
-        };
-        self.dense_ready = false;
-        self.h_step = h;
-        let t_new = self.t + h;
+        }
+    }
+
+    /// The end state of the step must be finite: q, q' and the work W.
+    fn check_new_state(&self, t_new: f64) -> Result<(), Error> {
+        let n = self.n;
         let names = &self.system.info().coordinates;
-        Error::check_finite(&self.y_new[..n], "position", names, t_new)?;
-        Error::check_finite(&self.y_new[n..2 * n], "rate", names, t_new)?;
-        if !self.y_new[2 * n].is_finite() {
+        Error::check_finite(&self.state.y_new[..n], "position", names, t_new)?;
+        Error::check_finite(&self.state.y_new[n..2 * n], "rate", names, t_new)?;
+        if !self.state.y_new[2 * n].is_finite() {
             return Err(Error::NonFinite {
                 what: "work W of the applied forces".into(),
                 t: t_new,
             });
         }
-        // Events: earliest sign change inside the step, located on the dense output.
-        let mut t_stop = t_new;
-        let mut stop_event = None;
-        if !self.options.events.is_empty() {
-            self.locate_events(h, &mut t_stop, &mut stop_event)?;
-        }
-        // Output samples inside (t, t_stop].
+        Ok(())
+    }
+
+    /// Records the output samples that fall inside (t, t_stop] of the step of size h (before
+    /// t_stop itself when an event stops the run there).
+    fn record_outputs(&mut self, h: f64, t_stop: f64, stopping: bool) -> Result<(), Error> {
         while self.next_output <= self.outputs {
             let to = self.output_time(self.next_output);
-            if to > t_stop + 1e-12 * t_stop.abs().max(1.0) {
+            if to > t_stop + 1e-12 * t_stop.abs().max(1.0) || (stopping && to >= t_stop) {
                 break;
             }
-            if stop_event.is_some() && to >= t_stop {
-                break;
-            }
-            self.dense_at(((to - self.t) / h).clamp(0.0, 1.0))?;
+            self.dense_at(((to - self.clock.t) / h).clamp(0.0, 1.0))?;
             self.record(to)?;
             self.next_output += 1;
         }
-        self.trajectory.stats.steps += 1;
-        if stop_event.is_none() {
-            self.watch_singular(h)?;
-        }
-        if let Some(k) = stop_event {
-            self.dense_at(((t_stop - self.t) / h).clamp(0.0, 1.0))?;
-            self.record(t_stop)?;
-            self.stopped_by = Some(k);
-            self.finished = true;
-            self.t = t_stop;
-            return Ok(false);
-        }
-        // Accept: stabilise the new state and start the next step from it.
-        self.t = t_new;
-        std::mem::swap(&mut self.y, &mut self.y_new);
+        Ok(())
+    }
+
+    /// Accepts the step: moves to t_new, stabilises the new state and starts the next step
+    /// from it (the right-hand side anew after a projection, else the method's last stage).
+    fn accept(&mut self, t_new: f64) -> Result<(), Error> {
+        let n = self.n;
+        let t_end = self.options.t_end;
+        self.clock.t = t_new;
+        std::mem::swap(&mut self.state.y, &mut self.state.y_new);
         // HHT keeps its Newmark state (q, q', a) untouched: projecting q' would break the
         // relation between them; its positions already satisfy Phi = 0 to Newton tolerance.
         let projected = self.options.stabilization == Stabilization::Projection
             && matches!(self.stepper, Stepper::Explicit(_));
         if projected {
-            let (q, rest) = self.y.split_at_mut(n);
+            let (q, rest) = self.state.y.split_at_mut(n);
             self.projector
-                .project(self.system, self.t, q, &mut rest[..n])?;
+                .project(self.system, t_new, q, &mut rest[..n])?;
         }
-        match &mut self.stepper {
-            Stepper::Explicit(rk) => {
-                if projected {
-                    let mut rhs = Rhs {
-                        system: self.system,
-                        dynamics: &mut self.dynamics,
-                        n,
-                    };
-                    rhs.rhs(self.t, &self.y, rk.k1_mut())?;
-                } else {
-                    rk.reuse_f_new();
-                }
+        if let Stepper::Explicit(rk) = &mut self.stepper {
+            if projected {
+                let mut rhs = Rhs {
+                    system: self.system,
+                    dynamics: &mut self.dynamics,
+                    n,
+                };
+                rhs.rhs(t_new, &self.state.y, rk.k1_mut())?;
+            } else {
+                rk.reuse_f_new();
             }
-            Stepper::Hht { .. } => {}
         }
-        for (i, ev) in self.options.events.iter().enumerate() {
-            self.g_old[i] = (ev.g)(self.t, &self.y[..n], &self.y[n..2 * n]);
+        let (q, qd) = self.state.y.split_at(n);
+        self.events
+            .restart(&self.options.events, t_new, q, &qd[..n]);
+        if t_new >= t_end - 1e-12 * t_end.abs().max(1.0) {
+            self.clock.finished = true;
         }
-        if self.t >= t_end - 1e-12 * t_end.abs().max(1.0) {
-            self.finished = true;
-        }
-        Ok(!self.finished)
+        Ok(())
     }
 
-    /// Records the singular configurations passed inside the step just taken (from self.t
-    /// to self.t + h, before it is accepted): see [`crate::singular`].
+    /// Records the singular configurations passed inside the step just taken (from self.clock.t
+    /// to self.clock.t + h, before it is accepted): see [`crate::singular`].
     fn watch_singular(&mut self, h: f64) -> Result<(), Error> {
         let Some(mut watch) = self.watch.take() else {
             return Ok(());
         };
-        let (n, t0) = (self.n, self.t);
-        let w1 = watch.measure(self.system, t0 + h, &self.y_new[..n]);
+        let (n, t0) = (self.n, self.clock.t);
+        let w1 = watch.measure(self.system, t0 + h, &self.state.y_new[..n]);
         let found = watch.observe_step(t0, h, w1, |w, theta| {
             self.dense_at(theta)?;
-            Ok::<f64, Error>(w.measure(self.system, t0 + theta * h, &self.y_dense[..n]))
+            Ok::<f64, Error>(w.measure(self.system, t0 + theta * h, &self.state.y_dense[..n]))
         });
         self.watch = Some(watch);
         if let Some(p) = found? {
@@ -712,38 +487,38 @@ impl<'a> Simulator<'a> {
         let h = self.last_h();
         match &mut self.stepper {
             Stepper::Explicit(rk) => {
-                if !self.dense_ready {
+                if !self.state.dense_ready {
                     let mut rhs = Rhs {
                         system: self.system,
                         dynamics: &mut self.dynamics,
                         n: self.n,
                     };
-                    rk.prepare_dense(&mut rhs, self.t, &self.y, &self.y_new, h)?;
+                    rk.prepare_dense(&mut rhs, self.clock.t, &self.state.y, &self.state.y_new, h)?;
                 }
-                rk.dense(theta, &mut self.y_dense);
+                rk.dense(theta, &mut self.state.y_dense);
             }
             Stepper::Hht {
                 hermite, f0, f1, ..
             } => {
-                if !self.dense_ready {
-                    hermite.set_hermite(&self.y, &self.y_new, f0, f1, h);
+                if !self.state.dense_ready {
+                    hermite.set_hermite(&self.state.y, &self.state.y_new, f0, f1, h);
                 }
-                hermite.eval(theta, &mut self.y_dense);
+                hermite.eval(theta, &mut self.state.y_dense);
             }
         }
-        self.dense_ready = true;
+        self.state.dense_ready = true;
         Ok(())
     }
 
     fn last_h(&self) -> f64 {
-        self.h_step
+        self.clock.h_step
     }
 
     /// Projects `y_dense` when the stabilisation is projection, solves the augmented system
     /// there and appends the sample at time `ts`.
     fn record(&mut self, ts: f64) -> Result<(), Error> {
         let n = self.n;
-        let (q, rest) = self.y_dense.split_at_mut(n);
+        let (q, rest) = self.state.y_dense.split_at_mut(n);
         let (qd, w) = rest.split_at_mut(n);
         if self.options.stabilization == Stabilization::Projection {
             self.projector.project(self.system, ts, q, qd)?;
@@ -778,12 +553,12 @@ impl<'a> Simulator<'a> {
     ) -> Result<(), Error> {
         let n = self.n;
         let events = &self.options.events;
-        let t0 = self.t;
+        let t0 = self.clock.t;
         for i in 0..events.len() {
-            self.roots[i] = f64::NAN;
+            self.events.roots[i] = f64::NAN;
             let g = &events[i].g;
-            let g0 = self.g_old[i];
-            let g1 = g(t0 + h, &self.y_new[..n], &self.y_new[n..2 * n]);
+            let g0 = self.events.g_old[i];
+            let g1 = g(t0 + h, &self.state.y_new[..n], &self.state.y_new[n..2 * n]);
             if g0 == 0.0 || !(g0 * g1 <= 0.0) {
                 continue;
             }
@@ -798,7 +573,11 @@ impl<'a> Simulator<'a> {
                     c = 0.5 * (a + b);
                 }
                 self.dense_at(c)?;
-                let fc = g(t0 + c * h, &self.y_dense[..n], &self.y_dense[n..2 * n]);
+                let fc = g(
+                    t0 + c * h,
+                    &self.state.y_dense[..n],
+                    &self.state.y_dense[n..2 * n],
+                );
                 if fc == 0.0 {
                     a = c;
                     b = c;
@@ -821,9 +600,9 @@ impl<'a> Simulator<'a> {
                 }
             }
             let _ = a;
-            self.roots[i] = t0 + b * h;
-            if events[i].action == EventAction::Stop && self.roots[i] < *t_stop {
-                *t_stop = self.roots[i];
+            self.events.roots[i] = t0 + b * h;
+            if events[i].action == EventAction::Stop && self.events.roots[i] < *t_stop {
+                *t_stop = self.events.roots[i];
                 *stop_event = Some(i);
             }
         }
@@ -831,20 +610,20 @@ impl<'a> Simulator<'a> {
         loop {
             let mut best: Option<usize> = None;
             for i in 0..events.len() {
-                let r = self.roots[i];
-                if r.is_finite() && r <= *t_stop && best.is_none_or(|b| r < self.roots[b]) {
+                let r = self.events.roots[i];
+                if r.is_finite() && r <= *t_stop && best.is_none_or(|b| r < self.events.roots[b]) {
                     best = Some(i);
                 }
             }
             let Some(i) = best else { break };
-            let tr = self.roots[i];
-            self.roots[i] = f64::NAN;
+            let tr = self.events.roots[i];
+            self.events.roots[i] = f64::NAN;
             self.dense_at(((tr - t0) / h).clamp(0.0, 1.0))?;
-            let (q, rest) = self.y_dense.split_at_mut(n);
+            let (q, rest) = self.state.y_dense.split_at_mut(n);
             if self.options.stabilization == Stabilization::Projection {
                 self.projector.project(self.system, tr, q, &mut rest[..n])?;
             }
-            self.events.push(EventHit {
+            self.events.hits.push(EventHit {
                 event: i,
                 t: tr,
                 q: q.to_vec(),
@@ -853,4 +632,126 @@ impl<'a> Simulator<'a> {
         }
         Ok(())
     }
+}
+
+/// Parameters finite; t_end > t_start, output_rate > 0, rtol > 0, atol >= 0.
+fn check_options(system: &dyn System, options: &SimulationOptions) -> Result<(), Error> {
+    let info = system.info();
+    let mut params = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut params);
+    Error::check_finite(&params, "parameter", &info.parameters, options.t_start)?;
+    let io = &options.integrator;
+    let bad = |option, value, allowed| {
+        Err(Error::InvalidOption {
+            option,
+            value,
+            allowed,
+        })
+    };
+    if !(options.t_end > options.t_start) {
+        return bad("t_end", options.t_end, "after t_start");
+    }
+    if !(options.output_rate > 0.0) {
+        return bad(
+            "output_rate",
+            options.output_rate,
+            "positive, in samples per second",
+        );
+    }
+    if !(io.rtol > 0.0) {
+        return bad("rtol", io.rtol, "positive");
+    }
+    if !(io.atol >= 0.0) {
+        return bad("atol", io.atol, "zero or positive");
+    }
+    Ok(())
+}
+
+/// Output samples after the first: one per 1/output_rate, the end time always included;
+/// refused beyond [`MAX_OUTPUT_SAMPLES`] before any work.
+fn output_count(options: &SimulationOptions) -> Result<usize, Error> {
+    let span = options.t_end - options.t_start;
+    // t_end > t_start and rate > 0 are checked, so this is not NaN.
+    let samples = ((span * options.output_rate) - 1e-9).ceil().max(1.0);
+    if samples > MAX_OUTPUT_SAMPLES as f64 {
+        return Err(Error::TooManySamples {
+            span,
+            rate: options.output_rate,
+            samples,
+            limit: MAX_OUTPUT_SAMPLES,
+        });
+    }
+    Ok(samples as usize)
+}
+
+/// q(t0) and q'(t0): assembled from the declared or given independent coordinates, or the
+/// consistent state given (its consistency is checked after the first solve).
+fn initial_state(
+    system: &dyn System,
+    options: &SimulationOptions,
+) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let info = system.info();
+    let (n, t0) = (info.n(), options.t_start);
+    let (q, qd) = match &options.initial {
+        InitialState::Declared => {
+            let s = assemble(system, t0, &options.assembly)?;
+            (s.q, s.qd)
+        }
+        InitialState::Independent(ind) => {
+            let s = assemble_from(system, t0, ind, &info.initial_guess, &options.assembly)?;
+            (s.q, s.qd)
+        }
+        InitialState::Consistent { q, qd } => {
+            for (what, v) in [("q", q), ("q'", qd)] {
+                if v.len() != n {
+                    return Err(Error::WrongLength {
+                        what,
+                        expected: n,
+                        got: v.len(),
+                    });
+                }
+            }
+            (q.clone(), qd.clone())
+        }
+    };
+    Error::check_finite(&q, "initial position", &info.coordinates, t0)?;
+    Error::check_finite(&qd, "initial rate", &info.coordinates, t0)?;
+    Ok((q, qd))
+}
+
+/// The stepper of the chosen method for the state `y` (HHT starts from the accelerations
+/// and multipliers of the first solve).
+fn make_stepper(
+    system: &dyn System,
+    options: &SimulationOptions,
+    t0: f64,
+    y: &[f64],
+    dynamics: &Dynamics,
+) -> Result<Stepper, Error> {
+    let info = system.info();
+    let (n, dim) = (info.n(), y.len());
+    Ok(match options.integrator.method {
+        Method::Hht { alpha, .. } => {
+            let mut hht = Box::new(Hht::new(info, alpha)?);
+            hht.start(
+                system,
+                t0,
+                &y[..n],
+                &y[n..2 * n],
+                dynamics.accelerations(),
+                dynamics.multipliers(),
+            );
+            Stepper::Hht {
+                hht,
+                hermite: Dense::new(dim, 4),
+                f0: vec![0.0; dim],
+                f1: vec![0.0; dim],
+                power: dynamics.power(&y[n..2 * n]),
+            }
+        }
+        method => match explicit_stepper(method, dim) {
+            Some(rk) => Stepper::Explicit(rk),
+            None => unreachable!("every method but HHT is explicit"),
+        },
+    })
 }

@@ -5,7 +5,8 @@
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::simulation::simulator::{SimulationOptions, simulate};
+use crate::simulation::options::SimulationOptions;
+use crate::simulation::simulator::simulate;
 use crate::simulation::trajectory::Trajectory;
 use crate::system::System;
 
