@@ -6,8 +6,8 @@ use std::hint::black_box;
 use mechanism_emit_check::generated::{MATRICES, P, SCALARS};
 use nalgebra::{SMatrix, SVector};
 
-#[path = "../../codegen/tests/alloc_support/mod.rs"]
-mod alloc_support;
+#[global_allocator]
+static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
 
 #[test]
 fn emitted_functions_do_not_allocate() {
@@ -15,7 +15,7 @@ fn emitted_functions_do_not_allocate() {
     let q = SVector::<f64, 2>::new(0.3, -1.1);
     let mut all = [SMatrix::<f64, 2, 3>::zeros(); MATRICES.len()];
     let mut sink = 0.0;
-    let before = alloc_support::allocations();
+    let before = mechanism_test_support::allocations();
     for step in 0..10 {
         let t = 0.1 * step as f64;
         for f in SCALARS {
@@ -26,7 +26,7 @@ fn emitted_functions_do_not_allocate() {
         }
         p.all(black_box(&q), t, black_box(&mut all));
     }
-    let after = alloc_support::allocations();
+    let after = mechanism_test_support::allocations();
     assert_eq!(after - before, 0, "emitted code allocated");
     black_box(sink);
 }

@@ -1,7 +1,6 @@
 //! Assembly: consistent initial states and the typed errors of the position Newton.
-mod common;
 
-use common::{CrankSlider, FourBar, Pendulum};
+use crate::common::{CrankSlider, FourBar, Pendulum};
 use mechanism::{AssemblyOptions, Error, Independent, assemble, assemble_from};
 
 /// ERRATA item 2: at phi = 0, gamma0 = acos((h + l1)/l2), beta0 = asin(d/(l2 sin gamma0)),

@@ -1,10 +1,9 @@
 //! Cartesian pendulum against closed forms: periods (small amplitude and complete elliptic
 //! integral) located with events, and the multiplier against the rod tension.
-mod common;
 
 use std::f64::consts::PI;
 
-use common::Pendulum;
+use crate::common::Pendulum;
 use mechanism::{
     Event, EventAction, InitialState, IntegratorOptions, Method, SimulationOptions,
     simulate_with_events,

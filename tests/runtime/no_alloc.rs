@@ -1,12 +1,8 @@
 //! The step loop allocates nothing: a counting global allocator (counting only on this
 //! test's thread, while armed) sees zero allocations over hundreds of steps after warm-up,
 //! for every integrator and stabilisation.
-mod common;
 
-#[path = "../codegen/tests/alloc_support/mod.rs"]
-mod alloc_support;
-
-use common::{CrankSlider, FourBar};
+use crate::common::{CrankSlider, FourBar};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, Simulator, Stabilization, System};
 
 fn allocations_in_steps(
@@ -31,11 +27,11 @@ fn allocations_in_steps(
         sim.step().unwrap();
     }
     let before = sim.trajectory().len();
-    let counted = alloc_support::allocations();
+    let counted = mechanism_test_support::allocations();
     for _ in 0..steps {
         sim.step().unwrap();
     }
-    let made = alloc_support::allocations() - counted;
+    let made = mechanism_test_support::allocations() - counted;
     (made, sim.trajectory().len() - before)
 }
 

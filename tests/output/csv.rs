@@ -1,13 +1,11 @@
 //! `trajectory.csv` and `inverse.csv`: exact headers, and every number read back bit for bit.
 
-mod output_support;
-
 use std::path::Path;
 
+use crate::support::{SAMPLES, info, temp_dir, trajectory};
 use mechanism::output::csv::format_f64;
 use mechanism::output::{InverseTable, OutputError, write_inverse_csv, write_trajectory_csv};
 use mechanism::{ConstraintRow, SystemInfo, Trajectory};
-use output_support::{SAMPLES, info, temp_dir, trajectory};
 
 /// Reads a CSV file back: (header, rows of f64).
 fn read_back(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {

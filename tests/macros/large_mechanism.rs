@@ -8,7 +8,7 @@ mechanism::mechanism!(file = "benches/mechanisms/closed_chain_32.mech");
 
 #[test]
 fn emitted_register_array_code_equals_the_interpreter() {
-    let source = include_str!("../benches/mechanisms/closed_chain_32.mech");
+    let source = include_str!("../../benches/mechanisms/closed_chain_32.mech");
     let interpreted = Interpreted::from_source(source).expect("derives");
     let compiled = Compiled::new(ClosedChain32::default());
     let (n, m) = (compiled.info().n(), compiled.info().m());

@@ -1,8 +1,7 @@
 //! Loop closure over 10 s: projection keeps |Phi| < 1e-12; Baumgarte and no stabilisation
 //! are measured and printed for the README.
-mod common;
 
-use common::{CrankSlider, FourBar};
+use crate::common::{CrankSlider, FourBar};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, Stabilization, System, simulate};
 
 fn max_errors(s: &dyn System, stab: Stabilization, rtol: f64) -> (f64, f64) {

@@ -1,14 +1,12 @@
 //! Figures: valid PNG and SVG files with the expected names, sizes and axis labels.
 
-mod output_support;
-
 use std::path::{Path, PathBuf};
 
+use crate::support::{SAMPLES, residuals, temp_dir, time, trajectory};
 use mechanism::output::{
     Figure, InverseTable, OutputError, Unit, figure_stem, plot_constraint_error, plot_coordinate,
     plot_driving_torque, plot_trajectory,
 };
-use output_support::{SAMPLES, residuals, temp_dir, time, trajectory};
 
 /// Checks the PNG signature and returns (width, height) from the IHDR chunk.
 fn png_size(path: &Path) -> (u32, u32) {
@@ -219,7 +217,7 @@ fn driving_torque_figure_has_units_per_coordinate_kind() {
         })
         .collect();
     let table = InverseTable {
-        coordinates: output_support::info("x").coordinates,
+        coordinates: crate::support::info("x").coordinates,
         driven: vec!["phi".into()],
         constraints: 3,
         rows,

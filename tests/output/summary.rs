@@ -1,10 +1,8 @@
 //! `summary.json`: every key, with values computed from the trajectory and the run settings.
 
-mod output_support;
-
+use crate::support::{DRIFT, MAX_PHI, MAX_VEL, PARAMETERS, info, temp_dir, trajectory};
 use mechanism::output::{OutputError, RunSettings, Summary, TrajectoryMaxima, write_summary};
 use mechanism::{SolverStats, Trajectory};
-use output_support::{DRIFT, MAX_PHI, MAX_VEL, PARAMETERS, info, temp_dir, trajectory};
 use serde_json::Value;
 
 fn settings() -> RunSettings {

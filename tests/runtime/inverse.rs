@@ -1,12 +1,11 @@
 //! Inverse dynamics: the seed's driving torque for phi = 2 pi t against the hand-reduced
 //! closed form, the round trip through forward dynamics, and a four-bar driven into a dead
 //! point.
-mod common;
 
 use std::f64::consts::PI;
 use std::sync::{Arc, Mutex};
 
-use common::{CrankSlider, FourBar};
+use crate::common::{CrankSlider, FourBar};
 use mechanism::{
     AssemblyOptions, Drive, Error, IntegratorOptions, InverseDynamics, Method, SimulationOptions,
     inverse_dynamics, sample_times, simulate,

@@ -1,9 +1,8 @@
 //! Guards the hand-derived test systems of `tests/common`: each derived quantity must match
 //! finite differences of the energies and constraints it comes from, so that the other
 //! runtime tests rest on correct equations.
-mod common;
 
-use common::{CrankSlider, FourBar, Pendulum};
+use crate::common::{CrankSlider, FourBar, Pendulum};
 use mechanism::nalgebra::DMatrix;
 use mechanism::{Evaluation, System};
 

@@ -6,9 +6,6 @@
 
 use std::hint::black_box;
 
-#[path = "../codegen/tests/alloc_support/mod.rs"]
-mod alloc_support;
-
 use mechanism::Mechanism;
 use mechanism::builtin::{
     CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
@@ -22,7 +19,7 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     let q = SVector::<f64, N>::from(T::INITIAL_GUESS);
     let qd = SVector::<f64, N>::from_fn(|i, _| 0.3 + i as f64);
     let t = 0.25;
-    let before = alloc_support::allocations();
+    let before = mechanism_test_support::allocations();
     black_box(mech.mass_matrix(black_box(&q)));
     black_box(mech.coriolis_matrix(&q, &qd));
     black_box(mech.coriolis_forces(&q, &qd));
@@ -36,15 +33,15 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(mech.potential_energy(&q));
     black_box(mech.parameter(0));
     black_box(mech.evaluate(black_box(t), &q, &qd));
-    alloc_support::allocations() - before
+    mechanism_test_support::allocations() - before
 }
 
 #[test]
 fn the_counter_counts() {
     // Guards the test itself: an allocation between two readings is seen.
-    let before = alloc_support::allocations();
+    let before = mechanism_test_support::allocations();
     let v: Vec<u8> = black_box(Vec::with_capacity(16));
-    assert!(alloc_support::allocations() > before);
+    assert!(mechanism_test_support::allocations() > before);
     drop(v);
 }
 

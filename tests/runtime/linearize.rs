@@ -1,9 +1,8 @@
 //! Linearisation and parameter sweeps: the hanging Cartesian pendulum's tangent dynamics in
 //! x have omega = sqrt(g/l), swept over l in parallel; the crank-rocker's linearised
 //! frequency about its equilibrium matches the period of a small free oscillation.
-mod common;
 
-use common::{FourBar, Pendulum};
+use crate::common::{FourBar, Pendulum};
 use mechanism::{
     AssemblyOptions, Error, Event, EventAction, Independent, InitialState, IntegratorOptions,
     Method, SimulationOptions, assemble_from, linearize, simulate_with_events, sweep,

@@ -1,10 +1,9 @@
 //! Two routes: different integrators agree to their tolerances, and the seed in redundant
 //! coordinates agrees with the same mechanism reduced by hand to the one coordinate phi.
-mod common;
 
 use std::f64::consts::PI;
 
-use common::{CrankSlider, FourBar, max_diff};
+use crate::common::{CrankSlider, FourBar, max_diff};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, System, Trajectory, simulate};
 
 fn run(s: &dyn System, method: Method, rtol: f64, t_end: f64) -> Trajectory {

@@ -1,7 +1,6 @@
 //! Energy balance: T + Pi conserved with tau = 0; T + Pi - W constant with tau != 0.
-mod common;
 
-use common::{CrankSlider, FourBar};
+use crate::common::{CrankSlider, FourBar};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, Trajectory, simulate};
 
 fn drift(tr: &Trajectory) -> (f64, f64) {

@@ -1,0 +1,9 @@
+//! What `mechanism!` emits: the same numbers as the interpreter route, large declarations,
+//! and generated code that allocates nothing (this binary counts allocations per thread).
+
+#[global_allocator]
+static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
+
+mod emitted_vs_interpreter;
+mod large_mechanism;
+mod no_alloc;

@@ -1,0 +1,10 @@
+//! The mechanism library: derived equations pinned by snapshots (reviewed as equations),
+//! the closed chain against its generator, and the body and joint declarations against
+//! hand derivations and their energy-declared twins.
+
+mod bodies_dynamics;
+mod bodies_inline;
+mod bodies_joints;
+mod bodies_snapshots;
+mod closed_chain;
+mod snapshots;

@@ -1,0 +1,7 @@
+//! Output files: CSV columns and numbers, summary.json keys and values, the figures.
+
+mod support;
+
+mod csv;
+mod plot;
+mod summary;

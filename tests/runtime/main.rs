@@ -1,0 +1,22 @@
+//! The runtime checked against independent truth: assembly, loop closure, energy balance,
+//! integrators against each other, inverse dynamics, linearisation, overconstrained and
+//! singular mechanisms, hand-written systems, the interpreter route, and no allocation in
+//! the step loop (this binary counts allocations per thread).
+
+#[global_allocator]
+static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
+
+mod common;
+
+mod assembly;
+mod closure;
+mod energy;
+mod integrators;
+mod interpreted_errors;
+mod interpreted_tangent;
+mod inverse;
+mod linearize;
+mod no_alloc;
+mod overconstrained;
+mod pendulum;
+mod systems;
