@@ -5,7 +5,7 @@
 //!
 //! | name                   | struct                | n | m | source                          |
 //! |------------------------|-----------------------|---|---|---------------------------------|
-//! | `spatial_crank_slider` | [`SpatialCrankSlider`] | 4 | 3 | seed paper, Section II + ERRATA |
+//! | `spatial_crank_slider` | [`SpatialCrankSlider`] | 4 | 3 | seed paper, Section II, corrected |
 //! | `planar_four_bar`      | [`PlanarFourBar`]     | 3 | 2 | crank-rocker                    |
 //! | `spatial_four_bar`     | [`SpatialFourBar`]    | 4 | 3 | RSSR of the seed paper's title  |
 //! | `closed_chain`         | [`ClosedChain4`]      | 4 | 2 | the N-bar chain, N = 4          |

@@ -15,14 +15,6 @@ pub enum DriveError {
     /// Not of the form `COORD = expression`.
     #[error("a drive is written `COORD = f(t)`, e.g. `phi = 2*pi*t`; got `{0}`")]
     Form(String),
-    /// The coordinate is not one of the mechanism's.
-    #[error("cannot drive `{name}`: the coordinates are {known}")]
-    UnknownCoordinate {
-        /// The name written.
-        name: String,
-        /// The mechanism's coordinates, comma-separated.
-        known: String,
-    },
     /// The expression does not parse or differentiate.
     #[error("in the drive `{text}`: {source}")]
     Expression {
@@ -31,7 +23,7 @@ pub enum DriveError {
         /// The codegen error.
         source: mechanism_codegen::Error,
     },
-    /// The runtime refused the drive.
+    /// The runtime refused the drive (an unknown coordinate, for one).
     #[error(transparent)]
     Runtime(#[from] Error),
 }
@@ -49,9 +41,9 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
     let info = system.info();
     let coordinate = info
         .coordinate_index(name)
-        .ok_or_else(|| DriveError::UnknownCoordinate {
+        .ok_or_else(|| Error::UnknownCoordinate {
             name: name.to_string(),
-            known: info.coordinates.join(", "),
+            known: info.coordinates.clone(),
         })?;
     let wrap = |source| DriveError::Expression {
         text: text.to_string(),

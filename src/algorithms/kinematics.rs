@@ -225,39 +225,14 @@ pub fn solve_positions(
             return Ok(it + 1);
         }
     }
-    // Failure. Two signatures of a configuration the mechanism cannot pass (a dead point,
-    // a position out of reach): the dependent Jacobian Phi_v is (nearly) singular, or the
-    // residual Phi that Newton cannot remove lies almost entirely outside the span of the
-    // well-conditioned left singular directions of Phi_v (Gauss-Newton creeping towards a
-    // fold of the constraint manifold). Otherwise Newton simply did not converge.
-    if !dep.is_empty() {
-        system.constraints(t, q, &mut phi);
-        system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
-        let svd = columns(&phi_q, &dep).svd(true, false);
-        let sv = &svd.singular_values;
-        let (imax, imin) = (sv.imax(), sv.imin());
-        let condition = if sv[imin] > 0.0 {
-            sv[imax] / sv[imin]
-        } else {
-            f64::INFINITY
-        };
-        let pnorm = phi.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let mut unreachable = 0.0;
-        if let Some(u) = &svd.u {
-            let mut reach2 = 0.0;
-            for i in (0..sv.len()).filter(|&i| i != imin) {
-                let c: f64 = (0..m).map(|r| u[(r, i)] * phi[r]).sum();
-                reach2 += c * c;
-            }
-            unreachable = ((pnorm * pnorm - reach2).max(0.0)).sqrt() / pnorm.max(1e-300);
-        }
-        if condition > options.singular_condition || (unreachable > 0.9 && condition > 4.0) {
-            return Err(Error::SingularConfiguration {
-                t,
-                q: q.to_vec(),
-                condition,
-            });
-        }
+    if !dep.is_empty()
+        && let Some(condition) = cannot_pass(system, t, q, &dep, options)
+    {
+        return Err(Error::SingularConfiguration {
+            t,
+            q: q.to_vec(),
+            condition,
+        });
     }
     Err(Error::NewtonDidNotConverge {
         t,
@@ -265,6 +240,47 @@ pub fn solve_positions(
         residual,
         q: q.to_vec(),
     })
+}
+
+/// After Newton failed at `q`: `Some(condition of Phi_v)` when `q` bears one of the two
+/// signatures of a configuration the mechanism cannot pass (a dead point, a position out of
+/// reach), else `None` (Newton simply did not converge). The signatures: the dependent
+/// Jacobian Phi_v is (nearly) singular, or the residual Phi that Newton cannot remove lies
+/// almost entirely outside the span of the well-conditioned left singular directions of
+/// Phi_v (Gauss-Newton creeping towards a fold of the constraint manifold).
+fn cannot_pass(
+    system: &dyn System,
+    t: f64,
+    q: &[f64],
+    dep: &[usize],
+    options: &AssemblyOptions,
+) -> Option<f64> {
+    let (n, m) = (system.info().n(), system.info().m());
+    let mut phi = vec![0.0; m];
+    let mut phi_t = vec![0.0; m];
+    let mut phi_q = DMatrix::zeros(m, n);
+    system.constraints(t, q, &mut phi);
+    system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
+    let svd = columns(&phi_q, dep).svd(true, false);
+    let sv = &svd.singular_values;
+    let (imax, imin) = (sv.imax(), sv.imin());
+    let condition = if sv[imin] > 0.0 {
+        sv[imax] / sv[imin]
+    } else {
+        f64::INFINITY
+    };
+    let pnorm = phi.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut unreachable = 0.0;
+    if let Some(u) = &svd.u {
+        let mut reach2 = 0.0;
+        for i in (0..sv.len()).filter(|&i| i != imin) {
+            let c: f64 = (0..m).map(|r| u[(r, i)] * phi[r]).sum();
+            reach2 += c * c;
+        }
+        unreachable = ((pnorm * pnorm - reach2).max(0.0)).sqrt() / pnorm.max(1e-300);
+    }
+    (condition > options.singular_condition || (unreachable > 0.9 && condition > 4.0))
+        .then_some(condition)
 }
 
 /// Solves Phi_v v' = -Phi_t - Phi_u u' for the rates of the coordinates not in `fixed`

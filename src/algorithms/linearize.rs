@@ -64,6 +64,61 @@ pub fn linearize(
     check_fixed(info, independent)?;
     let k = independent.len();
     let mut dynamics = Dynamics::new(info);
+    let a = state_matrix(system, t, q, qd, independent, options, &mut dynamics)?;
+    // R = dq/du: velocities for unit independent rates, minus the rheonomic part.
+    let mut basis = DMatrix::zeros(n, k);
+    let mut v0 = vec![0.0; n];
+    solve_velocities(system, t, q, independent, &mut v0, options)?;
+    for j in 0..k {
+        let mut v = vec![0.0; n];
+        v[independent[j]] = 1.0;
+        solve_velocities(system, t, q, independent, &mut v, options)?;
+        for i in 0..n {
+            basis[(i, j)] = v[i] - v0[i];
+        }
+    }
+    dynamics.solve(system, t, q, qd)?;
+    let mass = basis.transpose() * &dynamics.evaluation().mass * &basis;
+    let stiffness = -(&mass * a.view((k, 0), (k, k)));
+    let damping = -(&mass * a.view((k, k), (k, k)));
+    let eigenvalues: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let mut frequencies_rad_s: Vec<f64> = eigenvalues
+        .iter()
+        .filter(|s| s.im > 1e-9 * (1.0 + s.norm()))
+        .map(|s| s.norm())
+        .collect();
+    frequencies_rad_s.sort_by(f64::total_cmp);
+    let frequencies_hz = frequencies_rad_s
+        .iter()
+        .map(|w| w / (2.0 * std::f64::consts::PI))
+        .collect();
+    Ok(Linearization {
+        independent: independent.to_vec(),
+        a,
+        basis,
+        mass,
+        stiffness,
+        damping,
+        eigenvalues,
+        frequencies_rad_s,
+        frequencies_hz,
+    })
+}
+
+/// A = [0 I; da/du da/du'] by central differences (h = 1e-5 (1 + |u|)) of the constrained
+/// accelerations a(u, u') of the independent coordinates: at each perturbed point the
+/// configuration is re-assembled and the augmented system solved.
+fn state_matrix(
+    system: &dyn System,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    independent: &[usize],
+    options: &AssemblyOptions,
+    dynamics: &mut Dynamics,
+) -> Result<DMatrix<f64>, Error> {
+    let n = system.info().n();
+    let k = independent.len();
     let mut accel = |du: &[f64], dv: &[f64]| -> Result<Vec<f64>, Error> {
         let mut qq = q.to_vec();
         let mut vv = vec![0.0; n];
@@ -108,42 +163,5 @@ pub fn linearize(
             a[(k + i, j)] = (p[i] - m[i]) / (2.0 * h);
         }
     }
-    // R = dq/du: velocities for unit independent rates, minus the rheonomic part.
-    let mut basis = DMatrix::zeros(n, k);
-    let mut v0 = vec![0.0; n];
-    solve_velocities(system, t, q, independent, &mut v0, options)?;
-    for j in 0..k {
-        let mut v = vec![0.0; n];
-        v[independent[j]] = 1.0;
-        solve_velocities(system, t, q, independent, &mut v, options)?;
-        for i in 0..n {
-            basis[(i, j)] = v[i] - v0[i];
-        }
-    }
-    dynamics.solve(system, t, q, qd)?;
-    let mass = basis.transpose() * &dynamics.evaluation().mass * &basis;
-    let stiffness = -(&mass * a.view((k, 0), (k, k)));
-    let damping = -(&mass * a.view((k, k), (k, k)));
-    let eigenvalues: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
-    let mut frequencies_rad_s: Vec<f64> = eigenvalues
-        .iter()
-        .filter(|s| s.im > 1e-9 * (1.0 + s.norm()))
-        .map(|s| s.norm())
-        .collect();
-    frequencies_rad_s.sort_by(f64::total_cmp);
-    let frequencies_hz = frequencies_rad_s
-        .iter()
-        .map(|w| w / (2.0 * std::f64::consts::PI))
-        .collect();
-    Ok(Linearization {
-        independent: independent.to_vec(),
-        a,
-        basis,
-        mass,
-        stiffness,
-        damping,
-        eigenvalues,
-        frequencies_rad_s,
-        frequencies_hz,
-    })
+    Ok(a)
 }

@@ -6,8 +6,9 @@ use mechanism::System;
 use mechanism::output::Summary;
 
 /// The initial state the seed paper printed (Section 2.2): phi, beta, gamma, x_C. It
-/// violates the constraints; ERRATA item 2 explains the swapped names and the lost
-/// decimal point.
+/// violates the constraints by about 2 m: beta and gamma are swapped and x_C lost a
+/// decimal point (solving the constraints at phi = 0 gives beta = 0.463648,
+/// gamma = 0.841069, x_C = 0.2 m).
 pub const SEED_PRINTED: [(&str, f64); 4] = [
     ("phi", 0.0),
     ("beta", 0.841069),
@@ -24,8 +25,6 @@ pub fn is_seed(key: &str, system: &dyn System) -> bool {
 /// printed values and their constraint residual for the seed), the maxima, the counters and
 /// the singular configurations passed.
 pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[String]) -> String {
-    let info = system.info();
-    let seed = is_seed(key, system);
     let mut s = String::new();
     let mob = &summary.mobility;
     let _ = writeln!(
@@ -43,13 +42,24 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         );
         let _ = writeln!(s, "  multipliers {}", mob.multipliers);
     }
+    initial_state_lines(&mut s, key, system, summary);
+    run_lines(&mut s, summary);
+    let _ = writeln!(s, "wrote {}", files.join(", "));
+    s
+}
+
+/// The consistent initial state, with the paper's printed values and their constraint
+/// residual for the seed.
+fn initial_state_lines(s: &mut String, key: &str, system: &dyn System, summary: &Summary) {
+    let info = system.info();
+    let seed = is_seed(key, system);
     let _ = writeln!(
-        s,
+        *s,
         "consistent initial state (positions by Newton on Phi = 0, rates from Phi_q q' = -Phi_t):"
     );
     let header = if seed { "   paper printed" } else { "" };
     let _ = writeln!(
-        s,
+        *s,
         "  {:<10} {:>20} {:>20}{header}",
         "coordinate", "q(0)", "q'(0)"
     );
@@ -62,7 +72,7 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         // print as 0, not -0.000000000000000.
         let clean = |x: f64| if x.abs() < 5e-16 { 0.0 } else { x };
         let (q, qd) = (clean(*q), clean(*qd));
-        let _ = writeln!(s, "  {name:<10} {q:>20.15} {qd:>20.15}{p}");
+        let _ = writeln!(*s, "  {name:<10} {q:>20.15} {qd:>20.15}{p}");
     }
     if seed {
         let mut q = info.initial_guess.clone();
@@ -77,35 +87,39 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         let _ = writeln!(
             s,
             "  the paper's printed state violates the constraints by |Phi|_inf = {worst:.4} m; \
-             it swapped beta and gamma and dropped a decimal point in x_C (ERRATA item 2)"
+             it swapped beta and gamma and dropped a decimal point in x_C"
         );
     }
+}
+
+/// The integrator, the counters, the maxima, the singular passages and the failure.
+fn run_lines(s: &mut String, summary: &Summary) {
     let tol = match (summary.rtol, summary.atol) {
         (Some(r), Some(a)) => format!(" (rtol {r:e}, atol {a:e})"),
         _ => String::new(),
     };
     let _ = writeln!(
-        s,
+        *s,
         "integrator {}{tol}, stabilization {}",
         summary.integrator, summary.stabilization
     );
     let _ = writeln!(
-        s,
+        *s,
         "steps {} (rejected {}), right-hand sides {}, wall time {:.3} s",
         summary.steps, summary.rejected_steps, summary.rhs_evaluations, summary.wall_time_s
     );
     let _ = writeln!(
-        s,
+        *s,
         "max |Phi|_inf                  = {:.3e}",
         summary.max_constraint_error
     );
     let _ = writeln!(
-        s,
+        *s,
         "max |Phi_q q' + Phi_t|_inf     = {:.3e}",
         summary.max_velocity_constraint_error
     );
     let _ = writeln!(
-        s,
+        *s,
         "max |T + Pi - W - (T + Pi)(0)| = {:.3e} J",
         summary.max_energy_balance_error
     );
@@ -130,8 +144,6 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
         );
     }
     if let Some(e) = &summary.error {
-        let _ = writeln!(s, "stopped at t = {} s: {e}", summary.t_last);
+        let _ = writeln!(*s, "stopped at t = {} s: {e}", summary.t_last);
     }
-    let _ = writeln!(s, "wrote {}", files.join(", "));
-    s
 }

@@ -190,6 +190,38 @@ impl Hht {
         Ok(phi_max)
     }
 
+    /// K = dF/dq and D = dF/dq' by forward differences (2n evaluations), for systems that do
+    /// not provide [`System::tangent`].
+    fn finite_difference_tangent(&mut self, system: &dyn System, t1: f64) {
+        let n = self.n;
+        // Forward differences of F in q and q'.
+        Self::dynamic_residual(&self.eval, &self.a, &self.lam, &mut self.f0);
+        for col in 0..2 * n {
+            let j = col % n;
+            let base = if col < n { self.q1[j] } else { self.v1[j] };
+            let d = 1.5e-8 * (1.0 + base.abs());
+            self.qp
+                .copy_from_slice(if col < n { &self.q1 } else { &self.v1 });
+            self.qp[j] += d;
+            if col < n {
+                system.evaluate(t1, &self.qp, &self.v1, &mut self.eval_p);
+            } else {
+                system.evaluate(t1, &self.q1, &self.qp, &mut self.eval_p);
+            }
+            self.evaluations += 1;
+            Self::dynamic_residual(&self.eval_p, &self.a, &self.lam, &mut self.term);
+            let target = if col < n {
+                &mut self.tangent.stiffness
+            } else {
+                &mut self.tangent.damping
+            };
+            for i in 0..n {
+                target[(i, j)] = (self.term[i] - self.f0[i]) / d;
+            }
+        }
+        Self::dynamic_term(&self.eval, &self.lam, n, &mut self.term);
+    }
+
     /// Forms and factors the Newton matrix at the current iterate (after `residual`).
     fn jacobian(&mut self, system: &dyn System, t1: f64, h: f64) -> Result<(), Error> {
         let (n, m) = (self.n, self.m);
@@ -205,32 +237,7 @@ impl Hht {
             )
             .is_none()
         {
-            // Forward differences of F in q and q'.
-            Self::dynamic_residual(&self.eval, &self.a, &self.lam, &mut self.f0);
-            for col in 0..2 * n {
-                let j = col % n;
-                let base = if col < n { self.q1[j] } else { self.v1[j] };
-                let d = 1.5e-8 * (1.0 + base.abs());
-                self.qp
-                    .copy_from_slice(if col < n { &self.q1 } else { &self.v1 });
-                self.qp[j] += d;
-                if col < n {
-                    system.evaluate(t1, &self.qp, &self.v1, &mut self.eval_p);
-                } else {
-                    system.evaluate(t1, &self.q1, &self.qp, &mut self.eval_p);
-                }
-                self.evaluations += 1;
-                Self::dynamic_residual(&self.eval_p, &self.a, &self.lam, &mut self.term);
-                let target = if col < n {
-                    &mut self.tangent.stiffness
-                } else {
-                    &mut self.tangent.damping
-                };
-                for i in 0..n {
-                    target[(i, j)] = (self.term[i] - self.f0[i]) / d;
-                }
-            }
-            Self::dynamic_term(&self.eval, &self.lam, n, &mut self.term);
+            self.finite_difference_tangent(system, t1);
         }
         let (ap, bh2, gh) = (1.0 + self.alpha, self.beta * h * h, self.gamma * h);
         let e = &self.eval;

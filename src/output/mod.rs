@@ -1,6 +1,6 @@
 //! Result files of a run: `trajectory.csv`, `inverse.csv`, `summary.json` and the figures.
 //!
-//! File names and column headers are stable (issue 5): other tools and the tests read them.
+//! File names and column headers are stable: other tools and the tests read them.
 //!
 //! - [`csv`]: [`write_trajectory_csv`] and [`write_inverse_csv`], every value written with
 //!   the shortest decimal representation that parses back to the same `f64` bit for bit.

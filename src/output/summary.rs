@@ -178,7 +178,7 @@ impl PassageReport {
     }
 }
 
-/// The contents of `summary.json` (keys as in issue 5, in this order).
+/// The contents of `summary.json` (keys in this order; tools and tests read them).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
     /// Mechanism name.

@@ -562,59 +562,29 @@ impl<'a> Simulator<'a> {
             if g0 == 0.0 || !(g0 * g1 <= 0.0) {
                 continue;
             }
-            let (mut a, mut fa, mut b, mut fb) = (0.0f64, g0, 1.0f64, g1);
-            let mut side = 0i8;
-            for _ in 0..200 {
-                if fb == 0.0 || (b - a) * h <= 4.0 * f64::EPSILON * (t0.abs() + h) {
-                    break;
-                }
-                let mut c = (a * fb - b * fa) / (fb - fa);
-                if !(c > a && c < b) {
-                    c = 0.5 * (a + b);
-                }
+            let b = illinois(g0, g1, h, t0, |c| {
                 self.dense_at(c)?;
-                let fc = g(
-                    t0 + c * h,
-                    &self.state.y_dense[..n],
-                    &self.state.y_dense[n..2 * n],
-                );
-                if fc == 0.0 {
-                    a = c;
-                    b = c;
-                    break;
-                }
-                if (fc > 0.0) == (fb > 0.0) {
-                    b = c;
-                    fb = fc;
-                    if side == -1 {
-                        fa *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    a = c;
-                    fa = fc;
-                    if side == 1 {
-                        fb *= 0.5;
-                    }
-                    side = 1;
-                }
-            }
-            let _ = a;
+                let y = &self.state.y_dense;
+                Ok(g(t0 + c * h, &y[..n], &y[n..2 * n]))
+            })?;
             self.events.roots[i] = t0 + b * h;
             if events[i].action == EventAction::Stop && self.events.roots[i] < *t_stop {
                 *t_stop = self.events.roots[i];
                 *stop_event = Some(i);
             }
         }
-        // Record the crossings up to the stop, in time order.
+        self.record_crossings(h, *t_stop)
+    }
+
+    /// Records the located crossings up to t_stop, in time order (projected onto the
+    /// constraints when the stabilisation is projection).
+    fn record_crossings(&mut self, h: f64, t_stop: f64) -> Result<(), Error> {
+        let (n, t0) = (self.n, self.clock.t);
         loop {
-            let mut best: Option<usize> = None;
-            for i in 0..events.len() {
-                let r = self.events.roots[i];
-                if r.is_finite() && r <= *t_stop && best.is_none_or(|b| r < self.events.roots[b]) {
-                    best = Some(i);
-                }
-            }
+            let roots = &self.events.roots;
+            let best = (0..roots.len())
+                .filter(|&i| roots[i].is_finite() && roots[i] <= t_stop)
+                .min_by(|&a, &b| roots[a].total_cmp(&roots[b]));
             let Some(i) = best else { break };
             let tr = self.events.roots[i];
             self.events.roots[i] = f64::NAN;
@@ -754,4 +724,46 @@ fn make_stepper(
             None => unreachable!("every method but HHT is explicit"),
         },
     })
+}
+
+/// The root of g on the step, as a fraction of it, by the Illinois variant of regula falsi
+/// (Dowell & Jarratt 1971) from g(0) = g0 and g(1) = g1 of opposite signs, to 4 eps of t;
+/// `g(c)` evaluates g at t0 + c h on the dense output.
+fn illinois(
+    g0: f64,
+    g1: f64,
+    h: f64,
+    t0: f64,
+    mut g: impl FnMut(f64) -> Result<f64, Error>,
+) -> Result<f64, Error> {
+    let (mut a, mut fa, mut b, mut fb) = (0.0f64, g0, 1.0f64, g1);
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if fb == 0.0 || (b - a) * h <= 4.0 * f64::EPSILON * (t0.abs() + h) {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = g(c)?;
+        if fc == 0.0 {
+            return Ok(c);
+        }
+        // Keep the bracket; halve the retained end's value when it is kept twice.
+        if (fc > 0.0) == (fb > 0.0) {
+            (b, fb) = (c, fc);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, fa) = (c, fc);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Ok(b)
 }
