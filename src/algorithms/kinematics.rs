@@ -197,28 +197,12 @@ pub fn solve_positions(
         let rhs: Vec<f64> = phi.iter().map(|v| -v).collect();
         let dx = least_squares(&a, &rhs, 1e-14);
         let step = inf_norm(&dx);
-        let r2 = phi.iter().map(|v| v * v).sum::<f64>();
-        let mut alpha = 1.0;
-        let mut accepted = false;
-        for _ in 0..30 {
-            trial.copy_from_slice(q);
-            for (j, &k) in dep.iter().enumerate() {
-                trial[k] += alpha * dx[j];
-            }
-            system.constraints(t, &trial, &mut phi);
-            let r2_try = phi.iter().map(|v| v * v).sum::<f64>();
-            if r2_try.is_finite() && (r2_try < (1.0 - 1e-4 * alpha) * r2 || r2_try == 0.0) {
-                accepted = true;
-                break;
-            }
-            alpha *= 0.5;
-        }
-        if !accepted {
+        let Some(alpha) = line_search(system, t, q, &dep, &dx, &mut trial, &mut phi) else {
             if r <= options.tolerance {
                 return Ok(it); // the residual is at round-off level and cannot decrease
             }
             break; // stalled at a least-squares point with Phi != 0
-        }
+        };
         q.copy_from_slice(&trial);
         last_step = alpha * step;
         if step <= options.step_tolerance * scale && r <= options.tolerance {
@@ -240,6 +224,36 @@ pub fn solve_positions(
         residual,
         q: q.to_vec(),
     })
+}
+
+/// Armijo backtracking on |Phi|_2^2 along the Newton step dx of the dependent coordinates:
+/// the largest alpha = 2^-k (k < 30) with a sufficient decrease, the trial point left in
+/// `trial`; `None` when none decreases the residual (a stalled least-squares point). `phi`
+/// holds Phi(q) on entry and Phi(trial) on exit.
+fn line_search(
+    system: &dyn System,
+    t: f64,
+    q: &[f64],
+    dep: &[usize],
+    dx: &[f64],
+    trial: &mut [f64],
+    phi: &mut [f64],
+) -> Option<f64> {
+    let r2 = phi.iter().map(|v| v * v).sum::<f64>();
+    let mut alpha = 1.0;
+    for _ in 0..30 {
+        trial.copy_from_slice(q);
+        for (j, &k) in dep.iter().enumerate() {
+            trial[k] += alpha * dx[j];
+        }
+        system.constraints(t, trial, phi);
+        let r2_try = phi.iter().map(|v| v * v).sum::<f64>();
+        if r2_try.is_finite() && (r2_try < (1.0 - 1e-4 * alpha) * r2 || r2_try == 0.0) {
+            return Some(alpha);
+        }
+        alpha *= 0.5;
+    }
+    None
 }
 
 /// After Newton failed at `q`: `Some(condition of Phi_v)` when `q` bears one of the two
