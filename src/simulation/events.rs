@@ -55,7 +55,7 @@ impl fmt::Debug for Event {
 /// One located sign change of an event function.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EventHit {
-    /// Index of the event in [`SimulationOptions::events`].
+    /// Index of the event in [`crate::SimulationOptions::events`].
     pub event: usize,
     /// Time of the crossing (s).
     pub t: f64,

@@ -50,7 +50,8 @@ pub struct SimulationOptions {
     pub assembly: AssemblyOptions,
     /// Event functions.
     pub events: Vec<Event>,
-    /// Condition-estimate limit of the augmented matrix ([`Error::SingularConfiguration`]).
+    /// Condition-estimate limit of the LU route of the augmented solve, beyond which it
+    /// hands over to the augmented Lagrangian route ([`crate::Dynamics`]).
     pub condition_limit: f64,
 }
 

@@ -65,8 +65,8 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// The independent coordinates and their initial values.
     const INDEPENDENT: &'static [Independent];
     /// The joint and the component of each constraint row, in row order (see
-    /// [`ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
-    /// for hand-written impls ([`Compiled::new`] then names the rows `row 1`, `row 2`, ..).
+    /// [`super::ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
+    /// for hand-written impls ([`super::Compiled::new`] then names the rows `row 1`, `row 2`, ..).
     const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] = &[];
 
     /// Value of parameter `index` (declaration order), or `None` out of range.
