@@ -8,6 +8,10 @@ pub mod args;
 mod equations;
 mod inverse;
 mod load;
+#[cfg(feature = "progress")]
+mod progress;
+#[cfg(not(feature = "progress"))]
+#[path = "progress_off.rs"]
 mod progress;
 mod report;
 mod simulate;

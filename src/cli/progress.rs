@@ -7,15 +7,8 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// Progress of a simulation from t = 0 to `t_end`, reported through [`Progress::set`].
-///
-/// ```
-/// let mut progress = mechanism::Progress::new(10.0);
-/// for i in 0..=100 {
-///     progress.set(0.1 * f64::from(i));
-/// }
-/// progress.finish();
-/// ```
+/// Progress of a simulation from t = 0 to `t_end`, reported through [`Progress::set`]
+/// (`Progress::new(t_end)`, then `set(t)` as the run advances, then `finish()`).
 #[derive(Debug)]
 pub struct Progress {
     t_end: f64,

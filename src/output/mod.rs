@@ -8,20 +8,29 @@
 //!   constraint residuals and of the energy balance error ([`TrajectoryMaxima`]).
 //! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5 and the driving torque).
 //!
-//! Every function returns `Result<_, OutputError>`; none panics on bad data.
+//! Every function returns `Result<_, OutputError>`; none panics on bad data. CSV and JSON
+//! need the cargo feature `files`, the figures `plots` (both on by default).
 
+#[cfg(feature = "files")]
 pub mod csv;
+#[cfg(feature = "plots")]
 pub mod plot;
+#[cfg(feature = "files")]
 pub mod summary;
+mod table;
 
-pub use self::csv::{InverseTable, write_inverse_csv, write_trajectory_csv};
+#[cfg(feature = "files")]
+pub use self::csv::{write_inverse_csv, write_trajectory_csv};
+#[cfg(feature = "plots")]
 pub use self::plot::{
     Figure, Unit, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
     plot_trajectory,
 };
+#[cfg(feature = "files")]
 pub use self::summary::{
     MobilityReport, PassageReport, RunSettings, Summary, TrajectoryMaxima, write_summary,
 };
+pub use self::table::InverseTable;
 
 use std::path::PathBuf;
 
@@ -37,6 +46,7 @@ pub enum OutputError {
         source: std::io::Error,
     },
     /// The CSV writer failed.
+    #[cfg(feature = "files")]
     #[error("cannot write CSV {path}: {source}")]
     Csv {
         /// The CSV file.
@@ -45,6 +55,7 @@ pub enum OutputError {
         source: ::csv::Error,
     },
     /// Serialising `summary.json` failed.
+    #[cfg(feature = "files")]
     #[error("cannot write JSON {path}: {source}")]
     Json {
         /// The JSON file.
@@ -71,6 +82,7 @@ pub enum OutputError {
 }
 
 impl OutputError {
+    #[allow(dead_code)] // used by the writers of the `files` and `plots` features
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Self::Io {
             path: path.into(),
@@ -78,6 +90,7 @@ impl OutputError {
         }
     }
 
+    #[allow(dead_code)] // used by the writers of the `files` and `plots` features
     pub(crate) fn invalid(what: impl Into<String>, message: impl Into<String>) -> Self {
         Self::InvalidData {
             what: what.into(),
@@ -87,6 +100,7 @@ impl OutputError {
 }
 
 /// Creates `dir` and its parents if they do not exist.
+#[allow(dead_code)] // used by the writers of the `files` and `plots` features
 pub(crate) fn ensure_dir(dir: &std::path::Path) -> Result<(), OutputError> {
     std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))
 }

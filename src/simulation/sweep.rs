@@ -1,7 +1,9 @@
 //! Parameter sweeps: many parameter sets, each run on its own clone of the system, in
-//! parallel with rayon. Parameters are run-time values of the generated struct, so nothing
-//! is rebuilt between sets.
+//! parallel with rayon (cargo feature `parallel`, on by default; one after the other
+//! without it). Parameters are run-time values of the generated struct, so nothing is
+//! rebuilt between sets.
 
+#[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
 use crate::error::Error;
@@ -36,17 +38,19 @@ pub fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> 
     Ok(s)
 }
 
-/// Applies `f` to a clone of `system` for each parameter set, in parallel; results in the
-/// order of `sets`.
+/// Applies `f` to a clone of `system` for each parameter set, in parallel (feature
+/// `parallel`); results in the order of `sets`.
 pub fn sweep<S, R, F>(system: &S, sets: &[ParameterSet], f: F) -> Vec<Result<R, Error>>
 where
     S: System + Clone,
     R: Send,
     F: Fn(&S) -> Result<R, Error> + Sync,
 {
-    sets.par_iter()
-        .map(|set| with_parameters(system, set).and_then(|s| f(&s)))
-        .collect()
+    let run = |set: &ParameterSet| with_parameters(system, set).and_then(|s| f(&s));
+    #[cfg(feature = "parallel")]
+    return sets.par_iter().map(run).collect();
+    #[cfg(not(feature = "parallel"))]
+    return sets.iter().map(run).collect();
 }
 
 /// Forward simulation of every parameter set, in parallel.
