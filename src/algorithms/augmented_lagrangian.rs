@@ -33,7 +33,10 @@
 //! iterative refinement.) The error of lambda in a direction where A has singular value
 //! sigma and the mass is mu shrinks by mu / (mu + alpha sigma^2) per iteration; with alpha
 //! = 1e6 max M_ii / max (A^T A)_ii two or three iterations reach round-off on regular
-//! configurations. lambda stays in the range of A, so it converges to the minimum-norm
+//! configurations. Near a singular configuration sigma is small and the contraction slow:
+//! when a correction shrinks by less than a factor 5, alpha is raised a hundredfold (up to
+//! 1e4 times), re-factoring N and continuing from the current iterate. lambda stays in the
+//! range of A, so it converges to the minimum-norm
 //! multipliers; where gamma has a part outside that range (the instant of a singular
 //! configuration) x still converges, since A^T never sees that part.
 //!
@@ -42,10 +45,16 @@
 
 use nalgebra::DMatrix;
 
-use crate::linalg::{Envelope, NotPositiveDefinite, RowSpans};
+use crate::linalg::{Envelope, NotPositiveDefinite, RowBasis, RowSpans};
 
 /// Default penalty factor kappa: alpha = kappa max_i M_ii / max_i (A^T A)_ii.
 pub const DEFAULT_PENALTY: f64 = 1e6;
+
+/// Largest factor by which a slowly converging solve raises the penalty (in steps of 100).
+const MAX_BOOST: f64 = 1e4;
+
+/// Relative pivot below which N counts as not positive definite.
+const PIVOT_TOLERANCE: f64 = 1e-13;
 
 /// Workspace of the augmented Lagrangian solve; allocates nothing after
 /// [`AugmentedLagrangian::new`].
@@ -54,6 +63,9 @@ pub struct AugmentedLagrangian {
     n: usize,
     spans: RowSpans,
     matrix: Envelope,
+    basis: RowBasis,
+    /// gamma without its part in the null space of A^T.
+    consistent: Vec<f64>,
     x: Vec<f64>,
     lambda: Vec<f64>,
     r1: Vec<f64>,
@@ -77,6 +89,8 @@ impl AugmentedLagrangian {
             n,
             spans: RowSpans::new(m),
             matrix: Envelope::new(n),
+            basis: RowBasis::new(m, n),
+            consistent: vec![0.0; m],
             x: vec![0.0; n],
             lambda: vec![0.0; m],
             r1: vec![0.0; n],
@@ -103,10 +117,33 @@ impl AugmentedLagrangian {
         q: &[f64],
         gamma: &[f64],
     ) -> Result<(), NotPositiveDefinite> {
-        let n = self.n;
         self.spans.scan(a);
-        let alpha = self.assemble(mass, a);
-        self.matrix.factor(1e-13)?;
+        // Redundant rows: the part of gamma in the null space of A^T (zero in exact
+        // arithmetic, round-off and velocity error in practice) would make lambda grow
+        // without bound along it and, through rounding, drag x. Solve with the consistent
+        // part.
+        self.consistent.copy_from_slice(gamma);
+        if self.basis.factor(a) < self.consistent.len() {
+            self.basis.min_norm(&mut self.consistent);
+        }
+        let consistent = std::mem::take(&mut self.consistent);
+        let result = self.iterate(mass, a, q, &consistent);
+        self.consistent = consistent;
+        result
+    }
+
+    /// The iteration of [`AugmentedLagrangian::solve`] with a consistent gamma.
+    fn iterate(
+        &mut self,
+        mass: &DMatrix<f64>,
+        a: &DMatrix<f64>,
+        q: &[f64],
+        gamma: &[f64],
+    ) -> Result<(), NotPositiveDefinite> {
+        let n = self.n;
+        let mut boost = 1.0;
+        let mut alpha = self.assemble(mass, a, boost);
+        self.matrix.factor(PIVOT_TOLERANCE)?;
         self.x.fill(0.0);
         self.lambda.fill(0.0);
         let mut last = f64::INFINITY;
@@ -150,12 +187,34 @@ impl AugmentedLagrangian {
                 self.unconverged += 1;
                 return Ok(());
             }
+            // Slow contraction: a constraint direction with a small singular value (near a
+            // singular configuration). A larger penalty speeds it up; the residual form keeps
+            // the iterate, and the factor stays accurate enough to refine while kappa is
+            // below about 1e10. A correction that does not shrink at all (ratio > 0.999) is not
+            // slow convergence but round-off in a redundant direction: no boost for that.
+            let ratio = step / last;
+            if self.iterations >= 3
+                && ratio > 0.2
+                && ratio < 0.999
+                && step > 1e-8 * size
+                && boost < MAX_BOOST
+            {
+                boost *= 100.0;
+                alpha = self.assemble(mass, a, boost);
+                if self.matrix.factor(PIVOT_TOLERANCE).is_err() {
+                    boost /= 100.0;
+                    alpha = self.assemble(mass, a, boost);
+                    self.matrix.factor(PIVOT_TOLERANCE)?;
+                    boost = MAX_BOOST;
+                }
+            }
             last = step;
         }
     }
 
-    /// N = M + alpha A^T A into the envelope; returns alpha.
-    fn assemble(&mut self, mass: &DMatrix<f64>, a: &DMatrix<f64>) -> f64 {
+    /// N = M + alpha A^T A into the envelope, alpha = boost kappa max M_ii / max (A^T A)_ii;
+    /// returns alpha.
+    fn assemble(&mut self, mass: &DMatrix<f64>, a: &DMatrix<f64>, boost: f64) -> f64 {
         let n = self.n;
         let env = &mut self.matrix;
         env.clear();
@@ -175,7 +234,7 @@ impl AugmentedLagrangian {
             mass_scale = 1.0;
         }
         let alpha = if constraint_scale > 0.0 {
-            self.penalty * mass_scale / constraint_scale
+            boost * self.penalty * mass_scale / constraint_scale
         } else {
             0.0
         };

@@ -15,7 +15,8 @@
 //! passage is recorded where that minimum (or a step end) falls below
 //! [`SingularWatch::threshold`] (default 1e-3); another is recorded only after w has risen
 //! above [`COARSE`] again. Its rank drop is the number of rows whose independence is below
-//! sqrt(w) at the minimum (the rows that fall together; the others stay near 1).
+//! max(sqrt(w), threshold) at the minimum (the rows that fall together; the others stay
+//! near 1).
 
 use nalgebra::DMatrix;
 
@@ -151,7 +152,7 @@ impl SingularWatch {
             return Ok(None);
         }
         self.armed = w1 > COARSE;
-        let cut = best_w.sqrt();
+        let cut = best_w.sqrt().max(self.threshold);
         let rows: Vec<usize> = (0..self.best.len())
             .filter(|&r| !self.redundant[r] && self.best[r] <= cut)
             .collect();
