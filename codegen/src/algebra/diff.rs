@@ -1,0 +1,402 @@
+//! Symbolic differentiation: partial derivatives memoised per (node, symbol), and the total
+//! time derivative by Van Khang's Theorem 1.
+//!
+//! Every derivative is built with the arena's canonical constructors, so like terms of a
+//! derivative collect (and cancel) as it is formed. A per-node dependency bitset tells in
+//! O(1) whether a subexpression depends on a symbol at all; independent subtrees are never
+//! visited, which keeps the cost of d/dq_k of a big expression proportional to the part that
+//! mentions q_k.
+//!
+//! The walk is iterative (the nodes to differentiate are collected, then processed in
+//! increasing id order, which is topological), so deep expressions cannot overflow the stack.
+
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::number::Number;
+use crate::error::{Error, Result};
+
+/// Per-node sets of the symbols each node depends on, as fixed-width bitsets, extended
+/// incrementally as the arena grows (ids are topological, so a node's set is the union of
+/// its children's).
+#[derive(Clone, Debug, Default)]
+struct DependencySets {
+    /// u64 words per node.
+    words: usize,
+    /// `words` words per node, node-major.
+    bits: Vec<u64>,
+    /// Number of nodes covered.
+    done: usize,
+}
+
+impl DependencySets {
+    /// Brings the sets up to date with `arena` (new nodes; a full rebuild when new symbols
+    /// no longer fit the width).
+    fn sync(&mut self, arena: &Arena) {
+        let needed = arena.symbols().len().div_ceil(64).max(1);
+        if needed > self.words {
+            self.words = needed + 1;
+            self.bits.clear();
+            self.done = 0;
+        }
+        let w = self.words;
+        let len = arena.len();
+        self.bits.resize(len * w, 0);
+        for n in self.done..len {
+            let (before, here) = self.bits.split_at_mut(n * w);
+            let here = &mut here[..w];
+            here.fill(0);
+            let mut or_child = |c: Id| {
+                let c = c.index();
+                for (h, b) in here.iter_mut().zip(&before[c * w..(c + 1) * w]) {
+                    *h |= *b;
+                }
+            };
+            match arena.node(Id(n as u32)) {
+                Node::Num(_) | Node::Pi => {}
+                Node::Sym(s) => {
+                    let k = s.0 as usize;
+                    here[k / 64] |= 1 << (k % 64);
+                }
+                Node::Add(v) | Node::Mul(v) => v.iter().for_each(|&c| or_child(c)),
+                Node::Pow(a, b) | Node::Atan2(a, b) => {
+                    or_child(*a);
+                    or_child(*b);
+                }
+                Node::Func(_, a) => or_child(*a),
+            }
+        }
+        self.done = len;
+    }
+
+    /// Whether node `id` (covered) depends on symbol `s`.
+    fn contains(&self, id: Id, s: SymbolId) -> bool {
+        let k = s.0 as usize;
+        let (word, bit) = (k / 64, k % 64);
+        if id.index() >= self.done || word >= self.words {
+            return true; // not covered: be conservative
+        }
+        self.bits[id.index() * self.words + word] >> bit & 1 == 1
+    }
+
+    /// The symbols node `id` (covered) depends on, in increasing order.
+    fn symbols(&self, id: Id) -> Vec<SymbolId> {
+        let mut out = Vec::new();
+        if id.index() >= self.done {
+            return out;
+        }
+        let row = &self.bits[id.index() * self.words..(id.index() + 1) * self.words];
+        for (w, &word) in row.iter().enumerate() {
+            let mut x = word;
+            while x != 0 {
+                let b = x.trailing_zeros() as usize;
+                out.push(SymbolId((w * 64 + b) as u32));
+                x &= x - 1;
+            }
+        }
+        out
+    }
+}
+
+/// A memoising differentiator for one [`Arena`].
+///
+/// `diff(e, s)` is the partial derivative de/ds; results are cached per (node, symbol), so
+/// differentiating many expressions that share subexpressions (the entries of a matrix)
+/// differentiates each shared node once. Use one `Differentiator` per arena (the arena may
+/// grow between calls; a differentiator handed a different arena may give wrong results).
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{Arena, Differentiator, SymbolKind};
+/// let mut a = Arena::new();
+/// let x = a.symbol("x", SymbolKind::Free);
+/// let sx = a.lookup("x").unwrap();
+/// let e = a.sin(x);
+/// let mut d = Differentiator::new();
+/// let de = d.diff(&mut a, e, sx).unwrap();
+/// assert_eq!(de, a.cos(x)); // d sin(x)/dx = cos(x)
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Differentiator {
+    memo: FxHashMap<(Id, SymbolId), Id>,
+    deps: DependencySets,
+}
+
+impl Differentiator {
+    /// A differentiator with an empty cache.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Brings the dependency sets up to date. An arena with fewer nodes than seen before is
+    /// not the arena this differentiator was used with: the caches are dropped rather than
+    /// hand out ids that do not exist there.
+    fn sync(&mut self, arena: &Arena) {
+        if arena.len() < self.deps.done {
+            self.memo.clear();
+            self.deps = DependencySets::default();
+        }
+        self.deps.sync(arena);
+    }
+
+    fn check(arena: &Arena, id: Id) -> Result<()> {
+        if id.index() < arena.len() {
+            Ok(())
+        } else {
+            Err(Error::InvalidId {
+                id: id.0,
+                len: arena.len(),
+            })
+        }
+    }
+
+    fn check_symbol(arena: &Arena, s: SymbolId) -> Result<()> {
+        if (s.0 as usize) < arena.symbols().len() {
+            Ok(())
+        } else {
+            Err(Error::Model(format!(
+                "symbol id {} is not in the arena (which has {} symbols)",
+                s.0,
+                arena.symbols().len()
+            )))
+        }
+    }
+
+    /// Whether the expression `id` depends on the symbol `s` (O(1) after the first query on
+    /// a grown arena).
+    ///
+    /// # Errors
+    /// [`Error::InvalidId`] when `id` is not in `arena`.
+    pub fn depends_on(&mut self, arena: &Arena, id: Id, s: SymbolId) -> Result<bool> {
+        Self::check(arena, id)?;
+        self.sync(arena);
+        Ok(self.deps.contains(id, s))
+    }
+
+    /// The symbols the expression `id` depends on, in increasing [`SymbolId`] order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidId`] when `id` is not in `arena`.
+    pub fn symbols_of(&mut self, arena: &Arena, id: Id) -> Result<Vec<SymbolId>> {
+        Self::check(arena, id)?;
+        self.sync(arena);
+        Ok(self.deps.symbols(id))
+    }
+
+    /// The partial derivative d(id)/d(sym), every other symbol held constant.
+    ///
+    /// Rules: sums term by term; products by the n-ary product rule
+    /// d(f_1 ... f_k) = sum_i f_1 .. df_i .. f_k; u^c = c u^(c-1) u' for c free of `sym`;
+    /// c^v = c^v ln(c) v'; u^v = u^v (v' ln u + v u'/u); sin, cos, tan' = 1 + tan^2,
+    /// exp, ln' = u'/u, |u|' = u/|u| u'; atan2(y, x)' = (x y' - y x')/(x^2 + y^2).
+    ///
+    /// # Errors
+    /// [`Error::InvalidId`] or [`Error::Model`] for an id or symbol not in `arena`;
+    /// [`Error::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined).
+    pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
+        Self::check(arena, id)?;
+        Self::check_symbol(arena, sym)?;
+        self.sync(arena);
+        if !self.deps.contains(id, sym) {
+            return Ok(arena.int(0));
+        }
+        if let Some(&d) = self.memo.get(&(id, sym)) {
+            return Ok(d);
+        }
+        // Collect the nodes below `id` that depend on `sym` and are not cached yet.
+        let mut todo = Vec::new();
+        let mut stack = vec![id];
+        let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
+        while let Some(n) = stack.pop() {
+            if seen.insert(n, ()).is_some() || self.memo.contains_key(&(n, sym)) {
+                continue;
+            }
+            todo.push(n);
+            for c in arena.children(n) {
+                if self.deps.contains(c, sym) {
+                    stack.push(c);
+                }
+            }
+        }
+        todo.sort_unstable();
+        for n in todo {
+            let d = self.rule(arena, n, sym)?;
+            self.memo.insert((n, sym), d);
+        }
+        self.memo.get(&(id, sym)).copied().ok_or(Error::InvalidId {
+            id: id.0,
+            len: arena.len(),
+        })
+    }
+
+    /// The cached derivative of a child (0 when it does not depend on `sym`).
+    fn child(&self, arena: &mut Arena, c: Id, sym: SymbolId) -> Id {
+        if !self.deps.contains(c, sym) {
+            return arena.int(0);
+        }
+        match self.memo.get(&(c, sym)) {
+            Some(&d) => d,
+            None => arena.int(0), // unreachable: children are processed first
+        }
+    }
+
+    /// One differentiation rule, the children's derivatives being cached.
+    fn rule(&mut self, arena: &mut Arena, n: Id, sym: SymbolId) -> Result<Id> {
+        let node = arena.node(n).clone();
+        Ok(match node {
+            Node::Num(_) | Node::Pi => arena.int(0),
+            Node::Sym(s) => arena.int(i64::from(s == sym)),
+            Node::Add(ts) => {
+                let ds: Vec<Id> = ts.iter().map(|&t| self.child(arena, t, sym)).collect();
+                arena.add(&ds)
+            }
+            Node::Mul(fs) => {
+                let mut terms = Vec::new();
+                for (i, &f) in fs.iter().enumerate() {
+                    if !self.deps.contains(f, sym) {
+                        continue;
+                    }
+                    let df = self.child(arena, f, sym);
+                    if arena.is_zero(df) {
+                        continue;
+                    }
+                    let mut factors: Vec<Id> = Vec::with_capacity(fs.len());
+                    factors.extend(
+                        fs.iter()
+                            .enumerate()
+                            .filter(|&(j, _)| j != i)
+                            .map(|(_, &g)| g),
+                    );
+                    factors.push(df);
+                    terms.push(arena.mul(&factors));
+                }
+                arena.add(&terms)
+            }
+            Node::Pow(b, e) => self.pow_rule(arena, n, b, e, sym)?,
+            Node::Func(f, u) => {
+                let du = self.child(arena, u, sym);
+                let outer = match f {
+                    Func::Sin => arena.cos(u),
+                    Func::Cos => {
+                        let s = arena.sin(u);
+                        arena.neg(s)
+                    }
+                    Func::Tan => {
+                        let one = arena.int(1);
+                        let t2 = arena.powi(n, 2)?;
+                        arena.add2(one, t2)
+                    }
+                    Func::Exp => n,
+                    Func::Ln => arena.powi(u, -1)?,
+                    Func::Abs => {
+                        let inv = arena.powi(n, -1)?;
+                        arena.mul2(u, inv)
+                    }
+                };
+                arena.mul2(outer, du)
+            }
+            Node::Atan2(y, x) => {
+                let dy = self.child(arena, y, sym);
+                let dx = self.child(arena, x, sym);
+                let a = arena.mul2(x, dy);
+                let b = arena.mul2(y, dx);
+                let num = arena.sub(a, b);
+                let x2 = arena.powi(x, 2)?;
+                let y2 = arena.powi(y, 2)?;
+                let den = arena.add2(x2, y2);
+                arena.div(num, den)?
+            }
+        })
+    }
+
+    /// d(b^e)/d(sym) for the node `n` = b^e.
+    fn pow_rule(&mut self, arena: &mut Arena, n: Id, b: Id, e: Id, sym: SymbolId) -> Result<Id> {
+        let db = self.child(arena, b, sym);
+        if !self.deps.contains(e, sym) {
+            // e u^(e-1) u'
+            let em1 = match arena.as_number(e) {
+                Some(k) => arena.number(k + Number::int(-1)),
+                None => {
+                    let m1 = arena.int(-1);
+                    arena.add2(e, m1)
+                }
+            };
+            let p = arena.pow(b, em1)?;
+            return Ok(arena.mul(&[e, p, db]));
+        }
+        let de = self.child(arena, e, sym);
+        let ln_b = arena.func(Func::Ln, b)?;
+        if !self.deps.contains(b, sym) {
+            // b^e ln(b) e'
+            return Ok(arena.mul(&[n, ln_b, de]));
+        }
+        // b^e (e' ln b + e b'/b)
+        let t1 = arena.mul2(de, ln_b);
+        let inv_b = arena.powi(b, -1)?;
+        let t2 = arena.mul(&[e, db, inv_b]);
+        let inner = arena.add2(t1, t2);
+        Ok(arena.mul2(n, inner))
+    }
+
+    /// The gradient [d(id)/d(x_1), ..., d(id)/d(x_n)].
+    ///
+    /// # Errors
+    /// As [`Differentiator::diff`].
+    pub fn gradient(&mut self, arena: &mut Arena, id: Id, x: &[SymbolId]) -> Result<Vec<Id>> {
+        x.iter().map(|&s| self.diff(arena, id, s)).collect()
+    }
+
+    /// The total time derivative by Theorem 1 (Van Khang 2010; ERRATA item 5):
+    /// de/dt = sum_i (de/dq_i q_i' + de/dq_i' q_i'') + de/dt, i.e. each symbol with a
+    /// `derivative` link contributes (de/ds) s', time contributes the explicit de/dt, and
+    /// parameters and unlinked free symbols are constants.
+    ///
+    /// # Errors
+    /// As [`Differentiator::diff`]; [`Error::Model`] when `id` depends on an acceleration
+    /// (its time derivative, a third derivative, is not a symbol of the language).
+    pub fn time_derivative(&mut self, arena: &mut Arena, id: Id) -> Result<Id> {
+        self.time_derivative_impl(arena, id, true)
+    }
+
+    /// The time derivative with the accelerations set to zero afterwards:
+    /// sum_i de/dq_i q_i' + de/dt, the q'' terms of [`Differentiator::time_derivative`]
+    /// dropped (the "convective" part, e.g. d/dt(Phi_q q') at q'' = 0 in gamma).
+    ///
+    /// # Errors
+    /// As [`Differentiator::time_derivative`].
+    pub fn convective_derivative(&mut self, arena: &mut Arena, id: Id) -> Result<Id> {
+        self.time_derivative_impl(arena, id, false)
+    }
+
+    fn time_derivative_impl(
+        &mut self,
+        arena: &mut Arena,
+        id: Id,
+        with_acceleration: bool,
+    ) -> Result<Id> {
+        Self::check(arena, id)?;
+        self.sync(arena);
+        let mut terms = Vec::new();
+        for s in self.deps.symbols(id) {
+            let info = arena.symbol_info(s).clone();
+            match (info.kind, info.derivative) {
+                (SymbolKind::Time, _) => terms.push(self.diff(arena, id, s)?),
+                (SymbolKind::Acceleration, None) => {
+                    return Err(Error::Model(format!(
+                        "the time derivative of an expression in the acceleration `{}` is not defined (no third derivatives)",
+                        info.name
+                    )));
+                }
+                (_, Some(sd)) => {
+                    if !with_acceleration && arena.symbol_info(sd).kind == SymbolKind::Acceleration
+                    {
+                        continue;
+                    }
+                    let d = self.diff(arena, id, s)?;
+                    let rate = arena.symbol_node(sd);
+                    terms.push(arena.mul2(d, rate));
+                }
+                _ => {}
+            }
+        }
+        Ok(arena.add(&terms))
+    }
+}

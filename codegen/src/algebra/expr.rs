@@ -1,0 +1,803 @@
+//! The expression arena: a hash-consed DAG in which each distinct subexpression is one node.
+//!
+//! Nodes are stored children-first, so increasing [`Id`] order is a topological order.
+//! Constructors return canonical forms, so structurally equal expressions get equal ids:
+//! - sums and products are flat, their operands sorted, constants folded;
+//! - like terms (`2*x + 3*x = 5*x`) and like powers (`x^2 * x = x^3`) are collected;
+//! - the identities `x + 0`, `1 * x`, `0 * x`, `x^0`, `x^1` are applied;
+//! - a numeric factor distributes over a single sum (`2*(a + b) = 2*a + 2*b`) and an integer
+//!   power over a product (`(a*b)^2 = a^2*b^2`);
+//! - `sin(-x) = -sin(x)`, `tan(-x) = -tan(x)`, `cos(-x) = cos(x)`, `abs(-x) = abs(x)`;
+//! - `c*u*sin(x)^2 + c*u*cos(x)^2 = c*u` (the one targeted trigonometric rule).
+//!
+//! Nothing is expanded beyond that: products of sums stay products, which keeps derived
+//! expressions lean.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use crate::algebra::number::Number;
+use crate::error::{Error, Result};
+
+/// Index of a node in an [`Arena`]. Children always have smaller ids than their parents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Id(pub u32);
+
+impl Id {
+    /// The index as usize.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Index of a symbol in an [`Arena`]'s symbol table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SymbolId(pub u32);
+
+/// Unary functions of the language (`sqrt(x)` is stored as `x^(1/2)`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Func {
+    /// sin x
+    Sin,
+    /// cos x
+    Cos,
+    /// tan x
+    Tan,
+    /// e^x
+    Exp,
+    /// natural logarithm
+    Ln,
+    /// |x|
+    Abs,
+}
+
+impl Func {
+    /// The function's name in the expression language.
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Tan => "tan",
+            Func::Exp => "exp",
+            Func::Ln => "ln",
+            Func::Abs => "abs",
+        }
+    }
+
+    /// The function called `name`, if the language has it (`sqrt` and `atan2` are handled by
+    /// the parser, not here).
+    pub fn from_name(name: &str) -> Option<Func> {
+        Some(match name {
+            "sin" => Func::Sin,
+            "cos" => Func::Cos,
+            "tan" => Func::Tan,
+            "exp" => Func::Exp,
+            "ln" => Func::Ln,
+            "abs" => Func::Abs,
+            _ => return None,
+        })
+    }
+
+    /// f(x) in floating point.
+    pub fn apply(self, x: f64) -> f64 {
+        match self {
+            Func::Sin => x.sin(),
+            Func::Cos => x.cos(),
+            Func::Tan => x.tan(),
+            Func::Exp => x.exp(),
+            Func::Ln => x.ln(),
+            Func::Abs => x.abs(),
+        }
+    }
+}
+
+/// One node of the DAG.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// A numeric constant.
+    Num(Number),
+    /// The constant pi.
+    Pi,
+    /// A symbol (coordinate, rate, parameter, time or free).
+    Sym(SymbolId),
+    /// n-ary sum; a numeric constant, if any, comes first; other terms sorted by their
+    /// coefficient-free part.
+    Add(Box<[Id]>),
+    /// n-ary product; a numeric coefficient, if any, comes first; other factors sorted by id.
+    Mul(Box<[Id]>),
+    /// base ^ exponent.
+    Pow(Id, Id),
+    /// A unary function.
+    Func(Func, Id),
+    /// atan2(y, x), the angle of the point (x, y).
+    Atan2(Id, Id),
+}
+
+/// What a symbol stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SymbolKind {
+    /// A generalised coordinate q_i.
+    Coordinate,
+    /// A rate q_i' (written `der(q_i)`).
+    Velocity,
+    /// An acceleration q_i''.
+    Acceleration,
+    /// A parameter (a run-time constant).
+    Parameter,
+    /// Time t.
+    Time,
+    /// Anything else (used by tests and intermediate algebra).
+    Free,
+}
+
+/// A symbol's name and role. `derivative` links q to q' and q' to q''.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Symbol {
+    /// Printed name (`phi`, `der(phi)`, `der2(phi)`, `t`, ...).
+    pub name: String,
+    /// Its role.
+    pub kind: SymbolKind,
+    /// The symbol of its time derivative, for coordinates and rates.
+    pub derivative: Option<SymbolId>,
+}
+
+/// FxHash (rustc's): a fast, deterministic hasher for small keys.
+#[derive(Default, Clone, Copy)]
+pub struct FxHasher(u64);
+
+impl Hasher for FxHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(b));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    fn write_u8(&mut self, x: u8) {
+        self.write_u64(x as u64);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A HashMap with [`FxHasher`].
+pub type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
+
+/// The arena: nodes, their intern table and the symbol table.
+#[derive(Clone, Default)]
+pub struct Arena {
+    nodes: Vec<Node>,
+    intern: FxHashMap<Node, Id>,
+    symbols: Vec<Symbol>,
+    symbol_nodes: Vec<Id>,
+    by_name: FxHashMap<String, SymbolId>,
+}
+
+impl std::fmt::Debug for Arena {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "Arena({} nodes, {} symbols)",
+            self.nodes.len(),
+            self.symbols.len()
+        )
+    }
+}
+
+impl Arena {
+    /// An empty arena.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// True when no node exists.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The node behind `id`.
+    pub fn node(&self, id: Id) -> &Node {
+        &self.nodes[id.index()]
+    }
+
+    /// All nodes, in id (topological) order.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.intern.get(&node) {
+            return id;
+        }
+        let id = Id(self.nodes.len() as u32);
+        self.nodes.push(node.clone());
+        self.intern.insert(node, id);
+        id
+    }
+
+    // ----- symbols -----
+
+    /// The symbol called `name`, created with `kind` if new. An existing symbol keeps its kind.
+    pub fn symbol(&mut self, name: &str, kind: SymbolKind) -> Id {
+        let s = self.symbol_id(name, kind);
+        self.symbol_nodes[s.0 as usize]
+    }
+
+    /// Like [`Arena::symbol`], returning the symbol's id.
+    pub fn symbol_id(&mut self, name: &str, kind: SymbolKind) -> SymbolId {
+        if let Some(&s) = self.by_name.get(name) {
+            return s;
+        }
+        let s = SymbolId(self.symbols.len() as u32);
+        self.symbols.push(Symbol {
+            name: name.to_string(),
+            kind,
+            derivative: None,
+        });
+        self.by_name.insert(name.to_string(), s);
+        let id = self.intern(Node::Sym(s));
+        self.symbol_nodes.push(id);
+        s
+    }
+
+    /// Declares a coordinate `name` with its rate `der(name)` and acceleration `der2(name)`.
+    /// Returns the three symbols' node ids.
+    pub fn coordinate(&mut self, name: &str) -> [Id; 3] {
+        let q = self.symbol_id(name, SymbolKind::Coordinate);
+        let v = self.symbol_id(&format!("der({name})"), SymbolKind::Velocity);
+        let a = self.symbol_id(&format!("der2({name})"), SymbolKind::Acceleration);
+        self.symbols[q.0 as usize].derivative = Some(v);
+        self.symbols[v.0 as usize].derivative = Some(a);
+        [q, v, a].map(|s| self.symbol_nodes[s.0 as usize])
+    }
+
+    /// The symbol called `name`, if declared.
+    pub fn lookup(&self, name: &str) -> Option<SymbolId> {
+        self.by_name.get(name).copied()
+    }
+
+    /// The symbol table entry of `s`.
+    pub fn symbol_info(&self, s: SymbolId) -> &Symbol {
+        &self.symbols[s.0 as usize]
+    }
+
+    /// All symbols, indexed by [`SymbolId`].
+    pub fn symbols(&self) -> &[Symbol] {
+        &self.symbols
+    }
+
+    /// The node of symbol `s`.
+    pub fn symbol_node(&self, s: SymbolId) -> Id {
+        self.symbol_nodes[s.0 as usize]
+    }
+
+    /// The symbol at node `id`, if it is one.
+    pub fn as_symbol(&self, id: Id) -> Option<SymbolId> {
+        match self.node(id) {
+            Node::Sym(s) => Some(*s),
+            _ => None,
+        }
+    }
+
+    // ----- constants -----
+
+    /// A numeric constant.
+    pub fn number(&mut self, n: Number) -> Id {
+        self.intern(Node::Num(n))
+    }
+
+    /// The integer n.
+    pub fn int(&mut self, n: i64) -> Id {
+        self.number(Number::int(n))
+    }
+
+    /// The exact rational num/den; division by zero is an error.
+    pub fn rational(&mut self, num: i64, den: i64) -> Result<Id> {
+        let n = Number::rational(num, den).ok_or(Error::DivisionByZero)?;
+        Ok(self.number(n))
+    }
+
+    /// A float constant (non-finite values are a domain error).
+    pub fn float(&mut self, x: f64) -> Result<Id> {
+        let n = Number::float(x).ok_or_else(|| Error::Domain {
+            function: "float",
+            argument: format!("{x}"),
+        })?;
+        Ok(self.number(n))
+    }
+
+    /// The constant pi.
+    pub fn pi(&mut self) -> Id {
+        self.intern(Node::Pi)
+    }
+
+    /// The constant at `id`, if it is a number.
+    pub fn as_number(&self, id: Id) -> Option<Number> {
+        match self.node(id) {
+            Node::Num(n) => Some(*n),
+            _ => None,
+        }
+    }
+
+    /// True when `id` is the constant 0.
+    pub fn is_zero(&self, id: Id) -> bool {
+        self.as_number(id).is_some_and(Number::is_zero)
+    }
+
+    // ----- sums -----
+
+    /// Splits a term into its numeric coefficient and its coefficient-free part
+    /// (`None` for a pure constant).
+    pub fn split_coefficient(&mut self, id: Id) -> (Number, Option<Id>) {
+        match self.node(id).clone() {
+            Node::Num(n) => (n, None),
+            Node::Mul(fs) => match self.as_number(fs[0]) {
+                Some(c) => {
+                    let rest = if fs.len() == 2 {
+                        fs[1]
+                    } else {
+                        self.intern(Node::Mul(fs[1..].into()))
+                    };
+                    (c, Some(rest))
+                }
+                None => (Number::int(1), Some(id)),
+            },
+            _ => (Number::int(1), Some(id)),
+        }
+    }
+
+    /// c * e for a numeric c, without re-canonicalising e's factors (e is canonical and
+    /// coefficient-free).
+    fn scale(&mut self, c: Number, e: Id) -> Id {
+        if c.is_zero() {
+            return self.int(0);
+        }
+        if c.is_one() {
+            return e;
+        }
+        let cn = self.number(c);
+        match self.node(e).clone() {
+            Node::Mul(fs) => {
+                let mut v = Vec::with_capacity(fs.len() + 1);
+                v.push(cn);
+                v.extend_from_slice(&fs);
+                self.intern(Node::Mul(v.into()))
+            }
+            Node::Add(ts) => {
+                let terms: Vec<Id> = ts.iter().map(|&t| self.scale_term(c, t)).collect();
+                self.add(&terms)
+            }
+            _ => self.intern(Node::Mul(vec![cn, e].into())),
+        }
+    }
+
+    fn scale_term(&mut self, c: Number, t: Id) -> Id {
+        let (k, rest) = self.split_coefficient(t);
+        match rest {
+            None => self.number(k * c),
+            Some(r) => self.scale(k * c, r),
+        }
+    }
+
+    /// The canonical sum of `terms`.
+    pub fn add(&mut self, terms: &[Id]) -> Id {
+        let mut flat = Vec::with_capacity(terms.len());
+        for &t in terms {
+            match self.node(t) {
+                Node::Add(ts) => flat.extend_from_slice(ts),
+                _ => flat.push(t),
+            }
+        }
+        let mut constant = Number::int(0);
+        let mut pairs: Vec<(Id, Number)> = Vec::with_capacity(flat.len());
+        for t in flat {
+            let (c, rest) = self.split_coefficient(t);
+            match rest {
+                None => constant = constant + c,
+                Some(r) => pairs.push((r, c)),
+            }
+        }
+        pairs.sort_by_key(|p| p.0);
+        let mut merged: Vec<(Id, Number)> = Vec::with_capacity(pairs.len());
+        for (r, c) in pairs {
+            match merged.last_mut() {
+                Some((lr, lc)) if *lr == r => *lc = *lc + c,
+                _ => merged.push((r, c)),
+            }
+        }
+        merged.retain(|(_, c)| !c.is_zero());
+        if let Some(extra) = self.pythagoras(&mut merged) {
+            // sin^2 + cos^2 pairs were replaced; re-add so the survivors merge again.
+            let mut again: Vec<Id> = merged.iter().map(|&(r, c)| self.scale(c, r)).collect();
+            again.extend(extra);
+            let k = self.number(constant);
+            again.push(k);
+            return self.add(&again);
+        }
+        let mut out = Vec::with_capacity(merged.len() + 1);
+        if !constant.is_zero() {
+            out.push(self.number(constant));
+        }
+        for (r, c) in merged {
+            out.push(self.scale(c, r));
+        }
+        match out.len() {
+            0 => self.int(0),
+            1 => out[0],
+            _ => self.intern(Node::Add(out.into())),
+        }
+    }
+
+    /// Finds pairs c*u*sin(x)^2 and c*u*cos(x)^2 in `terms` (coefficient-free part, coefficient),
+    /// removes both and returns the replacements c*u. `None` when there is no pair.
+    fn pythagoras(&mut self, terms: &mut Vec<(Id, Number)>) -> Option<Vec<Id>> {
+        let two = Number::int(2);
+        let mut found = Vec::new();
+        let mut removed = vec![false; terms.len()];
+        for i in 0..terms.len() {
+            if removed[i] {
+                continue;
+            }
+            let (r, c) = terms[i];
+            let factors: Vec<Id> = match self.node(r) {
+                Node::Mul(fs) => fs.to_vec(),
+                _ => vec![r],
+            };
+            for (k, &f) in factors.iter().enumerate() {
+                let Node::Pow(b, e) = *self.node(f) else {
+                    continue;
+                };
+                if self.as_number(e) != Some(two) {
+                    continue;
+                }
+                let Node::Func(Func::Sin, x) = *self.node(b) else {
+                    continue;
+                };
+                let cos = self.func_raw(Func::Cos, x);
+                let cos2 = self.intern(Node::Pow(cos, e));
+                let mut partner: Vec<Id> = factors.clone();
+                partner[k] = cos2;
+                partner.sort();
+                let pkey = if partner.len() == 1 {
+                    partner[0]
+                } else {
+                    self.intern(Node::Mul(partner.into()))
+                };
+                let hit = terms
+                    .iter()
+                    .enumerate()
+                    .position(|(j, &(pr, pc))| !removed[j] && j != i && pr == pkey && pc == c);
+                if let Some(j) = hit {
+                    removed[i] = true;
+                    removed[j] = true;
+                    let mut rest = factors.clone();
+                    rest.remove(k);
+                    let cn = self.number(c);
+                    rest.push(cn);
+                    found.push(self.mul(&rest));
+                    break;
+                }
+            }
+        }
+        if found.is_empty() {
+            return None;
+        }
+        let mut i = 0;
+        terms.retain(|_| {
+            i += 1;
+            !removed[i - 1]
+        });
+        Some(found)
+    }
+
+    /// a + b.
+    pub fn add2(&mut self, a: Id, b: Id) -> Id {
+        self.add(&[a, b])
+    }
+
+    /// a - b.
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        let nb = self.neg(b);
+        self.add(&[a, nb])
+    }
+
+    /// -a.
+    pub fn neg(&mut self, a: Id) -> Id {
+        self.scale_term(Number::int(-1), a)
+    }
+
+    // ----- products -----
+
+    /// Splits a factor into base and exponent (`x` is `x^1`).
+    fn split_power(&mut self, id: Id) -> (Id, Id) {
+        match *self.node(id) {
+            Node::Pow(b, e) => (b, e),
+            _ => (id, self.int(1)),
+        }
+    }
+
+    /// The canonical product of `factors`.
+    pub fn mul(&mut self, factors: &[Id]) -> Id {
+        let mut flat = Vec::with_capacity(factors.len());
+        for &f in factors {
+            match self.node(f) {
+                Node::Mul(fs) => flat.extend_from_slice(fs),
+                _ => flat.push(f),
+            }
+        }
+        let mut coef = Number::int(1);
+        let mut pairs: Vec<(Id, Id)> = Vec::with_capacity(flat.len());
+        for f in flat {
+            match self.node(f) {
+                Node::Num(n) => {
+                    coef = coef * *n;
+                    if coef.is_zero() {
+                        return self.int(0);
+                    }
+                }
+                _ => pairs.push(self.split_power(f)),
+            }
+        }
+        pairs.sort_by_key(|p| p.0);
+        let mut rest: Vec<Id> = Vec::with_capacity(pairs.len());
+        let mut redo = false;
+        let mut i = 0;
+        while i < pairs.len() {
+            let base = pairs[i].0;
+            let mut j = i + 1;
+            while j < pairs.len() && pairs[j].0 == base {
+                j += 1;
+            }
+            let exp = if j == i + 1 {
+                pairs[i].1
+            } else {
+                let es: Vec<Id> = pairs[i..j].iter().map(|p| p.1).collect();
+                self.add(&es)
+            };
+            // pow of a canonical base with collected exponent; a 0^negative cannot arise from a
+            // product of existing factors unless one of them already was undefined.
+            let p = match self.pow(base, exp) {
+                Ok(p) => p,
+                Err(_) => self.intern(Node::Pow(base, exp)),
+            };
+            match self.node(p) {
+                Node::Num(n) => {
+                    coef = coef * *n;
+                    if coef.is_zero() {
+                        return self.int(0);
+                    }
+                }
+                Node::Mul(_) => {
+                    redo = true;
+                    rest.push(p);
+                }
+                _ => rest.push(p),
+            }
+            i = j;
+        }
+        if redo {
+            let c = self.number(coef);
+            rest.push(c);
+            return self.mul(&rest);
+        }
+        rest.sort();
+        match rest.len() {
+            0 => self.number(coef),
+            1 => self.scale(coef, rest[0]),
+            _ => {
+                let body = self.intern(Node::Mul(rest.into()));
+                self.scale(coef, body)
+            }
+        }
+    }
+
+    /// a * b.
+    pub fn mul2(&mut self, a: Id, b: Id) -> Id {
+        self.mul(&[a, b])
+    }
+
+    /// a / b; an error when b is the constant 0.
+    pub fn div(&mut self, a: Id, b: Id) -> Result<Id> {
+        let m1 = self.int(-1);
+        let inv = self.pow(b, m1)?;
+        Ok(self.mul2(a, inv))
+    }
+
+    /// base ^ exponent, canonical; 0 to a negative constant power is [`Error::DivisionByZero`].
+    pub fn pow(&mut self, base: Id, exp: Id) -> Result<Id> {
+        let e = self.as_number(exp);
+        if let Some(en) = e {
+            if en.is_zero() {
+                return Ok(self.int(1));
+            }
+            if en.is_one() {
+                return Ok(base);
+            }
+        }
+        if let Some(b) = self.as_number(base) {
+            if b.is_zero() {
+                return match e {
+                    Some(en) if en.is_negative() => Err(Error::DivisionByZero),
+                    Some(_) => Ok(self.int(0)),
+                    None => Ok(self.intern(Node::Pow(base, exp))),
+                };
+            }
+            if b.is_one() {
+                return Ok(base);
+            }
+            if let Some(en) = e {
+                if let Some(k) = en.as_integer() {
+                    if let Some(r) = b.powi(k) {
+                        return Ok(self.number(r));
+                    }
+                } else if (b.is_float() || en.is_float())
+                    && let Some(r) = Number::float(b.to_f64().powf(en.to_f64()))
+                {
+                    return Ok(self.number(r));
+                }
+            }
+        }
+        let int_exp = e.and_then(Number::as_integer);
+        match self.node(base).clone() {
+            Node::Pow(b, e1) if int_exp.is_some() => {
+                let ne = self.mul2(e1, exp);
+                return self.pow(b, ne);
+            }
+            Node::Mul(fs) if int_exp.is_some() => {
+                let mut parts = Vec::with_capacity(fs.len());
+                for f in fs.iter() {
+                    parts.push(self.pow(*f, exp)?);
+                }
+                return Ok(self.mul(&parts));
+            }
+            _ => {}
+        }
+        Ok(self.intern(Node::Pow(base, exp)))
+    }
+
+    /// base ^ n for an integer n.
+    pub fn powi(&mut self, base: Id, n: i64) -> Result<Id> {
+        let e = self.int(n);
+        self.pow(base, e)
+    }
+
+    /// sqrt(x) = x^(1/2).
+    pub fn sqrt(&mut self, x: Id) -> Result<Id> {
+        let h = self.rational(1, 2)?;
+        self.pow(x, h)
+    }
+
+    // ----- functions -----
+
+    /// True when `id` is in "negative form": a negative constant, a product with a negative
+    /// coefficient, or a sum whose first non-constant term is. Negating flips it, so
+    /// `f(-x)` rules can pick one of x and -x canonically.
+    pub fn is_negative_form(&self, id: Id) -> bool {
+        match self.node(id) {
+            Node::Num(n) => n.is_negative(),
+            Node::Mul(fs) => self.as_number(fs[0]).is_some_and(Number::is_negative),
+            Node::Add(ts) => {
+                let first = if self.as_number(ts[0]).is_some() {
+                    ts.get(1)
+                } else {
+                    ts.first()
+                };
+                first.is_some_and(|&t| self.is_negative_form(t))
+            }
+            _ => false,
+        }
+    }
+
+    fn func_raw(&mut self, f: Func, x: Id) -> Id {
+        self.intern(Node::Func(f, x))
+    }
+
+    /// f(x), canonical: constant folding for floats and the trivial points (sin 0 = 0,
+    /// cos 0 = 1, exp 0 = 1, ln 1 = 0), and the parity rules. ln of a constant <= 0 is a
+    /// domain error.
+    pub fn func(&mut self, f: Func, x: Id) -> Result<Id> {
+        if let Some(n) = self.as_number(x) {
+            let v = n.to_f64();
+            match f {
+                Func::Ln if v <= 0.0 => {
+                    return Err(Error::Domain {
+                        function: "ln",
+                        argument: n.to_string(),
+                    });
+                }
+                Func::Abs => {
+                    let a = if n.is_negative() { -n } else { n };
+                    return Ok(self.number(a));
+                }
+                _ => {}
+            }
+            let trivial = match (f, v == 0.0, v == 1.0) {
+                (Func::Sin | Func::Tan, true, _) => Some(0),
+                (Func::Cos | Func::Exp, true, _) => Some(1),
+                (Func::Ln, _, true) => Some(0),
+                _ => None,
+            };
+            if let Some(k) = trivial {
+                return Ok(self.int(k));
+            }
+            if n.is_float()
+                && let Some(r) = Number::float(f.apply(v))
+            {
+                return Ok(self.number(r));
+            }
+        }
+        if self.is_negative_form(x) && matches!(f, Func::Sin | Func::Tan | Func::Cos | Func::Abs) {
+            let nx = self.neg(x);
+            let inner = self.func_raw(f, nx);
+            return Ok(match f {
+                Func::Sin | Func::Tan => self.neg(inner),
+                _ => inner,
+            });
+        }
+        Ok(self.func_raw(f, x))
+    }
+
+    /// sin x.
+    pub fn sin(&mut self, x: Id) -> Id {
+        self.func(Func::Sin, x)
+            .unwrap_or_else(|_| self.func_raw(Func::Sin, x))
+    }
+
+    /// cos x.
+    pub fn cos(&mut self, x: Id) -> Id {
+        self.func(Func::Cos, x)
+            .unwrap_or_else(|_| self.func_raw(Func::Cos, x))
+    }
+
+    /// atan2(y, x): the angle of the point (x, y) in (-pi, pi].
+    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
+        if let (Some(a), Some(b)) = (self.as_number(y), self.as_number(x))
+            && (a.is_float() || b.is_float())
+            && let Some(r) = Number::float(a.to_f64().atan2(b.to_f64()))
+        {
+            return self.number(r);
+        }
+        self.intern(Node::Atan2(y, x))
+    }
+
+    /// Ids of the direct children of `id`.
+    pub fn children(&self, id: Id) -> Vec<Id> {
+        match self.node(id) {
+            Node::Num(_) | Node::Pi | Node::Sym(_) => vec![],
+            Node::Add(v) | Node::Mul(v) => v.to_vec(),
+            Node::Pow(a, b) | Node::Atan2(a, b) => vec![*a, *b],
+            Node::Func(_, a) => vec![*a],
+        }
+    }
+
+    /// Whether `id` depends on the symbol `s` (a walk over the sub-DAG).
+    pub fn depends_on(&self, id: Id, s: SymbolId) -> bool {
+        let mut stack = vec![id];
+        let mut seen = vec![false; self.nodes.len()];
+        while let Some(n) = stack.pop() {
+            if std::mem::replace(&mut seen[n.index()], true) {
+                continue;
+            }
+            match self.node(n) {
+                Node::Sym(x) if *x == s => return true,
+                _ => stack.extend(self.children(n)),
+            }
+        }
+        false
+    }
+}

@@ -1,0 +1,25 @@
+//! Algebra: the expression arena and everything that computes with it symbolically or
+//! numerically, knowing nothing of mechanisms.
+//!
+//! Enters: expressions built through [`Arena`](crate::Arena)'s canonical constructors.
+//! Leaves: canonical expressions, derivatives, symbolic matrices and numbers.
+//!
+//! - [`expr`]: a hash-consed DAG, children before parents, so increasing id order is
+//!   topological; sums and products are flat, sorted and constant-folded, like terms collect.
+//! - [`number`]: exact rationals while they fit in i64, floats otherwise.
+//! - [`diff`]: d e/d x memoised per (node, symbol), and the total time derivative
+//!   de/dt = (de/dq) q' + de/dt|_q (Van Khang's Theorem 1).
+//! - [`matrix`]: Van Khang's matrix derivative, (dA/dx)[i, j n + k] = d a_ij / d x_k, and his
+//!   Theorem 2 with Kronecker products, d(A B)/dx = (dA/dx)(B kron I_n) + A (dB/dx).
+//! - [`rotation`]: orientations R = F_1 ... F_k and the body angular velocity
+//!   [w]x = R^T R', factor by factor: w_(AB) = B^T w_A + w_B.
+//! - [`eval`] and [`trig`]: numeric evaluation of a DAG in id order, every intermediate
+//!   value checked to be finite; sin and cos as one inline routine shared by every route.
+
+pub(crate) mod diff;
+pub(crate) mod eval;
+pub(crate) mod expr;
+pub(crate) mod matrix;
+pub(crate) mod number;
+pub(crate) mod rotation;
+pub mod trig;

@@ -1,0 +1,489 @@
+//! Rust emission: a [`Program`] as the statements of a function body in SSA form.
+//!
+//! Each instruction becomes one `let x12: f64 = x3 * x7;` (a `sin_cos` pair becomes
+//! `let (x4, x5): (f64, f64) = q[1].sin_cos();`, or a call of the function set with
+//! [`EmitBindings::set_sin_cos`]: `::mechanism::trig::sin_cos(q[1])`, which lone sines and
+//! cosines then use too, as `.0` and `.1`). Symbols are read through caller-supplied
+//! tokens ([`EmitBindings`]: `self.l1`, `q[2]`, `qd[2]`, `t`), and each output matrix is
+//! written into a caller-named nalgebra matrix (`out_mass[(i, j)] = x12;`), a vector
+//! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]).
+//!
+//! The code has no allocation, no indexing beyond the caller's static sizes, no panics, and
+//! is written to be clean under `clippy -D warnings` without any `#[allow]`:
+//! - every `let` is used (dead instructions are removed per body), so no unused variables;
+//! - no `x * 1.0`, `x + 0.0`, `x * -1.0`, `x - -c` (the builder folds them away);
+//! - constants are literals with full round-trip precision (`0.5_f64`), and values equal to
+//!   a `core::f64::consts` constant are written as that path (`::core::f64::consts::PI`), so
+//!   `clippy::approx_constant` never fires;
+//! - a returned value is never `let x = ..; x` (`clippy::let_and_return`): the last
+//!   instruction is inlined into the tail;
+//! - binding tokens must be postfix expressions (paths, fields, indexing), so that they can
+//!   be a method receiver (`q[2].sin()`) without parentheses.
+
+use std::str::FromStr;
+
+use proc_macro2::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenStream};
+use quote::{ToTokens, TokenStreamExt, quote};
+
+use crate::algebra::expr::{FxHashMap, SymbolId};
+use crate::error::{Error, Result};
+use crate::program::cse::{BinOp, Instr, OpCounts, Operand, Program, Reg, UnOp};
+use crate::program::liveness;
+
+/// How the emitted code reads each symbol, and how it names its registers.
+#[derive(Clone, Debug)]
+pub struct EmitBindings {
+    reads: FxHashMap<SymbolId, TokenStream>,
+    prefix: String,
+    /// The path of a `fn(f64) -> (f64, f64)` computing (sin, cos); `None`: the f64 methods.
+    sin_cos: Option<TokenStream>,
+}
+
+impl Default for EmitBindings {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl EmitBindings {
+    /// No bindings; registers are named `x0, x1, ...`.
+    pub fn new() -> Self {
+        Self {
+            reads: FxHashMap::default(),
+            prefix: "x".to_string(),
+            sin_cos: None,
+        }
+    }
+
+    /// Reads symbol `s` with `tokens` (a postfix expression of type f64: `self.l1`, `q[2]`, `t`).
+    pub fn bind(&mut self, s: SymbolId, tokens: TokenStream) -> &mut Self {
+        self.reads.insert(s, tokens);
+        self
+    }
+
+    /// Names registers `{prefix}0, {prefix}1, ...` (default `x`); the prefix must be an
+    /// identifier.
+    pub fn set_prefix(&mut self, prefix: &str) -> &mut Self {
+        self.prefix = prefix.to_string();
+        self
+    }
+
+    /// Computes sines and cosines by calling `path` (a path to a `fn(f64) -> (f64, f64)`
+    /// returning (sin x, cos x), such as `::mechanism_codegen::trig::sin_cos`): a pair as
+    /// `path(x)`, a lone sine as `path(x).0` and a lone cosine as `path(x).1`, so that every
+    /// value is rounded as that function rounds it (the [`crate::Tape`] calls
+    /// [`crate::algebra::trig::sin_cos`]). Without it the code calls the f64 methods `x.sin_cos()`,
+    /// `x.sin()` and `x.cos()`.
+    pub fn set_sin_cos(&mut self, path: TokenStream) -> &mut Self {
+        self.sin_cos = Some(path);
+        self
+    }
+
+    /// The tokens reading `s`, if bound.
+    pub fn get(&self, s: SymbolId) -> Option<&TokenStream> {
+        self.reads.get(&s)
+    }
+}
+
+/// Where one output matrix of the program goes.
+#[derive(Clone, Debug)]
+pub enum OutputTarget {
+    /// `name[(i, j)] = value;` for each entry (a nalgebra matrix). With `zeroed`, the
+    /// caller guarantees the matrix starts at zero and entries that are 0 are not written.
+    Matrix {
+        /// The matrix place expression (`out_mass`, `m`).
+        name: TokenStream,
+        /// Skip entries equal to 0.
+        zeroed: bool,
+    },
+    /// `name[k] = value;` for a row or column vector (a nalgebra vector, an array, a slice).
+    /// Only for outputs with one row or one column: nalgebra's linear index of a matrix is
+    /// column-major, so a general matrix must use [`OutputTarget::Matrix`].
+    Vector {
+        /// The vector place expression.
+        name: TokenStream,
+        /// Skip entries equal to 0.
+        zeroed: bool,
+    },
+    /// The value of a 1 x 1 output is the body's tail expression (at most one per body).
+    Return,
+    /// Not emitted: instructions only this output needs are left out.
+    Skip,
+}
+
+/// An emitted body with its operation counts.
+#[derive(Clone, Debug)]
+pub struct EmittedBody {
+    /// The statements (and the tail expression, with [`OutputTarget::Return`]).
+    pub tokens: TokenStream,
+    /// Operations the body executes.
+    pub counts: OpCounts,
+    /// Number of `let` registers.
+    pub registers: usize,
+    /// The symbols the body reads (sorted by id): a caller can silence unused parameters
+    /// (`let _ = qd;`) for the others.
+    pub symbols: Vec<SymbolId>,
+}
+
+/// Emits the statements computing the outputs of `program` whose target is not
+/// [`OutputTarget::Skip`] (one target per output, in order).
+///
+/// # Errors
+/// [`Error::Model`] when the number of targets differs from the number of outputs, when a
+/// `Return` output is not 1 x 1 or there are two, when a `Vector` output has several rows
+/// and columns, or the prefix is not an identifier; [`Error::MissingValue`] when a symbol
+/// the body reads has no binding.
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{emit_body, Arena, EmitBindings, Matrix, OutputTarget, Program, SymbolKind};
+/// use quote::quote;
+///
+/// // The tip of a crank: (l1 cos phi, l1 sin phi).
+/// let mut a = Arena::new();
+/// let [phi, ..] = a.coordinate("phi");
+/// let l1 = a.symbol("l1", SymbolKind::Parameter);
+/// let (c, s) = (a.cos(phi), a.sin(phi));
+/// let tip = Matrix::column(vec![a.mul2(l1, c), a.mul2(l1, s)]);
+/// let program = Program::new(&a, &[&tip]).unwrap();
+///
+/// let mut b = EmitBindings::new();
+/// b.bind(a.lookup("phi").unwrap(), quote!(q[0])).bind(a.lookup("l1").unwrap(), quote!(self.l1));
+/// let body = emit_body(&program, &b, &[OutputTarget::Vector { name: quote!(out), zeroed: false }]).unwrap();
+/// let code: String = body.tokens.to_string().split_whitespace().collect();
+/// assert_eq!(
+///     code,
+///     "let(x0,x1):(f64,f64)=q[0].sin_cos();letx2:f64=self.l1*x1;letx3:f64=self.l1*x0;out[0]=x2;out[1]=x3;"
+/// );
+/// assert_eq!((body.counts.muls, body.counts.calls), (2, 1));
+/// ```
+pub fn emit_body(
+    program: &Program,
+    bindings: &EmitBindings,
+    targets: &[OutputTarget],
+) -> Result<EmittedBody> {
+    if targets.len() != program.outputs().len() {
+        return Err(Error::Model(format!(
+            "{} output targets for a program with {} outputs",
+            targets.len(),
+            program.outputs().len()
+        )));
+    }
+    if !is_identifier(&bindings.prefix) {
+        return Err(Error::Model(format!(
+            "register prefix `{}` is not an identifier",
+            bindings.prefix
+        )));
+    }
+    let active: Vec<usize> = (0..targets.len())
+        .filter(|&k| !matches!(targets[k], OutputTarget::Skip))
+        .collect();
+    let targets: Vec<&OutputTarget> = active.iter().map(|&k| &targets[k]).collect();
+    let p = program.restrict(&active)?;
+    let returns: Vec<usize> = (0..targets.len())
+        .filter(|&k| matches!(targets[k], OutputTarget::Return))
+        .collect();
+    if returns.len() > 1 {
+        return Err(Error::Model(
+            "at most one output can be the returned value".into(),
+        ));
+    }
+    let ret = match returns.first() {
+        Some(&k) => {
+            let o = &p.outputs()[k];
+            if o.entries.len() != 1 {
+                return Err(Error::Model(format!(
+                    "a returned output must be 1 x 1, not {} x {}",
+                    o.rows, o.cols
+                )));
+            }
+            Some(o.entries[0])
+        }
+        None => None,
+    };
+    for (s, name) in p.symbols() {
+        if bindings.get(*s).is_none() {
+            return Err(Error::MissingValue { name: name.clone() });
+        }
+    }
+    for (o, t) in p.outputs().iter().zip(&targets) {
+        if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
+            return Err(Error::Model(format!(
+                "a {} x {} output cannot be written as a vector; use a matrix target",
+                o.rows, o.cols
+            )));
+        }
+    }
+    let e = Emitter { b: bindings };
+    let mut writes = TokenStream::new();
+    for (o, t) in p.outputs().iter().zip(&targets) {
+        let (name, zeroed, matrix) = match t {
+            OutputTarget::Matrix { name, zeroed } => (name, *zeroed, true),
+            OutputTarget::Vector { name, zeroed } => (name, *zeroed, false),
+            _ => continue,
+        };
+        for (k, &v) in o.entries.iter().enumerate() {
+            if zeroed && v == Operand::Const(0.0) {
+                continue;
+            }
+            let value = e.operand(v);
+            let cols = o.cols.max(1);
+            let (i, j) = (
+                Literal::usize_unsuffixed(k / cols),
+                Literal::usize_unsuffixed(k % cols),
+            );
+            let k = Literal::usize_unsuffixed(k);
+            writes.extend(if matrix {
+                quote!(#name[(#i, #j)] = #value;)
+            } else {
+                quote!(#name[#k] = #value;)
+            });
+        }
+    }
+    // Inline the last instruction into a returned tail when nothing else follows it.
+    let n = p.instructions().len();
+    let inline_last = match (ret, p.instructions().last()) {
+        (Some(Operand::Reg(r)), Some(last)) => writes.is_empty() && single_dst(last) == Some(r),
+        _ => false,
+    };
+    let mut tokens = TokenStream::new();
+    let end = if inline_last { n - 1 } else { n };
+    if n > BLOCK_LETS_ABOVE {
+        // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
+        // (a 32-bar chain) overflow its stack in a default debuginfo build. Blocks of
+        // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
+        // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
+        let last = liveness::last_reads(&p, ret);
+        let mut start = 0;
+        while end - start > BLOCK_LEN {
+            let range = start..start + BLOCK_LEN;
+            let body: TokenStream = p.instructions()[range.clone()]
+                .iter()
+                .map(|i| e.instr(i))
+                .collect();
+            let out: Vec<TokenStream> = liveness::live_out(&p, &last, range.clone())
+                .into_iter()
+                .map(|r| e.reg(r))
+                .collect();
+            tokens.extend(quote!(let (#(#out,)*) = { #body (#(#out,)*) };));
+            start = range.end;
+        }
+        for i in &p.instructions()[start..end] {
+            tokens.extend(e.instr(i));
+        }
+    } else {
+        for i in &p.instructions()[..end] {
+            tokens.extend(e.instr(i));
+        }
+    }
+    tokens.extend(writes);
+    if let Some(r) = ret {
+        match (inline_last, p.instructions().last()) {
+            (true, Some(last)) => tokens.extend(e.rhs(last)),
+            _ => tokens.extend(e.operand(r)),
+        }
+    }
+    Ok(EmittedBody {
+        tokens,
+        counts: p.op_counts(),
+        registers: p.registers(),
+        symbols: p.symbols().iter().map(|(s, _)| *s).collect(),
+    })
+}
+
+fn single_dst(i: &Instr) -> Option<Reg> {
+    match *i {
+        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => Some(dst),
+        Instr::SinCos { .. } => None,
+    }
+}
+
+fn is_identifier(s: &str) -> bool {
+    let mut c = s.chars();
+    c.next()
+        .is_some_and(|f| f.is_ascii_alphabetic() || f == '_')
+        && c.all(|x| x.is_ascii_alphanumeric() || x == '_')
+}
+
+/// Instruction count above which [`emit_body`] groups the `let`s into nested blocks of
+/// `BLOCK_LEN`, each returning the values read after it (a flat run of ~8,000 `let`s, the
+/// 32-bar chain's `evaluate`, overflowed rustc's stack in a debuginfo build; 2,512 built).
+pub const BLOCK_LETS_ABOVE: usize = 2000;
+
+/// `let`s per block above [`BLOCK_LETS_ABOVE`].
+const BLOCK_LEN: usize = 1000;
+
+struct Emitter<'a> {
+    b: &'a EmitBindings,
+}
+
+impl Emitter<'_> {
+    fn reg(&self, r: Reg) -> TokenStream {
+        Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
+    }
+
+    fn operand(&self, o: Operand) -> TokenStream {
+        match o {
+            Operand::Reg(r) => self.reg(r),
+            Operand::Sym(s) => self.b.get(s).cloned().unwrap_or_default(),
+            Operand::Const(c) => f64_tokens(c),
+        }
+    }
+
+    /// An operand as a method receiver: a negative constant needs parentheses.
+    fn receiver(&self, o: Operand) -> TokenStream {
+        match o {
+            Operand::Const(c) if c < 0.0 => {
+                Group::new(Delimiter::Parenthesis, f64_tokens(c)).into_token_stream()
+            }
+            _ => self.operand(o),
+        }
+    }
+
+    fn instr(&self, i: &Instr) -> TokenStream {
+        let rhs = self.rhs(i);
+        match *i {
+            Instr::SinCos { sin, cos, .. } => {
+                let (s, c) = (self.reg(sin), self.reg(cos));
+                quote!(let (#s, #c): (f64, f64) = #rhs;)
+            }
+            Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
+                let d = self.reg(dst);
+                quote!(let #d: f64 = #rhs;)
+            }
+        }
+    }
+
+    /// The expression an instruction computes.
+    fn rhs(&self, i: &Instr) -> TokenStream {
+        match *i {
+            Instr::Unary {
+                op: UnOp::Neg, arg, ..
+            } => {
+                let a = self.operand(arg);
+                quote!(-#a)
+            }
+            Instr::Unary { op, arg, .. } => {
+                if let (Some(f), UnOp::Sin | UnOp::Cos) = (&self.b.sin_cos, op) {
+                    let a = self.operand(arg);
+                    let k = Literal::usize_unsuffixed(usize::from(op == UnOp::Cos));
+                    return quote!(#f(#a).#k);
+                }
+                let a = self.receiver(arg);
+                let f = Ident::new(
+                    match op {
+                        UnOp::Sin => "sin",
+                        UnOp::Cos => "cos",
+                        UnOp::Tan => "tan",
+                        UnOp::Exp => "exp",
+                        UnOp::Ln => "ln",
+                        UnOp::Sqrt => "sqrt",
+                        UnOp::Abs | UnOp::Neg => "abs",
+                    },
+                    Span::call_site(),
+                );
+                quote!(#a.#f())
+            }
+            Instr::SinCos { arg, .. } => match &self.b.sin_cos {
+                Some(f) => {
+                    let a = self.operand(arg);
+                    quote!(#f(#a))
+                }
+                None => {
+                    let a = self.receiver(arg);
+                    quote!(#a.sin_cos())
+                }
+            },
+            Instr::Powi { base, exp, .. } => {
+                let a = self.receiver(base);
+                let k = Literal::u32_unsuffixed(exp.unsigned_abs());
+                if exp < 0 {
+                    quote!(#a.powi(-#k))
+                } else {
+                    quote!(#a.powi(#k))
+                }
+            }
+            Instr::Binary { op, lhs, rhs, .. } => {
+                let b = self.operand(rhs);
+                match op {
+                    BinOp::Atan2 | BinOp::Powf => {
+                        let a = self.receiver(lhs);
+                        let f = Ident::new(
+                            if op == BinOp::Atan2 { "atan2" } else { "powf" },
+                            Span::call_site(),
+                        );
+                        quote!(#a.#f(#b))
+                    }
+                    _ => {
+                        let a = self.operand(lhs);
+                        let mut t = a;
+                        t.append(Punct::new(
+                            match op {
+                                BinOp::Add => '+',
+                                BinOp::Sub => '-',
+                                BinOp::Mul => '*',
+                                _ => '/',
+                            },
+                            Spacing::Alone,
+                        ));
+                        t.extend(b);
+                        t
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The named constants of `core::f64::consts`, written as paths instead of literals.
+const NAMED: [(&str, f64); 19] = [
+    ("PI", std::f64::consts::PI),
+    ("TAU", std::f64::consts::TAU),
+    ("E", std::f64::consts::E),
+    ("FRAC_1_PI", std::f64::consts::FRAC_1_PI),
+    ("FRAC_1_SQRT_2", std::f64::consts::FRAC_1_SQRT_2),
+    ("FRAC_2_PI", std::f64::consts::FRAC_2_PI),
+    ("FRAC_2_SQRT_PI", std::f64::consts::FRAC_2_SQRT_PI),
+    ("FRAC_PI_2", std::f64::consts::FRAC_PI_2),
+    ("FRAC_PI_3", std::f64::consts::FRAC_PI_3),
+    ("FRAC_PI_4", std::f64::consts::FRAC_PI_4),
+    ("FRAC_PI_6", std::f64::consts::FRAC_PI_6),
+    ("FRAC_PI_8", std::f64::consts::FRAC_PI_8),
+    ("LN_10", std::f64::consts::LN_10),
+    ("LN_2", std::f64::consts::LN_2),
+    ("LOG10_E", std::f64::consts::LOG10_E),
+    ("LOG2_E", std::f64::consts::LOG2_E),
+    ("SQRT_2", std::f64::consts::SQRT_2),
+    ("LOG2_10", std::f64::consts::LOG2_10),
+    ("LOG10_2", std::f64::consts::LOG10_2),
+];
+
+/// An f64 constant as tokens: `::core::f64::consts::PI` for a named constant, otherwise a
+/// suffixed literal in Rust's shortest round-trip form (`0.5_f64`, `1e-300_f64`); negative
+/// values as `-` followed by the magnitude. (A program's constants are always finite; NaN
+/// and infinities, if passed here, become `::core::f64::NAN` and `::core::f64::INFINITY`.)
+pub fn f64_tokens(v: f64) -> TokenStream {
+    if v.is_nan() {
+        return quote!(::core::f64::NAN);
+    }
+    let mut t = TokenStream::new();
+    if v < 0.0 {
+        t.append(Punct::new('-', Spacing::Alone));
+    }
+    let a = v.abs();
+    if let Some((name, _)) = NAMED.iter().find(|(_, c)| c.to_bits() == a.to_bits()) {
+        let n = Ident::new(name, Span::call_site());
+        t.extend(quote!(::core::f64::consts::#n));
+        return t;
+    }
+    if a.is_infinite() {
+        t.extend(quote!(::core::f64::INFINITY));
+        return t;
+    }
+    let text = format!("{a:?}_f64");
+    match Literal::from_str(&text) {
+        Ok(l) => t.append(l),
+        Err(_) => t.append(Literal::f64_suffixed(a)),
+    }
+    t
+}

@@ -1,0 +1,461 @@
+//! Lowering of the body sections ([`crate::syntax::bodies`]) into the arena: world vectors of
+//! points and axes, orientations, the [`BodySystem`] handed to [`add_body_terms`], and the
+//! joint rows appended to the model's constraints. Items are lowered in declaration order.
+
+use std::collections::HashMap;
+
+use crate::algebra::eval::eval;
+use crate::algebra::expr::{Arena, SymbolId};
+use crate::algebra::matrix::Matrix;
+use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
+use crate::error::{Error, Location, Result};
+use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
+use crate::mechanics::joints::{
+    AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
+};
+use crate::mechanics::model::{Constraint, Model, components};
+use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
+use crate::syntax::vector::{Op, VAst, VectorNames, lower_v, scalar, vec3};
+
+/// The lowering context: named world vectors, axis frames and body frames.
+#[derive(Default)]
+struct Scope {
+    vectors: HashMap<String, Vec3>,
+    axes: HashMap<String, AxisFrame>,
+}
+
+impl VectorNames for Scope {
+    fn vector(&self, name: &str) -> Option<[crate::algebra::expr::Id; 3]> {
+        self.vectors.get(name).copied()
+    }
+}
+
+fn declaration(message: String, location: Location) -> Error {
+    Error::Declaration { message, location }
+}
+
+/// The parameter defaults of `model`, for choosing axis perpendiculars.
+fn defaults(model: &Model) -> Vec<(SymbolId, f64)> {
+    model
+        .parameters
+        .iter()
+        .filter_map(|p| model.arena.as_symbol(p.symbol).map(|s| (s, p.default)))
+        .collect()
+}
+
+/// The axis frame of the body direction `a0` (body components) turned by `r`.
+fn axis_frame(
+    arena: &mut Arena,
+    a0: &Vec3,
+    r: &Matrix,
+    known: &[(SymbolId, f64)],
+    at: Location,
+) -> Result<AxisFrame> {
+    let env = |s: SymbolId| known.iter().find(|k| k.0 == s).map(|k| k.1);
+    let mut vals = [0.0; 3];
+    for (v, &e) in vals.iter_mut().zip(a0) {
+        *v = eval(arena, e, &env).map_err(|e| {
+            declaration(
+                format!(
+                    "an axis must be a constant direction in its body (parameters allowed): {e}"
+                ),
+                at,
+            )
+        })?;
+    }
+    if vals.iter().all(|v| *v == 0.0) {
+        return Err(declaration("an axis cannot be the zero vector".into(), at));
+    }
+    let k = least_aligned(vals);
+    let [p1, p2] = perpendiculars(arena, a0, k);
+    let turn = |arena: &mut Arena, v: &Vec3| -> Result<Vec3> {
+        let w = r.mul(arena, &Matrix::column(v.to_vec()))?;
+        Ok([w.data[0], w.data[1], w.data[2]])
+    };
+    Ok(AxisFrame {
+        direction: turn(arena, a0)?,
+        perpendicular: [turn(arena, &p1)?, turn(arena, &p2)?],
+    })
+}
+
+/// The orientation of a body: the top-level product's factors, elementary where written
+/// `rot_x/y/z(angle)`, explicit 3x3 otherwise.
+fn orientation(arena: &mut Arena, ast: &VAst, scope: &Scope) -> Result<Orientation> {
+    let mut factors = Vec::new();
+    let mut stack = vec![ast];
+    let mut flat = Vec::new();
+    while let Some(a) = stack.pop() {
+        match a {
+            VAst::Binary(Op::Mul, l, r, _) => {
+                stack.push(r);
+                stack.push(l);
+            }
+            other => flat.push(other),
+        }
+    }
+    for f in flat {
+        match f {
+            VAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
+                let axis = match name.as_str() {
+                    "rot_x" => Axis::X,
+                    "rot_y" => Axis::Y,
+                    _ => Axis::Z,
+                };
+                let v = lower_v(arena, &args[0], scope)?;
+                factors.push(RotationFactor::Elementary(
+                    axis,
+                    scalar(&v, "a rotation angle", *at)?,
+                ));
+            }
+            other => {
+                let m = lower_v(arena, other, scope)?;
+                if (m.rows, m.cols) != (3, 3) {
+                    return Err(declaration(
+                        format!(
+                            "an orientation factor must be 3x3; this is {}x{}",
+                            m.rows, m.cols
+                        ),
+                        other.location(),
+                    ));
+                }
+                factors.push(RotationFactor::Explicit(m));
+            }
+        }
+    }
+    Ok(Orientation { factors })
+}
+
+fn take<'e>(entries: &'e [Entry], key: &str, owner: &str) -> Result<Option<&'e Entry>> {
+    let mut found = entries.iter().filter(|e| e.key == key);
+    let first = found.next();
+    if let Some(second) = found.next() {
+        return Err(declaration(
+            format!("`{key}` is given twice in `{owner}`"),
+            second.at,
+        ));
+    }
+    Ok(first)
+}
+
+fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
+    if scope.vectors.insert(name.to_string(), v).is_some() {
+        return Err(declaration(
+            format!("the name `{name}` is declared twice among bodies, points and axes"),
+            at,
+        ));
+    }
+    Ok(())
+}
+
+/// Lowers the body sections into `model`: adds T, Pi and the damper forces
+/// ([`add_body_terms`]) and appends the joint rows to `model.constraints`.
+pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
+    if bodies.items.is_empty() {
+        return Ok(());
+    }
+    let known = defaults(model);
+    let mut scope = Scope::default();
+    let mut system = BodySystem::default();
+    let mut rows: Vec<Constraint> = Vec::new();
+    for name in model
+        .parameters
+        .iter()
+        .map(|p| p.name.as_str())
+        .chain(model.coordinates.iter().map(|c| c.name.as_str()))
+    {
+        if let Some(at) = named_at(bodies, name) {
+            return Err(declaration(
+                format!(
+                    "`{name}` is already a parameter or coordinate; a body, point or axis needs its own name"
+                ),
+                at,
+            ));
+        }
+    }
+    for item in &bodies.items {
+        let arena = &mut model.arena;
+        match item {
+            BodyItem::Gravity(v, at) => {
+                if system.gravity.is_some() {
+                    return Err(declaration("`gravity` is given twice".into(), *at));
+                }
+                let m = lower_v(arena, v, &scope)?;
+                system.gravity = Some(vec3(&m, "the gravity vector", *at)?);
+            }
+            BodyItem::Point(name, at, v) => {
+                let m = lower_v(arena, v, &scope)?;
+                let p = vec3(&m, &format!("the point `{name}`"), *at)?;
+                define(&mut scope, name, *at, p)?;
+            }
+            BodyItem::Axis(name, at, v) => {
+                let m = lower_v(arena, v, &scope)?;
+                let a = vec3(&m, &format!("the axis `{name}`"), *at)?;
+                let id = Matrix::identity(arena, 3);
+                let frame = axis_frame(arena, &a, &id, &known, *at)?;
+                define(&mut scope, name, *at, frame.direction)?;
+                scope.axes.insert(name.clone(), frame);
+            }
+            BodyItem::Body { name, at, entries } => {
+                let body = lower_body(arena, name, *at, entries, &mut scope, &known)?;
+                system.bodies.push(body);
+            }
+            BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
+                let spring = matches!(item, BodyItem::Spring { .. });
+                let what = if spring { "spring" } else { "damper" };
+                let between = take(entries, "between", name)?.ok_or_else(|| {
+                    declaration(format!("the {what} `{name}` needs `between = P, Q;`"), *at)
+                })?;
+                let mut ends = Vec::new();
+                for v in &between.value {
+                    let m = lower_v(arena, v, &scope)?;
+                    ends.push(vec3(&m, &format!("an end of `{name}`"), v.location())?);
+                }
+                let ends = [ends[0], ends[1]];
+                let value = |arena: &mut Arena,
+                             key: &str,
+                             scope: &Scope|
+                 -> Result<Option<crate::algebra::expr::Id>> {
+                    match take(entries, key, name)? {
+                        Some(e) => {
+                            let m = lower_v(arena, &e.value[0], scope)?;
+                            Ok(Some(scalar(&m, &format!("`{key}`"), e.at)?))
+                        }
+                        None => Ok(None),
+                    }
+                };
+                if spring {
+                    let stiffness = value(arena, "stiffness", &scope)?.ok_or_else(|| {
+                        declaration(format!("the spring `{name}` needs `stiffness = k;`"), *at)
+                    })?;
+                    let free_length = match value(arena, "free_length", &scope)? {
+                        Some(l) => l,
+                        None => arena.int(0),
+                    };
+                    system.springs.push(Spring {
+                        name: name.clone(),
+                        ends,
+                        stiffness,
+                        free_length,
+                    });
+                } else {
+                    let coefficient = value(arena, "coefficient", &scope)?.ok_or_else(|| {
+                        declaration(format!("the damper `{name}` needs `coefficient = c;`"), *at)
+                    })?;
+                    system.dampers.push(Damper {
+                        name: name.clone(),
+                        ends,
+                        coefficient,
+                    });
+                }
+            }
+            BodyItem::Joint(j) => rows.extend(lower_joint(arena, j, &scope)?),
+        }
+    }
+    add_body_terms(model, &system)?;
+    model.constraints.extend(rows);
+    Ok(())
+}
+
+/// Where `name` is declared as a body, point or axis.
+fn named_at(bodies: &Bodies, name: &str) -> Option<Location> {
+    bodies.items.iter().find_map(|i| match i {
+        BodyItem::Body {
+            name: n,
+            at,
+            entries,
+        } => {
+            if n == name {
+                return Some(*at);
+            }
+            entries
+                .iter()
+                .find(|e| e.name.as_deref() == Some(name))
+                .map(|e| e.at)
+        }
+        BodyItem::Point(n, at, _) | BodyItem::Axis(n, at, _) if n == name => Some(*at),
+        _ => None,
+    })
+}
+
+fn lower_body(
+    arena: &mut Arena,
+    name: &str,
+    at: Location,
+    entries: &[Entry],
+    scope: &mut Scope,
+    known: &[(SymbolId, f64)],
+) -> Result<Body> {
+    let mass = match take(entries, "mass", name)? {
+        Some(e) => {
+            let m = lower_v(arena, &e.value[0], scope)?;
+            scalar(&m, "the mass", e.at)?
+        }
+        None => arena.int(0),
+    };
+    let pe = take(entries, "position", name)?.ok_or_else(|| {
+        declaration(
+            format!("the body `{name}` needs `position = [x, y, z];` (its centre of mass)"),
+            at,
+        )
+    })?;
+    let pm = lower_v(arena, &pe.value[0], scope)?;
+    let position = vec3(&pm, "the position", pe.at)?;
+    let orient = match take(entries, "orientation", name)? {
+        Some(e) => Some(orientation(arena, &e.value[0], scope)?),
+        None => None,
+    };
+    let inertia = match take(entries, "inertia", name)? {
+        Some(e) => {
+            if orient.is_none() {
+                return Err(declaration(
+                    format!(
+                        "the body `{name}` has an inertia but no `orientation`: give R (a point mass has only mass and position)"
+                    ),
+                    e.at,
+                ));
+            }
+            let m = lower_v(arena, &e.value[0], scope)?;
+            if (m.rows, m.cols) != (3, 3) {
+                return Err(declaration(
+                    format!(
+                        "an inertia tensor is 3x3 (`diag(Ixx, Iyy, Izz)` or `[[..], [..], [..]]`); this is {}x{}",
+                        m.rows, m.cols
+                    ),
+                    e.at,
+                ));
+            }
+            Some(m)
+        }
+        None => None,
+    };
+    let r = match &orient {
+        Some(o) => o.matrix(arena)?,
+        None => Matrix::identity(arena, 3),
+    };
+    define(scope, name, at, position)?;
+    for e in entries
+        .iter()
+        .filter(|e| e.key == "point" || e.key == "axis")
+    {
+        let pname = e.name.clone().unwrap_or_default();
+        if orient.is_none() {
+            return Err(declaration(
+                format!(
+                    "the {} `{pname}` is on the point mass `{name}`: give the body an `orientation` (its points are in body axes)",
+                    e.key
+                ),
+                e.at,
+            ));
+        }
+        let m = lower_v(arena, &e.value[0], scope)?;
+        let p = vec3(&m, &format!("the {} `{pname}`", e.key), e.at)?;
+        if e.key == "point" {
+            let rp = r.mul(arena, &Matrix::column(p.to_vec()))?;
+            let world = [0, 1, 2].map(|i| arena.add2(position[i], rp.data[i]));
+            define(scope, &pname, e.at, world)?;
+        } else {
+            let frame = axis_frame(arena, &p, &r, known, e.at)?;
+            define(scope, &pname, e.at, frame.direction)?;
+            scope.axes.insert(pname, frame);
+        }
+    }
+    Ok(Body {
+        name: name.to_string(),
+        mass,
+        position,
+        orientation: orient,
+        inertia,
+    })
+}
+
+/// The rows of one `joints` statement, labelled with the statement as written and the
+/// component of each row (see [`Constraint::joint`]).
+fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
+    let (exprs, components, joint, at) = match j {
+        Joint::Row(lhs, rhs, at) => {
+            let l = lower_v(arena, lhs, scope)?;
+            let v = match rhs {
+                Some(r) => {
+                    let r = lower_v(arena, r, scope)?;
+                    if (l.rows, l.cols) != (r.rows, r.cols) {
+                        return Err(declaration(
+                            format!(
+                                "the two sides of a joint row differ in shape: {}x{} and {}x{}",
+                                l.rows, l.cols, r.rows, r.cols
+                            ),
+                            *at,
+                        ));
+                    }
+                    l.sub(arena, &r)?
+                }
+                None => l,
+            };
+            let joint = match rhs {
+                Some(r) => format!("{} = {}", lhs.text(), r.text()),
+                None => lhs.text(),
+            };
+            (v.data, components(v.rows, v.cols), joint, *at)
+        }
+        Joint::Helper(h, args, at) => {
+            let v = |arena: &mut Arena, i: usize| -> Result<Vec3> {
+                let m = lower_v(arena, &args[i], scope)?;
+                vec3(
+                    &m,
+                    &format!("argument {} of `{h}`", i + 1),
+                    args[i].location(),
+                )
+            };
+            let frame = |i: usize| -> Result<AxisFrame> {
+                match &args[i] {
+                    VAst::Name(n, _) if scope.axes.contains_key(n) => Ok(scope.axes[n].clone()),
+                    other => Err(declaration(
+                        format!(
+                            "argument {} of `{h}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)",
+                            i + 1
+                        ),
+                        other.location(),
+                    )),
+                }
+            };
+            let (p, q) = (v(arena, 0)?, v(arena, 1)?);
+            let (rows, components): (_, &[&str]) = match h.as_str() {
+                "spherical" => (spherical(arena, &p, &q), &["x", "y", "z"]),
+                "distance" => {
+                    let m = lower_v(arena, &args[2], scope)?;
+                    let l = scalar(&m, "the distance", args[2].location())?;
+                    (distance(arena, &p, &q, l), &[""])
+                }
+                "revolute" => {
+                    let a = v(arena, 2)?;
+                    let b = frame(3)?;
+                    (
+                        revolute(arena, &p, &q, &a, &b),
+                        &["x", "y", "z", "axis 1", "axis 2"],
+                    )
+                }
+                _ => {
+                    let (a, b) = (frame(2)?, frame(3)?);
+                    (
+                        prismatic(arena, &p, &q, &a, &b),
+                        &["axis 1", "axis 2", "slide 1", "slide 2", "twist"],
+                    )
+                }
+            };
+            let written: Vec<String> = args.iter().map(VAst::text).collect();
+            let joint = format!("{h}({})", written.join(", "));
+            let components = components.iter().map(|c| c.to_string()).collect();
+            (rows, components, joint, *at)
+        }
+    };
+    debug_assert_eq!(exprs.len(), components.len());
+    Ok(exprs
+        .into_iter()
+        .zip(components)
+        .map(|(expr, component)| Constraint {
+            expr,
+            location: at,
+            joint: joint.clone(),
+            component,
+        })
+        .collect())
+}

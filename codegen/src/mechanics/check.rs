@@ -1,0 +1,517 @@
+//! The rules a declaration must follow, one `check_*` function per rule. Every rule runs and
+//! every error is kept, so the user sees all mistakes at once; errors are sorted by position.
+
+use std::collections::HashMap;
+
+use crate::algebra::expr::SymbolId;
+use crate::error::{Error, Location};
+use crate::mechanics::model::Model;
+use crate::print::text::to_text;
+use crate::syntax::declaration::{Declaration, Item};
+use crate::syntax::expression::{Ast, closest};
+
+/// What a declared name is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// The k-th parameter.
+    Parameter(usize),
+    /// The k-th coordinate.
+    Coordinate(usize),
+}
+
+/// Where an expression stands, which decides what it may use.
+#[derive(Clone, Copy, Debug)]
+enum Context {
+    /// The default of the k-th parameter: numbers, `pi`, earlier parameters.
+    Default(usize),
+    /// An initial guess or initial value: numbers, `pi`, parameters.
+    Initial,
+    /// The kinetic energy T(q, q', t).
+    Kinetic,
+    /// The potential energy Pi(q, t).
+    Potential,
+    /// The i-th constraint row (1-based) Phi_i(q, t).
+    Constraint(usize),
+    /// A generalised force tau(t, q, q').
+    Force,
+}
+
+/// The declared names.
+struct Scope<'d> {
+    kinds: HashMap<&'d str, Kind>,
+    names: Vec<&'d str>,
+    coordinates: Vec<&'d str>,
+}
+
+impl<'d> Scope<'d> {
+    fn new(d: &'d Declaration) -> Self {
+        let mut kinds = HashMap::new();
+        let mut names = Vec::new();
+        let params = d.parameters.iter().flat_map(|s| &s.body);
+        for (k, p) in params.enumerate() {
+            kinds.entry(p.name.as_str()).or_insert(Kind::Parameter(k));
+            names.push(p.name.as_str());
+        }
+        // Distinct coordinate names (a duplicate is reported once, by its own rule).
+        let mut coords: Vec<&str> = Vec::new();
+        for c in d.coordinates.iter().flat_map(|s| &s.body) {
+            if !coords.contains(&c.name.as_str()) {
+                coords.push(&c.name);
+            }
+        }
+        for (k, c) in coords.iter().enumerate() {
+            kinds.entry(*c).or_insert(Kind::Coordinate(k));
+            names.push(c);
+        }
+        Scope {
+            kinds,
+            names,
+            coordinates: coords,
+        }
+    }
+
+    fn suggest(&self, name: &str) -> Option<String> {
+        closest(name, self.names.iter().copied().chain(["t", "pi"]))
+    }
+}
+
+fn declaration_error(message: String, location: Location) -> Error {
+    Error::Declaration { message, location }
+}
+
+/// Runs every rule on `d`; an empty list means the declaration is valid.
+pub(crate) fn check(d: &Declaration) -> Vec<Error> {
+    let scope = Scope::new(d);
+    let mut errors = Vec::new();
+    check_kinetic_present(d, &mut errors);
+    check_coordinates_present(d, &mut errors);
+    check_duplicate_names(d, &mut errors);
+    check_reserved_names(d, &mut errors);
+    check_expressions(d, &scope, &mut errors);
+    check_forces(d, &scope, &mut errors);
+    check_independent(d, &scope, &mut errors);
+    check_degrees_of_freedom(d, &scope, &mut errors);
+    errors.sort_by_key(|e| e.location().map(|l| (l.line, l.column)).unwrap_or((0, 0)));
+    errors
+}
+
+/// The kinetic energy is required: without T there is no mass matrix.
+fn check_kinetic_present(d: &Declaration, errors: &mut Vec<Error>) {
+    if d.kinetic.is_none() && !d.bodies.declares_energy() {
+        errors.push(declaration_error(
+            format!("`{}` declares no kinetic energy: add `kinetic = ...;`, T as a function of the coordinates and their rates der(q)", d.name),
+            d.name_at,
+        ));
+    }
+}
+
+/// At least one coordinate: the equations of motion are written in them.
+fn check_coordinates_present(d: &Declaration, errors: &mut Vec<Error>) {
+    match &d.coordinates {
+        None => errors.push(declaration_error(
+            format!("`{}` declares no coordinates: add `coordinates {{ phi = 0.0; }}` with each generalised coordinate and its initial guess", d.name),
+            d.name_at,
+        )),
+        Some(s) if s.body.is_empty() => errors.push(declaration_error(
+            "`coordinates` is empty: a mechanism needs at least one generalised coordinate (`name = initial guess;`)".into(),
+            s.at,
+        )),
+        Some(_) => {}
+    }
+}
+
+/// Each name is declared once: twice as a parameter, twice as a coordinate, or as both.
+fn check_duplicate_names(d: &Declaration, errors: &mut Vec<Error>) {
+    let params = d
+        .parameters
+        .iter()
+        .flat_map(|s| &s.body)
+        .map(|i| (i, "parameter"));
+    let coords = d
+        .coordinates
+        .iter()
+        .flat_map(|s| &s.body)
+        .map(|i| (i, "coordinate"));
+    let mut seen: HashMap<&str, (&Item, &str)> = HashMap::new();
+    for (item, what) in params.chain(coords) {
+        match seen.get(item.name.as_str()) {
+            Some((first, first_what)) => errors.push(declaration_error(
+                if *first_what == what {
+                    format!(
+                        "the {what} `{}` is declared twice (first at {})",
+                        item.name, first.at
+                    )
+                } else {
+                    format!(
+                        "`{}` is declared both as a {first_what} (at {}) and as a {what}",
+                        item.name, first.at
+                    )
+                },
+                item.at,
+            )),
+            None => {
+                seen.insert(item.name.as_str(), (item, what));
+            }
+        }
+    }
+}
+
+/// `t` (time) and `pi` are built in and cannot be redeclared.
+fn check_reserved_names(d: &Declaration, errors: &mut Vec<Error>) {
+    let params = d
+        .parameters
+        .iter()
+        .flat_map(|s| &s.body)
+        .map(|i| (i, "parameter"));
+    let coords = d
+        .coordinates
+        .iter()
+        .flat_map(|s| &s.body)
+        .map(|i| (i, "coordinate"));
+    for (item, what) in params.chain(coords) {
+        let builtin = match item.name.as_str() {
+            "t" => "time",
+            "pi" => "the constant 3.14159...",
+            _ => continue,
+        };
+        errors.push(declaration_error(
+            format!(
+                "a {what} cannot be called `{}`: that name is {builtin}; pick another name",
+                item.name
+            ),
+            item.at,
+        ));
+    }
+}
+
+/// Every expression uses declared names only, `der` only of coordinates, and only what its
+/// place allows: defaults and initial values are constants, the potential and the
+/// constraints depend on q and t only (holonomic), accelerations never appear.
+fn check_expressions(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    for (k, p) in d.parameters.iter().flat_map(|s| &s.body).enumerate() {
+        check_expression(&p.value, Context::Default(k), scope, errors);
+    }
+    for c in d.coordinates.iter().flat_map(|s| &s.body) {
+        check_expression(&c.value, Context::Initial, scope, errors);
+    }
+    for i in d.independent.iter().flat_map(|s| &s.body) {
+        check_expression(&i.value, Context::Initial, scope, errors);
+    }
+    if let Some(k) = &d.kinetic {
+        check_expression(&k.body, Context::Kinetic, scope, errors);
+    }
+    if let Some(p) = &d.potential {
+        check_expression(&p.body, Context::Potential, scope, errors);
+    }
+    for (i, row) in d.constraints.iter().flat_map(|s| &s.body).enumerate() {
+        check_expression(&row.lhs, Context::Constraint(i + 1), scope, errors);
+        if let Some(rhs) = &row.rhs {
+            check_expression(rhs, Context::Constraint(i + 1), scope, errors);
+        }
+    }
+    for f in d.forces.iter().flat_map(|s| &s.body) {
+        check_expression(&f.value, Context::Force, scope, errors);
+    }
+}
+
+/// "a parameter default must be a constant", ... : what a constant place is called.
+fn constant_place(ctx: Context) -> Option<&'static str> {
+    match ctx {
+        Context::Default(_) => Some("a parameter default must be a constant"),
+        Context::Initial => Some("an initial value must be a constant"),
+        _ => None,
+    }
+}
+
+fn check_expression(ast: &Ast, ctx: Context, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    let mut stack = vec![ast];
+    while let Some(a) = stack.pop() {
+        match a {
+            Ast::Name(name, at) => check_name(name, *at, ctx, scope, errors),
+            Ast::Call(f, args, at) if f == "der" || f == "der2" => {
+                check_rate(f, args, *at, ctx, scope, errors);
+            }
+            Ast::Number(..) => {}
+            Ast::Neg(x, _) => stack.push(x),
+            Ast::Sum(ts) => stack.extend(ts.iter().map(|t| &t.1)),
+            Ast::Product(fs) => stack.extend(fs.iter().map(|f| &f.1)),
+            Ast::Pow(b, e, _) => stack.extend([&**b, &**e]),
+            Ast::Call(_, args, _) => stack.extend(args),
+        }
+    }
+}
+
+/// A plain name: declared, and allowed where it stands.
+fn check_name(name: &str, at: Location, ctx: Context, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    if name == "pi" {
+        return;
+    }
+    if name == "t" {
+        if let Some(place) = constant_place(ctx) {
+            errors.push(declaration_error(format!("{place}; `t` is time"), at));
+        }
+        return;
+    }
+    match (scope.kinds.get(name), ctx) {
+        (None, _) => errors.push(Error::UnknownSymbol { name: name.into(), location: at, suggestion: scope.suggest(name) }),
+        (Some(Kind::Coordinate(_)), _) if constant_place(ctx).is_some() => {
+            let place = constant_place(ctx).unwrap_or_default();
+            errors.push(declaration_error(format!("{place}; `{name}` is a coordinate"), at));
+        }
+        (Some(Kind::Parameter(j)), Context::Default(k)) if *j == k => {
+            errors.push(declaration_error(format!("the default of `{name}` refers to `{name}` itself"), at));
+        }
+        (Some(Kind::Parameter(j)), Context::Default(k)) if *j > k => errors.push(declaration_error(
+            format!("a parameter default may use only parameters declared before it; `{name}` is declared later"),
+            at,
+        )),
+        _ => {}
+    }
+}
+
+/// `der(x)` / `der2(x)`: x is a declared coordinate, and a rate is allowed where it stands.
+fn check_rate(
+    f: &str,
+    args: &[Ast],
+    at: Location,
+    ctx: Context,
+    scope: &Scope<'_>,
+    errors: &mut Vec<Error>,
+) {
+    let [Ast::Name(x, xat)] = args else {
+        let shown = args.first().map(Ast::text).unwrap_or_default();
+        errors.push(declaration_error(
+            format!("{f}() takes the name of a coordinate, like {f}(phi); found `{shown}`"),
+            at,
+        ));
+        return;
+    };
+    match scope.kinds.get(x.as_str()) {
+        Some(Kind::Coordinate(_)) => {}
+        Some(Kind::Parameter(_)) => {
+            errors.push(declaration_error(
+                format!("der() takes a coordinate; `{x}` is a parameter"),
+                *xat,
+            ));
+            return;
+        }
+        None if x == "t" => {
+            errors.push(declaration_error(
+                "der() takes a coordinate; `t` is time".into(),
+                *xat,
+            ));
+            return;
+        }
+        None => {
+            errors.push(Error::UnknownSymbol {
+                name: x.clone(),
+                location: *xat,
+                suggestion: scope.suggest(x),
+            });
+            return;
+        }
+    }
+    let written = format!("{f}({x})");
+    if f == "der2" {
+        errors.push(declaration_error(
+            format!("accelerations cannot appear in a declaration; `{written}` is one (energies and forces use q, der(q) and t)"),
+            at,
+        ));
+        return;
+    }
+    let message = match ctx {
+        Context::Default(_) | Context::Initial => {
+            format!(
+                "{}; `{written}` is a rate",
+                constant_place(ctx).unwrap_or_default()
+            )
+        }
+        Context::Potential => {
+            format!(
+                "the potential energy may depend on the coordinates and t only; `{written}` appears in it"
+            )
+        }
+        Context::Constraint(i) => format!(
+            "constraints must be holonomic: {written} appears in constraint {i} (write position-level constraints Phi(q, t) = 0)"
+        ),
+        Context::Kinetic | Context::Force => return,
+    };
+    errors.push(declaration_error(message, at));
+}
+
+/// Forces act along declared coordinates, at most one entry per coordinate.
+fn check_forces(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    let mut seen: HashMap<&str, Location> = HashMap::new();
+    for f in d.forces.iter().flat_map(|s| &s.body) {
+        if !matches!(scope.kinds.get(f.name.as_str()), Some(Kind::Coordinate(_))) {
+            errors.push(declaration_error(
+                not_a_coordinate("a force acts along a coordinate", &f.name, scope),
+                f.at,
+            ));
+            continue;
+        }
+        if let Some(first) = seen.insert(&f.name, f.at) {
+            errors.push(declaration_error(
+                format!(
+                    "two forces on `{}` (the first at {first}); write them as one sum",
+                    f.name
+                ),
+                f.at,
+            ));
+        }
+    }
+}
+
+/// "..., but `psi` is not one (the coordinates are ...; did you mean ...?)".
+fn not_a_coordinate(what: &str, name: &str, scope: &Scope<'_>) -> String {
+    let hint = match closest(name, scope.coordinates.iter().copied()) {
+        Some(s) => format!("; did you mean `{s}`?"),
+        None => String::new(),
+    };
+    let kind = match scope.kinds.get(name) {
+        Some(Kind::Parameter(_)) => "a parameter",
+        _ => "not declared",
+    };
+    format!(
+        "{what}, but `{name}` is {kind} (the coordinates are {}){hint}",
+        scope.coordinates.join(", ")
+    )
+}
+
+/// Independent entries name declared coordinates, each value at most once.
+fn check_independent(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    let mut seen: HashMap<(&str, bool), Location> = HashMap::new();
+    for i in d.independent.iter().flat_map(|s| &s.body) {
+        if !matches!(scope.kinds.get(i.name.as_str()), Some(Kind::Coordinate(_))) {
+            errors.push(declaration_error(
+                not_a_coordinate(
+                    "`independent` sets initial values of coordinates",
+                    &i.name,
+                    scope,
+                ),
+                i.at,
+            ));
+            continue;
+        }
+        if let Some(first) = seen.insert((&i.name, i.rate), i.at) {
+            let written = if i.rate {
+                format!("der({})", i.name)
+            } else {
+                i.name.clone()
+            };
+            errors.push(declaration_error(
+                format!("`{written}` is set twice in `independent` (first at {first})"),
+                i.at,
+            ));
+        }
+    }
+}
+
+/// The n - m degrees of freedom are each fixed by an independent coordinate; with fewer the
+/// other coordinates cannot be determined from Phi(q) = 0 at t = 0. Redundant rows make the
+/// mobility n - rank(Phi_q) larger than n - m, so n - m is only a lower bound (the runtime
+/// knows the rank); with m > n there is nothing to check here.
+fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
+    let n = scope.coordinates.len();
+    let m = d.constraints.as_ref().map_or(0, |s| s.body.len()) + d.bodies.constraint_rows();
+    if n == 0 || m > n {
+        return;
+    }
+    let dof = n - m;
+    let mut given: Vec<&str> = Vec::new();
+    for i in d.independent.iter().flat_map(|s| &s.body) {
+        if scope.coordinates.contains(&i.name.as_str()) && !given.contains(&i.name.as_str()) {
+            given.push(&i.name);
+        }
+    }
+    if given.len() >= dof {
+        return;
+    }
+    let missing = dof - given.len();
+    let candidates: Vec<&str> = scope
+        .coordinates
+        .iter()
+        .copied()
+        .filter(|c| !given.contains(c))
+        .collect();
+    let plural = |k: usize, one: &str, many: &str| {
+        if k == 1 {
+            one.to_string()
+        } else {
+            many.to_string()
+        }
+    };
+    let message = format!(
+        "the mechanism has n - m = {n} - {m} = {dof} {} but `independent` sets {} ({}); set {missing} more of {} as `name = value;` (with `der(name) = value;` for its rate), so the other coordinates can be found from the constraints",
+        plural(dof, "degree of freedom", "degrees of freedom"),
+        given.len(),
+        if given.is_empty() {
+            "none".to_string()
+        } else {
+            given.join(", ")
+        },
+        candidates.join(", "),
+    );
+    let at = d.independent.as_ref().map_or(d.name_at, |s| s.at);
+    errors.push(declaration_error(message, at));
+}
+
+/// The rules that need the built expressions (canonical forms decide what is constant).
+pub(crate) fn check_model(model: &Model, kinetic_at: Location) -> Vec<Error> {
+    let mut errors = Vec::new();
+    check_constraints_depend_on_motion(model, &mut errors);
+    check_kinetic_has_rates(model, kinetic_at, &mut errors);
+    errors
+}
+
+/// The symbols of the coordinates (and of t, when `with_time`).
+fn motion_symbols(model: &Model, with_time: bool) -> Vec<SymbolId> {
+    let a = &model.arena;
+    let mut syms: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| a.as_symbol(c.q))
+        .collect();
+    if with_time {
+        syms.extend(a.as_symbol(model.time));
+    }
+    syms
+}
+
+/// Each constraint row depends on the coordinates or on t: a row of parameters and numbers
+/// (`x - x`, `l1 - l2`) either always holds or never does, and gives a zero row in Phi_q.
+fn check_constraints_depend_on_motion(model: &Model, errors: &mut Vec<Error>) {
+    let syms = motion_symbols(model, true);
+    for (i, c) in model.constraints.iter().enumerate() {
+        if !syms.iter().any(|&s| model.arena.depends_on(c.expr, s)) {
+            errors.push(declaration_error(
+                format!(
+                    "constraint {} does not depend on the coordinates or t (it simplifies to `{}`), so it constrains nothing: remove it or correct it",
+                    i + 1,
+                    to_text(&model.arena, c.expr)
+                ),
+                c.location,
+            ));
+        }
+    }
+}
+
+/// The kinetic energy depends on at least one rate der(q); otherwise M = 0 and the equations
+/// of motion say nothing about accelerations.
+fn check_kinetic_has_rates(model: &Model, at: Location, errors: &mut Vec<Error>) {
+    let a = &model.arena;
+    let rates: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| a.as_symbol(c.qd))
+        .collect();
+    if !rates.iter().any(|&s| a.depends_on(model.kinetic, s)) {
+        errors.push(declaration_error(
+            format!(
+                "the kinetic energy does not depend on any rate der(q) (it is `{}`): write T with the rates, e.g. `1/2*m*der(x)^2`",
+                to_text(a, model.kinetic)
+            ),
+            at,
+        ));
+    }
+}

@@ -1,0 +1,494 @@
+//! Lagrange's equations with multipliers (Van Khang, Mech. Res. Commun. 38, 2011):
+//!
+//! M(q) q'' + C(q, q') q' + g(q) + Phi_q^T lambda = tau(t, q, q'),   Phi(q, t) = 0,
+//! Phi_q q'' = gamma.
+//!
+//! - M = d2T/dq'dq', derived once per upper-triangle entry and mirrored;
+//! - C by Khang's formula C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, formed
+//!   with the matrix calculus of [`crate::Matrix`];
+//! - C q' as its own lean expression: per row k, the coefficient of each monomial
+//!   q_i' q_j' (i <= j) is collected first,
+//!   (C q')_k = sum_{i,j} (dM_ki/dq_j - 1/2 dM_ij/dq_k) q_i' q_j'
+//!   (= (M' q')_k - 1/2 d(q'^T M q')/dq_k, the same vector as Khang's C times q'), so terms
+//!   that cancel meet in one canonical sum and vanish before anything is multiplied out;
+//! - g = dPi/dq, Phi, Phi_q = dPhi/dq, Phi_t = dPhi/dt (explicit);
+//! - gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, with the Kronecker sum
+//!   written over the pairs j <= k (each off-diagonal pair once, doubled).
+//!
+//! A kinetic energy that is not a quadratic form in q' with q-only coefficients (terms
+//! linear in q', a q'-free part T0(q, t), explicit time dependence: moving frames) is handled
+//! too: then `coriolis_forces` is the whole rest of the Lagrange expression
+//! h = d/dt(dT/dq')|_{q''=0} - dT/dq, so that M q'' + h + g + Phi_q^T lambda = tau is still
+//! exact, while `coriolis_matrix` stays Khang's C of M (and C q' differs from h by the
+//! non-quadratic terms).
+
+use crate::algebra::diff::Differentiator;
+use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
+use crate::algebra::matrix::Matrix;
+use crate::error::{Error, Result};
+use crate::mechanics::equations::Equations;
+use crate::mechanics::model::Model;
+
+/// The symbols of the coordinates, their rates and accelerations, and of time.
+struct Symbols {
+    q: Vec<SymbolId>,
+    qd: Vec<SymbolId>,
+    qdd: Vec<SymbolId>,
+    time: Option<SymbolId>,
+}
+
+impl Symbols {
+    fn of(model: &Model) -> Result<Self> {
+        let arena = &model.arena;
+        let sym = |id: Id, what: &str, name: &str| -> Result<SymbolId> {
+            if id.index() >= arena.len() {
+                return Err(Error::InvalidId {
+                    id: id.0,
+                    len: arena.len(),
+                });
+            }
+            arena.as_symbol(id).ok_or_else(|| {
+                Error::Model(format!("the {what} of coordinate `{name}` is not a symbol"))
+            })
+        };
+        let (mut q, mut qd, mut qdd) = (Vec::new(), Vec::new(), Vec::new());
+        for c in &model.coordinates {
+            q.push(sym(c.q, "position", &c.name)?);
+            qd.push(sym(c.qd, "rate", &c.name)?);
+            qdd.push(sym(c.qdd, "acceleration", &c.name)?);
+        }
+        let time = (model.time.index() < arena.len())
+            .then(|| arena.as_symbol(model.time))
+            .flatten();
+        Ok(Self { q, qd, qdd, time })
+    }
+
+    fn column(arena: &Arena, syms: &[SymbolId]) -> Matrix {
+        Matrix::column(syms.iter().map(|&s| arena.symbol_node(s)).collect())
+    }
+}
+
+/// Errors unless `id` is in the arena.
+fn check_id(arena: &Arena, id: Id) -> Result<()> {
+    if id.index() < arena.len() {
+        Ok(())
+    } else {
+        Err(Error::InvalidId {
+            id: id.0,
+            len: arena.len(),
+        })
+    }
+}
+
+/// Errors when `id` (the model's `what`) depends on one of `forbidden`.
+fn reject_dependence(
+    arena: &Arena,
+    d: &mut Differentiator,
+    id: Id,
+    forbidden: &[SymbolId],
+    what: &str,
+) -> Result<()> {
+    for &s in forbidden {
+        if d.depends_on(arena, id, s)? {
+            return Err(Error::Model(format!(
+                "the {what} must not depend on `{}`",
+                arena.symbol_info(s).name
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Derives the equations of motion of `model` (see the module documentation for the
+/// formulas). All expressions are built in `model.arena`.
+///
+/// # Errors
+/// [`Error::Model`] when the model has no coordinates, a coordinate is not a symbol, the
+/// number of forces differs from the number of coordinates, the potential or a constraint
+/// depends on a rate or an acceleration, T or a force depends on an acceleration;
+/// [`Error::InvalidId`] for a foreign id; differentiation errors.
+pub fn derive(model: &mut Model) -> Result<Equations> {
+    let s = Symbols::of(model)?;
+    let n = s.q.len();
+    if n == 0 {
+        return Err(Error::Model(
+            "a mechanism needs at least one coordinate".into(),
+        ));
+    }
+    if model.forces.len() != n {
+        return Err(Error::Model(format!(
+            "{} generalised forces given for {n} coordinates",
+            model.forces.len()
+        )));
+    }
+    let (kinetic, potential) = (model.kinetic, model.potential);
+    let arena = &mut model.arena;
+    for &id in [kinetic, potential]
+        .iter()
+        .chain(&model.forces)
+        .chain(model.constraints.iter().map(|c| &c.expr))
+    {
+        check_id(arena, id)?;
+    }
+    let mut d = Differentiator::new();
+    let rates: Vec<SymbolId> = s.qd.iter().chain(&s.qdd).copied().collect();
+    reject_dependence(arena, &mut d, potential, &rates, "potential energy")?;
+    reject_dependence(arena, &mut d, kinetic, &s.qdd, "kinetic energy")?;
+    for &f in &model.forces {
+        reject_dependence(arena, &mut d, f, &s.qdd, "generalised force")?;
+    }
+    for c in &model.constraints {
+        reject_dependence(arena, &mut d, c.expr, &rates, "constraint")?;
+    }
+
+    // M = d2T/dq'dq' (upper triangle, mirrored).
+    let momenta = d.gradient(arena, kinetic, &s.qd)?;
+    let mut mass = Matrix::zeros(arena, n, n);
+    for (i, &p) in momenta.iter().enumerate() {
+        for j in i..n {
+            let mij = d.diff(arena, p, s.qd[j])?;
+            mass.set(i, j, mij);
+            mass.set(j, i, mij);
+        }
+    }
+
+    let coriolis_matrix = khang_coriolis_matrix(arena, &mut d, &mass, &s)?;
+    let coriolis_forces = if is_quadratic_form(arena, &mut d, kinetic, &momenta, &mass, &s)? {
+        lean_coriolis_forces(arena, &mut d, &mass, &s)?
+    } else {
+        let mut h = Vec::with_capacity(n);
+        for (&p, &q) in momenta.iter().zip(&s.q) {
+            let dp = d.convective_derivative(arena, p)?;
+            let dtq = d.diff(arena, kinetic, q)?;
+            h.push(arena.sub(dp, dtq));
+        }
+        Matrix::column(h)
+    };
+    let gravity = Matrix::column(d.gradient(arena, potential, &s.q)?);
+    let forces = Matrix::column(model.forces.clone());
+
+    let m = model.constraints.len();
+    let phi = Matrix::column(model.constraints.iter().map(|c| c.expr).collect());
+    let mut phi_q = Matrix::zeros(arena, m, n);
+    let mut phi_t = Matrix::zeros(arena, m, 1);
+    for r in 0..m {
+        for j in 0..n {
+            let e = d.diff(arena, phi.data[r], s.q[j])?;
+            phi_q.set(r, j, e);
+        }
+        if let Some(t) = s.time {
+            let e = d.diff(arena, phi.data[r], t)?;
+            phi_t.set(r, 0, e);
+        }
+    }
+    let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
+    Ok(Equations {
+        n,
+        m,
+        mass,
+        coriolis_matrix,
+        coriolis_forces,
+        gravity,
+        forces,
+        phi,
+        phi_q,
+        phi_t,
+        gamma,
+        kinetic,
+        potential,
+    })
+}
+
+/// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (ERRATA item 5).
+fn khang_coriolis_matrix(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
+    let n = s.q.len();
+    let dm = mass.khang_derivative(arena, d, &s.q)?;
+    let qd = Symbols::column(arena, &s.qd);
+    let id = Matrix::identity(arena, n);
+    let id_kron_qd = id.kron(arena, &qd)?;
+    let qd_kron_id = qd.kron(arena, &id)?;
+    let first = dm.mul(arena, &id_kron_qd)?;
+    let second = dm.mul(arena, &qd_kron_id)?;
+    let half = arena.rational(1, 2)?;
+    let second = second.transpose()?.scale(arena, half)?;
+    first.sub(arena, &second)
+}
+
+/// True when T = 1/2 q'^T M(q) q' exactly: T and M free of t, M free of q', and T and
+/// dT/dq' vanish at q' = 0 (no q'-free part, no part linear in q').
+fn is_quadratic_form(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    kinetic: Id,
+    momenta: &[Id],
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<bool> {
+    let mut varying: Vec<SymbolId> = s.qd.clone();
+    varying.extend(s.time);
+    if let Some(t) = s.time
+        && d.depends_on(arena, kinetic, t)?
+    {
+        return Ok(false);
+    }
+    for &e in &mass.data {
+        for &v in &varying {
+            if d.depends_on(arena, e, v)? {
+                return Ok(false);
+            }
+        }
+    }
+    let zero = arena.int(0);
+    let at_rest: FxHashMap<SymbolId, Id> = s.qd.iter().map(|&v| (v, zero)).collect();
+    for &e in std::iter::once(&kinetic).chain(momenta) {
+        match substitute(arena, d, e, &at_rest) {
+            Ok(z) if arena.is_zero(z) => {}
+            _ => return Ok(false),
+        }
+    }
+    Ok(true)
+}
+
+/// `id` with each symbol of `map` replaced by its image, rebuilt with the canonical
+/// constructors (children first).
+fn substitute(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    id: Id,
+    map: &FxHashMap<SymbolId, Id>,
+) -> Result<Id> {
+    let keys: Vec<SymbolId> = map.keys().copied().collect();
+    let touches = |arena: &Arena, d: &mut Differentiator, n: Id| -> Result<bool> {
+        for &k in &keys {
+            if d.depends_on(arena, n, k)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    };
+    let mut todo = Vec::new();
+    let mut stack = vec![id];
+    let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
+    while let Some(n) = stack.pop() {
+        if seen.insert(n, ()).is_some() || !touches(arena, d, n)? {
+            continue;
+        }
+        todo.push(n);
+        stack.extend(arena.children(n));
+    }
+    todo.sort_unstable();
+    let mut image: FxHashMap<Id, Id> = FxHashMap::default();
+    for n in todo {
+        let get = |c: Id| image.get(&c).copied().unwrap_or(c);
+        let new = match arena.node(n).clone() {
+            Node::Sym(x) => map.get(&x).copied().unwrap_or(n),
+            Node::Add(v) => {
+                let v: Vec<Id> = v.iter().map(|&c| get(c)).collect();
+                arena.add(&v)
+            }
+            Node::Mul(v) => {
+                let v: Vec<Id> = v.iter().map(|&c| get(c)).collect();
+                arena.mul(&v)
+            }
+            Node::Pow(b, e) => arena.pow(get(b), get(e))?,
+            Node::Func(f, u) => arena.func(f, get(u))?,
+            Node::Atan2(y, x) => arena.atan2(get(y), get(x)),
+            Node::Num(_) | Node::Pi => n,
+        };
+        image.insert(n, new);
+    }
+    Ok(image.get(&id).copied().unwrap_or(id))
+}
+
+/// For each upper-triangle entry of `mass`, the coordinates (indices) it depends on.
+fn coordinate_dependencies(
+    arena: &Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Vec<Vec<usize>>> {
+    let n = s.q.len();
+    let index: FxHashMap<SymbolId, usize> = s.q.iter().enumerate().map(|(k, &q)| (q, k)).collect();
+    let mut deps = vec![Vec::new(); n * n];
+    for i in 0..n {
+        for j in i..n {
+            let ks: Vec<usize> = d
+                .symbols_of(arena, mass.get(i, j))?
+                .iter()
+                .filter_map(|x| index.get(x).copied())
+                .collect();
+            deps[i * n + j] = ks.clone();
+            deps[j * n + i] = ks;
+        }
+    }
+    Ok(deps)
+}
+
+/// C q' as one lean expression per row: (C q')_k = sum_{i <= j} c_kij q_i' q_j' with
+/// c_kij = dM_ki/dq_j + dM_kj/dq_i - dM_ij/dq_k for i < j and
+/// c_kii = dM_ki/dq_i - 1/2 dM_ii/dq_k, each coefficient one canonical sum.
+fn lean_coriolis_forces(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
+    let n = s.q.len();
+    let deps = coordinate_dependencies(arena, d, mass, s)?;
+    // by_coord[k]: upper entries (i, j) of M that depend on q_k.
+    let mut by_coord: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+    for i in 0..n {
+        for j in i..n {
+            for &k in &deps[i * n + j] {
+                by_coord[k].push((i, j));
+            }
+        }
+    }
+    let minus_half = arena.rational(-1, 2)?;
+    let minus_one = arena.int(-1);
+    let mut out = Vec::with_capacity(n);
+    let mut parts: Vec<((usize, usize), Id)> = Vec::new();
+    for k in 0..n {
+        parts.clear();
+        for i in 0..n {
+            for &j in &deps[k * n + i] {
+                let e = d.diff(arena, mass.get(k, i), s.q[j])?;
+                parts.push(((i.min(j), i.max(j)), e));
+            }
+        }
+        for &(i, j) in &by_coord[k] {
+            let e = d.diff(arena, mass.get(i, j), s.q[k])?;
+            let w = if i == j { minus_half } else { minus_one };
+            parts.push(((i, j), arena.mul2(w, e)));
+        }
+        parts.sort_by_key(|p| p.0);
+        let mut terms = Vec::new();
+        let mut a = 0;
+        while a < parts.len() {
+            let pair = parts[a].0;
+            let mut b = a;
+            while b < parts.len() && parts[b].0 == pair {
+                b += 1;
+            }
+            let group: Vec<Id> = parts[a..b].iter().map(|p| p.1).collect();
+            let coef = arena.add(&group);
+            if !arena.is_zero(coef) {
+                let (vi, vj) = (
+                    arena.symbol_node(s.qd[pair.0]),
+                    arena.symbol_node(s.qd[pair.1]),
+                );
+                terms.push(arena.mul(&[coef, vi, vj]));
+            }
+            a = b;
+        }
+        out.push(arena.add(&terms));
+    }
+    Ok(Matrix::column(out))
+}
+
+/// gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, per row
+/// -sum_{j <= k} w_jk d(Phi_q)_rj/dq_k q_j' q_k' (w = 1 on the diagonal, 2 off it)
+/// - 2 sum_j d(Phi_q)_rj/dt q_j' - d(Phi_t)_r/dt.
+fn gamma(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    phi_q: &Matrix,
+    phi_t: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
+    let n = s.q.len();
+    let (m1, m2) = (arena.int(-1), arena.int(-2));
+    let mut out = Vec::with_capacity(phi_q.rows);
+    for r in 0..phi_q.rows {
+        let mut terms = Vec::new();
+        for j in 0..n {
+            let e = phi_q.get(r, j);
+            let vj = arena.symbol_node(s.qd[j]);
+            for k in j..n {
+                if !d.depends_on(arena, e, s.q[k])? {
+                    continue;
+                }
+                let h = d.diff(arena, e, s.q[k])?;
+                let vk = arena.symbol_node(s.qd[k]);
+                let w = if j == k { m1 } else { m2 };
+                terms.push(arena.mul(&[w, h, vj, vk]));
+            }
+            if let Some(t) = s.time {
+                let et = d.diff(arena, e, t)?;
+                if !arena.is_zero(et) {
+                    terms.push(arena.mul(&[m2, et, vj]));
+                }
+            }
+        }
+        if let Some(t) = s.time {
+            let tt = d.diff(arena, phi_t.get(r, 0), t)?;
+            terms.push(arena.neg(tt));
+        }
+        out.push(arena.add(&terms));
+    }
+    Ok(Matrix::column(out))
+}
+
+/// The Christoffel-symbol factorisation (the second route for C):
+/// C_ij = sum_k Gamma_ijk q_k', Gamma_ijk = 1/2 (dM_ij/dq_k + dM_ik/dq_j - dM_jk/dq_i).
+/// With it, M' - 2C is skew-symmetric, and C q' equals Khang's C q'.
+///
+/// # Errors
+/// [`Error::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
+/// [`derive()`] otherwise.
+pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
+    let s = Symbols::of(model)?;
+    let n = s.q.len();
+    let arena = &mut model.arena;
+    let mass = &eqs.mass;
+    mass.validate(arena)?;
+    if mass.rows != n || mass.cols != n {
+        return Err(Error::Shape {
+            operation: "christoffel",
+            left_rows: mass.rows,
+            left_cols: mass.cols,
+            right_rows: n,
+            right_cols: n,
+        });
+    }
+    let mut d = Differentiator::new();
+    let half = arena.rational(1, 2)?;
+    let mut c = Matrix::zeros(arena, n, n);
+    for i in 0..n {
+        for j in 0..n {
+            let mut terms = Vec::new();
+            for k in 0..n {
+                let a = d.diff(arena, mass.get(i, j), s.q[k])?;
+                let b = d.diff(arena, mass.get(i, k), s.q[j])?;
+                let e = d.diff(arena, mass.get(j, k), s.q[i])?;
+                let sum = arena.add(&[a, b]);
+                let g = arena.sub(sum, e);
+                if arena.is_zero(g) {
+                    continue;
+                }
+                let v = arena.symbol_node(s.qd[k]);
+                terms.push(arena.mul(&[half, g, v]));
+            }
+            let cij = arena.add(&terms);
+            c.set(i, j, cij);
+        }
+    }
+    Ok(c)
+}
+
+/// C q' with the Christoffel C of [`christoffel_coriolis_matrix`] (n x 1): the second route
+/// to `eqs.coriolis_forces`.
+///
+/// # Errors
+/// As [`christoffel_coriolis_matrix`].
+pub fn christoffel_coriolis_forces(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
+    let c = christoffel_coriolis_matrix(model, eqs)?;
+    let s = Symbols::of(model)?;
+    let qd = Symbols::column(&model.arena, &s.qd);
+    c.mul(&mut model.arena, &qd)
+}

@@ -1,0 +1,28 @@
+//! Mechanics: from a declaration's syntax tree to a [`Model`](crate::Model), and from a
+//! model to its equations of motion.
+//!
+//! Enters: a [`crate::syntax`] tree. Leaves: a checked [`Model`](crate::Model) (symbols,
+//! coordinates, parameters, T, Pi, Phi, forces as expressions of one arena) and its
+//! [`Equations`](crate::Equations):
+//!
+//! ```text
+//! M(q) q'' + C(q, q') q' + g(q) + Phi_q^T lambda = tau(t, q, q'),   Phi(q, t) = 0,
+//! Phi_q q'' = gamma = -(dPhi_q/dq)(q' kron I_n) q' - 2 Phi_qt q' - Phi_tt
+//! ```
+//!
+//! with M = d2T/dq'dq', Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T and
+//! g = dPi/dq. The stages in order: [`check`] (one rule per function, every error kept),
+//! [`resolve`] and [`vectors`] (names of a syntax tree resolved into arena nodes),
+//! [`build`] (the model), [`body_model`] with [`bodies`] and [`joints`] (energies from
+//! rigid bodies, joint rows), [`lagrange`] (the equations), [`tangent`] (dF/dq and dF/dq'
+//! for implicit integrators).
+
+pub(crate) mod bodies;
+pub(crate) mod body_model;
+pub(crate) mod build;
+pub(crate) mod check;
+pub(crate) mod equations;
+pub(crate) mod joints;
+pub(crate) mod lagrange;
+pub(crate) mod model;
+pub(crate) mod tangent;

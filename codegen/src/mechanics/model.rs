@@ -1,0 +1,129 @@
+//! The parsed declaration of a mechanism: what the user wrote, as expressions in one arena.
+
+use crate::algebra::expr::{Arena, Id};
+use crate::error::Location;
+
+/// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
+#[derive(Clone, Debug)]
+pub struct Parameter {
+    /// Name, as written.
+    pub name: String,
+    /// Its symbol node.
+    pub symbol: Id,
+    /// Default value (the declared constant expression, evaluated).
+    pub default: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// A generalised coordinate q_i with its rate and acceleration symbols.
+#[derive(Clone, Debug)]
+pub struct Coordinate {
+    /// Name, as written.
+    pub name: String,
+    /// q_i.
+    pub q: Id,
+    /// q_i' (`der(name)`).
+    pub qd: Id,
+    /// q_i'' (`der2(name)`).
+    pub qdd: Id,
+    /// Initial guess for the assembly Newton iteration.
+    pub guess: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// An independent coordinate: set by the user at t = 0.
+#[derive(Clone, Debug)]
+pub struct IndependentSpec {
+    /// Index into [`Model::coordinates`].
+    pub coordinate: usize,
+    /// q_k(0).
+    pub position: f64,
+    /// q_k'(0) (0 when not given).
+    pub velocity: f64,
+    /// Where it was declared.
+    pub location: Location,
+}
+
+/// One scalar constraint row Phi_i(q, t) = 0.
+#[derive(Clone, Debug)]
+pub struct Constraint {
+    /// The residual expression.
+    pub expr: Id,
+    /// Where it was declared.
+    pub location: Location,
+    /// The statement the row comes from, as the user reads it: `constraint 2` for the second
+    /// statement of `constraints { .. }`, or the joint as written, `revolute(B1, B2, z, z)`,
+    /// `P = Q`, `P.z = 0`.
+    pub joint: String,
+    /// Which row of that statement: `x`, `y`, `z` (the components of a point, or of a vector
+    /// equation of 2 or 3 rows), `1`, `2`, .. (of a longer vector equation), `(i, j)` (of a
+    /// matrix equation), `axis 1`, `axis 2`
+    /// (the parallel-axis rows of `revolute` and `prismatic`), `slide 1`, `slide 2`, `twist`
+    /// (the other rows of `prismatic`); empty for a statement with one row.
+    pub component: String,
+}
+
+impl Constraint {
+    /// The label of the row: the joint, then a space and the component when there is one
+    /// (`revolute(B1, B2, z, z) y`, `constraint 2`).
+    pub fn label(&self) -> String {
+        if self.component.is_empty() {
+            self.joint.clone()
+        } else {
+            format!("{} {}", self.joint, self.component)
+        }
+    }
+}
+
+/// The component labels of the rows x cols entries of a vector or matrix statement, in the
+/// (row-major) order of its rows: `""` for a scalar, `x`, `y` (, `z`) for a vector of 2 (3)
+/// entries, `1`, `2`, .. for a longer vector, `(i, j)` (1-based) for a matrix.
+pub(crate) fn components(rows: usize, cols: usize) -> Vec<String> {
+    let len = rows * cols;
+    if len == 1 {
+        return vec![String::new()];
+    }
+    if rows == 1 || cols == 1 {
+        if len <= 3 {
+            return ["x", "y", "z"][..len]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+        }
+        return (1..=len).map(|k| k.to_string()).collect();
+    }
+    (0..len)
+        .map(|k| format!("({}, {})", k / cols + 1, k % cols + 1))
+        .collect()
+}
+
+/// A whole declaration.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Struct name (`SpatialCrankSlider`).
+    pub name: String,
+    /// Doc comment lines (without the `///`).
+    pub doc: Vec<String>,
+    /// True when declared `pub struct`.
+    pub public: bool,
+    /// The expression arena holding every expression below.
+    pub arena: Arena,
+    /// The time symbol t.
+    pub time: Id,
+    /// Parameters, in declaration order.
+    pub parameters: Vec<Parameter>,
+    /// Coordinates q, in declaration order.
+    pub coordinates: Vec<Coordinate>,
+    /// Independent coordinates and their initial values.
+    pub independent: Vec<IndependentSpec>,
+    /// Kinetic energy T(q, q', t).
+    pub kinetic: Id,
+    /// Potential energy Pi(q, t).
+    pub potential: Id,
+    /// Constraint rows Phi(q, t).
+    pub constraints: Vec<Constraint>,
+    /// Generalised forces tau(t, q, q'), one per coordinate (0 where none is declared).
+    pub forces: Vec<Id>,
+}

@@ -1,0 +1,299 @@
+//! The shared skeleton of the text and LaTeX printers.
+//!
+//! A node is rendered from its children's renderings, bottom-up over the reachable sub-DAG in
+//! id order (children first), so printing needs no recursion and each shared node is rendered
+//! once. The skeleton decides the layout that makes expressions readable:
+//! - a sum prints its positive terms first, then the negative ones after ` - `, the constant
+//!   last in its group;
+//! - a product prints its numeric coefficient first; factors with a negative exponent
+//!   (`x^-1`, `x^(-1/2)`, `x^(-k*y)`) and the coefficient's denominator go below a fraction
+//!   bar;
+//! - `x^(1/2)` prints as a square root.
+//!
+//! A [`Style`] supplies the spelling (plain text or LaTeX).
+
+use crate::FxHashMap;
+use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
+use crate::algebra::number::Number;
+
+/// How tightly a rendering binds, loosest first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Prec {
+    /// A sum, or anything with a leading minus.
+    Sum,
+    /// A product or quotient.
+    Product,
+    /// A power.
+    Power,
+    /// A number, name, call or bracketed group.
+    Atom,
+}
+
+/// A rendered subexpression.
+#[derive(Clone, Debug)]
+pub(crate) struct R {
+    /// The text.
+    pub(crate) s: String,
+    /// How tightly it binds.
+    pub(crate) prec: Prec,
+    /// For a function application f(x): the function's spelling and the bracketed argument
+    /// (LaTeX writes a power of it as `\sin^{2}{\left(x\right)}`).
+    pub(crate) head: Option<(String, String)>,
+}
+
+impl R {
+    /// A rendering without a function head.
+    pub(crate) fn new(s: String, prec: Prec) -> Self {
+        Self {
+            s,
+            prec,
+            head: None,
+        }
+    }
+}
+
+/// The spelling of a printer.
+pub(crate) trait Style {
+    /// A non-negative constant.
+    fn number(&self, n: Number) -> R;
+    /// The constant pi.
+    fn pi(&self) -> R;
+    /// A symbol.
+    fn symbol(&self, name: &str, kind: SymbolKind) -> R;
+    /// f(x).
+    fn func(&self, f: Func, x: &R) -> R;
+    /// atan2(y, x).
+    fn atan2(&self, y: &R, x: &R) -> R;
+    /// sqrt(x).
+    fn sqrt(&self, x: &R) -> R;
+    /// base^exp (the style parenthesises as needed).
+    fn power(&self, base: &R, exp: &R) -> R;
+    /// num_1 * num_2 ... / (den_1 * den_2 ...); all parts are positive.
+    fn product(&self, num: Vec<R>, den: Vec<R>) -> R;
+    /// x in brackets.
+    fn paren(&self, s: &str) -> String;
+}
+
+/// An exponent as the renderer sees it: a plain number, or an expression's rendering.
+enum Exp {
+    Num(Number),
+    Expr(R),
+}
+
+/// The bottom-up renderer with its memo of rendered nodes.
+pub(crate) struct Renderer<'a, S: Style> {
+    arena: &'a Arena,
+    style: S,
+    memo: FxHashMap<Id, R>,
+}
+
+impl<'a, S: Style> Renderer<'a, S> {
+    /// A renderer over `arena`.
+    pub(crate) fn new(arena: &'a Arena, style: S) -> Self {
+        Self {
+            arena,
+            style,
+            memo: FxHashMap::default(),
+        }
+    }
+
+    /// The rendering of `id` (`<invalid id N>` when `id` is not a node of the arena).
+    pub(crate) fn render(&mut self, id: Id) -> R {
+        if id.index() >= self.arena.len() {
+            return R::new(format!("<invalid id {}>", id.0), Prec::Atom);
+        }
+        let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
+        let mut stack = vec![id];
+        while let Some(n) = stack.pop() {
+            if self.memo.contains_key(&n) || seen.insert(n, ()).is_some() {
+                continue;
+            }
+            stack.extend(self.arena.children(n));
+        }
+        let mut todo: Vec<Id> = seen.into_keys().collect();
+        todo.sort_unstable();
+        for n in todo {
+            let r = self.node(n);
+            self.memo.insert(n, r);
+        }
+        self.get(id)
+    }
+
+    /// True when `id` is a node of the arena and the constant 0.
+    pub(crate) fn is_zero(&self, id: Id) -> bool {
+        id.index() < self.arena.len() && self.arena.is_zero(id)
+    }
+
+    fn get(&self, id: Id) -> R {
+        self.memo
+            .get(&id)
+            .cloned()
+            .unwrap_or_else(|| R::new(String::from("?"), Prec::Atom))
+    }
+
+    fn node(&self, id: Id) -> R {
+        match self.arena.node(id) {
+            Node::Num(n) => self.signed_number(*n),
+            Node::Pi => self.style.pi(),
+            Node::Sym(s) => {
+                let info = self.arena.symbol_info(*s);
+                self.style.symbol(&info.name, info.kind)
+            }
+            Node::Func(f, x) => self.style.func(*f, &self.get(*x)),
+            Node::Atan2(y, x) => self.style.atan2(&self.get(*y), &self.get(*x)),
+            Node::Pow(..) => self.product(Number::int(1), &[id]),
+            Node::Mul(fs) => match self.arena.as_number(fs[0]) {
+                Some(c) if c.is_negative() => self.negate(self.product(-c, &fs[1..])),
+                Some(c) => self.product(c, &fs[1..]),
+                None => self.product(Number::int(1), fs),
+            },
+            Node::Add(ts) => self.sum(ts),
+        }
+    }
+
+    fn signed_number(&self, n: Number) -> R {
+        if n.is_negative() {
+            self.negate(self.style.number(-n))
+        } else {
+            self.style.number(n)
+        }
+    }
+
+    fn negate(&self, x: R) -> R {
+        let body = if x.prec == Prec::Sum {
+            self.style.paren(&x.s)
+        } else {
+            x.s
+        };
+        // A unary minus binds to the first factor only, and the arena distributes -1 over a
+        // sum: `-(a + b)*c` would read back as (-a - b)*c. `-1*(a + b)*c` reads back as written.
+        if body.starts_with('(') {
+            return R::new(format!("-1*{body}"), Prec::Sum);
+        }
+        R::new(format!("-{body}"), Prec::Sum)
+    }
+
+    /// -t for a term t in negative form (a negative constant, or a product with a negative
+    /// coefficient); `None` for other terms.
+    fn negated(&self, t: Id) -> Option<R> {
+        match self.arena.node(t) {
+            Node::Num(n) if n.is_negative() => Some(self.style.number(-*n)),
+            Node::Mul(fs) => match self.arena.as_number(fs[0]) {
+                // `a - 1.0*x` would read back as a - x (a rational -1): keep -1.0 with its term.
+                Some(c) if c.is_float() && (-c).is_one() => None,
+                Some(c) if c.is_negative() => Some(self.product(-c, &fs[1..])),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    fn sum(&self, ts: &[Id]) -> R {
+        let is_const = |t: &Id| self.arena.as_number(*t).is_some();
+        let mut pos: Vec<R> = Vec::new();
+        let mut neg: Vec<R> = Vec::new();
+        // Non-constant terms first, the constant last within its sign group.
+        for &t in ts
+            .iter()
+            .filter(|t| !is_const(t))
+            .chain(ts.iter().filter(|t| is_const(t)))
+        {
+            match self.negated(t) {
+                Some(r) => neg.push(r),
+                None => pos.push(self.get(t)),
+            }
+        }
+        let wrap = |r: R| {
+            if r.prec == Prec::Sum {
+                self.style.paren(&r.s)
+            } else {
+                r.s
+            }
+        };
+        let mut s = String::new();
+        let mut first = true;
+        for r in pos {
+            if !first {
+                s.push_str(" + ");
+            }
+            s.push_str(&wrap(r));
+            first = false;
+        }
+        for r in neg {
+            if first {
+                s.push_str(&self.negate(r).s);
+            } else {
+                s.push_str(" - ");
+                s.push_str(&wrap(r));
+            }
+            first = false;
+        }
+        R::new(s, Prec::Sum)
+    }
+
+    /// The exponent -e when e is in negative form, for a factor that goes below the bar.
+    fn negated_exponent(&self, e: Id) -> Option<Exp> {
+        match self.arena.node(e) {
+            // x^-1.0 stays as written: the arena folds x^1.0 to x, so `1/x^1.0` would read
+            // back as x^-1, another node.
+            Node::Num(n) if n.is_float() && (-*n).is_one() => None,
+            Node::Num(n) if n.is_negative() => Some(Exp::Num(-*n)),
+            Node::Mul(_) => self.negated(e).map(Exp::Expr),
+            _ => None,
+        }
+    }
+
+    /// c * factors for a positive coefficient c, factors with a negative exponent below the
+    /// fraction bar.
+    fn product(&self, c: Number, factors: &[Id]) -> R {
+        let mut num = Vec::new();
+        let mut den = Vec::new();
+        match c {
+            Number::Rational(p, q) => {
+                if p != 1 {
+                    num.push(self.style.number(Number::int(p)));
+                }
+                if q != 1 {
+                    den.push(self.style.number(Number::int(q)));
+                }
+            }
+            // A float coefficient always prints, even 1.0 (from -1.0): `-1.0*x` is not `-x`.
+            Number::Float(_) => num.push(self.style.number(c)),
+        }
+        for &f in factors {
+            if let Node::Pow(b, e) = *self.arena.node(f) {
+                // A constant power the arena could not fold (it overflowed) stays as written:
+                // c^|e| would fold, maybe underflow to 0 (`1/0.5^10000.0`). Only rational
+                // roots like 2^(-1/2) are never folded and may go below the bar.
+                let folds = match (self.arena.as_number(b), self.arena.as_number(e)) {
+                    (Some(Number::Rational(..)), Some(Number::Rational(_, d))) => d == 1,
+                    (Some(_), Some(_)) => true,
+                    _ => false,
+                };
+                if let Some(ne) = self.negated_exponent(e).filter(|_| !folds) {
+                    den.push(self.power(b, ne));
+                    continue;
+                }
+                let exp = match self.arena.as_number(e) {
+                    Some(n) => Exp::Num(n),
+                    None => Exp::Expr(self.get(e)),
+                };
+                num.push(self.power(b, exp));
+                continue;
+            }
+            num.push(self.get(f));
+        }
+        self.style.product(num, den)
+    }
+
+    fn power(&self, b: Id, e: Exp) -> R {
+        let base = self.get(b);
+        match e {
+            // Only the exact 1: `x^-1.0` must print as `1/x^1.0` to read back as itself.
+            Exp::Num(Number::Rational(1, 1)) => base,
+            Exp::Num(Number::Rational(1, 2)) => self.style.sqrt(&base),
+            Exp::Num(n) => self.style.power(&base, &self.signed_number(n)),
+            Exp::Expr(r) => self.style.power(&base, &r),
+        }
+    }
+}

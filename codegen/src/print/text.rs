@@ -1,0 +1,242 @@
+//! Readable, stable text for expressions, matrices and derived equations.
+//!
+//! The text is the expression language itself: [`crate::parse_expr`] reads it back to the
+//! same node, `parse_expr(arena, &to_text(arena, e)) == e`. Layout: positive terms first,
+//! then ` - ` and the negative ones; the numeric coefficient first and factors with negative
+//! exponents below one fraction bar (`m2*l1^2/2`, `a/(b*c)`); `x^(1/2)` as `sqrt(x)`;
+//! floats in Rust's shortest round-trip form (`0.04`, `1e-7`); minimal parentheses.
+
+use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
+use crate::algebra::matrix::Matrix;
+use crate::algebra::number::Number;
+use crate::mechanics::equations::Equations;
+use crate::mechanics::model::Model;
+use crate::print::render::{Prec, R, Renderer, Style};
+
+/// The plain-text spelling.
+pub(crate) struct Text;
+
+fn wrap(r: &R, min: Prec) -> String {
+    if r.prec < min {
+        format!("({})", r.s)
+    } else {
+        r.s.clone()
+    }
+}
+
+impl Style for Text {
+    fn number(&self, n: Number) -> R {
+        match n {
+            Number::Rational(p, 1) => R::new(p.to_string(), Prec::Atom),
+            Number::Rational(p, q) => R::new(format!("{p}/{q}"), Prec::Product),
+            // Debug is the shortest form that reads back as the same f64, with a `.` or an
+            // exponent, so it lexes as a float literal.
+            Number::Float(x) => R::new(format!("{x:?}"), Prec::Atom),
+        }
+    }
+
+    fn pi(&self) -> R {
+        R::new("pi".into(), Prec::Atom)
+    }
+
+    fn symbol(&self, name: &str, _kind: SymbolKind) -> R {
+        R::new(name.into(), Prec::Atom)
+    }
+
+    fn func(&self, f: Func, x: &R) -> R {
+        R::new(format!("{}({})", f.name(), x.s), Prec::Atom)
+    }
+
+    fn atan2(&self, y: &R, x: &R) -> R {
+        R::new(format!("atan2({}, {})", y.s, x.s), Prec::Atom)
+    }
+
+    fn sqrt(&self, x: &R) -> R {
+        R::new(format!("sqrt({})", x.s), Prec::Atom)
+    }
+
+    fn power(&self, base: &R, exp: &R) -> R {
+        // `^` is right-associative: a power in the exponent needs no brackets, one in the
+        // base does.
+        R::new(
+            format!("{}^{}", wrap(base, Prec::Atom), wrap(exp, Prec::Power)),
+            Prec::Power,
+        )
+    }
+
+    fn product(&self, num: Vec<R>, den: Vec<R>) -> R {
+        if den.is_empty() && num.len() == 1 {
+            return num
+                .into_iter()
+                .next()
+                .unwrap_or_else(|| R::new("1".into(), Prec::Atom));
+        }
+        let top: Vec<String> = num.iter().map(|r| wrap(r, Prec::Power)).collect();
+        let top = if top.is_empty() {
+            "1".to_string()
+        } else {
+            top.join("*")
+        };
+        if den.is_empty() {
+            return R::new(top, Prec::Product);
+        }
+        // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the arena's
+        // canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
+        if let [q, sum] = den.as_slice()
+            && q.s.bytes().all(|b| b.is_ascii_digit())
+            && sum.prec == Prec::Sum
+        {
+            return R::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
+        }
+        let bottom: Vec<String> = den.iter().map(|r| wrap(r, Prec::Power)).collect();
+        let bottom = if bottom.len() == 1 {
+            bottom.join("")
+        } else {
+            format!("({})", bottom.join("*"))
+        };
+        R::new(format!("{top}/{bottom}"), Prec::Product)
+    }
+
+    fn paren(&self, s: &str) -> String {
+        format!("({s})")
+    }
+}
+
+/// The expression `id` as text in the expression language, which [`crate::parse_expr`] reads
+/// back to the same node of the same arena.
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{parse_expr, to_text, Arena, SymbolKind};
+/// let mut a = Arena::new();
+/// for s in ["m2", "l1", "phi"] {
+///     a.symbol(s, SymbolKind::Parameter);
+/// }
+/// let e = parse_expr(&mut a, "1/2*m2*l1^2*cos(phi)^2 - 0.04/m2").unwrap();
+/// assert_eq!(to_text(&a, e), "m2*l1^2*cos(phi)^2/2 - 0.04/m2");
+/// let text = to_text(&a, e);
+/// assert_eq!(parse_expr(&mut a, &text).unwrap(), e);
+/// ```
+pub fn to_text(arena: &Arena, id: Id) -> String {
+    Renderer::new(arena, Text).render(id).s
+}
+
+/// The entry name `name[i,j]` (1-based), or `name[i]` for a column vector.
+fn entry_name(name: &str, m: &Matrix, i: usize, j: usize) -> String {
+    if m.cols == 1 {
+        format!("{name}[{}]", i + 1)
+    } else {
+        format!("{name}[{},{}]", i + 1, j + 1)
+    }
+}
+
+/// The non-zero entries of `m`, one per line as `name[i,j] = entry` (1-based; `name[i]` for a
+/// column vector), followed by `(all other entries 0)` when some are zero, or the single
+/// line `(all entries 0)`.
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{matrix_to_text, Arena, Matrix, SymbolKind};
+/// let mut a = Arena::new();
+/// let x = a.symbol("x", SymbolKind::Free);
+/// let z = a.int(0);
+/// let m = Matrix { rows: 2, cols: 2, data: vec![x, z, z, x] };
+/// assert_eq!(matrix_to_text(&a, "M", &m), "M[1,1] = x\nM[2,2] = x\n(all other entries 0)\n");
+/// ```
+pub fn matrix_to_text(arena: &Arena, name: &str, m: &Matrix) -> String {
+    let mut r = Renderer::new(arena, Text);
+    matrix_lines(&mut r, name, m, "")
+}
+
+fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str) -> String {
+    let mut out = String::new();
+    let mut zeros = 0;
+    for i in 0..m.rows {
+        for j in 0..m.cols {
+            let Some(&e) = m.data.get(i * m.cols + j) else {
+                continue;
+            };
+            if r.is_zero(e) {
+                zeros += 1;
+                continue;
+            }
+            out.push_str(&format!(
+                "{indent}{} = {}\n",
+                entry_name(name, m, i, j),
+                r.render(e).s
+            ));
+        }
+    }
+    if m.rows * m.cols == 0 {
+        out.push_str(&format!("{indent}(empty: {} x {})\n", m.rows, m.cols));
+    } else if out.is_empty() {
+        out.push_str(&format!("{indent}(all entries 0)\n"));
+    } else if zeros > 0 {
+        out.push_str(&format!("{indent}(all other entries 0)\n"));
+    }
+    out
+}
+
+/// The derived equations of `model` as readable text: a header with q, then the sections
+/// M, C (Khang), C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi, each with its definition
+/// and its non-zero entries. This is the text the snapshot tests pin and that
+/// `mechanism equations NAME` shows.
+pub fn equations_text(model: &Model, eqs: &Equations) -> String {
+    let arena = &model.arena;
+    let mut r = Renderer::new(arena, Text);
+    let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
+    let (n, m) = (eqs.n, eqs.m);
+    let mut out = String::new();
+    out.push_str(&format!(
+        "{}: Lagrange equations with multipliers\n",
+        model.name
+    ));
+    out.push_str(
+        "  M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),  Phi(q, t) = 0\n",
+    );
+    out.push_str(&format!(
+        "q = [{}]  (n = {n} coordinates, m = {m} constraint rows); q' = der(q)\n",
+        names.join(", ")
+    ));
+    let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
+    let sections: [(&str, &str, &Matrix); 9] = [
+        ("M", "M = d2T/dq'dq', the mass matrix", &eqs.mass),
+        (
+            "C",
+            "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
+            &eqs.coriolis_matrix,
+        ),
+        (
+            "Cq'",
+            "C q', the Coriolis and centrifugal forces",
+            &eqs.coriolis_forces,
+        ),
+        ("g", "g = dPi/dq, the gravity forces", &eqs.gravity),
+        ("tau", "tau, the generalised forces", &eqs.forces),
+        ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
+        (
+            "Phi_q",
+            "Phi_q = dPhi/dq, the constraint Jacobian",
+            &eqs.phi_q,
+        ),
+        ("Phi_t", "Phi_t = dPhi/dt", &eqs.phi_t),
+        (
+            "gamma",
+            "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma",
+            &eqs.gamma,
+        ),
+    ];
+    for (name, title, mat) in sections {
+        out.push_str(&format!("\n{title} ({}):\n", size(mat)));
+        out.push_str(&matrix_lines(&mut r, name, mat, "  "));
+    }
+    out.push_str(&format!(
+        "\nT, the kinetic energy:\n  T = {}\n",
+        r.render(eqs.kinetic).s
+    ));
+    out.push_str(&format!(
+        "\nPi, the potential energy:\n  Pi = {}\n",
+        r.render(eqs.potential).s
+    ));
+    out
+}

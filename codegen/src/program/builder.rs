@@ -1,0 +1,484 @@
+//! Lowering of arena nodes into [`Program`](crate::Program) instructions: the rules listed
+//! in the `cse` module docs, on top of an instruction builder with value numbering (one
+//! register per distinct instruction) and constant folding.
+
+use crate::algebra::eval::{for_each_child, pow_value};
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId};
+use crate::algebra::matrix::Matrix;
+use crate::algebra::number::Number;
+use crate::error::{Error, Result};
+use crate::program::cse::{BinOp, Instr, Operand, Reg, UnOp};
+
+// ----- instruction builder with value numbering and constant folding -----
+
+/// Hashable identity of an instruction (f64 constants by their bits).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum Key {
+    Un(UnOp, OpKey),
+    Bin(BinOp, OpKey, OpKey),
+    Powi(OpKey, i32),
+    SinCos(OpKey),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum OpKey {
+    Const(u64),
+    Sym(u32),
+    Reg(u32),
+}
+
+fn key(o: Operand) -> OpKey {
+    match o {
+        Operand::Const(c) => OpKey::Const(c.to_bits()),
+        Operand::Sym(s) => OpKey::Sym(s.0),
+        Operand::Reg(r) => OpKey::Reg(r.0),
+    }
+}
+
+#[derive(Default)]
+pub(crate) struct Builder {
+    pub(crate) instrs: Vec<Instr>,
+    next: u32,
+    vn: FxHashMap<Key, (Operand, Operand)>,
+}
+
+fn finite(v: f64, op: &str, args: &[f64]) -> Result<Operand> {
+    if v.is_finite() {
+        Ok(Operand::Const(if v == 0.0 { 0.0 } else { v }))
+    } else {
+        let arguments = args
+            .iter()
+            .map(|a| format!("{a:?}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        Err(Error::NonFinite {
+            operation: format!("constant {op}"),
+            arguments: format!("({arguments})"),
+        })
+    }
+}
+
+impl Builder {
+    fn reg(&mut self) -> Reg {
+        self.next += 1;
+        Reg(self.next - 1)
+    }
+
+    fn lookup(
+        &mut self,
+        k: Key,
+        make: impl FnOnce(&mut Self) -> (Instr, Operand, Operand),
+    ) -> (Operand, Operand) {
+        if let Some(&r) = self.vn.get(&k) {
+            return r;
+        }
+        let (i, a, b) = make(self);
+        self.instrs.push(i);
+        self.vn.insert(k, (a, b));
+        (a, b)
+    }
+
+    fn un(&mut self, op: UnOp, arg: Operand) -> Result<Operand> {
+        if let Operand::Const(c) = arg {
+            let v = match op {
+                UnOp::Neg => -c,
+                UnOp::Sin => c.sin(),
+                UnOp::Cos => c.cos(),
+                UnOp::Tan => c.tan(),
+                UnOp::Exp => c.exp(),
+                UnOp::Ln => c.ln(),
+                UnOp::Sqrt => c.sqrt(),
+                UnOp::Abs => c.abs(),
+            };
+            return finite(v, &format!("{op:?}"), &[c]);
+        }
+        let k = Key::Un(op, key(arg));
+        Ok(self
+            .lookup(k, |b| {
+                let dst = b.reg();
+                (
+                    Instr::Unary { dst, op, arg },
+                    Operand::Reg(dst),
+                    Operand::Reg(dst),
+                )
+            })
+            .0)
+    }
+
+    fn bin(&mut self, op: BinOp, lhs: Operand, rhs: Operand) -> Result<Operand> {
+        if let (Operand::Const(a), Operand::Const(b)) = (lhs, rhs) {
+            let v = match op {
+                BinOp::Add => a + b,
+                BinOp::Sub => a - b,
+                BinOp::Mul => a * b,
+                BinOp::Div => a / b,
+                BinOp::Atan2 => a.atan2(b),
+                BinOp::Powf => pow_value(a, b, None),
+            };
+            return finite(v, &format!("{op:?}"), &[a, b]);
+        }
+        // Identities and sign moves that keep the emitted code free of `x * 1.0`, `x + 0.0`,
+        // `x * -1.0` and `x - -c` (clippy's identity_op / neg_multiply).
+        let c = |o: Operand| {
+            if let Operand::Const(c) = o {
+                Some(c)
+            } else {
+                None
+            }
+        };
+        // A constant operand of a commutative operation goes first (`2.0 * x`).
+        let (lhs, rhs) = match (op, c(rhs)) {
+            (BinOp::Add | BinOp::Mul, Some(_)) => (rhs, lhs),
+            _ => (lhs, rhs),
+        };
+        match (op, c(lhs), c(rhs)) {
+            (BinOp::Add, Some(0.0), _) => return Ok(rhs),
+            (BinOp::Add, Some(k), _) if k < 0.0 => {
+                return self.bin(BinOp::Sub, rhs, Operand::Const(-k));
+            }
+            (BinOp::Sub, _, Some(0.0)) => return Ok(lhs),
+            (BinOp::Sub, _, Some(k)) if k < 0.0 => {
+                return self.bin(BinOp::Add, lhs, Operand::Const(-k));
+            }
+            (BinOp::Sub, Some(0.0), _) => return self.un(UnOp::Neg, rhs),
+            (BinOp::Mul, Some(1.0), _) => return Ok(rhs),
+            (BinOp::Mul, Some(0.0), _) => return Ok(Operand::Const(0.0)),
+            (BinOp::Mul, Some(-1.0), _) => return self.un(UnOp::Neg, rhs),
+            (BinOp::Div, _, Some(1.0)) => return Ok(lhs),
+            (BinOp::Div, _, Some(k)) if k != 0.0 && (1.0 / k).is_finite() => {
+                return self.bin(BinOp::Mul, Operand::Const(1.0 / k), lhs);
+            }
+            _ => {}
+        }
+        if lhs == rhs && matches!(op, BinOp::Sub) {
+            return Ok(Operand::Const(0.0));
+        }
+        // Value numbering sees `a + b` and `b + a` as one instruction (the emitted order is
+        // the first one met).
+        let (ka, kb) = (key(lhs), key(rhs));
+        let k = match op {
+            BinOp::Add | BinOp::Mul if kb < ka => Key::Bin(op, kb, ka),
+            _ => Key::Bin(op, ka, kb),
+        };
+        Ok(self
+            .lookup(k, |b| {
+                let dst = b.reg();
+                (
+                    Instr::Binary { dst, op, lhs, rhs },
+                    Operand::Reg(dst),
+                    Operand::Reg(dst),
+                )
+            })
+            .0)
+    }
+
+    fn powi(&mut self, base: Operand, exp: i32) -> Result<Operand> {
+        if let Operand::Const(c) = base {
+            return finite(c.powi(exp), "powi", &[c, exp as f64]);
+        }
+        let k = Key::Powi(key(base), exp);
+        Ok(self
+            .lookup(k, |b| {
+                let dst = b.reg();
+                (
+                    Instr::Powi { dst, base, exp },
+                    Operand::Reg(dst),
+                    Operand::Reg(dst),
+                )
+            })
+            .0)
+    }
+
+    fn sin_cos(&mut self, arg: Operand) -> Result<(Operand, Operand)> {
+        if let Operand::Const(c) = arg {
+            return Ok((finite(c.sin(), "sin", &[c])?, finite(c.cos(), "cos", &[c])?));
+        }
+        Ok(self.lookup(Key::SinCos(key(arg)), |b| {
+            let sin = b.reg();
+            let cos = b.reg();
+            (
+                Instr::SinCos { sin, cos, arg },
+                Operand::Reg(sin),
+                Operand::Reg(cos),
+            )
+        }))
+    }
+}
+
+// ----- lowering of arena nodes -----
+
+/// Largest integer power written as a multiplication chain.
+const MAX_CHAIN: i64 = 4;
+
+pub(crate) struct Lowering<'a> {
+    arena: &'a Arena,
+    order: Vec<Id>,
+    node_op: FxHashMap<Id, Operand>,
+    /// For each argument u: (sin u needed, cos u needed).
+    trig: FxHashMap<Id, (bool, bool)>,
+    /// x^k by (base node, k), shared between products.
+    powers: FxHashMap<(Id, i64), Operand>,
+    /// coefficient-free products by factor list.
+    products: FxHashMap<Box<[Id]>, Operand>,
+    pub(crate) used_symbols: Vec<SymbolId>,
+    pub(crate) b: Builder,
+}
+
+impl<'a> Lowering<'a> {
+    pub(crate) fn new(arena: &'a Arena, outputs: &[&Matrix]) -> Self {
+        let top = outputs
+            .iter()
+            .flat_map(|m| m.data.iter())
+            .map(|i| i.index())
+            .max();
+        let mut order = Vec::new();
+        let mut trig: FxHashMap<Id, (bool, bool)> = FxHashMap::default();
+        if let Some(top) = top {
+            let mut needed = vec![false; top + 1];
+            for i in outputs.iter().flat_map(|m| m.data.iter()) {
+                needed[i.index()] = true;
+            }
+            let nodes = &arena.nodes()[..=top];
+            for k in (0..=top).rev() {
+                if needed[k] {
+                    for_each_child(&nodes[k], |c| needed[c.index()] = true);
+                }
+            }
+            for (k, node) in nodes.iter().enumerate() {
+                if !needed[k] {
+                    continue;
+                }
+                order.push(Id(k as u32));
+                match node {
+                    Node::Func(Func::Sin, u) => trig.entry(*u).or_default().0 = true,
+                    Node::Func(Func::Cos, u) => trig.entry(*u).or_default().1 = true,
+                    _ => {}
+                }
+            }
+        }
+        Lowering {
+            arena,
+            order,
+            node_op: FxHashMap::default(),
+            trig,
+            powers: FxHashMap::default(),
+            products: FxHashMap::default(),
+            used_symbols: Vec::new(),
+            b: Builder::default(),
+        }
+    }
+
+    pub(crate) fn run(&mut self) -> Result<()> {
+        for k in 0..self.order.len() {
+            let id = self.order[k];
+            let op = self.lower_node(id)?;
+            self.node_op.insert(id, op);
+        }
+        Ok(())
+    }
+
+    pub(crate) fn op(&self, id: Id) -> Operand {
+        // Children are lowered before parents (id order); a miss cannot happen.
+        self.node_op
+            .get(&id)
+            .copied()
+            .unwrap_or(Operand::Const(0.0))
+    }
+
+    fn lower_node(&mut self, id: Id) -> Result<Operand> {
+        let arena = self.arena;
+        match arena.node(id) {
+            Node::Num(n) => finite(n.to_f64(), "number", &[]),
+            Node::Pi => Ok(Operand::Const(std::f64::consts::PI)),
+            Node::Sym(s) => {
+                if !self.used_symbols.contains(s) {
+                    self.used_symbols.push(*s);
+                }
+                Ok(Operand::Sym(*s))
+            }
+            Node::Add(ts) => self.lower_sum(ts),
+            Node::Mul(fs) => {
+                let (c, rest) = self.split_constants(fs)?;
+                let p = self.lower_product(&rest)?;
+                self.b.bin(BinOp::Mul, Operand::Const(c), p)
+            }
+            Node::Pow(b, e) => match arena.as_number(*e) {
+                Some(n) if n.is_negative() => {
+                    let d = self.lower_power(*b, -n)?;
+                    self.b.bin(BinOp::Div, Operand::Const(1.0), d)
+                }
+                Some(n) => self.lower_power(*b, n),
+                None => {
+                    let (x, y) = (self.op(*b), self.op(*e));
+                    self.b.bin(BinOp::Powf, x, y)
+                }
+            },
+            Node::Func(f, u) => self.lower_func(*f, *u),
+            Node::Atan2(y, x) => {
+                let (y, x) = (self.op(*y), self.op(*x));
+                self.b.bin(BinOp::Atan2, y, x)
+            }
+        }
+    }
+
+    fn lower_func(&mut self, f: Func, u: Id) -> Result<Operand> {
+        let arg = self.op(u);
+        let (has_sin, has_cos) = self.trig.get(&u).copied().unwrap_or((false, false));
+        let pair = has_sin && has_cos;
+        match f {
+            Func::Sin | Func::Cos if pair => {
+                let (s, c) = self.b.sin_cos(arg)?;
+                Ok(if f == Func::Sin { s } else { c })
+            }
+            Func::Tan if pair => {
+                let (s, c) = self.b.sin_cos(arg)?;
+                self.b.bin(BinOp::Div, s, c)
+            }
+            Func::Sin => self.b.un(UnOp::Sin, arg),
+            Func::Cos => self.b.un(UnOp::Cos, arg),
+            Func::Tan => self.b.un(UnOp::Tan, arg),
+            Func::Exp => self.b.un(UnOp::Exp, arg),
+            Func::Ln => self.b.un(UnOp::Ln, arg),
+            Func::Abs => self.b.un(UnOp::Abs, arg),
+        }
+    }
+
+    /// A sum, with negative terms subtracted; starts from the first positive term.
+    fn lower_sum(&mut self, ts: &[Id]) -> Result<Operand> {
+        let mut terms = Vec::with_capacity(ts.len());
+        for &t in ts {
+            terms.push(self.lower_term(t)?);
+        }
+        let start = terms.iter().position(|t| !t.0).unwrap_or(0);
+        let Some(&(neg0, first)) = terms.get(start) else {
+            return Ok(Operand::Const(0.0));
+        };
+        let mut acc = if neg0 {
+            self.b.un(UnOp::Neg, first)?
+        } else {
+            first
+        };
+        for (k, &(neg, x)) in terms.iter().enumerate() {
+            if k != start {
+                acc = self
+                    .b
+                    .bin(if neg { BinOp::Sub } else { BinOp::Add }, acc, x)?;
+            }
+        }
+        Ok(acc)
+    }
+
+    /// A term of a sum as (negative, magnitude): `-2*x*y` is (true, 2*(x*y)).
+    fn lower_term(&mut self, t: Id) -> Result<(bool, Operand)> {
+        let arena = self.arena;
+        match arena.node(t) {
+            Node::Num(n) => Ok((n.is_negative(), finite(n.to_f64().abs(), "number", &[])?)),
+            Node::Mul(fs) => {
+                let (c, rest) = self.split_constants(fs)?;
+                let p = self.lower_product(&rest)?;
+                Ok((c < 0.0, self.b.bin(BinOp::Mul, Operand::Const(c.abs()), p)?))
+            }
+            _ => Ok((false, self.op(t))),
+        }
+    }
+
+    /// A coefficient-free product: numerator factors multiplied in order, factors with a
+    /// negative constant exponent collected into one denominator.
+    fn lower_product(&mut self, fs: &[Id]) -> Result<Operand> {
+        if fs.len() == 1 && !self.is_reciprocal(fs[0]) {
+            return Ok(self.op(fs[0]));
+        }
+        if let Some(&o) = self.products.get(fs) {
+            return Ok(o);
+        }
+        let arena = self.arena;
+        let mut num: Option<Operand> = None;
+        let mut den: Option<Operand> = None;
+        for &f in fs {
+            let (slot, x) = match arena.node(f) {
+                Node::Pow(b, e) if arena.as_number(*e).is_some_and(Number::is_negative) => {
+                    let n = arena.as_number(*e).map_or(Number::int(1), |n| -n);
+                    (&mut den, self.lower_power(*b, n)?)
+                }
+                _ => (&mut num, self.op(f)),
+            };
+            *slot = Some(match *slot {
+                None => x,
+                Some(acc) => self.b.bin(BinOp::Mul, acc, x)?,
+            });
+        }
+        let r = match (num, den) {
+            (Some(n), Some(d)) => self.b.bin(BinOp::Div, n, d)?,
+            (None, Some(d)) => self.b.bin(BinOp::Div, Operand::Const(1.0), d)?,
+            (Some(n), None) => n,
+            (None, None) => Operand::Const(1.0),
+        };
+        self.products.insert(fs.into(), r);
+        Ok(r)
+    }
+
+    /// Splits a product's factors into the product of its constant factors (the numeric
+    /// coefficient, `pi`, constant subexpressions) and the non-constant rest.
+    fn split_constants(&self, fs: &[Id]) -> Result<(f64, Vec<Id>)> {
+        let mut c = 1.0;
+        let mut rest = Vec::with_capacity(fs.len());
+        for &f in fs {
+            match self.op(f) {
+                Operand::Const(k) => c *= k,
+                _ => rest.push(f),
+            }
+        }
+        finite(c, "product", &[])?;
+        Ok((c, rest))
+    }
+
+    fn is_reciprocal(&self, f: Id) -> bool {
+        matches!(self.arena.node(f), Node::Pow(_, e) if self.arena.as_number(*e).is_some_and(Number::is_negative))
+    }
+
+    /// base^e for a constant e > 0: multiplication chains for small integers, sqrt for
+    /// halves, powi / powf otherwise.
+    fn lower_power(&mut self, base: Id, e: Number) -> Result<Operand> {
+        let x = self.op(base);
+        match e {
+            Number::Rational(k, 1) => self.int_power(base, x, k),
+            Number::Rational(p, 2) if (1..=2 * MAX_CHAIN + 1).contains(&p) => {
+                let s = self.b.un(UnOp::Sqrt, x)?;
+                if p == 1 {
+                    return Ok(s);
+                }
+                let rest = self.int_power(base, x, (p - 1) / 2)?;
+                self.b.bin(BinOp::Mul, rest, s)
+            }
+            _ => {
+                let y = finite(e.to_f64(), "exponent", &[])?;
+                self.b.bin(BinOp::Powf, x, y)
+            }
+        }
+    }
+
+    fn int_power(&mut self, base: Id, x: Operand, k: i64) -> Result<Operand> {
+        if k == 1 {
+            return Ok(x);
+        }
+        if let Some(&o) = self.powers.get(&(base, k)) {
+            return Ok(o);
+        }
+        let r = if (2..=MAX_CHAIN).contains(&k) {
+            let half = self.int_power(base, x, k / 2)?;
+            let sq = self.b.bin(BinOp::Mul, half, half)?;
+            if k % 2 == 1 {
+                self.b.bin(BinOp::Mul, sq, x)?
+            } else {
+                sq
+            }
+        } else {
+            match i32::try_from(k) {
+                Ok(k32) => self.b.powi(x, k32)?,
+                Err(_) => self.b.bin(BinOp::Powf, x, Operand::Const(k as f64))?,
+            }
+        };
+        self.powers.insert((base, k), r);
+        Ok(r)
+    }
+}

@@ -1,0 +1,501 @@
+//! Common-subexpression elimination: a straight-line SSA [`Program`] for several matrices.
+//!
+//! The arena is already hash-consed, so every distinct subexpression is one node; the
+//! program gives each needed node one register (one `let`), in id (topological) order, and
+//! lowers the canonical n-ary forms into lean binary operations:
+//!
+//! | expression                      | lowered to                                  |
+//! |---------------------------------|---------------------------------------------|
+//! | `a + (-1)*b + (-2)*c`           | `a - b - 2*c` (negative terms subtract)     |
+//! | `(-1)*x*y`                      | `-(x*y)` (a -1 coefficient is a negation)   |
+//! | `c*x*y` with `c != 1`           | `c*(x*y)` (coefficient last: `x*y` shared)  |
+//! | `x*y*z^-1*w^-2`                 | `(x*y)/(z*(w*w))` (one division)            |
+//! | `x^2`, `x^3`, `x^4`             | `x*x`, `x*x*x`, `x2*x2` (shared squares)    |
+//! | `x^k`, `k > 4`                  | `x.powi(k)`                                 |
+//! | `x^-k` alone                    | `1/(x^k)`                                   |
+//! | `x^(1/2)`, `x^(p/2)`            | `sqrt(x)`, `sqrt(x)*x^((p-1)/2)`            |
+//! | `sin u` and `cos u` both needed | one `u.sin_cos()` for all outputs           |
+//! | `tan u` with `sin u`, `cos u`   | `s/c` from that `sin_cos`                   |
+//! | constant subexpressions         | folded to one f64 constant                  |
+//!
+//! Identical instructions are value-numbered (one register), so partial products such as
+//! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
+
+use crate::algebra::expr::{Arena, SymbolId};
+use crate::algebra::matrix::Matrix;
+use crate::error::{Error, Result};
+use crate::program::builder::Lowering;
+
+/// A register of a [`Program`]: the value of one instruction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Reg(pub u32);
+
+/// An instruction operand: a register, an input symbol or a constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operand {
+    /// The value of an earlier instruction.
+    Reg(Reg),
+    /// An input symbol (coordinate, rate, parameter, time).
+    Sym(SymbolId),
+    /// A finite constant.
+    Const(f64),
+}
+
+/// A unary operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnOp {
+    /// -x
+    Neg,
+    /// sin x
+    Sin,
+    /// cos x
+    Cos,
+    /// tan x
+    Tan,
+    /// e^x
+    Exp,
+    /// ln x
+    Ln,
+    /// sqrt x
+    Sqrt,
+    /// |x|
+    Abs,
+}
+
+/// A binary operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    /// lhs + rhs
+    Add,
+    /// lhs - rhs
+    Sub,
+    /// lhs * rhs
+    Mul,
+    /// lhs / rhs
+    Div,
+    /// atan2(lhs, rhs): the angle of the point (rhs, lhs)
+    Atan2,
+    /// lhs ^ rhs (real power)
+    Powf,
+}
+
+/// One SSA instruction; each defines one register (`SinCos` defines two).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Instr {
+    /// dst = op(arg)
+    Unary {
+        /// Destination register.
+        dst: Reg,
+        /// Operation.
+        op: UnOp,
+        /// Argument.
+        arg: Operand,
+    },
+    /// dst = lhs op rhs
+    Binary {
+        /// Destination register.
+        dst: Reg,
+        /// Operation.
+        op: BinOp,
+        /// Left operand.
+        lhs: Operand,
+        /// Right operand.
+        rhs: Operand,
+    },
+    /// dst = base^exp for an integer exp (|exp| > 4; smaller powers are multiplications).
+    Powi {
+        /// Destination register.
+        dst: Reg,
+        /// Base.
+        base: Operand,
+        /// Integer exponent.
+        exp: i32,
+    },
+    /// (sin, cos) = (sin arg, cos arg), computed together.
+    SinCos {
+        /// Register receiving sin arg.
+        sin: Reg,
+        /// Register receiving cos arg.
+        cos: Reg,
+        /// Argument.
+        arg: Operand,
+    },
+}
+
+impl Instr {
+    /// Calls `f` on each operand read by the instruction.
+    pub fn for_each_operand(&self, mut f: impl FnMut(Operand)) {
+        match *self {
+            Instr::Unary { arg, .. } | Instr::SinCos { arg, .. } => f(arg),
+            Instr::Powi { base, .. } => f(base),
+            Instr::Binary { lhs, rhs, .. } => {
+                f(lhs);
+                f(rhs);
+            }
+        }
+    }
+
+    /// The operation count of the instruction (see [`OpCounts`]).
+    pub fn op_counts(&self) -> OpCounts {
+        let mut c = OpCounts::default();
+        match self {
+            Instr::Unary { op: UnOp::Neg, .. }
+            | Instr::Binary {
+                op: BinOp::Add | BinOp::Sub,
+                ..
+            } => c.adds = 1,
+            Instr::Binary { op: BinOp::Mul, .. } => c.muls = 1,
+            Instr::Binary { op: BinOp::Div, .. } => c.divs = 1,
+            _ => c.calls = 1,
+        }
+        c
+    }
+}
+
+/// Operation counts: what the emitted code executes, one per instruction.
+///
+/// `adds` counts additions, subtractions and negations; `muls` multiplications; `divs`
+/// divisions; `calls` the calls `sin_cos`, `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt`, `abs`,
+/// `atan2`, `powi`, `powf` (each 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct OpCounts {
+    /// Additions, subtractions and negations.
+    pub adds: usize,
+    /// Multiplications.
+    pub muls: usize,
+    /// Divisions.
+    pub divs: usize,
+    /// Function calls.
+    pub calls: usize,
+}
+
+impl OpCounts {
+    /// adds + muls + divs + calls.
+    pub fn total(&self) -> usize {
+        self.adds + self.muls + self.divs + self.calls
+    }
+}
+
+impl std::ops::Add for OpCounts {
+    type Output = OpCounts;
+    fn add(self, o: OpCounts) -> OpCounts {
+        OpCounts {
+            adds: self.adds + o.adds,
+            muls: self.muls + o.muls,
+            divs: self.divs + o.divs,
+            calls: self.calls + o.calls,
+        }
+    }
+}
+
+impl std::ops::AddAssign for OpCounts {
+    fn add_assign(&mut self, o: OpCounts) {
+        *self = *self + o;
+    }
+}
+
+impl std::fmt::Display for OpCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ops ({} add, {} mul, {} div, {} call)",
+            self.total(),
+            self.adds,
+            self.muls,
+            self.divs,
+            self.calls
+        )
+    }
+}
+
+/// One output matrix of a [`Program`]: where each entry's value is, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output {
+    /// Rows.
+    pub rows: usize,
+    /// Columns.
+    pub cols: usize,
+    /// Entry (i, j) at `i * cols + j`.
+    pub entries: Vec<Operand>,
+}
+
+/// A straight-line SSA program computing several matrices at once, with common
+/// subexpressions shared between all of them (module docs list the lowering rules).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    instrs: Vec<Instr>,
+    outputs: Vec<Output>,
+    registers: u32,
+    symbols: Vec<(SymbolId, String)>,
+}
+
+impl Program {
+    /// The CSE'd program computing every entry of every matrix in `outputs`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::Model`] for a
+    /// matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
+    /// subexpression that is not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use mechanism_codegen::{Arena, Matrix, Program};
+    ///
+    /// // sin(u) in one output and cos(u) in another: one sin_cos call for both.
+    /// let mut a = Arena::new();
+    /// let [p, ..] = a.coordinate("th1");
+    /// let [q, ..] = a.coordinate("th2");
+    /// let u = a.sub(p, q);
+    /// let (s, c) = (a.sin(u), a.cos(u));
+    /// let program = Program::new(&a, &[&Matrix::column(vec![s]), &Matrix::column(vec![c])]).unwrap();
+    /// let n = program.op_counts();
+    /// assert_eq!((n.adds, n.calls, n.total()), (1, 1, 2));
+    /// assert_eq!(program.output_op_counts(1).unwrap().total(), 2);
+    /// ```
+    pub fn new(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
+        let len = arena.len();
+        for m in outputs {
+            if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
+                return Err(Error::Model(format!(
+                    "matrix of size {} x {} has {} entries",
+                    m.rows,
+                    m.cols,
+                    m.data.len()
+                )));
+            }
+            if let Some(bad) = m.data.iter().find(|i| i.index() >= len) {
+                return Err(Error::InvalidId { id: bad.0, len });
+            }
+        }
+        let mut lower = Lowering::new(arena, outputs);
+        lower.run()?;
+        let outs = outputs
+            .iter()
+            .map(|m| Output {
+                rows: m.rows,
+                cols: m.cols,
+                entries: m.data.iter().map(|i| lower.op(*i)).collect(),
+            })
+            .collect();
+        let mut symbols: Vec<(SymbolId, String)> = lower
+            .used_symbols
+            .into_iter()
+            .map(|s| {
+                (
+                    s,
+                    arena
+                        .symbols()
+                        .get(s.0 as usize)
+                        .map_or_else(|| format!("#{}", s.0), |x| x.name.clone()),
+                )
+            })
+            .collect();
+        symbols.sort_by_key(|p| p.0);
+        Ok(compact(&lower.b.instrs, outs, &symbols))
+    }
+
+    /// The instructions, in execution order.
+    pub fn instructions(&self) -> &[Instr] {
+        &self.instrs
+    }
+
+    /// The outputs, in the order given to [`Program::new`].
+    pub fn outputs(&self) -> &[Output] {
+        &self.outputs
+    }
+
+    /// Number of registers (registers are numbered 0..registers in instruction order).
+    pub fn registers(&self) -> usize {
+        self.registers as usize
+    }
+
+    /// The input symbols the program reads (sorted by id), with their names.
+    pub fn symbols(&self) -> &[(SymbolId, String)] {
+        &self.symbols
+    }
+
+    /// Operation counts of the whole program.
+    pub fn op_counts(&self) -> OpCounts {
+        self.instrs
+            .iter()
+            .fold(OpCounts::default(), |acc, i| acc + i.op_counts())
+    }
+
+    /// Operation counts of the instructions needed by output `k` alone (`None` when there
+    /// is no output `k`).
+    pub fn output_op_counts(&self, k: usize) -> Option<OpCounts> {
+        (k < self.outputs.len()).then(|| self.op_counts_of(&[k]))
+    }
+
+    /// Operation counts of the instructions needed by the outputs `ks` together (shared
+    /// instructions counted once). Indices past the last output are ignored.
+    pub fn op_counts_of(&self, ks: &[usize]) -> OpCounts {
+        let live = self.live_registers(ks);
+        self.instrs
+            .iter()
+            .filter(|i| defines(i).iter().flatten().any(|r| live[r.0 as usize]))
+            .fold(OpCounts::default(), |acc, i| acc + i.op_counts())
+    }
+
+    /// The program restricted to the outputs `ks` (in that order), without the
+    /// instructions only the others need.
+    ///
+    /// # Errors
+    /// [`Error::Model`] when some index is not an output.
+    pub fn restrict(&self, ks: &[usize]) -> Result<Program> {
+        let mut outs = Vec::with_capacity(ks.len());
+        for &k in ks {
+            let o = self.outputs.get(k).ok_or_else(|| {
+                Error::Model(format!(
+                    "the program has {} outputs, not {}",
+                    self.outputs.len(),
+                    k + 1
+                ))
+            })?;
+            outs.push(o.clone());
+        }
+        let mut p = compact(&self.instrs, outs, &self.symbols);
+        // keep only the symbols still read
+        let mut used = vec![];
+        for i in &p.instrs {
+            i.for_each_operand(|o| push_sym(&mut used, o));
+        }
+        for o in &p.outputs {
+            o.entries.iter().for_each(|&e| push_sym(&mut used, e));
+        }
+        p.symbols.retain(|(s, _)| used.contains(s));
+        Ok(p)
+    }
+
+    /// Which registers the outputs `ks` need (indexed by register number).
+    pub(crate) fn live_registers(&self, ks: &[usize]) -> Vec<bool> {
+        let mut live = vec![false; self.registers as usize];
+        for o in ks.iter().filter_map(|&k| self.outputs.get(k)) {
+            for e in &o.entries {
+                mark(&mut live, *e);
+            }
+        }
+        for i in self.instrs.iter().rev() {
+            if defines(i).iter().flatten().any(|r| live[r.0 as usize]) {
+                i.for_each_operand(|o| mark(&mut live, o));
+            }
+        }
+        live
+    }
+}
+
+fn push_sym(used: &mut Vec<SymbolId>, o: Operand) {
+    if let Operand::Sym(s) = o
+        && !used.contains(&s)
+    {
+        used.push(s);
+    }
+}
+
+fn mark(live: &mut [bool], o: Operand) {
+    if let Operand::Reg(r) = o
+        && let Some(l) = live.get_mut(r.0 as usize)
+    {
+        *l = true;
+    }
+}
+
+/// The registers an instruction defines.
+pub(crate) fn defines(i: &Instr) -> [Option<Reg>; 2] {
+    match *i {
+        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
+            [Some(dst), None]
+        }
+        Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
+    }
+}
+
+/// Dead-code elimination and register renumbering: keeps what `outputs` need, downgrades a
+/// `SinCos` with one dead half to a plain `sin` or `cos`, numbers registers in order.
+fn compact(instrs: &[Instr], mut outputs: Vec<Output>, symbols: &[(SymbolId, String)]) -> Program {
+    let nregs = instrs
+        .iter()
+        .flat_map(defines)
+        .flatten()
+        .map(|r| r.0 as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut live = vec![false; nregs];
+    for o in &outputs {
+        o.entries.iter().for_each(|&e| mark(&mut live, e));
+    }
+    for i in instrs.iter().rev() {
+        if defines(i).iter().flatten().any(|r| live[r.0 as usize]) {
+            i.for_each_operand(|o| mark(&mut live, o));
+        }
+    }
+    let mut rename = vec![u32::MAX; nregs];
+    let mut next = 0u32;
+    let mut fresh = |r: Reg, rename: &mut Vec<u32>| {
+        rename[r.0 as usize] = next;
+        next += 1;
+        Reg(next - 1)
+    };
+    let map = |o: Operand, rename: &[u32]| match o {
+        Operand::Reg(r) => Operand::Reg(Reg(rename[r.0 as usize])),
+        x => x,
+    };
+    let mut out = Vec::new();
+    for i in instrs {
+        let new = match *i {
+            Instr::SinCos { sin, cos, arg } => {
+                let arg = map(arg, &rename);
+                match (live[sin.0 as usize], live[cos.0 as usize]) {
+                    (true, true) => {
+                        let s = fresh(sin, &mut rename);
+                        Instr::SinCos {
+                            sin: s,
+                            cos: fresh(cos, &mut rename),
+                            arg,
+                        }
+                    }
+                    (true, false) => Instr::Unary {
+                        dst: fresh(sin, &mut rename),
+                        op: UnOp::Sin,
+                        arg,
+                    },
+                    (false, true) => Instr::Unary {
+                        dst: fresh(cos, &mut rename),
+                        op: UnOp::Cos,
+                        arg,
+                    },
+                    (false, false) => continue,
+                }
+            }
+            Instr::Unary { dst, op, arg } if live[dst.0 as usize] => Instr::Unary {
+                arg: map(arg, &rename),
+                op,
+                dst: fresh(dst, &mut rename),
+            },
+            Instr::Binary { dst, op, lhs, rhs } if live[dst.0 as usize] => Instr::Binary {
+                lhs: map(lhs, &rename),
+                rhs: map(rhs, &rename),
+                op,
+                dst: fresh(dst, &mut rename),
+            },
+            Instr::Powi { dst, base, exp } if live[dst.0 as usize] => Instr::Powi {
+                base: map(base, &rename),
+                exp,
+                dst: fresh(dst, &mut rename),
+            },
+            _ => continue,
+        };
+        out.push(new);
+    }
+    for o in &mut outputs {
+        for e in &mut o.entries {
+            *e = map(*e, &rename);
+        }
+    }
+    Program {
+        instrs: out,
+        outputs,
+        registers: next,
+        symbols: symbols.to_vec(),
+    }
+}

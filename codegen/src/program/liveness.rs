@@ -1,0 +1,110 @@
+//! Liveness in a straight-line [`Program`]: the index of each register's last read, and the
+//! registers a range of instructions must hand on to the code after it.
+//!
+//! Large bodies are emitted as nested blocks of `let`s (see [`crate::BLOCK_LETS_ABOVE`]); a
+//! block returns exactly the values it defines that are read after it.
+
+use crate::program::cse::{Instr, Operand, Program, Reg};
+
+/// The registers an instruction defines (two for a sin/cos pair).
+pub(crate) fn defs(i: &Instr) -> [Option<Reg>; 2] {
+    match *i {
+        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
+            [Some(dst), None]
+        }
+        Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
+    }
+}
+
+/// `last[r]`: the index of the last instruction reading register r; n (the instruction
+/// count) when the outputs or the returned operand `ret` read it; `None` when nothing does.
+pub(crate) fn last_reads(p: &Program, ret: Option<Operand>) -> Vec<Option<usize>> {
+    let n = p.instructions().len();
+    let mut last = vec![None; p.registers()];
+    let mut read = |o: Operand, k: usize| {
+        if let Operand::Reg(r) = o {
+            last[r.0 as usize] = Some(k);
+        }
+    };
+    for (k, i) in p.instructions().iter().enumerate() {
+        i.for_each_operand(|o| read(o, k));
+    }
+    for o in p.outputs() {
+        for &e in &o.entries {
+            read(e, n);
+        }
+    }
+    if let Some(o) = ret {
+        read(o, n);
+    }
+    last
+}
+
+/// The registers defined by instructions `range` that are read at or after `range.end`, in
+/// definition order.
+pub(crate) fn live_out(
+    p: &Program,
+    last: &[Option<usize>],
+    range: std::ops::Range<usize>,
+) -> Vec<Reg> {
+    let end = range.end;
+    p.instructions()[range]
+        .iter()
+        .flat_map(defs)
+        .flatten()
+        .filter(|r| last[r.0 as usize].is_some_and(|k| k >= end))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Replays block-structured scoping: inside a block only its own definitions and what
+    /// earlier blocks handed on are visible. Every read, and every output at the end, must
+    /// find its register visible; and blocks hand on only a fraction of what they define.
+    #[test]
+    fn blocks_hand_on_every_value_read_later() {
+        let mut model = crate::closed_chain_model(12);
+        let eqs = crate::derive(&mut model).unwrap();
+        let outs = [
+            &eqs.mass,
+            &eqs.coriolis_forces,
+            &eqs.gravity,
+            &eqs.phi_q,
+            &eqs.gamma,
+        ];
+        let p = Program::new(&model.arena, &outs).unwrap();
+        let last = last_reads(&p, None);
+        let n = p.instructions().len();
+        let mut visible = vec![false; p.registers()];
+        let (mut handed, mut defined) = (0, 0);
+        for start in (0..n).step_by(100) {
+            let range = start..(start + 100).min(n);
+            let mut local = visible.clone();
+            for i in &p.instructions()[range.clone()] {
+                i.for_each_operand(|o| {
+                    if let Operand::Reg(r) = o {
+                        assert!(local[r.0 as usize], "r{} read but not in scope", r.0);
+                    }
+                });
+                for r in defs(i).into_iter().flatten() {
+                    local[r.0 as usize] = true;
+                    defined += 1;
+                }
+            }
+            for r in live_out(&p, &last, range) {
+                visible[r.0 as usize] = true;
+                handed += 1;
+            }
+        }
+        for o in p.outputs() {
+            for e in &o.entries {
+                if let Operand::Reg(r) = e {
+                    assert!(visible[r.0 as usize], "output r{} not handed on", r.0);
+                }
+            }
+        }
+        assert!(handed * 2 < defined, "{handed} of {defined} handed on");
+    }
+}

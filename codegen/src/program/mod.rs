@@ -1,0 +1,14 @@
+//! Program: symbolic matrices as one straight-line SSA program, and its interpreter.
+//!
+//! Enters: matrices of arena expressions (an [`Equations`](crate::Equations)' M, C q', g,
+//! ...). Leaves: a [`Program`](crate::Program), its instructions in topological order with
+//! one register per distinct subexpression (common-subexpression elimination is free on a
+//! hash-consed DAG: [`builder`] gives each needed node one register, value-numbers identical
+//! instructions and folds constants, [`cse`] collects the outputs and drops dead registers);
+//! the last use of each register ([`liveness`]); and a [`Tape`](crate::Tape), the program
+//! as register-file operations for repeated evaluation without allocation.
+
+pub(crate) mod builder;
+pub(crate) mod cse;
+pub(crate) mod liveness;
+pub(crate) mod tape;

@@ -1,0 +1,239 @@
+//! The interpreter route for repeated evaluation: a [`Program`] compiled into a flat list of
+//! register operations over one preallocated register file.
+//!
+//! The register file holds, in order, the program's constants, its input symbols and its
+//! SSA registers, so every operand is a plain slot index and the inner loop is one `match`
+//! per instruction with no allocation. This is what the runtime uses for a `.mech` file
+//! that was not compiled in.
+
+use crate::algebra::expr::{FxHashMap, SymbolId};
+use crate::algebra::trig::sin_cos;
+use crate::error::{Error, Result};
+use crate::program::cse::{BinOp, Instr, Operand, Program, UnOp};
+
+/// One tape operation; operands and destinations are register-file slots.
+#[derive(Clone, Copy, Debug)]
+enum Op {
+    Add(u32, u32, u32),
+    Sub(u32, u32, u32),
+    Mul(u32, u32, u32),
+    Div(u32, u32, u32),
+    Atan2(u32, u32, u32),
+    Powf(u32, u32, u32),
+    Neg(u32, u32),
+    Sin(u32, u32),
+    Cos(u32, u32),
+    Tan(u32, u32),
+    Exp(u32, u32),
+    Ln(u32, u32),
+    Sqrt(u32, u32),
+    Abs(u32, u32),
+    Powi(u32, i32, u32),
+    SinCos(u32, u32, u32),
+}
+
+/// A compiled [`Program`]: `eval` writes every output entry (each output matrix row-major,
+/// the matrices one after another) without allocating.
+#[derive(Clone, Debug)]
+pub struct Tape {
+    ops: Vec<Op>,
+    regs: Vec<f64>,
+    /// (symbol index into the caller's input slice, register-file slot, name)
+    inputs: Vec<(usize, u32, String)>,
+    outputs: Vec<u32>,
+    shapes: Vec<(usize, usize)>,
+}
+
+impl Tape {
+    /// Compiles `program`.
+    ///
+    /// # Example
+    /// ```
+    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape, trig};
+    ///
+    /// let mut a = Arena::new();
+    /// let x = a.symbol("x", SymbolKind::Free);
+    /// let y = a.symbol("y", SymbolKind::Free);
+    /// let m = Matrix::column(vec![a.mul2(x, y), a.sin(x)]);
+    /// let mut tape = Tape::new(&Program::new(&a, &[&m]).unwrap());
+    /// let mut out = [0.0; 2];
+    /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
+    /// assert_eq!(out, [2.0, trig::sin_cos(0.5).0]);
+    /// ```
+    pub fn new(program: &Program) -> Tape {
+        let mut consts: Vec<u64> = Vec::new();
+        let mut const_slot: FxHashMap<u64, u32> = FxHashMap::default();
+        let mut collect = |o: Operand| {
+            if let Operand::Const(c) = o {
+                const_slot.entry(c.to_bits()).or_insert_with(|| {
+                    consts.push(c.to_bits());
+                    consts.len() as u32 - 1
+                });
+            }
+        };
+        for i in program.instructions() {
+            i.for_each_operand(&mut collect);
+        }
+        for o in program.outputs() {
+            o.entries.iter().for_each(|&e| collect(e));
+        }
+        let nc = consts.len();
+        let syms = program.symbols();
+        let base = (nc + syms.len()) as u32;
+        let sym_slot: FxHashMap<SymbolId, u32> = syms
+            .iter()
+            .enumerate()
+            .map(|(k, (s, _))| (*s, (nc + k) as u32))
+            .collect();
+        let slot = |o: Operand| -> u32 {
+            match o {
+                Operand::Const(c) => const_slot.get(&c.to_bits()).copied().unwrap_or(0),
+                Operand::Sym(s) => sym_slot.get(&s).copied().unwrap_or(0),
+                Operand::Reg(r) => base + r.0,
+            }
+        };
+        let d = |r: crate::program::cse::Reg| base + r.0;
+        let ops = program
+            .instructions()
+            .iter()
+            .map(|i| match *i {
+                Instr::Binary { dst, op, lhs, rhs } => {
+                    let (a, b, t) = (slot(lhs), slot(rhs), d(dst));
+                    match op {
+                        BinOp::Add => Op::Add(a, b, t),
+                        BinOp::Sub => Op::Sub(a, b, t),
+                        BinOp::Mul => Op::Mul(a, b, t),
+                        BinOp::Div => Op::Div(a, b, t),
+                        BinOp::Atan2 => Op::Atan2(a, b, t),
+                        BinOp::Powf => Op::Powf(a, b, t),
+                    }
+                }
+                Instr::Unary { dst, op, arg } => {
+                    let (a, t) = (slot(arg), d(dst));
+                    match op {
+                        UnOp::Neg => Op::Neg(a, t),
+                        UnOp::Sin => Op::Sin(a, t),
+                        UnOp::Cos => Op::Cos(a, t),
+                        UnOp::Tan => Op::Tan(a, t),
+                        UnOp::Exp => Op::Exp(a, t),
+                        UnOp::Ln => Op::Ln(a, t),
+                        UnOp::Sqrt => Op::Sqrt(a, t),
+                        UnOp::Abs => Op::Abs(a, t),
+                    }
+                }
+                Instr::Powi { dst, base, exp } => Op::Powi(slot(base), exp, d(dst)),
+                Instr::SinCos { sin, cos, arg } => Op::SinCos(slot(arg), d(sin), d(cos)),
+            })
+            .collect();
+        let mut regs = vec![0.0; base as usize + program.registers()];
+        for (k, b) in consts.iter().enumerate() {
+            regs[k] = f64::from_bits(*b);
+        }
+        let inputs = syms
+            .iter()
+            .enumerate()
+            .map(|(k, (s, name))| (s.0 as usize, (nc + k) as u32, name.clone()))
+            .collect();
+        let outputs = program
+            .outputs()
+            .iter()
+            .flat_map(|o| o.entries.iter().map(|&e| slot(e)))
+            .collect();
+        let shapes = program.outputs().iter().map(|o| (o.rows, o.cols)).collect();
+        Tape {
+            ops,
+            regs,
+            inputs,
+            outputs,
+            shapes,
+        }
+    }
+
+    /// Total number of output entries `eval` writes.
+    pub fn output_len(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// (rows, cols) of each output matrix, in order.
+    pub fn output_shapes(&self) -> &[(usize, usize)] {
+        &self.shapes
+    }
+
+    /// Number of operations per evaluation.
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    /// True when the tape has no operation (every output is a constant or a symbol).
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// Evaluates all outputs at `inputs` (symbol values indexed by `SymbolId`), writing them
+    /// into `out` (length [`Tape::output_len`]). No allocation on the success path.
+    ///
+    /// Intermediate values are not checked one by one (that would cost a branch per
+    /// operation); a NaN or infinity propagates to an output, and the outputs are checked.
+    ///
+    /// # Errors
+    /// [`Error::MissingValue`] when `inputs` is too short for a symbol the program reads,
+    /// [`Error::NonFinite`] for a non-finite input or output, [`Error::Model`] when `out`
+    /// has the wrong length.
+    pub fn eval(&mut self, inputs: &[f64], out: &mut [f64]) -> Result<()> {
+        if out.len() != self.outputs.len() {
+            return Err(Error::Model(format!(
+                "{} output slots for {} outputs",
+                out.len(),
+                self.outputs.len()
+            )));
+        }
+        for (s, slot, name) in &self.inputs {
+            match inputs.get(*s) {
+                Some(&v) if v.is_finite() => self.regs[*slot as usize] = v,
+                Some(&v) => {
+                    return Err(Error::NonFinite {
+                        operation: name.clone(),
+                        arguments: format!("{v:?}"),
+                    });
+                }
+                None => return Err(Error::MissingValue { name: name.clone() }),
+            }
+        }
+        let r = &mut self.regs;
+        for op in &self.ops {
+            match *op {
+                Op::Add(a, b, t) => r[t as usize] = r[a as usize] + r[b as usize],
+                Op::Sub(a, b, t) => r[t as usize] = r[a as usize] - r[b as usize],
+                Op::Mul(a, b, t) => r[t as usize] = r[a as usize] * r[b as usize],
+                Op::Div(a, b, t) => r[t as usize] = r[a as usize] / r[b as usize],
+                Op::Atan2(a, b, t) => r[t as usize] = r[a as usize].atan2(r[b as usize]),
+                Op::Powf(a, b, t) => r[t as usize] = r[a as usize].powf(r[b as usize]),
+                Op::Neg(a, t) => r[t as usize] = -r[a as usize],
+                Op::Sin(a, t) => r[t as usize] = sin_cos(r[a as usize]).0,
+                Op::Cos(a, t) => r[t as usize] = sin_cos(r[a as usize]).1,
+                Op::Tan(a, t) => r[t as usize] = r[a as usize].tan(),
+                Op::Exp(a, t) => r[t as usize] = r[a as usize].exp(),
+                Op::Ln(a, t) => r[t as usize] = r[a as usize].ln(),
+                Op::Sqrt(a, t) => r[t as usize] = r[a as usize].sqrt(),
+                Op::Abs(a, t) => r[t as usize] = r[a as usize].abs(),
+                Op::Powi(a, k, t) => r[t as usize] = r[a as usize].powi(k),
+                Op::SinCos(a, s, c) => {
+                    let (x, y) = sin_cos(r[a as usize]);
+                    r[s as usize] = x;
+                    r[c as usize] = y;
+                }
+            }
+        }
+        for (k, (o, &slot)) in out.iter_mut().zip(&self.outputs).enumerate() {
+            let v = r[slot as usize];
+            if !v.is_finite() {
+                return Err(Error::NonFinite {
+                    operation: format!("output entry {k}"),
+                    arguments: format!("{v:?}"),
+                });
+            }
+            *o = v;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,282 @@
+//! The body sections of a declaration: their grammar and syntax tree (lowered into a
+//! [`BodySystem`](crate::BodySystem) and constraint rows of the [`Model`](crate::Model) by
+//! `lower_bodies.rs`).
+//!
+//! ```text
+//! body_section := "body" NAME "{" (body_item ";")* "}"
+//!               | "gravity" "=" vexpr ";"                     world vector g
+//!               | "point" NAME "=" vexpr ";"                  a ground (or derived) point, world
+//!               | "axis" NAME "=" vexpr ";"                   a ground direction, world
+//!               | "spring" NAME "{" "between" "=" vexpr "," vexpr ";"
+//!                     "stiffness" "=" vexpr ";" ["free_length" "=" vexpr ";"] "}"
+//!               | "damper" NAME "{" "between" "=" vexpr "," vexpr ";"
+//!                     "coefficient" "=" vexpr ";" "}"
+//!               | "joints" "{" (joint ";")* "}"
+//! body_item    := "mass" "=" vexpr                            m
+//!               | "position" "=" vexpr                        centre of mass r(q, t), world
+//!               | "orientation" "=" vexpr                     R = F_1 * F_2 * ... (body to world)
+//!               | "inertia" "=" vexpr                         3x3 about the centre, body axes
+//!               | "point" NAME "=" vexpr                      body coordinates p: world r + R p
+//!               | "axis" NAME "=" vexpr                       body direction a: world R a
+//! joint        := "spherical" "(" P "," Q ")"                 3 rows: P - Q
+//!               | "revolute" "(" P "," Q "," a "," b ")"      5 rows: P - Q, a parallel to b
+//!               | "prismatic" "(" P "," Q "," a "," b ")"     5 rows
+//!               | "distance" "(" P "," Q "," L ")"            1 row: |P - Q|^2 - L^2
+//!               | vexpr ["=" vexpr]                           one row per entry (B = C: 3 rows)
+//! ```
+//! `vexpr` is the vector expression language of [`crate::syntax::vector`] (points, axes and bodies
+//! are names of 3-vectors; `B.z` is a component). A body without `orientation` is a point
+//! mass (it may not carry `inertia`, points or axes). In `revolute` and `prismatic`, `b`
+//! (and, for `prismatic`, `a`) must be a declared axis: its two perpendiculars are fixed to
+//! its body (see [`crate::mechanics::joints`]).
+//!
+//! With bodies (or springs) declared, `kinetic` and `potential` are optional: T and Pi are
+//! derived (see [`crate::mechanics::bodies`]), and hand-written energies are added to them.
+//!
+//! Everything is lowered in declaration order, so a body may use the points of bodies
+//! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
+
+use crate::error::{Error, Location, Result};
+use crate::syntax::declaration::{block, name};
+use crate::syntax::lex::{Cursor, Tok};
+use crate::syntax::vector::{VAst, VParser};
+
+/// The top-level keywords of the body sections.
+pub(crate) const BODY_SECTIONS: &[&str] = &[
+    "body", "gravity", "point", "axis", "spring", "damper", "joints",
+];
+
+/// True when `keyword` starts a body section.
+pub(crate) fn is_body_section(keyword: &str) -> bool {
+    BODY_SECTIONS.contains(&keyword)
+}
+
+/// `key = value` with where the key is.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Entry {
+    /// The key (`mass`, `point`, `between`, ...).
+    pub(crate) key: String,
+    /// The name after `point` or `axis`.
+    pub(crate) name: Option<String>,
+    /// Where the key is.
+    pub(crate) at: Location,
+    /// The value (two for `between`).
+    pub(crate) value: Vec<VAst>,
+}
+
+/// One top-level body item, in declaration order.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum BodyItem {
+    Body {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
+    Gravity(VAst, Location),
+    Point(String, Location, VAst),
+    Axis(String, Location, VAst),
+    Spring {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
+    Damper {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
+    Joint(Joint),
+}
+
+/// A constraint statement of `joints`.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Joint {
+    Helper(String, Vec<VAst>, Location),
+    Row(VAst, Option<VAst>, Location),
+}
+
+/// All body sections of a declaration.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Bodies {
+    pub(crate) items: Vec<BodyItem>,
+}
+
+impl Bodies {
+    /// True when bodies or springs declare energy (then `kinetic` may be left out).
+    pub(crate) fn declares_energy(&self) -> bool {
+        self.items
+            .iter()
+            .any(|i| matches!(i, BodyItem::Body { .. } | BodyItem::Spring { .. }))
+    }
+
+    /// The location of the first body item, if any.
+    pub(crate) fn first_location(&self) -> Option<Location> {
+        self.items.first().map(|i| match i {
+            BodyItem::Body { at, .. }
+            | BodyItem::Spring { at, .. }
+            | BodyItem::Damper { at, .. }
+            | BodyItem::Gravity(_, at)
+            | BodyItem::Point(_, at, _)
+            | BodyItem::Axis(_, at, _)
+            | BodyItem::Joint(Joint::Helper(_, _, at) | Joint::Row(_, _, at)) => *at,
+        })
+    }
+
+    /// The number of constraint rows the `joints` statements add (by shapes, before lowering).
+    pub(crate) fn constraint_rows(&self) -> usize {
+        let mut vectors: Vec<&str> = Vec::new();
+        for i in &self.items {
+            match i {
+                BodyItem::Body { name, entries, .. } => {
+                    vectors.push(name);
+                    for e in entries {
+                        if let Some(n) = &e.name {
+                            vectors.push(n);
+                        }
+                    }
+                }
+                BodyItem::Point(n, _, _) | BodyItem::Axis(n, _, _) => vectors.push(n),
+                _ => {}
+            }
+        }
+        let is_vector = |n: &str| vectors.contains(&n);
+        self.items
+            .iter()
+            .map(|i| match i {
+                BodyItem::Joint(Joint::Helper(h, _, _)) => match h.as_str() {
+                    "spherical" => 3,
+                    "distance" => 1,
+                    _ => 5,
+                },
+                BodyItem::Joint(Joint::Row(lhs, _, _)) => {
+                    lhs.shape(&is_vector).map_or(1, |s| s.0 * s.1)
+                }
+                _ => 0,
+            })
+            .sum()
+    }
+}
+
+const JOINT_HELPERS: &[(&str, usize)] = &[
+    ("spherical", 2),
+    ("revolute", 4),
+    ("prismatic", 4),
+    ("distance", 3),
+];
+
+/// Parses the body section starting with `keyword` (already consumed, at `at`).
+pub(crate) fn parse_body_section(
+    c: &mut Cursor<'_>,
+    keyword: &str,
+    at: Location,
+    bodies: &mut Bodies,
+) -> Result<()> {
+    match keyword {
+        "gravity" => {
+            c.expect(&Tok::Punct('='), "`=` after `gravity`")?;
+            let v = VParser::parse(c)?;
+            c.expect(&Tok::Punct(';'), "`;` after the gravity vector")?;
+            bodies.items.push(BodyItem::Gravity(v, at));
+        }
+        "point" | "axis" => {
+            let (name, nat) = name(c, keyword)?;
+            c.expect(&Tok::Punct('='), &format!("`=` after `{keyword} {name}`"))?;
+            let v = VParser::parse(c)?;
+            c.expect(&Tok::Punct(';'), "`;` or an operator")?;
+            bodies.items.push(if keyword == "point" {
+                BodyItem::Point(name, nat, v)
+            } else {
+                BodyItem::Axis(name, nat, v)
+            });
+        }
+        "body" | "spring" | "damper" => {
+            let (name, nat) = name(c, keyword)?;
+            let entries = block(c, |c| entry(c, keyword))?;
+            bodies.items.push(match keyword {
+                "body" => BodyItem::Body {
+                    name,
+                    at: nat,
+                    entries,
+                },
+                "spring" => BodyItem::Spring {
+                    name,
+                    at: nat,
+                    entries,
+                },
+                _ => BodyItem::Damper {
+                    name,
+                    at: nat,
+                    entries,
+                },
+            });
+        }
+        _ => {
+            let joints = block(c, joint)?;
+            bodies.items.extend(joints.into_iter().map(BodyItem::Joint));
+        }
+    }
+    Ok(())
+}
+
+/// The keys each block accepts.
+fn keys(block: &str) -> &'static [&'static str] {
+    match block {
+        "body" => &[
+            "mass",
+            "position",
+            "orientation",
+            "inertia",
+            "point",
+            "axis",
+        ],
+        "spring" => &["between", "stiffness", "free_length"],
+        _ => &["between", "coefficient"],
+    }
+}
+
+fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
+    let (key, at) = name(c, block)?;
+    if !keys(block).contains(&key.as_str()) {
+        return Err(Error::Parse {
+            message: format!(
+                "`{key}` is not an entry of a {block}; expected one of {}",
+                keys(block).join(", ")
+            ),
+            location: at,
+        });
+    }
+    let name = if key == "point" || key == "axis" {
+        Some(name(c, &key)?.0)
+    } else {
+        None
+    };
+    c.expect(&Tok::Punct('='), &format!("`=` after `{key}`"))?;
+    let mut value = vec![VParser::parse(c)?];
+    if key == "between" {
+        c.expect(&Tok::Punct(','), "`,` between the two points")?;
+        value.push(VParser::parse(c)?);
+    }
+    Ok(Entry {
+        key,
+        name,
+        at,
+        value,
+    })
+}
+
+fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
+    let at = c.peek().location;
+    let lhs = VParser::parse(c)?;
+    if c.eat(&Tok::Punct('=')) {
+        let rhs = VParser::parse(c)?;
+        return Ok(Joint::Row(lhs, Some(rhs), at));
+    }
+    Ok(match lhs {
+        VAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => {
+            Joint::Helper(f, args, at)
+        }
+        other => Joint::Row(other, None, at),
+    })
+}
+
+pub(crate) use crate::mechanics::body_model::build_bodies;

@@ -1,0 +1,467 @@
+//! The declaration grammar: a syntax tree of a whole `mechanism!` declaration and its parser.
+//!
+//! ```text
+//! declaration := doc* ["pub"] "struct" NAME ";" section*
+//! doc         := "#" "[" "doc" "=" STRING "]"            (what `/// text` becomes)
+//! section     := "parameters"  "{" (NAME "=" expr ";")* "}"
+//!              | "coordinates" "{" (NAME "=" expr ";")* "}"           (initial guesses)
+//!              | "independent" "{" ((NAME | "der" "(" NAME ")") "=" expr ";")* "}"
+//!              | "kinetic" "=" expr ";"
+//!              | "potential" "=" expr ";"
+//!              | "constraints" "{" (row ";")* "}"
+//!              | "forces" "{" (NAME ":" expr ";")* "}"
+//! row         := expr ["=" expr] | vector ["=" vector]
+//! vector      := "[" expr ("," expr)* "]"
+//! ```
+//! Sections come in any order, each at most once; the last `;` of a block may be left out,
+//! and a `;` after a block is allowed. A row `a = b` means a - b = 0; `[a1, a2, a3] =
+//! [b1, b2, b3]` is three rows a_i - b_i = 0.
+
+use crate::error::{Error, Location, Result};
+use crate::syntax::expression::{Ast, ExprParser, closest};
+use crate::syntax::lex::{Cursor, Delim, Tok, Tokens};
+
+/// The section keywords, in the order the README documents them.
+pub(crate) const SECTIONS: &[&str] = &[
+    "parameters",
+    "coordinates",
+    "independent",
+    "kinetic",
+    "potential",
+    "constraints",
+    "forces",
+];
+
+/// `name = value;` (a parameter default or a coordinate's initial guess).
+#[derive(Clone, Debug)]
+pub(crate) struct Item {
+    /// The declared name.
+    pub(crate) name: String,
+    /// Where the name is.
+    pub(crate) at: Location,
+    /// The value.
+    pub(crate) value: Ast,
+}
+
+/// `phi = 0.0;` (rate false) or `der(phi) = 2*pi;` (rate true) in `independent`.
+#[derive(Clone, Debug)]
+pub(crate) struct IndependentItem {
+    /// The coordinate's name.
+    pub(crate) name: String,
+    /// True for `der(name) = ...`.
+    pub(crate) rate: bool,
+    /// Where the name is.
+    pub(crate) at: Location,
+    /// The value.
+    pub(crate) value: Ast,
+}
+
+/// One scalar constraint row lhs - rhs = 0.
+#[derive(Clone, Debug)]
+pub(crate) struct Row {
+    /// Left side.
+    pub(crate) lhs: Ast,
+    /// Right side, when written `lhs = rhs`.
+    pub(crate) rhs: Option<Ast>,
+    /// Where the row (or its vector component) starts.
+    pub(crate) at: Location,
+    /// The 1-based index of the statement in `constraints { .. }` (a vector equation is one
+    /// statement of several rows).
+    pub(crate) statement: usize,
+    /// The component of a vector statement (`x`, `y`, `z` or `1`, `2`, ..); empty for a
+    /// scalar row (see [`crate::mechanics::model::components`]).
+    pub(crate) component: String,
+}
+
+/// `name: expr;` in `forces`.
+#[derive(Clone, Debug)]
+pub(crate) struct Force {
+    /// The coordinate the force acts along.
+    pub(crate) name: String,
+    /// Where the name is.
+    pub(crate) at: Location,
+    /// The generalised force.
+    pub(crate) value: Ast,
+}
+
+/// A section with the location of its keyword.
+#[derive(Clone, Debug)]
+pub(crate) struct Section<T> {
+    /// Where the keyword is.
+    pub(crate) at: Location,
+    /// The contents.
+    pub(crate) body: T,
+}
+
+/// A whole declaration, as written.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Declaration {
+    /// Doc comment lines.
+    pub(crate) doc: Vec<String>,
+    /// `pub struct`.
+    pub(crate) public: bool,
+    /// The struct name.
+    pub(crate) name: String,
+    /// Where the struct name is.
+    pub(crate) name_at: Location,
+    /// `parameters { .. }`.
+    pub(crate) parameters: Option<Section<Vec<Item>>>,
+    /// `coordinates { .. }`.
+    pub(crate) coordinates: Option<Section<Vec<Item>>>,
+    /// `independent { .. }`.
+    pub(crate) independent: Option<Section<Vec<IndependentItem>>>,
+    /// `kinetic = ..;`.
+    pub(crate) kinetic: Option<Section<Ast>>,
+    /// `potential = ..;`.
+    pub(crate) potential: Option<Section<Ast>>,
+    /// `constraints { .. }`, vector rows expanded.
+    pub(crate) constraints: Option<Section<Vec<Row>>>,
+    /// `forces { .. }`.
+    pub(crate) forces: Option<Section<Vec<Force>>>,
+    /// `body`, `gravity`, `point`, `axis`, `spring`, `damper` and `joints` (parse_bodies.rs).
+    pub(crate) bodies: crate::syntax::bodies::Bodies,
+}
+
+/// Parses a declaration from its tokens. Stops at the first syntax error.
+pub(crate) fn parse_declaration_tokens(tokens: &Tokens) -> Result<Declaration> {
+    let mut c = Cursor::new(tokens);
+    let mut d = Declaration::default();
+    header(&mut c, &mut d)?;
+    while !c.at(&Tok::End) {
+        section(&mut c, &mut d)?;
+        c.eat(&Tok::Punct(';'));
+    }
+    Ok(d)
+}
+
+fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
+    while c.at_punct('#') {
+        c.next();
+        c.eat(&Tok::Punct('!'));
+        c.expect(&Tok::Open(Delim::Bracket), "`[` of an attribute")?;
+        match &c.peek().tok {
+            Tok::Ident(s) if s == "doc" => {}
+            _ => {
+                return Err(c.error_here("only doc comments (`/// text`) may come before the struct line; expected `doc`"));
+            }
+        }
+        c.next();
+        c.expect(&Tok::Punct('='), "`=` in a doc attribute")?;
+        let t = c.next();
+        let Tok::Literal(lit) = &t.tok else {
+            return Err(Error::Parse {
+                message: "expected the doc text".into(),
+                location: t.location,
+            });
+        };
+        let text = unquote(lit).ok_or_else(|| Error::Parse {
+            message: "expected a string as the doc text".into(),
+            location: t.location,
+        })?;
+        d.doc.extend(
+            text.lines()
+                .map(|l| l.strip_prefix(' ').unwrap_or(l).to_string()),
+        );
+        c.expect(&Tok::Close(Delim::Bracket), "`]` closing the doc attribute")?;
+    }
+    if let Tok::Ident(s) = &c.peek().tok
+        && s == "pub"
+    {
+        d.public = true;
+        c.next();
+    }
+    match &c.peek().tok {
+        Tok::Ident(s) if s == "struct" => {
+            c.next();
+        }
+        _ => {
+            return Err(c.error_here(
+                "a declaration starts with `pub struct Name;` (after its doc comment)",
+            ));
+        }
+    }
+    let t = c.next();
+    match &t.tok {
+        Tok::Ident(name) => {
+            d.name = name.clone();
+            d.name_at = t.location;
+        }
+        _ => {
+            return Err(Error::Parse {
+                message: "expected the struct name after `struct`".into(),
+                location: t.location,
+            });
+        }
+    }
+    c.expect(&Tok::Punct(';'), "`;` after the struct name")?;
+    Ok(())
+}
+
+/// The value of a string literal, with the common escapes; `None` if it is not a string.
+fn unquote(lit: &str) -> Option<String> {
+    if let Some(raw) = lit.strip_prefix('r') {
+        let hashes = raw.len() - raw.trim_start_matches('#').len();
+        let inner = raw.get(hashes + 1..raw.len().checked_sub(hashes + 1)?)?;
+        return Some(inner.to_string());
+    }
+    let inner = lit.strip_prefix('"')?.strip_suffix('"')?;
+    let mut out = String::with_capacity(inner.len());
+    let mut chars = inner.chars();
+    while let Some(ch) = chars.next() {
+        if ch != '\\' {
+            out.push(ch);
+            continue;
+        }
+        match chars.next()? {
+            'n' => out.push('\n'),
+            't' => out.push('\t'),
+            'r' => out.push('\r'),
+            '0' => out.push('\0'),
+            'u' => {
+                let code: String = chars.by_ref().skip(1).take_while(|&c| c != '}').collect();
+                out.push(char::from_u32(u32::from_str_radix(&code, 16).ok()?)?);
+            }
+            '\n' => {
+                while chars.clone().next().is_some_and(char::is_whitespace) {
+                    chars.next();
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    Some(out)
+}
+
+fn duplicate_section(name: &str, at: Location) -> Error {
+    Error::Parse {
+        message: format!("the section `{name}` appears twice; write all its entries in one block"),
+        location: at,
+    }
+}
+
+fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
+    let t = c.peek();
+    let Tok::Ident(keyword) = &t.tok else {
+        return Err(c.error_here(&format!("expected a section ({})", SECTIONS.join(", "))));
+    };
+    let at = t.location;
+    c.next();
+    let keyword = keyword.as_str();
+    match keyword {
+        "parameters" | "coordinates" => {
+            let body = block(c, |c| {
+                let (name, at) = name(c, keyword)?;
+                c.expect(&Tok::Punct('='), &format!("`=` and a value after `{name}`"))?;
+                let value = ExprParser::parse(c)?;
+                Ok(Item { name, at, value })
+            })?;
+            let slot = if keyword == "parameters" {
+                &mut d.parameters
+            } else {
+                &mut d.coordinates
+            };
+            if slot.is_some() {
+                return Err(duplicate_section(keyword, at));
+            }
+            *slot = Some(Section { at, body });
+        }
+        "independent" => {
+            let body = block(c, |c| {
+                let (first, first_at) = name(c, "independent")?;
+                let (name, at, rate) = if first == "der" && c.at(&Tok::Open(Delim::Paren)) {
+                    c.next();
+                    let (n, a) = name(c, "independent")?;
+                    c.expect(&Tok::Close(Delim::Paren), "`)` after the coordinate")?;
+                    (n, a, true)
+                } else {
+                    (first, first_at, false)
+                };
+                c.expect(&Tok::Punct('='), "`=` and an initial value")?;
+                let value = ExprParser::parse(c)?;
+                Ok(IndependentItem {
+                    name,
+                    rate,
+                    at,
+                    value,
+                })
+            })?;
+            if d.independent.is_some() {
+                return Err(duplicate_section(keyword, at));
+            }
+            d.independent = Some(Section { at, body });
+        }
+        "kinetic" | "potential" => {
+            c.expect(&Tok::Punct('='), &format!("`=` after `{keyword}`"))?;
+            let body = ExprParser::parse(c)?;
+            c.expect(
+                &Tok::Punct(';'),
+                &format!("`;` or an operator after the {keyword} energy"),
+            )?;
+            let slot = if keyword == "kinetic" {
+                &mut d.kinetic
+            } else {
+                &mut d.potential
+            };
+            if slot.is_some() {
+                return Err(duplicate_section(keyword, at));
+            }
+            *slot = Some(Section { at, body });
+        }
+        "constraints" => {
+            let rows = block(c, row)?;
+            if d.constraints.is_some() {
+                return Err(duplicate_section(keyword, at));
+            }
+            let mut body = Vec::new();
+            for (k, rows) in rows.into_iter().enumerate() {
+                let labels = crate::mechanics::model::components(rows.len(), 1);
+                for (mut row, component) in rows.into_iter().zip(labels) {
+                    row.statement = k + 1;
+                    row.component = component;
+                    body.push(row);
+                }
+            }
+            d.constraints = Some(Section { at, body });
+        }
+        "forces" => {
+            let body = block(c, |c| {
+                let (name, at) = name(c, "forces")?;
+                c.expect(
+                    &Tok::Punct(':'),
+                    &format!("`:` after `{name}` (forces are written `coordinate: expression;`)"),
+                )?;
+                let value = ExprParser::parse(c)?;
+                Ok(Force { name, at, value })
+            })?;
+            if d.forces.is_some() {
+                return Err(duplicate_section(keyword, at));
+            }
+            d.forces = Some(Section { at, body });
+        }
+        kw if crate::syntax::bodies::is_body_section(kw) => {
+            crate::syntax::bodies::parse_body_section(c, kw, at, &mut d.bodies)?;
+        }
+        other => {
+            let hint = match closest(other, SECTIONS.iter().copied()) {
+                Some(s) => format!("; did you mean `{s}`?"),
+                None => String::new(),
+            };
+            return Err(Error::Parse {
+                message: format!(
+                    "`{other}` is not a section; expected one of {}{hint}",
+                    SECTIONS.join(", ")
+                ),
+                location: at,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A name at the cursor (`section` names where, for the error).
+pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
+    let t = c.peek();
+    match &t.tok {
+        Tok::Ident(s) => {
+            c.next();
+            Ok((s.clone(), t.location))
+        }
+        _ => Err(c.error_here(&format!("expected a name in `{section}`"))),
+    }
+}
+
+/// `{ item; item; ... }` with an optional last `;`.
+pub(crate) fn block<T>(
+    c: &mut Cursor<'_>,
+    mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
+) -> Result<Vec<T>> {
+    c.expect(&Tok::Open(Delim::Brace), "`{` opening the section")?;
+    let mut out = Vec::new();
+    while !c.at(&Tok::Close(Delim::Brace)) {
+        out.push(item(c)?);
+        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
+            return Err(c.error_here("expected `;` or an operator"));
+        }
+    }
+    c.next();
+    Ok(out)
+}
+
+/// One constraint statement: a scalar row or a vector of rows.
+fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
+    let at = c.peek().location;
+    if !c.at(&Tok::Open(Delim::Bracket)) {
+        let lhs = ExprParser::parse(c)?;
+        let rhs = if c.eat(&Tok::Punct('=')) {
+            Some(ExprParser::parse(c)?)
+        } else {
+            None
+        };
+        return Ok(vec![Row {
+            lhs,
+            rhs,
+            at,
+            statement: 0,
+            component: String::new(),
+        }]);
+    }
+    let lhs = vector(c)?;
+    if !c.at_punct('=') {
+        return Ok(lhs
+            .into_iter()
+            .map(|(lhs, at)| Row {
+                lhs,
+                rhs: None,
+                at,
+                statement: 0,
+                component: String::new(),
+            })
+            .collect());
+    }
+    let eq = c.next().location;
+    if !c.at(&Tok::Open(Delim::Bracket)) {
+        return Err(
+            c.error_here("a vector constraint `[a, b, c] = [..]` needs a vector on the right")
+        );
+    }
+    let rhs = vector(c)?;
+    if lhs.len() != rhs.len() {
+        return Err(Error::Parse {
+            message: format!(
+                "the two sides of a vector constraint differ in length: {} on the left, {} on the right",
+                lhs.len(),
+                rhs.len()
+            ),
+            location: eq,
+        });
+    }
+    Ok(lhs
+        .into_iter()
+        .zip(rhs)
+        .map(|((l, at), (r, _))| Row {
+            lhs: l,
+            rhs: Some(r),
+            at,
+            statement: 0,
+            component: String::new(),
+        })
+        .collect())
+}
+
+/// `[e1, e2, ...]` with the location of each entry.
+fn vector(c: &mut Cursor<'_>) -> Result<Vec<(Ast, Location)>> {
+    c.next(); // `[`
+    let mut out = Vec::new();
+    while !c.at(&Tok::Close(Delim::Bracket)) {
+        let at = c.peek().location;
+        out.push((ExprParser::parse(c)?, at));
+        if !c.eat(&Tok::Punct(',')) {
+            break;
+        }
+    }
+    c.expect(&Tok::Close(Delim::Bracket), "`,` or `]` in a vector")?;
+    if out.is_empty() {
+        return Err(c.error_here("a vector constraint needs at least one entry"));
+    }
+    Ok(out)
+}

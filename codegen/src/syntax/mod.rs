@@ -1,0 +1,19 @@
+//! Syntax: from source text or a macro's token stream to syntax trees, and nothing else.
+//!
+//! Enters: a `proc_macro2::TokenStream` (the `mechanism!` input) or the text of a `.mech`
+//! file. Leaves: a [`declaration::Declaration`] whose expressions are syntax trees
+//! ([`expression::Ast`] for scalars, [`vector::VectorAst`] for the vector expressions of the
+//! body sections), every node with its [`Location`](crate::Location). No symbol is resolved
+//! and no arena node is built here; that is the job of [`crate::mechanics`].
+//!
+//! The algorithm is recursive descent over one flat token list ([`lex`]): both routes use
+//! proc_macro2's tokenizer, so a macro and a file have one grammar. Expressions bind, loosest
+//! first, `+ -`, `* /`, unary `-`, `^` (right-associative, tighter than unary minus:
+//! `-x^2 = -(x^2)`); nesting deeper than [`expression::MAX_DEPTH`] is an error, not a stack
+//! overflow, in both expression languages.
+
+pub(crate) mod bodies;
+pub(crate) mod declaration;
+pub(crate) mod expression;
+pub(crate) mod lex;
+pub(crate) mod vector;

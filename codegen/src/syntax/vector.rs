@@ -1,0 +1,602 @@
+//! Vector and matrix expressions of the body sections (`position = [x, y, z];`,
+//! `orientation = rot_z(phi) * rot_x(a);`, `B = C;`, `B.z = 0;`): their syntax tree,
+//! parser and lowering into [`Matrix`] values (a scalar is 1x1).
+//!
+//! ```text
+//! vexpr   := product (("+" | "-") product)*
+//! product := unary (("*" | "/") unary)*          matrix product; a 1x1 factor scales
+//! unary   := ("-" | "+") unary | power
+//! power   := postfix ["^" unary]                 scalars only
+//! postfix := atom ("." ("x" | "y" | "z"))*       a component of a 3-vector
+//! atom    := NUMBER | NAME | NAME "(" vexpr ("," vexpr)* ")" | "(" vexpr ")"
+//!          | "[" vexpr ("," vexpr)* "]"          a column; "[[..], [..], ..]" a matrix by rows
+//! ```
+//! Names are points, axes and bodies (3-vectors: the point, the axis direction, the centre of
+//! mass; world components), then parameters, coordinates, `t` and `pi`. Functions: the
+//! scalar ones of the expression language (sin, cos, tan, exp, ln, sqrt, abs, atan2, pow),
+//! `rot_x`, `rot_y`, `rot_z` (3x3), `diag(a, b, c)` (3x3), `dot(u, v)`, `cross(u, v)`,
+//! `norm(u)`.
+
+use crate::algebra::expr::{Arena, Func, Id};
+use crate::algebra::matrix::Matrix;
+use crate::algebra::number::Number;
+use crate::algebra::rotation::{Axis, elementary_rotation};
+use crate::error::{Error, Location, Result};
+use crate::mechanics::joints::cross;
+use crate::syntax::expression::{ArenaResolver, FUNCTIONS, Resolver};
+use crate::syntax::lex::{Cursor, Delim, Tok};
+
+/// Functions that only vector expressions have, with their arities; the scalar ones come
+/// from the expression parser's table (`der` is refused before the lookup).
+const VECTOR_FUNCTIONS: &[(&str, usize)] = &[
+    ("rot_x", 1),
+    ("rot_y", 1),
+    ("rot_z", 1),
+    ("diag", 3),
+    ("dot", 2),
+    ("cross", 2),
+    ("norm", 1),
+    ("spherical", 2),
+    ("revolute", 4),
+    ("prismatic", 4),
+    ("distance", 3),
+];
+
+/// Joint helpers: parsed as calls, valid only as statements of `joints`.
+const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance"];
+
+/// A binary operator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Op {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Pow,
+}
+
+/// A vector expression as written.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum VAst {
+    Number(Number, Location),
+    Name(String, Location),
+    Neg(Box<VAst>, Location),
+    Binary(Op, Box<VAst>, Box<VAst>, Location),
+    Call(String, Vec<VAst>, Location),
+    Member(Box<VAst>, usize, Location),
+    Brackets(Vec<VAst>, Location),
+}
+
+impl VAst {
+    /// Where the expression starts.
+    pub(crate) fn location(&self) -> Location {
+        match self {
+            VAst::Number(_, l)
+            | VAst::Name(_, l)
+            | VAst::Neg(_, l)
+            | VAst::Call(_, _, l)
+            | VAst::Brackets(_, l) => *l,
+            VAst::Binary(_, a, _, _) | VAst::Member(a, _, _) => a.location(),
+        }
+    }
+
+    /// The expression as text, with the parentheses its precedence needs (`B1`,
+    /// `P.z`, `l2/2`, `rot_z(beta)*[0, 0, 1]`): what names a joint in constraint labels.
+    pub(crate) fn text(&self) -> String {
+        self.text_in(0)
+    }
+
+    /// The text inside a context of binding strength `outer` (0 none, 1 sum, 2 product,
+    /// 3 unary, 4 power, 5 postfix), parenthesised when `self` binds more loosely.
+    fn text_in(&self, outer: u8) -> String {
+        let (strength, s) = match self {
+            VAst::Number(n, _) => (5, n.to_string()),
+            VAst::Name(n, _) => (5, n.clone()),
+            VAst::Neg(a, _) => (3, format!("-{}", a.text_in(3))),
+            VAst::Binary(op, a, b, _) => match op {
+                Op::Add | Op::Sub => {
+                    let sign = if *op == Op::Add { '+' } else { '-' };
+                    (1, format!("{} {sign} {}", a.text_in(1), b.text_in(2)))
+                }
+                Op::Mul | Op::Div => {
+                    let sign = if *op == Op::Mul { '*' } else { '/' };
+                    (2, format!("{}{sign}{}", a.text_in(2), b.text_in(3)))
+                }
+                Op::Pow => (4, format!("{}^{}", a.text_in(5), b.text_in(3))),
+            },
+            VAst::Call(f, args, _) => {
+                let a: Vec<String> = args.iter().map(VAst::text).collect();
+                (5, format!("{f}({})", a.join(", ")))
+            }
+            VAst::Member(a, k, _) => (5, format!("{}.{}", a.text_in(5), ["x", "y", "z"][*k])),
+            VAst::Brackets(items, _) => {
+                let a: Vec<String> = items.iter().map(VAst::text).collect();
+                (5, format!("[{}]", a.join(", ")))
+            }
+        };
+        if strength < outer {
+            format!("({s})")
+        } else {
+            s
+        }
+    }
+
+    /// (rows, cols) of the value, knowing which names are 3-vectors; `None` when the shapes
+    /// do not fit (lowering reports it).
+    pub(crate) fn shape(&self, is_vector: &dyn Fn(&str) -> bool) -> Option<(usize, usize)> {
+        Some(match self {
+            VAst::Number(..) => (1, 1),
+            VAst::Name(n, _) => {
+                if is_vector(n) {
+                    (3, 1)
+                } else {
+                    (1, 1)
+                }
+            }
+            VAst::Neg(a, _) => a.shape(is_vector)?,
+            VAst::Binary(op, a, b, _) => {
+                let (sa, sb) = (a.shape(is_vector)?, b.shape(is_vector)?);
+                match op {
+                    Op::Add | Op::Sub => sa,
+                    Op::Div | Op::Pow => sa,
+                    Op::Mul if sa == (1, 1) => sb,
+                    Op::Mul if sb == (1, 1) => sa,
+                    Op::Mul => (sa.0, sb.1),
+                }
+            }
+            VAst::Call(f, _, _) => match f.as_str() {
+                "rot_x" | "rot_y" | "rot_z" | "diag" => (3, 3),
+                "cross" => (3, 1),
+                _ => (1, 1),
+            },
+            VAst::Member(..) => (1, 1),
+            VAst::Brackets(items, _) => match items.first() {
+                Some(VAst::Brackets(row, _)) => (items.len(), row.len()),
+                _ => (items.len(), 1),
+            },
+        })
+    }
+}
+
+/// The recursive-descent parser of vector expressions.
+pub(crate) struct VParser<'c, 'a> {
+    c: &'c mut Cursor<'a>,
+    depth: usize,
+}
+
+const MAX_DEPTH: usize = 120;
+
+impl<'c, 'a> VParser<'c, 'a> {
+    /// Parses one vector expression at the cursor (stopping before `;`, `,`, `=`, `:` or a
+    /// closing bracket).
+    pub(crate) fn parse(c: &'c mut Cursor<'a>) -> Result<VAst> {
+        VParser { c, depth: 0 }.sum()
+    }
+
+    fn enter(&mut self) -> Result<()> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(self.c.error_here("the expression is nested too deeply"));
+        }
+        Ok(())
+    }
+
+    fn sum(&mut self) -> Result<VAst> {
+        self.enter()?;
+        let mut acc = self.product()?;
+        loop {
+            let op = if self.c.at_punct('+') {
+                Op::Add
+            } else if self.c.at_punct('-') {
+                Op::Sub
+            } else {
+                break;
+            };
+            let at = self.c.next().location;
+            let rhs = self.product()?;
+            acc = VAst::Binary(op, Box::new(acc), Box::new(rhs), at);
+        }
+        self.depth -= 1;
+        Ok(acc)
+    }
+
+    fn product(&mut self) -> Result<VAst> {
+        let mut acc = self.unary()?;
+        loop {
+            let op = if self.c.at_punct('*') {
+                Op::Mul
+            } else if self.c.at_punct('/') {
+                Op::Div
+            } else {
+                break;
+            };
+            let at = self.c.next().location;
+            let rhs = self.unary()?;
+            acc = VAst::Binary(op, Box::new(acc), Box::new(rhs), at);
+        }
+        Ok(acc)
+    }
+
+    fn unary(&mut self) -> Result<VAst> {
+        self.enter()?;
+        let out = if self.c.at_punct('-') {
+            let at = self.c.next().location;
+            VAst::Neg(Box::new(self.unary()?), at)
+        } else if self.c.at_punct('+') {
+            self.c.next();
+            self.unary()?
+        } else {
+            let base = self.postfix()?;
+            if self.c.at_punct('^') {
+                let at = self.c.next().location;
+                let e = self.unary()?;
+                VAst::Binary(Op::Pow, Box::new(base), Box::new(e), at)
+            } else {
+                base
+            }
+        };
+        self.depth -= 1;
+        Ok(out)
+    }
+
+    fn postfix(&mut self) -> Result<VAst> {
+        let mut a = self.atom()?;
+        while self.c.at_punct('.') {
+            let at = self.c.next().location;
+            let t = self.c.peek();
+            let k = match &t.tok {
+                Tok::Ident(s) if s == "x" => 0,
+                Tok::Ident(s) if s == "y" => 1,
+                Tok::Ident(s) if s == "z" => 2,
+                _ => return Err(self.c.error_here("expected `x`, `y` or `z` after `.`")),
+            };
+            self.c.next();
+            a = VAst::Member(Box::new(a), k, at);
+        }
+        Ok(a)
+    }
+
+    fn list(&mut self, close: Delim, what: &str) -> Result<Vec<VAst>> {
+        let mut out = Vec::new();
+        if !self.c.at(&Tok::Close(close)) {
+            loop {
+                out.push(self.sum()?);
+                if !self.c.eat(&Tok::Punct(',')) {
+                    break;
+                }
+            }
+        }
+        self.c.expect(&Tok::Close(close), what)?;
+        Ok(out)
+    }
+
+    fn atom(&mut self) -> Result<VAst> {
+        let t = self.c.peek();
+        match &t.tok {
+            Tok::Literal(s) => {
+                let n = number(s).ok_or_else(|| Error::Parse {
+                    message: format!(
+                        "`{s}` is not a number of the language (write e.g. 2, 0.04 or 1e-4)"
+                    ),
+                    location: t.location,
+                })?;
+                self.c.next();
+                Ok(VAst::Number(n, t.location))
+            }
+            Tok::Ident(name) => {
+                self.c.next();
+                if !self.c.at(&Tok::Open(Delim::Paren)) {
+                    return Ok(VAst::Name(name.clone(), t.location));
+                }
+                if name == "der" || name == "der2" {
+                    return Err(Error::Declaration {
+                        message: format!(
+                            "`{name}(..)` cannot appear in a body, point, spring or joint: they are position-level (functions of q and t)"
+                        ),
+                        location: t.location,
+                    });
+                }
+                self.c.next();
+                let args = self.list(Delim::Paren, "`,` or `)` after a function argument")?;
+                match FUNCTIONS
+                    .iter()
+                    .chain(VECTOR_FUNCTIONS)
+                    .find(|f| f.0 == name)
+                {
+                    None => Err(Error::UnknownFunction {
+                        name: name.clone(),
+                        location: t.location,
+                    }),
+                    Some(&(_, arity)) if arity != args.len() => Err(Error::Parse {
+                        message: format!(
+                            "`{name}` takes {arity} argument(s), found {}",
+                            args.len()
+                        ),
+                        location: t.location,
+                    }),
+                    Some(_) => Ok(VAst::Call(name.clone(), args, t.location)),
+                }
+            }
+            Tok::Open(Delim::Paren) => {
+                self.c.next();
+                let inner = self.sum()?;
+                self.c
+                    .expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
+                Ok(inner)
+            }
+            Tok::Open(Delim::Bracket) => {
+                self.c.next();
+                let items = self.list(Delim::Bracket, "`,` or `]` in a vector")?;
+                if items.is_empty() {
+                    return Err(Error::Parse {
+                        message: "a vector needs at least one entry".into(),
+                        location: t.location,
+                    });
+                }
+                Ok(VAst::Brackets(items, t.location))
+            }
+            _ => Err(self.c.error_here("expected a number, a name, `(` or `[`")),
+        }
+    }
+}
+
+/// A numeric literal: decimal integers are exact, decimals and exponent forms are floats.
+fn number(text: &str) -> Option<Number> {
+    let clean: String = text.chars().filter(|&c| c != '_').collect();
+    if clean.is_empty() || !clean.starts_with(|c: char| c.is_ascii_digit()) {
+        return None;
+    }
+    if clean.chars().all(|c| c.is_ascii_digit()) {
+        return clean
+            .parse::<i64>()
+            .ok()
+            .map(Number::int)
+            .or_else(|| clean.parse::<f64>().ok().and_then(Number::float));
+    }
+    if !clean
+        .chars()
+        .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'))
+    {
+        return None;
+    }
+    clean.parse::<f64>().ok().and_then(Number::float)
+}
+
+/// How names of points, axes and bodies resolve while lowering.
+pub(crate) trait VectorNames {
+    /// The world vector called `name`, if there is one.
+    fn vector(&self, name: &str) -> Option<[Id; 3]>;
+}
+
+fn shape_error(message: String, at: Location) -> Error {
+    Error::Declaration {
+        message,
+        location: at,
+    }
+}
+
+/// The 1x1 value's entry, or an error naming `what`.
+pub(crate) fn scalar(m: &Matrix, what: &str, at: Location) -> Result<Id> {
+    if (m.rows, m.cols) == (1, 1) {
+        Ok(m.data[0])
+    } else {
+        Err(shape_error(
+            format!(
+                "{what} must be a scalar; this is a {}x{} value",
+                m.rows, m.cols
+            ),
+            at,
+        ))
+    }
+}
+
+/// The 3x1 value's entries, or an error naming `what`.
+pub(crate) fn vec3(m: &Matrix, what: &str, at: Location) -> Result<[Id; 3]> {
+    if (m.rows, m.cols) == (3, 1) {
+        Ok([m.data[0], m.data[1], m.data[2]])
+    } else {
+        Err(shape_error(
+            format!(
+                "{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value",
+                m.rows, m.cols
+            ),
+            at,
+        ))
+    }
+}
+
+fn one(id: Id) -> Matrix {
+    Matrix::column(vec![id])
+}
+
+/// Lowers `ast` into `arena` as a matrix value.
+pub(crate) fn lower_v(arena: &mut Arena, ast: &VAst, names: &dyn VectorNames) -> Result<Matrix> {
+    match ast {
+        VAst::Number(n, _) => Ok(one(arena.number(*n))),
+        VAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
+        VAst::Name(n, at) => match names.vector(n) {
+            Some(v) => Ok(Matrix::column(v.to_vec())),
+            None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
+        },
+        VAst::Neg(a, _) => {
+            let v = lower_v(arena, a, names)?;
+            let m1 = arena.int(-1);
+            v.scale(arena, m1)
+        }
+        VAst::Member(a, k, at) => {
+            let v = lower_v(arena, a, names)?;
+            let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
+            Ok(one(v[*k]))
+        }
+        VAst::Brackets(items, at) => {
+            let mut rows = Vec::new();
+            for it in items {
+                rows.push(lower_v(arena, it, names)?);
+            }
+            if items.iter().all(|i| matches!(i, VAst::Brackets(..))) && items.len() > 1 {
+                let cols = rows[0].rows;
+                let mut data = Vec::new();
+                for r in &rows {
+                    if r.cols != 1 || r.rows != cols {
+                        return Err(shape_error(
+                            "the rows of a matrix `[[..], [..]]` must have equal lengths".into(),
+                            *at,
+                        ));
+                    }
+                    data.extend(&r.data);
+                }
+                return Ok(Matrix {
+                    rows: rows.len(),
+                    cols,
+                    data,
+                });
+            }
+            let mut data = Vec::new();
+            for (r, it) in rows.iter().zip(items) {
+                data.push(scalar(r, "an entry of a vector `[..]`", it.location())?);
+            }
+            Ok(Matrix::column(data))
+        }
+        VAst::Binary(op, a, b, at) => {
+            let (x, y) = (lower_v(arena, a, names)?, lower_v(arena, b, names)?);
+            binary(arena, *op, &x, &y, *at)
+        }
+        VAst::Call(f, args, at) => call(arena, f, args, *at, names),
+    }
+}
+
+fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
+    let mismatch = |what: &str| {
+        shape_error(
+            format!(
+                "{what}: the left side is {}x{}, the right side {}x{}",
+                x.rows, x.cols, y.rows, y.cols
+            ),
+            at,
+        )
+    };
+    match op {
+        Op::Add | Op::Sub => {
+            if (x.rows, x.cols) != (y.rows, y.cols) {
+                return Err(mismatch("a sum needs values of one shape"));
+            }
+            if op == Op::Add {
+                x.add(arena, y)
+            } else {
+                x.sub(arena, y)
+            }
+        }
+        Op::Mul => {
+            if (x.rows, x.cols) == (1, 1) {
+                y.scale(arena, x.data[0])
+            } else if (y.rows, y.cols) == (1, 1) {
+                x.scale(arena, y.data[0])
+            } else if x.cols == y.rows {
+                x.mul(arena, y)
+            } else {
+                Err(mismatch(
+                    "a matrix product needs as many columns on the left as rows on the right",
+                ))
+            }
+        }
+        Op::Div => {
+            let d = scalar(y, "a divisor", at)?;
+            let inv = arena.powi(d, -1).map_err(|_| Error::ZeroDivisor {
+                divisor: "0".into(),
+                location: at,
+            })?;
+            x.scale(arena, inv)
+        }
+        Op::Pow => {
+            let b = scalar(x, "the base of `^`", at)?;
+            let e = scalar(y, "an exponent", at)?;
+            Ok(one(arena.pow(b, e).map_err(|_| Error::ZeroDivisor {
+                divisor: "0".into(),
+                location: at,
+            })?))
+        }
+    }
+}
+
+fn call(
+    arena: &mut Arena,
+    f: &str,
+    args: &[VAst],
+    at: Location,
+    names: &dyn VectorNames,
+) -> Result<Matrix> {
+    if HELPERS.contains(&f) {
+        return Err(shape_error(
+            format!(
+                "`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"
+            ),
+            at,
+        ));
+    }
+    let mut v = Vec::with_capacity(args.len());
+    for a in args {
+        v.push(lower_v(arena, a, names)?);
+    }
+    let s = |i: usize, arena: &mut Arena| -> Result<Id> {
+        let _ = arena;
+        scalar(&v[i], &format!("the argument of `{f}`"), args[i].location())
+    };
+    let w = |i: usize| vec3(&v[i], &format!("the argument of `{f}`"), args[i].location());
+    let domain = |e: Error| Error::Declaration {
+        message: format!("`{f}`: {e}"),
+        location: at,
+    };
+    Ok(match f {
+        "rot_x" | "rot_y" | "rot_z" => {
+            let axis = match f {
+                "rot_x" => Axis::X,
+                "rot_y" => Axis::Y,
+                _ => Axis::Z,
+            };
+            let a = s(0, arena)?;
+            elementary_rotation(arena, axis, a)
+        }
+        "diag" => {
+            let (a, b, c) = (s(0, arena)?, s(1, arena)?, s(2, arena)?);
+            let z = arena.int(0);
+            Matrix {
+                rows: 3,
+                cols: 3,
+                data: vec![a, z, z, z, b, z, z, z, c],
+            }
+        }
+        "dot" => {
+            let (p, q) = (w(0)?, w(1)?);
+            one(crate::mechanics::bodies::dot(arena, &p, &q))
+        }
+        "cross" => {
+            let (p, q) = (w(0)?, w(1)?);
+            Matrix::column(cross(arena, &p, &q).to_vec())
+        }
+        "norm" => {
+            let p = w(0)?;
+            let dd = crate::mechanics::bodies::dot(arena, &p, &p);
+            one(arena.sqrt(dd).map_err(domain)?)
+        }
+        "sqrt" => {
+            let x = s(0, arena)?;
+            one(arena.sqrt(x).map_err(domain)?)
+        }
+        "atan2" => {
+            let (y, x) = (s(0, arena)?, s(1, arena)?);
+            one(arena.atan2(y, x))
+        }
+        "pow" => {
+            let (b, e) = (s(0, arena)?, s(1, arena)?);
+            one(arena.pow(b, e).map_err(domain)?)
+        }
+        _ => {
+            let x = s(0, arena)?;
+            let func = Func::from_name(f).ok_or_else(|| Error::UnknownFunction {
+                name: f.to_string(),
+                location: at,
+            })?;
+            one(arena.func(func, x).map_err(domain)?)
+        }
+    })
+}
