@@ -15,7 +15,8 @@ use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use mechanism_bench::{derive_and_cse, macro_pipeline};
-use mechanism_codegen::{closed_chain_model, closed_chain_source, parse_model_str};
+use mechanism_codegen::fixtures::{closed_chain_model, closed_chain_source};
+use mechanism_codegen::parse_model_str;
 
 fn derivation(c: &mut Criterion) {
     let mut group = c.benchmark_group("derive_closed_chain");

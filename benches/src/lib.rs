@@ -296,7 +296,7 @@ pub fn check_chain_files() {
             "{}/mechanisms/closed_chain_{n}.mech",
             env!("CARGO_MANIFEST_DIR")
         );
-        let text = mechanism_codegen::closed_chain_source(n);
+        let text = mechanism_codegen::fixtures::closed_chain_source(n);
         if std::env::var_os("MECHANISM_BLESS").is_some() {
             std::fs::write(&path, &text).expect("write the chain file");
         }

@@ -134,3 +134,41 @@ fn did_you_mean(suggestion: &Option<String>) -> String {
         None => String::new(),
     }
 }
+
+impl Error {
+    /// The message without the "at line L, column C" part, for callers that show the
+    /// place themselves (a span, or `file:line:column:`).
+    pub fn message(&self) -> String {
+        match self {
+            Error::Declaration { message, .. } => message.clone(),
+            Error::Parse { message, .. } => format!("parse error: {message}"),
+            Error::UnknownSymbol {
+                name,
+                suggestion: Some(s),
+                ..
+            } => {
+                format!("unknown symbol `{name}`; did you mean `{s}`?")
+            }
+            Error::UnknownSymbol { name, .. } => format!("unknown symbol `{name}`"),
+            Error::UnknownFunction { name, .. } => format!(
+                "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
+            ),
+            Error::ZeroDivisor { divisor, .. } => {
+                format!("division by zero: `{divisor}` is the constant 0")
+            }
+            other => other.to_string(),
+        }
+    }
+
+    /// Where in the declaration the error is, for the variants that know it.
+    pub fn location(&self) -> Option<Location> {
+        match self {
+            Error::Parse { location, .. }
+            | Error::UnknownFunction { location, .. }
+            | Error::UnknownSymbol { location, .. }
+            | Error::Declaration { location, .. }
+            | Error::ZeroDivisor { location, .. } => Some(*location),
+            _ => None,
+        }
+    }
+}

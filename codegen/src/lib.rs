@@ -9,8 +9,10 @@
 mod algebra;
 mod emit;
 mod error;
-mod fixtures;
+#[cfg(any(test, feature = "fixtures"))]
+pub mod fixtures;
 mod mechanics;
+mod pipeline;
 mod print;
 mod program;
 mod syntax;
@@ -26,21 +28,21 @@ pub use emit::body::{
     BLOCK_LETS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens,
 };
 pub use error::{Error, Location, Result};
-pub use fixtures::{closed_chain_arch, closed_chain_model, closed_chain_source};
 pub use mechanics::bodies::{
     Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms,
 };
-pub use mechanics::build::{
-    ModelSpans, ParsedModel, SpannedError, parse_declaration, parse_declaration_str, parse_model,
-    parse_model_str,
-};
+pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::equations::Equations;
 pub use mechanics::joints::{AxisFrame, distance, parallel, prismatic, revolute, spherical};
 pub use mechanics::lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{ResidualTangent, lambda_symbol_name, residual_tangent};
+pub use pipeline::{
+    SpannedError, parse_declaration, parse_declaration_str, parse_model, parse_model_str,
+};
 pub use print::latex::{equations_latex, matrix_to_latex, to_latex};
 pub use print::text::{equations_text, matrix_to_text, to_text};
-pub use program::cse::{BinOp, Instr, OpCounts, Operand, Output, Program, Reg, UnOp};
+pub use program::cse::{Output, Program};
+pub use program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp};
 pub use program::tape::Tape;
-pub use syntax::expression::parse_expr;

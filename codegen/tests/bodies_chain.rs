@@ -7,10 +7,8 @@
 
 use std::time::Instant;
 
-use mechanism_codegen::{
-    Equations, Model, SymbolId, closed_chain_arch, closed_chain_model, derive, eval_matrix,
-    parse_model_str,
-};
+use mechanism_codegen::fixtures::{closed_chain_arch, closed_chain_model};
+use mechanism_codegen::{Equations, Model, SymbolId, derive, eval_matrix, parse_model_str};
 
 /// The chain of `n` uniform rods (length 1, mass 1, inertia 1/12) as bodies: rod i turns by
 /// rot_z(th_i), its centre is the tip T_{i-1} of rod i - 1 plus R_i (1/2, 0, 0).

@@ -17,9 +17,10 @@ use common::{
     Ast, State, ast, bare_model, build, close, eval_node, mat_vec, oracle_equations,
     try_eval_equations,
 };
+use mechanism_codegen::fixtures::closed_chain_model;
 use mechanism_codegen::{
-    Equations, Model, SymbolId, christoffel_coriolis_forces, christoffel_coriolis_matrix,
-    closed_chain_model, derive, eval_matrix,
+    Equations, Model, SymbolId, christoffel_coriolis_forces, christoffel_coriolis_matrix, derive,
+    eval_matrix,
 };
 use num_dual::Dual64;
 use proptest::prelude::*;

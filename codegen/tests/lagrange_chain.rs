@@ -8,10 +8,8 @@
 mod common;
 
 use common::{State, close, eval_equations};
-use mechanism_codegen::{
-    Program, closed_chain_arch, closed_chain_model, closed_chain_source, derive, eval_matrix,
-    parse_expr,
-};
+use mechanism_codegen::fixtures::{closed_chain_arch, closed_chain_model, closed_chain_source};
+use mechanism_codegen::{Program, derive, eval_matrix, parse_expr};
 use num_dual::{Dual2_64, Dual64, DualNum};
 
 const TOL: f64 = 1e-10;

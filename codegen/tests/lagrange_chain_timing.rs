@@ -4,7 +4,8 @@
 
 use std::time::Instant;
 
-use mechanism_codegen::{Program, closed_chain_model, derive};
+use mechanism_codegen::fixtures::closed_chain_model;
+use mechanism_codegen::{Program, derive};
 
 #[test]
 #[ignore = "timing report; run in release"]

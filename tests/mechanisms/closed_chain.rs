@@ -1,12 +1,13 @@
 //! Two independent declarations of the same chain agree: `mechanisms/closed_chain.mech`
-//! (text, compiled by the macro, X a parameter) and `mechanism_codegen::closed_chain_model(4)`
+//! (text, compiled by the macro, X a parameter) and `mechanism_codegen::fixtures::closed_chain_model(4)`
 //! (built through the arena API, X = 2 a constant), at random states. Tolerance 1e-12
 //! relative to each quantity's largest entry: the two DAGs differ in form (X symbolic or
 //! not, different sum orders), so they agree to rounding, not bit for bit.
 
 use mechanism::Mechanism;
 use mechanism::builtin::ClosedChain4;
-use mechanism_codegen::{Id, Matrix, SymbolId, closed_chain_model, derive, eval};
+use mechanism_codegen::fixtures::closed_chain_model;
+use mechanism_codegen::{Id, Matrix, SymbolId, derive, eval};
 use nalgebra::SVector;
 
 #[test]

@@ -1,7 +1,8 @@
 //! The interpreter route refuses a malformed hand-built model with a typed error, not a panic.
 
 use mechanism::Interpreted;
-use mechanism_codegen::{closed_chain_model, derive};
+use mechanism_codegen::derive;
+use mechanism_codegen::fixtures::closed_chain_model;
 
 #[test]
 fn a_coordinate_that_is_not_a_symbol_is_a_typed_error() {

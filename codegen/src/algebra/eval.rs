@@ -87,7 +87,7 @@ pub fn eval_many(
     let nodes = &arena.nodes()[..=top];
     for k in (0..=top).rev() {
         if needed[k] {
-            for_each_child(&nodes[k], |c| needed[c.index()] = true);
+            nodes[k].for_each_child(|c| needed[c.index()] = true);
         }
     }
     let mut value = vec![0.0_f64; top + 1];
@@ -97,19 +97,6 @@ pub fn eval_many(
         }
     }
     Ok(ids.iter().map(|i| value[i.index()]).collect())
-}
-
-/// Calls `f` on each direct child of `node`.
-pub(crate) fn for_each_child(node: &Node, mut f: impl FnMut(Id)) {
-    match node {
-        Node::Num(_) | Node::Pi | Node::Sym(_) => {}
-        Node::Add(v) | Node::Mul(v) => v.iter().copied().for_each(f),
-        Node::Pow(a, b) | Node::Atan2(a, b) => {
-            f(*a);
-            f(*b);
-        }
-        Node::Func(_, a) => f(*a),
-    }
 }
 
 /// The value of one node whose children are already in `value`.

@@ -113,6 +113,21 @@ pub enum Node {
     Atan2(Id, Id),
 }
 
+impl Node {
+    /// Calls `f` on each direct child of the node.
+    pub(crate) fn for_each_child(&self, mut f: impl FnMut(Id)) {
+        match self {
+            Node::Num(_) | Node::Pi | Node::Sym(_) => {}
+            Node::Add(v) | Node::Mul(v) => v.iter().copied().for_each(f),
+            Node::Pow(a, b) | Node::Atan2(a, b) => {
+                f(*a);
+                f(*b);
+            }
+            Node::Func(_, a) => f(*a),
+        }
+    }
+}
+
 /// What a symbol stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SymbolKind {

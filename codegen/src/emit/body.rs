@@ -27,7 +27,8 @@ use quote::{ToTokens, TokenStreamExt, quote};
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::error::{Error, Result};
-use crate::program::cse::{BinOp, Instr, OpCounts, Operand, Program, Reg, UnOp};
+use crate::program::cse::Program;
+use crate::program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp};
 use crate::program::liveness;
 
 /// How the emitted code reads each symbol, and how it names its registers.

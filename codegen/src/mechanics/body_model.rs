@@ -13,9 +13,11 @@ use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
-use crate::mechanics::model::{Constraint, Model, components};
+use crate::mechanics::model::{Constraint, Model};
+use crate::mechanics::vectors::{VectorNames, lower_v, scalar, vec3};
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
-use crate::syntax::vector::{Op, VAst, VectorNames, lower_v, scalar, vec3};
+use crate::syntax::declaration::components;
+use crate::syntax::vector::{Op, VAst};
 
 /// The lowering context: named world vectors, axis frames and body frames.
 #[derive(Default)]

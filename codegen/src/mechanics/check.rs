@@ -3,10 +3,9 @@
 
 use std::collections::HashMap;
 
-use crate::algebra::expr::SymbolId;
+use crate::algebra::expr::{Id, SymbolId};
 use crate::error::{Error, Location};
 use crate::mechanics::model::Model;
-use crate::print::text::to_text;
 use crate::syntax::declaration::{Declaration, Item};
 use crate::syntax::expression::{Ast, closest};
 
@@ -456,12 +455,35 @@ fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec
     errors.push(declaration_error(message, at));
 }
 
-/// The rules that need the built expressions (canonical forms decide what is constant).
-pub(crate) fn check_model(model: &Model, kinetic_at: Location) -> Vec<Error> {
-    let mut errors = Vec::new();
-    check_constraints_depend_on_motion(model, &mut errors);
-    check_kinetic_has_rates(model, kinetic_at, &mut errors);
-    errors
+/// A rule broken by the built expressions (canonical forms decide what is constant), with
+/// the expression the rule found, so that the caller can quote it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ModelFinding {
+    /// Constraint row `row` (0-based) depends on neither the coordinates nor t; `expr` is
+    /// its simplified form.
+    ConstraintWithoutMotion {
+        /// The row, 0-based.
+        row: usize,
+        /// The row's expression.
+        expr: Id,
+        /// Where the row is declared.
+        location: Location,
+    },
+    /// The kinetic energy `expr` depends on no rate der(q).
+    KineticWithoutRates {
+        /// The kinetic energy.
+        expr: Id,
+        /// Where `kinetic` is declared.
+        location: Location,
+    },
+}
+
+/// The rules that need the built expressions.
+pub(crate) fn check_model(model: &Model, kinetic_at: Location) -> Vec<ModelFinding> {
+    let mut findings = Vec::new();
+    check_constraints_depend_on_motion(model, &mut findings);
+    check_kinetic_has_rates(model, kinetic_at, &mut findings);
+    findings
 }
 
 /// The symbols of the coordinates (and of t, when `with_time`).
@@ -480,25 +502,22 @@ fn motion_symbols(model: &Model, with_time: bool) -> Vec<SymbolId> {
 
 /// Each constraint row depends on the coordinates or on t: a row of parameters and numbers
 /// (`x - x`, `l1 - l2`) either always holds or never does, and gives a zero row in Phi_q.
-fn check_constraints_depend_on_motion(model: &Model, errors: &mut Vec<Error>) {
+fn check_constraints_depend_on_motion(model: &Model, findings: &mut Vec<ModelFinding>) {
     let syms = motion_symbols(model, true);
-    for (i, c) in model.constraints.iter().enumerate() {
+    for (row, c) in model.constraints.iter().enumerate() {
         if !syms.iter().any(|&s| model.arena.depends_on(c.expr, s)) {
-            errors.push(declaration_error(
-                format!(
-                    "constraint {} does not depend on the coordinates or t (it simplifies to `{}`), so it constrains nothing: remove it or correct it",
-                    i + 1,
-                    to_text(&model.arena, c.expr)
-                ),
-                c.location,
-            ));
+            findings.push(ModelFinding::ConstraintWithoutMotion {
+                row,
+                expr: c.expr,
+                location: c.location,
+            });
         }
     }
 }
 
 /// The kinetic energy depends on at least one rate der(q); otherwise M = 0 and the equations
 /// of motion say nothing about accelerations.
-fn check_kinetic_has_rates(model: &Model, at: Location, errors: &mut Vec<Error>) {
+fn check_kinetic_has_rates(model: &Model, at: Location, findings: &mut Vec<ModelFinding>) {
     let a = &model.arena;
     let rates: Vec<SymbolId> = model
         .coordinates
@@ -506,12 +525,9 @@ fn check_kinetic_has_rates(model: &Model, at: Location, errors: &mut Vec<Error>)
         .filter_map(|c| a.as_symbol(c.qd))
         .collect();
     if !rates.iter().any(|&s| a.depends_on(model.kinetic, s)) {
-        errors.push(declaration_error(
-            format!(
-                "the kinetic energy does not depend on any rate der(q) (it is `{}`): write T with the rates, e.g. `1/2*m*der(x)^2`",
-                to_text(a, model.kinetic)
-            ),
-            at,
-        ));
+        findings.push(ModelFinding::KineticWithoutRates {
+            expr: model.kinetic,
+            location: at,
+        });
     }
 }

@@ -25,4 +25,6 @@ pub(crate) mod equations;
 pub(crate) mod joints;
 pub(crate) mod lagrange;
 pub(crate) mod model;
+pub(crate) mod resolve;
 pub(crate) mod tangent;
+pub(crate) mod vectors;

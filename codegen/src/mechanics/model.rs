@@ -77,28 +77,6 @@ impl Constraint {
     }
 }
 
-/// The component labels of the rows x cols entries of a vector or matrix statement, in the
-/// (row-major) order of its rows: `""` for a scalar, `x`, `y` (, `z`) for a vector of 2 (3)
-/// entries, `1`, `2`, .. for a longer vector, `(i, j)` (1-based) for a matrix.
-pub(crate) fn components(rows: usize, cols: usize) -> Vec<String> {
-    let len = rows * cols;
-    if len == 1 {
-        return vec![String::new()];
-    }
-    if rows == 1 || cols == 1 {
-        if len <= 3 {
-            return ["x", "y", "z"][..len]
-                .iter()
-                .map(|s| s.to_string())
-                .collect();
-        }
-        return (1..=len).map(|k| k.to_string()).collect();
-    }
-    (0..len)
-        .map(|k| format!("({}, {})", k / cols + 1, k % cols + 1))
-        .collect()
-}
-
 /// A whole declaration.
 #[derive(Clone, Debug)]
 pub struct Model {

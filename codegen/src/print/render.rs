@@ -12,7 +12,7 @@
 //!
 //! A [`Style`] supplies the spelling (plain text or LaTeX).
 
-use crate::FxHashMap;
+use crate::algebra::expr::FxHashMap;
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
 use crate::algebra::number::Number;
 

@@ -2,12 +2,11 @@
 //! in the `cse` module docs, on top of an instruction builder with value numbering (one
 //! register per distinct instruction) and constant folding.
 
-use crate::algebra::eval::{for_each_child, pow_value};
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::number::Number;
 use crate::error::{Error, Result};
-use crate::program::cse::{BinOp, Instr, Operand, Reg, UnOp};
+use crate::program::instructions::{BinOp, Instr, Operand, Reg, UnOp};
 
 // ----- instruction builder with value numbering and constant folding -----
 
@@ -113,7 +112,7 @@ impl Builder {
                 BinOp::Mul => a * b,
                 BinOp::Div => a / b,
                 BinOp::Atan2 => a.atan2(b),
-                BinOp::Powf => pow_value(a, b, None),
+                BinOp::Powf => a.powf(b),
             };
             return finite(v, &format!("{op:?}"), &[a, b]);
         }
@@ -241,7 +240,7 @@ impl<'a> Lowering<'a> {
             let nodes = &arena.nodes()[..=top];
             for k in (0..=top).rev() {
                 if needed[k] {
-                    for_each_child(&nodes[k], |c| needed[c.index()] = true);
+                    nodes[k].for_each_child(|c| needed[c.index()] = true);
                 }
             }
             for (k, node) in nodes.iter().enumerate() {

@@ -4,7 +4,8 @@
 //! Large bodies are emitted as nested blocks of `let`s (see [`crate::BLOCK_LETS_ABOVE`]); a
 //! block returns exactly the values it defines that are read after it.
 
-use crate::program::cse::{Instr, Operand, Program, Reg};
+use crate::program::cse::Program;
+use crate::program::instructions::{Instr, Operand, Reg};
 
 /// The registers an instruction defines (two for a sin/cos pair).
 pub(crate) fn defs(i: &Instr) -> [Option<Reg>; 2] {
@@ -65,8 +66,8 @@ mod tests {
     /// find its register visible; and blocks hand on only a fraction of what they define.
     #[test]
     fn blocks_hand_on_every_value_read_later() {
-        let mut model = crate::closed_chain_model(12);
-        let eqs = crate::derive(&mut model).unwrap();
+        let mut model = crate::fixtures::closed_chain_model(12);
+        let eqs = crate::mechanics::lagrange::derive(&mut model).unwrap();
         let outs = [
             &eqs.mass,
             &eqs.coriolis_forces,

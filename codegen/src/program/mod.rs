@@ -10,5 +10,6 @@
 
 pub(crate) mod builder;
 pub(crate) mod cse;
+pub(crate) mod instructions;
 pub(crate) mod liveness;
 pub(crate) mod tape;

@@ -9,7 +9,8 @@
 use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::algebra::trig::sin_cos;
 use crate::error::{Error, Result};
-use crate::program::cse::{BinOp, Instr, Operand, Program, UnOp};
+use crate::program::cse::Program;
+use crate::program::instructions::{BinOp, Instr, Operand, UnOp};
 
 /// One tape operation; operands and destinations are register-file slots.
 #[derive(Clone, Copy, Debug)]
@@ -92,7 +93,7 @@ impl Tape {
                 Operand::Reg(r) => base + r.0,
             }
         };
-        let d = |r: crate::program::cse::Reg| base + r.0;
+        let d = |r: crate::program::instructions::Reg| base + r.0;
         let ops = program
             .instructions()
             .iter()

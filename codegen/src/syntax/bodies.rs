@@ -37,8 +37,7 @@
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
 use crate::error::{Error, Location, Result};
-use crate::syntax::declaration::{block, name};
-use crate::syntax::lex::{Cursor, Tok};
+use crate::syntax::lex::{Cursor, Tok, block, name};
 use crate::syntax::vector::{VAst, VParser};
 
 /// The top-level keywords of the body sections.
@@ -278,5 +277,3 @@ fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
         other => Joint::Row(other, None, at),
     })
 }
-
-pub(crate) use crate::mechanics::body_model::build_bodies;

@@ -19,7 +19,7 @@
 
 use crate::error::{Error, Location, Result};
 use crate::syntax::expression::{Ast, ExprParser, closest};
-use crate::syntax::lex::{Cursor, Delim, Tok, Tokens};
+use crate::syntax::lex::{Cursor, Delim, Tok, Tokens, block, name};
 
 /// The section keywords, in the order the README documents them.
 pub(crate) const SECTIONS: &[&str] = &[
@@ -69,7 +69,7 @@ pub(crate) struct Row {
     /// statement of several rows).
     pub(crate) statement: usize,
     /// The component of a vector statement (`x`, `y`, `z` or `1`, `2`, ..); empty for a
-    /// scalar row (see [`crate::mechanics::model::components`]).
+    /// scalar row (see [`components`]).
     pub(crate) component: String,
 }
 
@@ -314,7 +314,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             }
             let mut body = Vec::new();
             for (k, rows) in rows.into_iter().enumerate() {
-                let labels = crate::mechanics::model::components(rows.len(), 1);
+                let labels = components(rows.len(), 1);
                 for (mut row, component) in rows.into_iter().zip(labels) {
                     row.statement = k + 1;
                     row.component = component;
@@ -356,35 +356,6 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// A name at the cursor (`section` names where, for the error).
-pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
-    let t = c.peek();
-    match &t.tok {
-        Tok::Ident(s) => {
-            c.next();
-            Ok((s.clone(), t.location))
-        }
-        _ => Err(c.error_here(&format!("expected a name in `{section}`"))),
-    }
-}
-
-/// `{ item; item; ... }` with an optional last `;`.
-pub(crate) fn block<T>(
-    c: &mut Cursor<'_>,
-    mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
-) -> Result<Vec<T>> {
-    c.expect(&Tok::Open(Delim::Brace), "`{` opening the section")?;
-    let mut out = Vec::new();
-    while !c.at(&Tok::Close(Delim::Brace)) {
-        out.push(item(c)?);
-        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
-            return Err(c.error_here("expected `;` or an operator"));
-        }
-    }
-    c.next();
-    Ok(out)
 }
 
 /// One constraint statement: a scalar row or a vector of rows.
@@ -464,4 +435,26 @@ fn vector(c: &mut Cursor<'_>) -> Result<Vec<(Ast, Location)>> {
         return Err(c.error_here("a vector constraint needs at least one entry"));
     }
     Ok(out)
+}
+
+/// The component labels of the rows x cols entries of a vector or matrix statement, in the
+/// (row-major) order of its rows: `""` for a scalar, `x`, `y` (, `z`) for a vector of 2 (3)
+/// entries, `1`, `2`, .. for a longer vector, `(i, j)` (1-based) for a matrix.
+pub(crate) fn components(rows: usize, cols: usize) -> Vec<String> {
+    let len = rows * cols;
+    if len == 1 {
+        return vec![String::new()];
+    }
+    if rows == 1 || cols == 1 {
+        if len <= 3 {
+            return ["x", "y", "z"][..len]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+        }
+        return (1..=len).map(|k| k.to_string()).collect();
+    }
+    (0..len)
+        .map(|k| format!("({}, {})", k / cols + 1, k % cols + 1))
+        .collect()
 }

@@ -281,3 +281,32 @@ impl<'a> Cursor<'a> {
         }
     }
 }
+
+/// A name at the cursor (`section` names where, for the error).
+pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Location)> {
+    let t = c.peek();
+    match &t.tok {
+        Tok::Ident(s) => {
+            c.next();
+            Ok((s.clone(), t.location))
+        }
+        _ => Err(c.error_here(&format!("expected a name in `{section}`"))),
+    }
+}
+
+/// `{ item; item; ... }` with an optional last `;`.
+pub(crate) fn block<T>(
+    c: &mut Cursor<'_>,
+    mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
+) -> Result<Vec<T>> {
+    c.expect(&Tok::Open(Delim::Brace), "`{` opening the section")?;
+    let mut out = Vec::new();
+    while !c.at(&Tok::Close(Delim::Brace)) {
+        out.push(item(c)?);
+        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
+            return Err(c.error_here("expected `;` or an operator"));
+        }
+    }
+    c.next();
+    Ok(out)
+}

@@ -1,6 +1,6 @@
 //! Vector and matrix expressions of the body sections (`position = [x, y, z];`,
 //! `orientation = rot_z(phi) * rot_x(a);`, `B = C;`, `B.z = 0;`): their syntax tree,
-//! parser and lowering into [`Matrix`] values (a scalar is 1x1).
+//! and parser (evaluated into symbolic matrices by `mechanics::vectors`).
 //!
 //! ```text
 //! vexpr   := product (("+" | "-") product)*
@@ -17,13 +17,9 @@
 //! `rot_x`, `rot_y`, `rot_z` (3x3), `diag(a, b, c)` (3x3), `dot(u, v)`, `cross(u, v)`,
 //! `norm(u)`.
 
-use crate::algebra::expr::{Arena, Func, Id};
-use crate::algebra::matrix::Matrix;
 use crate::algebra::number::Number;
-use crate::algebra::rotation::{Axis, elementary_rotation};
 use crate::error::{Error, Location, Result};
-use crate::mechanics::joints::cross;
-use crate::syntax::expression::{ArenaResolver, FUNCTIONS, Resolver};
+use crate::syntax::expression::FUNCTIONS;
 use crate::syntax::lex::{Cursor, Delim, Tok};
 
 /// Functions that only vector expressions have, with their arities; the scalar ones come
@@ -43,7 +39,7 @@ const VECTOR_FUNCTIONS: &[(&str, usize)] = &[
 ];
 
 /// Joint helpers: parsed as calls, valid only as statements of `joints`.
-const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance"];
+pub(crate) const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance"];
 
 /// A binary operator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -360,243 +356,4 @@ fn number(text: &str) -> Option<Number> {
         return None;
     }
     clean.parse::<f64>().ok().and_then(Number::float)
-}
-
-/// How names of points, axes and bodies resolve while lowering.
-pub(crate) trait VectorNames {
-    /// The world vector called `name`, if there is one.
-    fn vector(&self, name: &str) -> Option<[Id; 3]>;
-}
-
-fn shape_error(message: String, at: Location) -> Error {
-    Error::Declaration {
-        message,
-        location: at,
-    }
-}
-
-/// The 1x1 value's entry, or an error naming `what`.
-pub(crate) fn scalar(m: &Matrix, what: &str, at: Location) -> Result<Id> {
-    if (m.rows, m.cols) == (1, 1) {
-        Ok(m.data[0])
-    } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a scalar; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
-    }
-}
-
-/// The 3x1 value's entries, or an error naming `what`.
-pub(crate) fn vec3(m: &Matrix, what: &str, at: Location) -> Result<[Id; 3]> {
-    if (m.rows, m.cols) == (3, 1) {
-        Ok([m.data[0], m.data[1], m.data[2]])
-    } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
-    }
-}
-
-fn one(id: Id) -> Matrix {
-    Matrix::column(vec![id])
-}
-
-/// Lowers `ast` into `arena` as a matrix value.
-pub(crate) fn lower_v(arena: &mut Arena, ast: &VAst, names: &dyn VectorNames) -> Result<Matrix> {
-    match ast {
-        VAst::Number(n, _) => Ok(one(arena.number(*n))),
-        VAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
-        VAst::Name(n, at) => match names.vector(n) {
-            Some(v) => Ok(Matrix::column(v.to_vec())),
-            None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
-        },
-        VAst::Neg(a, _) => {
-            let v = lower_v(arena, a, names)?;
-            let m1 = arena.int(-1);
-            v.scale(arena, m1)
-        }
-        VAst::Member(a, k, at) => {
-            let v = lower_v(arena, a, names)?;
-            let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
-            Ok(one(v[*k]))
-        }
-        VAst::Brackets(items, at) => {
-            let mut rows = Vec::new();
-            for it in items {
-                rows.push(lower_v(arena, it, names)?);
-            }
-            if items.iter().all(|i| matches!(i, VAst::Brackets(..))) && items.len() > 1 {
-                let cols = rows[0].rows;
-                let mut data = Vec::new();
-                for r in &rows {
-                    if r.cols != 1 || r.rows != cols {
-                        return Err(shape_error(
-                            "the rows of a matrix `[[..], [..]]` must have equal lengths".into(),
-                            *at,
-                        ));
-                    }
-                    data.extend(&r.data);
-                }
-                return Ok(Matrix {
-                    rows: rows.len(),
-                    cols,
-                    data,
-                });
-            }
-            let mut data = Vec::new();
-            for (r, it) in rows.iter().zip(items) {
-                data.push(scalar(r, "an entry of a vector `[..]`", it.location())?);
-            }
-            Ok(Matrix::column(data))
-        }
-        VAst::Binary(op, a, b, at) => {
-            let (x, y) = (lower_v(arena, a, names)?, lower_v(arena, b, names)?);
-            binary(arena, *op, &x, &y, *at)
-        }
-        VAst::Call(f, args, at) => call(arena, f, args, *at, names),
-    }
-}
-
-fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
-    let mismatch = |what: &str| {
-        shape_error(
-            format!(
-                "{what}: the left side is {}x{}, the right side {}x{}",
-                x.rows, x.cols, y.rows, y.cols
-            ),
-            at,
-        )
-    };
-    match op {
-        Op::Add | Op::Sub => {
-            if (x.rows, x.cols) != (y.rows, y.cols) {
-                return Err(mismatch("a sum needs values of one shape"));
-            }
-            if op == Op::Add {
-                x.add(arena, y)
-            } else {
-                x.sub(arena, y)
-            }
-        }
-        Op::Mul => {
-            if (x.rows, x.cols) == (1, 1) {
-                y.scale(arena, x.data[0])
-            } else if (y.rows, y.cols) == (1, 1) {
-                x.scale(arena, y.data[0])
-            } else if x.cols == y.rows {
-                x.mul(arena, y)
-            } else {
-                Err(mismatch(
-                    "a matrix product needs as many columns on the left as rows on the right",
-                ))
-            }
-        }
-        Op::Div => {
-            let d = scalar(y, "a divisor", at)?;
-            let inv = arena.powi(d, -1).map_err(|_| Error::ZeroDivisor {
-                divisor: "0".into(),
-                location: at,
-            })?;
-            x.scale(arena, inv)
-        }
-        Op::Pow => {
-            let b = scalar(x, "the base of `^`", at)?;
-            let e = scalar(y, "an exponent", at)?;
-            Ok(one(arena.pow(b, e).map_err(|_| Error::ZeroDivisor {
-                divisor: "0".into(),
-                location: at,
-            })?))
-        }
-    }
-}
-
-fn call(
-    arena: &mut Arena,
-    f: &str,
-    args: &[VAst],
-    at: Location,
-    names: &dyn VectorNames,
-) -> Result<Matrix> {
-    if HELPERS.contains(&f) {
-        return Err(shape_error(
-            format!(
-                "`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"
-            ),
-            at,
-        ));
-    }
-    let mut v = Vec::with_capacity(args.len());
-    for a in args {
-        v.push(lower_v(arena, a, names)?);
-    }
-    let s = |i: usize, arena: &mut Arena| -> Result<Id> {
-        let _ = arena;
-        scalar(&v[i], &format!("the argument of `{f}`"), args[i].location())
-    };
-    let w = |i: usize| vec3(&v[i], &format!("the argument of `{f}`"), args[i].location());
-    let domain = |e: Error| Error::Declaration {
-        message: format!("`{f}`: {e}"),
-        location: at,
-    };
-    Ok(match f {
-        "rot_x" | "rot_y" | "rot_z" => {
-            let axis = match f {
-                "rot_x" => Axis::X,
-                "rot_y" => Axis::Y,
-                _ => Axis::Z,
-            };
-            let a = s(0, arena)?;
-            elementary_rotation(arena, axis, a)
-        }
-        "diag" => {
-            let (a, b, c) = (s(0, arena)?, s(1, arena)?, s(2, arena)?);
-            let z = arena.int(0);
-            Matrix {
-                rows: 3,
-                cols: 3,
-                data: vec![a, z, z, z, b, z, z, z, c],
-            }
-        }
-        "dot" => {
-            let (p, q) = (w(0)?, w(1)?);
-            one(crate::mechanics::bodies::dot(arena, &p, &q))
-        }
-        "cross" => {
-            let (p, q) = (w(0)?, w(1)?);
-            Matrix::column(cross(arena, &p, &q).to_vec())
-        }
-        "norm" => {
-            let p = w(0)?;
-            let dd = crate::mechanics::bodies::dot(arena, &p, &p);
-            one(arena.sqrt(dd).map_err(domain)?)
-        }
-        "sqrt" => {
-            let x = s(0, arena)?;
-            one(arena.sqrt(x).map_err(domain)?)
-        }
-        "atan2" => {
-            let (y, x) = (s(0, arena)?, s(1, arena)?);
-            one(arena.atan2(y, x))
-        }
-        "pow" => {
-            let (b, e) = (s(0, arena)?, s(1, arena)?);
-            one(arena.pow(b, e).map_err(domain)?)
-        }
-        _ => {
-            let x = s(0, arena)?;
-            let func = Func::from_name(f).ok_or_else(|| Error::UnknownFunction {
-                name: f.to_string(),
-                location: at,
-            })?;
-            one(arena.func(func, x).map_err(domain)?)
-        }
-    })
 }

@@ -1,0 +1,179 @@
+//! The stages in order, for a whole declaration: tokens ([`crate::syntax::lex`]), the
+//! syntax tree ([`crate::syntax::declaration`]), every rule on it ([`crate::mechanics::check`]),
+//! the model ([`crate::mechanics::build`]), the rules on the built expressions (whose
+//! findings quote the expression in the text form of [`crate::print::text`]). This is the
+//! one module that may import every stage; the stages import only earlier ones.
+
+use proc_macro2::{Span, TokenStream};
+
+use crate::error::{Error, Result};
+use crate::mechanics::build::{ParsedModel, build};
+use crate::mechanics::check::{ModelFinding, check, check_model};
+use crate::mechanics::model::Model;
+use crate::print::text::to_text;
+use crate::syntax::declaration::parse_declaration_tokens;
+use crate::syntax::lex::{Tokens, tokens_from_str, tokens_from_stream};
+
+/// An error with the span of the offending token, for a proc-macro to report
+/// (`syn::Error::new(e.span, e.message())`).
+#[derive(Clone, Debug)]
+pub struct SpannedError {
+    /// What went wrong (its location is the same place as `span`, as line and column).
+    pub error: Error,
+    /// The offending token's span (the call site when no token is to blame).
+    pub span: Span,
+}
+
+impl SpannedError {
+    /// The message without the "at line L, column C" part (the span shows the place).
+    pub fn message(&self) -> String {
+        self.error.message()
+    }
+}
+
+impl std::fmt::Display for SpannedError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+impl std::error::Error for SpannedError {}
+
+/// Parses, checks and builds a declaration from macro input, reporting every error with the
+/// span of the offending token.
+///
+/// # Errors
+/// The first syntax error, or else every violated rule (see `check.rs`): unknown symbols,
+/// duplicates, rates in the potential or the constraints, `der` of a parameter, an empty
+/// `coordinates`, forces or independent values on unknown coordinates, non-constant
+/// defaults, a missing `kinetic`, too few independent coordinates; then errors evaluating
+/// constants (a division by zero, ln of a negative). More constraint rows than coordinates
+/// are allowed (redundant rows): the runtime reports the rank of Phi_q and the mobility.
+pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<SpannedError>> {
+    let toks = tokens_from_stream(tokens);
+    let spans = toks.spans();
+    let span_of = |e: &Error| {
+        e.location()
+            .and_then(|l| l.token)
+            .and_then(|i| spans.get(i).copied())
+    };
+    match declare(&toks) {
+        Ok(mut parsed) => {
+            parsed.spans.tokens = spans.clone();
+            Ok(parsed)
+        }
+        Err(errors) => Err(errors
+            .into_iter()
+            .map(|error| SpannedError {
+                span: span_of(&error).unwrap_or_else(Span::call_site),
+                error,
+            })
+            .collect()),
+    }
+}
+
+/// Parses, checks and builds a declaration from text (a `.mech` file); errors carry line and
+/// column.
+///
+/// # Errors
+/// As [`parse_declaration`]; a text that cannot be split into tokens (unbalanced brackets)
+/// is an [`Error::Parse`] at the line and column where the lexer stopped.
+pub fn parse_declaration_str(text: &str) -> Result<ParsedModel, Vec<Error>> {
+    let toks = tokens_from_str(text).map_err(|e| vec![e])?;
+    declare(&toks)
+}
+
+/// The model declared by macro input; the first error with its span.
+///
+/// # Errors
+/// The first of the errors [`parse_declaration`] reports.
+pub fn parse_model(tokens: TokenStream) -> Result<Model, SpannedError> {
+    parse_declaration(tokens).map(|p| p.model).map_err(first)
+}
+
+/// The model declared by a text (a `.mech` file); the first error, with line and column.
+///
+/// # Errors
+/// The first of the errors [`parse_declaration_str`] reports.
+///
+/// # Example
+/// ```
+/// let m = mechanism_codegen::parse_model_str(
+///     "/// A pendulum in Cartesian coordinates.
+///      pub struct Pendulum;
+///      parameters { m = 1.0; l = 0.5; g = 9.81; }
+///      coordinates { x = 0.5; y = 0.0; }
+///      independent { x = 0.5; der(x) = 0.0; }
+///      kinetic = 1/2*m*(der(x)^2 + der(y)^2);
+///      potential = m*g*y;
+///      constraints { x^2 + y^2 = l^2; }",
+/// )
+/// .unwrap();
+/// assert_eq!((m.coordinates.len(), m.constraints.len()), (2, 1));
+/// assert_eq!(m.doc, ["A pendulum in Cartesian coordinates."]);
+/// ```
+pub fn parse_model_str(text: &str) -> Result<Model, Error> {
+    parse_declaration_str(text).map(|p| p.model).map_err(first)
+}
+
+fn first<E>(errors: Vec<E>) -> E
+where
+    E: From<Error>,
+{
+    errors
+        .into_iter()
+        .next()
+        .unwrap_or_else(|| E::from(Error::Model("the declaration could not be read".into())))
+}
+
+impl From<Error> for SpannedError {
+    fn from(error: Error) -> Self {
+        SpannedError {
+            error,
+            span: Span::call_site(),
+        }
+    }
+}
+
+/// Syntax, then every rule, then the model.
+fn declare(tokens: &Tokens) -> Result<ParsedModel, Vec<Error>> {
+    let d = parse_declaration_tokens(tokens).map_err(|e| vec![e])?;
+    let errors = check(&d);
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let parsed = build(&d).map_err(|e| vec![e])?;
+    let errors: Vec<Error> = check_model(&parsed.model, parsed.spans.kinetic)
+        .into_iter()
+        .map(|f| finding_error(&parsed.model, f))
+        .collect();
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    Ok(parsed)
+}
+
+/// The message of a rule broken by the built expressions, quoting the expression.
+fn finding_error(model: &Model, finding: ModelFinding) -> Error {
+    match finding {
+        ModelFinding::ConstraintWithoutMotion {
+            row,
+            expr,
+            location,
+        } => Error::Declaration {
+            message: format!(
+                "constraint {} does not depend on the coordinates or t (it simplifies to `{}`), so it constrains nothing: remove it or correct it",
+                row + 1,
+                to_text(&model.arena, expr)
+            ),
+            location,
+        },
+        ModelFinding::KineticWithoutRates { expr, location } => Error::Declaration {
+            message: format!(
+                "the kinetic energy does not depend on any rate der(q) (it is `{}`): write T with the rates, e.g. `1/2*m*der(x)^2`",
+                to_text(&model.arena, expr)
+            ),
+            location,
+        },
+    }
+}

@@ -1,0 +1,196 @@
+//! The instructions of a [`Program`](crate::Program): registers, operands and the unary,
+//! binary, integer-power and `sin_cos` operations of straight-line SSA code.
+
+use crate::algebra::expr::SymbolId;
+
+/// A register of a [`Program`]: the value of one instruction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Reg(pub u32);
+
+/// An instruction operand: a register, an input symbol or a constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operand {
+    /// The value of an earlier instruction.
+    Reg(Reg),
+    /// An input symbol (coordinate, rate, parameter, time).
+    Sym(SymbolId),
+    /// A finite constant.
+    Const(f64),
+}
+
+/// A unary operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnOp {
+    /// -x
+    Neg,
+    /// sin x
+    Sin,
+    /// cos x
+    Cos,
+    /// tan x
+    Tan,
+    /// e^x
+    Exp,
+    /// ln x
+    Ln,
+    /// sqrt x
+    Sqrt,
+    /// |x|
+    Abs,
+}
+
+/// A binary operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    /// lhs + rhs
+    Add,
+    /// lhs - rhs
+    Sub,
+    /// lhs * rhs
+    Mul,
+    /// lhs / rhs
+    Div,
+    /// atan2(lhs, rhs): the angle of the point (rhs, lhs)
+    Atan2,
+    /// lhs ^ rhs (real power)
+    Powf,
+}
+
+/// One SSA instruction; each defines one register (`SinCos` defines two).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Instr {
+    /// dst = op(arg)
+    Unary {
+        /// Destination register.
+        dst: Reg,
+        /// Operation.
+        op: UnOp,
+        /// Argument.
+        arg: Operand,
+    },
+    /// dst = lhs op rhs
+    Binary {
+        /// Destination register.
+        dst: Reg,
+        /// Operation.
+        op: BinOp,
+        /// Left operand.
+        lhs: Operand,
+        /// Right operand.
+        rhs: Operand,
+    },
+    /// dst = base^exp for an integer exp (|exp| > 4; smaller powers are multiplications).
+    Powi {
+        /// Destination register.
+        dst: Reg,
+        /// Base.
+        base: Operand,
+        /// Integer exponent.
+        exp: i32,
+    },
+    /// (sin, cos) = (sin arg, cos arg), computed together.
+    SinCos {
+        /// Register receiving sin arg.
+        sin: Reg,
+        /// Register receiving cos arg.
+        cos: Reg,
+        /// Argument.
+        arg: Operand,
+    },
+}
+
+impl Instr {
+    /// Calls `f` on each operand read by the instruction.
+    pub fn for_each_operand(&self, mut f: impl FnMut(Operand)) {
+        match *self {
+            Instr::Unary { arg, .. } | Instr::SinCos { arg, .. } => f(arg),
+            Instr::Powi { base, .. } => f(base),
+            Instr::Binary { lhs, rhs, .. } => {
+                f(lhs);
+                f(rhs);
+            }
+        }
+    }
+
+    /// The operation count of the instruction (see [`OpCounts`]).
+    pub fn op_counts(&self) -> OpCounts {
+        let mut c = OpCounts::default();
+        match self {
+            Instr::Unary { op: UnOp::Neg, .. }
+            | Instr::Binary {
+                op: BinOp::Add | BinOp::Sub,
+                ..
+            } => c.adds = 1,
+            Instr::Binary { op: BinOp::Mul, .. } => c.muls = 1,
+            Instr::Binary { op: BinOp::Div, .. } => c.divs = 1,
+            _ => c.calls = 1,
+        }
+        c
+    }
+}
+
+/// Operation counts: what the emitted code executes, one per instruction.
+///
+/// `adds` counts additions, subtractions and negations; `muls` multiplications; `divs`
+/// divisions; `calls` the calls `sin_cos`, `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt`, `abs`,
+/// `atan2`, `powi`, `powf` (each 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct OpCounts {
+    /// Additions, subtractions and negations.
+    pub adds: usize,
+    /// Multiplications.
+    pub muls: usize,
+    /// Divisions.
+    pub divs: usize,
+    /// Function calls.
+    pub calls: usize,
+}
+
+impl OpCounts {
+    /// adds + muls + divs + calls.
+    pub fn total(&self) -> usize {
+        self.adds + self.muls + self.divs + self.calls
+    }
+}
+
+impl std::ops::Add for OpCounts {
+    type Output = OpCounts;
+    fn add(self, o: OpCounts) -> OpCounts {
+        OpCounts {
+            adds: self.adds + o.adds,
+            muls: self.muls + o.muls,
+            divs: self.divs + o.divs,
+            calls: self.calls + o.calls,
+        }
+    }
+}
+
+impl std::ops::AddAssign for OpCounts {
+    fn add_assign(&mut self, o: OpCounts) {
+        *self = *self + o;
+    }
+}
+
+impl std::fmt::Display for OpCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ops ({} add, {} mul, {} div, {} call)",
+            self.total(),
+            self.adds,
+            self.muls,
+            self.divs,
+            self.calls
+        )
+    }
+}
+
+/// The registers an instruction defines.
+pub(crate) fn defines(i: &Instr) -> [Option<Reg>; 2] {
+    match *i {
+        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
+            [Some(dst), None]
+        }
+        Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
+    }
+}
