@@ -1,4 +1,4 @@
-//! The closed planar N-bar chain: the scaling family of the benchmarks (codegen issue).
+//! The closed planar N-bar chain: the scaling family of the benchmarks.
 //!
 //! N identical uniform rods (length 1, mass 1, centroidal inertia 1/12), absolute angles
 //! th_1..th_N from +x. Rod 1 is pinned at the origin, the tip of rod N at (X, 0), X = N/2:

@@ -4,7 +4,8 @@
 //! - Khang's C q' (the Kronecker-built matrix times q') = the lean `coriolis_forces`
 //!   = the Christoffel C q' = the brute-force C_ij = sum_k dM_ij/dq_k q_k'
 //!   - 1/2 sum_k dM_jk/dq_i q_k' (num-dual dM) times q';
-//! - q'^T (M' - 2 C_Khang) q' = 0 (ERRATA item 5: only this holds for Khang's C);
+//! - q'^T (M' - 2 C_Khang) q' = 0 (for Khang's C this quadratic form
+//!   vanishes although M' - 2 C_Khang is not skew-symmetric);
 //! - M' - 2 C_Christoffel is skew-symmetric;
 //! - `coriolis_forces` = d/dt(dT/dq')|_{q''=0} - dT/dq by num-dual on T alone.
 //!

@@ -1,4 +1,4 @@
-//! Van Khang's matrix calculus (ERRATA item 5) on random symbolic matrices:
+//! Van Khang's matrix calculus ((dA/dx)[i, j n + k] = d a_ij / d x_k) on random symbolic matrices:
 //! the layout (dA/dx)[i, j n + k] = d a_ij/dx_k, Theorem 1 dA/dt = (dA/dx)(I_p kron x'),
 //! Theorem 2 d(AB)/dx = (dA/dx)(B kron I_n) + A (dB/dx), each against a brute-force
 //! definition (entrywise differentiation, and num-dual derivatives of the random trees).

@@ -1,4 +1,4 @@
-//! The closed planar N-bar chain (codegen issue): the programmatic model, its declaration
+//! The closed planar N-bar chain: the programmatic model, its declaration
 //! text, and its derived equations against an independent hand-coded Lagrangian
 //! (M = sum_i J_Gi^T J_Gi + I/12 from num-dual Jacobians of the midpoints; C q' from the
 //! midpoints' convective accelerations), plus the op-count budget against SymPy.
@@ -186,7 +186,7 @@ fn chain_source_matches_model() {
 }
 
 /// Lean expressions: ops after CSE of (M, C q', g, Phi, Phi_q, gamma) at or below SymPy's
-/// (issue 2: 293, 1013, 3605 and 13397 ops after SymPy's cse at N = 4, 8, 16, 32).
+/// (SymPy's cse leaves 293, 1013, 3605 and 13397 ops at N = 4, 8, 16, 32).
 #[test]
 fn chain_ops_at_or_below_sympy() {
     for (n, sympy) in [(4, 293), (8, 1013), (16, 3605), (32, 13397)] {

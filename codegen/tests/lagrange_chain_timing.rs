@@ -1,4 +1,4 @@
-//! Derivation time and op counts of the closed planar N-bar chain (issue 2's scaling family).
+//! Derivation time and op counts of the closed planar N-bar chain (the scaling family of the benchmarks).
 //! Run with
 //! `cargo test --release -p mechanism-codegen --test lagrange_chain_timing -- --ignored --nocapture`.
 

@@ -130,7 +130,8 @@ fn cartesian_particle_closed_form() {
     oracle_check(&mut model, &eqs, &[("m", 0.8), ("g", 9.81), ("l", 1.1)]);
 }
 
-/// The seed crank-slider, q = [phi, beta, gamma, x_c] (macro issue; ERRATA items 3-4).
+/// The seed crank-slider, q = [phi, beta, gamma, x_c] (seed paper Section II,
+/// with a1 = l1/2 and g derived from Pi).
 fn crank_slider() -> Model {
     let mut a = Arena::new();
     let p: Vec<Id> = [
@@ -206,7 +207,8 @@ fn crank_slider_structure_and_gravity_sign() {
     let mut model = crank_slider();
     let eqs = derive(&mut model).unwrap();
     let a = &model.arena;
-    // M has zero rows and columns for beta and gamma (ERRATA item 7); only M11 and M44.
+    // M has zero rows and columns for beta and gamma (the rod is two point masses); only M11
+    // and M44.
     for i in 0..4 {
         for j in 0..4 {
             let zero = a.is_zero(eqs.mass.get(i, j));
@@ -219,7 +221,7 @@ fn crank_slider_structure_and_gravity_sign() {
     );
     assert!((1..4).all(|k| a.is_zero(eqs.gravity.data[k])));
     assert_eq!(eqs.forces.data, model.forces);
-    // g_phi = -(m1 a1 + m2 l1/2) g sin(phi): the paper's printed sign is wrong (ERRATA item 4).
+    // g_phi = -(m1 a1 + m2 l1/2) g sin(phi): the paper prints the opposite sign.
     let env_at = |phi: f64| {
         let syms: Vec<_> = SEED
             .iter()

@@ -1,4 +1,4 @@
-//! The seed declaration (issue 3) parses into the model it describes, by both routes.
+//! The seed declaration parses into the model it describes, by both routes.
 
 use std::str::FromStr;
 

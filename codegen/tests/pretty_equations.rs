@@ -40,13 +40,13 @@ fn seed_equations_text_has_every_section_in_order() {
             .unwrap_or_else(|| panic!("section {h:?} missing or out of order"));
         from += at + 1;
     }
-    // The mass matrix of the seed has exactly two non-zero entries (ERRATA item 7: zero rows
-    // for beta and gamma).
+    // The mass matrix of the seed has exactly two non-zero entries (the connecting
+    // rod is lumped into two point masses, so M has zero rows for beta and gamma).
     assert!(
         text.contains("  M[1,1] = J1 + m2*l1^2/2\n  M[4,4] = m2/2 + m3\n  (all other entries 0)\n"),
         "{text}"
     );
-    // ERRATA item 4: dPi/dphi = -(m1 a1 + m2 l1/2) g sin(phi), derived, not the printed sign.
+    // dPi/dphi = -(m1 a1 + m2 l1/2) g sin(phi), derived; the seed paper prints the opposite sign.
     assert!(
         text.contains("  g[1] = -m1*a1*g*sin(phi) - l1*m2*g*sin(phi)/2\n"),
         "{text}"

@@ -344,7 +344,7 @@ impl Differentiator {
         x.iter().map(|&s| self.diff(arena, id, s)).collect()
     }
 
-    /// The total time derivative by Theorem 1 (Van Khang 2010; ERRATA item 5):
+    /// The total time derivative by Theorem 1 (Van Khang 2010):
     /// de/dt = sum_i (de/dq_i q_i' + de/dq_i' q_i'') + de/dt, i.e. each symbol with a
     /// `derivative` link contributes (de/ds) s', time contributes the explicit de/dt, and
     /// parameters and unlinked free symbols are constants.

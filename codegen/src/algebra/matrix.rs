@@ -1,6 +1,6 @@
 //! Symbolic matrices over the arena, and Van Khang's matrix calculus.
 //!
-//! Layout (Van Khang 2010, ERRATA item 5): for A(x) of size m x p and x of size n, the
+//! Layout (Van Khang 2010): for A(x) of size m x p and x of size n, the
 //! matrix derivative dA/dx has size m x (p n); entry a_ij is replaced by its row gradient
 //! da_ij/dx^T, so (dA/dx)[i, j n + k] = d a_ij / d x_k.
 
@@ -257,7 +257,7 @@ impl Matrix {
         Ok(Self { rows, cols, data })
     }
 
-    /// Van Khang's matrix derivative dA/dx (Van Khang 2010; ERRATA item 5): for A of size
+    /// Van Khang's matrix derivative dA/dx (Van Khang 2010): for A of size
     /// m x p and x = (x_1, ..., x_n), the m x (p n) matrix in which each entry a_ij is replaced
     /// by its row gradient, (dA/dx)[i, j n + k] = d a_ij / d x_k.
     ///
@@ -286,7 +286,7 @@ impl Matrix {
         })
     }
 
-    /// The total time derivative by Theorem 1 (Van Khang 2010; ERRATA item 5):
+    /// The total time derivative by Theorem 1 (Van Khang 2010):
     /// dA/dt = (dA/dx)(I_p kron x') + dA/dt|explicit, where x' are the `derivative` links of
     /// the symbols `x` and the explicit part differentiates with respect to every time symbol
     /// of the arena. Symbols of A outside `x` (and not time) are held constant: pass

@@ -199,7 +199,9 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
     })
 }
 
-/// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (ERRATA item 5).
+/// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T
+/// (Van Khang 2011). With this C only q'^T (M' - 2 C) q' = 0 holds; M' - 2 C is not
+/// skew-symmetric (the Christoffel C is).
 fn khang_coriolis_matrix(
     arena: &mut Arena,
     d: &mut Differentiator,

@@ -1,6 +1,6 @@
 //! Shared inputs of the parser and printer tests.
 
-/// The issue 3 example, verbatim (the part inside `mechanism! { ... }`).
+/// The seed paper's spatial crank-slider as a declaration, verbatim (the part inside `mechanism! { ... }`).
 pub const SEED: &str = r#"
     /// Spatial crank-slider of the seed paper (Section II), with ERRATA decisions.
     pub struct SpatialCrankSlider;
