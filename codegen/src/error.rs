@@ -119,9 +119,130 @@ pub enum Error {
         /// Where.
         location: Location,
     },
-    /// The model is inconsistent (a declaration-level error with no single token to blame).
-    #[error("{0}")]
-    Model(String),
+    /// A matrix whose data length is not rows x cols.
+    #[error("matrix of size {rows} x {cols} has {len} entries")]
+    MalformedMatrix {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+        /// Entries found.
+        len: usize,
+    },
+    /// A symbol handle from another arena.
+    #[error("symbol id {id} is not in the arena (which has {symbols} symbols)")]
+    UnknownSymbolId {
+        /// The handle's index.
+        id: u32,
+        /// Symbols in the arena.
+        symbols: usize,
+    },
+    /// dA/dt by Theorem 1 needs x' for every symbol x of the list.
+    #[error("symbol `{name}` has no time derivative")]
+    NoTimeDerivative {
+        /// The symbol.
+        name: String,
+    },
+    /// d/dt of an expression in an acceleration (a third derivative).
+    #[error(
+        "the time derivative of an expression in the acceleration `{name}` is not defined (no third derivatives)"
+    )]
+    ThirdDerivative {
+        /// The acceleration symbol.
+        name: String,
+    },
+    /// A model entry that must be a symbol (a coordinate, its rate or acceleration, a
+    /// multiplier) is another expression.
+    #[error("{role} is not a symbol of the model's arena")]
+    NotASymbol {
+        /// What the entry is, e.g. "the position of coordinate `x`".
+        role: String,
+    },
+    /// A model with no coordinates.
+    #[error("a mechanism needs at least one coordinate")]
+    NoCoordinates,
+    /// The number of generalised forces differs from the number of coordinates.
+    #[error("{forces} generalised forces given for {coordinates} coordinates")]
+    ForceCount {
+        /// Forces given.
+        forces: usize,
+        /// Coordinates.
+        coordinates: usize,
+    },
+    /// An expression depends on a symbol it must not contain (a rate in the potential or a
+    /// constraint, an acceleration in T or a force).
+    #[error("the {what} must not depend on `{symbol}`")]
+    ForbiddenDependence {
+        /// The expression's role, e.g. "potential energy".
+        what: String,
+        /// The symbol it contains.
+        symbol: String,
+    },
+    /// A body quantity (position, orientation, inertia, mass, stiffness) depends on a rate or
+    /// an acceleration.
+    #[error("the {what} must depend on the coordinates and t only; it contains `{symbol}`")]
+    NotPositionLevel {
+        /// The quantity, e.g. "mass of body `B1`".
+        what: String,
+        /// The rate or acceleration it contains.
+        symbol: String,
+    },
+    /// A body's inertia that is not 3 x 3.
+    #[error("the inertia of body `{body}` is {rows}x{cols}, not 3x3")]
+    InertiaShape {
+        /// The body.
+        body: String,
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// A program output index past the last output.
+    #[error("the program has {outputs} outputs, not {wanted}")]
+    NoSuchOutput {
+        /// Outputs of the program.
+        outputs: usize,
+        /// The 1-based count asked for.
+        wanted: usize,
+    },
+    /// A list of output slots or targets whose length is not the program's output count.
+    #[error("{given} {what} for {outputs} outputs")]
+    OutputCount {
+        /// "output slots" or "output targets for a program with".
+        what: &'static str,
+        /// Slots or targets given.
+        given: usize,
+        /// Outputs of the program.
+        outputs: usize,
+    },
+    /// An emission prefix that is not a Rust identifier.
+    #[error("register prefix `{prefix}` is not an identifier")]
+    RegisterPrefix {
+        /// The prefix.
+        prefix: String,
+    },
+    /// More than one output targeted as the body's returned value.
+    #[error("at most one output can be the returned value")]
+    SeveralReturns,
+    /// A returned output that is not 1 x 1.
+    #[error("a returned output must be 1 x 1, not {rows} x {cols}")]
+    ReturnNotScalar {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// A matrix output targeted as a vector.
+    #[error("a {rows} x {cols} output cannot be written as a vector; use a matrix target")]
+    MatrixAsVector {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// A list of declaration errors that came back empty (nothing to report).
+    #[error("the declaration could not be read")]
+    Unreadable,
 }
 
 /// Result with the crate's [`Error`](enum@Error).

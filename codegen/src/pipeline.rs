@@ -123,7 +123,7 @@ where
     errors
         .into_iter()
         .next()
-        .unwrap_or_else(|| E::from(Error::Model("the declaration could not be read".into())))
+        .unwrap_or_else(|| E::from(Error::Unreadable))
 }
 
 impl From<Error> for SpannedError {

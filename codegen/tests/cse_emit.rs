@@ -160,20 +160,20 @@ fn errors_are_typed() {
         Error::MissingValue { name: "t".into() }
     );
     assert!(
-        matches!(emit_body(&p, &s.b, &[]), Err(Error::Model(_))),
+        matches!(emit_body(&p, &s.b, &[]), Err(Error::OutputCount { .. })),
         "target count"
     );
     assert!(
         matches!(
             emit_body(&p, &s.b, &[OutputTarget::Return]),
-            Err(Error::Model(_))
+            Err(Error::ReturnNotScalar { .. })
         ),
         "2 x 1 returned"
     );
     let p2 = Program::new(&s.a, &[&Matrix::column(vec![c]), &Matrix::column(vec![c])]).unwrap();
     assert!(matches!(
         emit_body(&p2, &s.b, &[OutputTarget::Return, OutputTarget::Return]),
-        Err(Error::Model(_))
+        Err(Error::SeveralReturns)
     ));
     let square = Program::new(
         &s.a,
@@ -189,14 +189,17 @@ fn errors_are_typed() {
         zeroed: false,
     };
     assert!(
-        matches!(emit_body(&square, &s.b, &[as_vector]), Err(Error::Model(_))),
+        matches!(
+            emit_body(&square, &s.b, &[as_vector]),
+            Err(Error::MatrixAsVector { .. })
+        ),
         "a 2 x 2 output is not a vector (nalgebra's linear index is column-major)"
     );
     let mut bad = s.b.clone();
     bad.set_prefix("1x");
     assert!(matches!(
         emit_body(&p2, &bad, &[OutputTarget::Return, OutputTarget::Skip]),
-        Err(Error::Model(_))
+        Err(Error::RegisterPrefix { .. })
     ));
     // with t bound, it works and names registers with the prefix
     let mut ok = s.b.clone();

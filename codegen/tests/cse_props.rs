@@ -229,7 +229,10 @@ fn bad_inputs_are_errors() {
         cols: 2,
         data: vec![p],
     };
-    assert!(matches!(Program::new(&a, &[&bad]), Err(Error::Model(_))));
+    assert!(matches!(
+        Program::new(&a, &[&bad]),
+        Err(Error::MalformedMatrix { .. })
+    ));
     let out_of_arena = Matrix::column(vec![Id(99_999)]);
     assert!(matches!(
         Program::new(&a, &[&out_of_arena]),

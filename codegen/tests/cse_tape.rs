@@ -53,7 +53,7 @@ fn short_or_non_finite_inputs_are_errors() {
     ));
     assert!(matches!(
         t.eval(&[1.0, 2.0], &mut [0.0; 2]),
-        Err(Error::Model(_))
+        Err(Error::OutputCount { .. })
     ));
     assert_eq!(t.eval(&[1.0, 2.0], &mut out), Ok(()));
     assert_eq!(out, [3.0]);

@@ -189,7 +189,7 @@ fn invalid_inputs_are_typed_errors() {
     ));
     assert!(matches!(
         d.diff(&mut t.a, t.x, SymbolId(77)),
-        Err(Error::Model(_))
+        Err(Error::UnknownSymbolId { .. })
     ));
     assert!(matches!(
         d.time_derivative(&mut t.a, Id(10_000)),
@@ -210,7 +210,7 @@ fn invalid_inputs_are_typed_errors() {
     let [_, _, qdd] = t.a.coordinate("q");
     assert!(matches!(
         d.time_derivative(&mut t.a, qdd),
-        Err(Error::Model(_))
+        Err(Error::ThirdDerivative { .. })
     ));
 }
 

@@ -121,11 +121,11 @@ impl Interpreted {
         let arena = &model.arena;
         // A hand-built Model may put any expression where a symbol belongs: say so.
         let sym = |id, what: &str| {
-            arena.as_symbol(id).ok_or_else(|| {
-                mechanism_codegen::Error::Model(format!(
-                    "{what} is not a symbol of the model's arena"
-                ))
-            })
+            arena
+                .as_symbol(id)
+                .ok_or_else(|| mechanism_codegen::Error::NotASymbol {
+                    role: what.to_string(),
+                })
         };
         let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
         let full = Program::new(

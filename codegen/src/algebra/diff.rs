@@ -152,11 +152,10 @@ impl Differentiator {
         if (s.0 as usize) < arena.symbols().len() {
             Ok(())
         } else {
-            Err(Error::Model(format!(
-                "symbol id {} is not in the arena (which has {} symbols)",
-                s.0,
-                arena.symbols().len()
-            )))
+            Err(Error::UnknownSymbolId {
+                id: s.0,
+                symbols: arena.symbols().len(),
+            })
         }
     }
 
@@ -189,7 +188,7 @@ impl Differentiator {
     /// exp, ln' = u'/u, |u|' = u/|u| u'; atan2(y, x)' = (x y' - y x')/(x^2 + y^2).
     ///
     /// # Errors
-    /// [`Error::InvalidId`] or [`Error::Model`] for an id or symbol not in `arena`;
+    /// [`Error::InvalidId`] or [`Error::UnknownSymbolId`] for an id or symbol not in `arena`;
     /// [`Error::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined).
     pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
         Self::check(arena, id)?;
@@ -350,7 +349,7 @@ impl Differentiator {
     /// parameters and unlinked free symbols are constants.
     ///
     /// # Errors
-    /// As [`Differentiator::diff`]; [`Error::Model`] when `id` depends on an acceleration
+    /// As [`Differentiator::diff`]; [`Error::ThirdDerivative`] when `id` depends on an acceleration
     /// (its time derivative, a third derivative, is not a symbol of the language).
     pub fn time_derivative(&mut self, arena: &mut Arena, id: Id) -> Result<Id> {
         self.time_derivative_impl(arena, id, true)
@@ -380,10 +379,9 @@ impl Differentiator {
             match (info.kind, info.derivative) {
                 (SymbolKind::Time, _) => terms.push(self.diff(arena, id, s)?),
                 (SymbolKind::Acceleration, None) => {
-                    return Err(Error::Model(format!(
-                        "the time derivative of an expression in the acceleration `{}` is not defined (no third derivatives)",
-                        info.name
-                    )));
+                    return Err(Error::ThirdDerivative {
+                        name: info.name.clone(),
+                    });
                 }
                 (_, Some(sd)) => {
                     if !with_acceleration && arena.symbol_info(sd).kind == SymbolKind::Acceleration

@@ -46,19 +46,18 @@ pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Res
 /// the evaluation of common subexpressions between entries.
 ///
 /// # Errors
-/// As [`eval`]; also [`Error::Model`] when `m.data.len() != m.rows * m.cols`.
+/// As [`eval`]; also [`Error::MalformedMatrix`] when `m.data.len() != m.rows * m.cols`.
 pub fn eval_matrix(
     arena: &Arena,
     m: &Matrix,
     env: &dyn Fn(SymbolId) -> Option<f64>,
 ) -> Result<Vec<f64>> {
     if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
-        return Err(Error::Model(format!(
-            "matrix of size {} x {} has {} entries",
-            m.rows,
-            m.cols,
-            m.data.len()
-        )));
+        return Err(Error::MalformedMatrix {
+            rows: m.rows,
+            cols: m.cols,
+            len: m.data.len(),
+        });
     }
     eval_many(arena, &m.data, env)
 }

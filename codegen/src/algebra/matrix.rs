@@ -262,8 +262,8 @@ impl Matrix {
     /// by its row gradient, (dA/dx)[i, j n + k] = d a_ij / d x_k.
     ///
     /// # Errors
-    /// [`Error::Shape`], [`Error::InvalidId`] or [`Error::Model`] for a malformed matrix or
-    /// a symbol not in `arena`; differentiation errors (see [`Differentiator::diff`]).
+    /// [`Error::Shape`], [`Error::InvalidId`] or [`Error::UnknownSymbolId`] for a malformed
+    /// matrix or a symbol not in `arena`; differentiation errors (see [`Differentiator::diff`]).
     pub fn khang_derivative(
         &self,
         arena: &mut Arena,
@@ -293,7 +293,7 @@ impl Matrix {
     /// x = (q, q') to differentiate an A(q, q', t).
     ///
     /// # Errors
-    /// [`Error::Model`] when a symbol of `x` has no derivative link; otherwise as
+    /// [`Error::NoTimeDerivative`] when a symbol of `x` has no derivative link; otherwise as
     /// [`Matrix::khang_derivative`].
     pub fn time_derivative(
         &self,
@@ -301,18 +301,21 @@ impl Matrix {
         diff: &mut Differentiator,
         x: &[SymbolId],
     ) -> Result<Self> {
-        let rates: Vec<Id> = x
-            .iter()
-            .map(|&s| {
-                let info = arena.symbols().get(s.0 as usize).ok_or_else(|| {
-                    Error::Model(format!("symbol id {} is not in the arena", s.0))
-                })?;
-                let d = info.derivative.ok_or_else(|| {
-                    Error::Model(format!("symbol `{}` has no time derivative", info.name))
-                })?;
-                Ok(arena.symbol_node(d))
-            })
-            .collect::<Result<_>>()?;
+        let rates: Vec<Id> =
+            x.iter()
+                .map(|&s| {
+                    let info = arena.symbols().get(s.0 as usize).ok_or_else(|| {
+                        Error::UnknownSymbolId {
+                            id: s.0,
+                            symbols: arena.symbols().len(),
+                        }
+                    })?;
+                    let d = info.derivative.ok_or_else(|| Error::NoTimeDerivative {
+                        name: info.name.clone(),
+                    })?;
+                    Ok(arena.symbol_node(d))
+                })
+                .collect::<Result<_>>()?;
         let da = self.khang_derivative(arena, diff, x)?;
         let ip = Matrix::identity(arena, self.cols);
         let xd = Matrix::column(rates);

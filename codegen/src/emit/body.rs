@@ -130,9 +130,10 @@ pub struct EmittedBody {
 /// [`OutputTarget::Skip`] (one target per output, in order).
 ///
 /// # Errors
-/// [`Error::Model`] when the number of targets differs from the number of outputs, when a
-/// `Return` output is not 1 x 1 or there are two, when a `Vector` output has several rows
-/// and columns, or the prefix is not an identifier; [`Error::MissingValue`] when a symbol
+/// [`Error::OutputCount`] when the number of targets differs from the number of outputs,
+/// [`Error::ReturnNotScalar`] or [`Error::SeveralReturns`] when a `Return` output is not
+/// 1 x 1 or there are two, [`Error::MatrixAsVector`] when a `Vector` output has several rows
+/// and columns, [`Error::RegisterPrefix`] when the prefix is not an identifier; [`Error::MissingValue`] when a symbol
 /// the body reads has no binding.
 ///
 /// # Example
@@ -164,17 +165,16 @@ pub fn emit_body(
     targets: &[OutputTarget],
 ) -> Result<EmittedBody> {
     if targets.len() != program.outputs().len() {
-        return Err(Error::Model(format!(
-            "{} output targets for a program with {} outputs",
-            targets.len(),
-            program.outputs().len()
-        )));
+        return Err(Error::OutputCount {
+            what: "output targets for a program with",
+            given: targets.len(),
+            outputs: program.outputs().len(),
+        });
     }
     if !is_identifier(&bindings.prefix) {
-        return Err(Error::Model(format!(
-            "register prefix `{}` is not an identifier",
-            bindings.prefix
-        )));
+        return Err(Error::RegisterPrefix {
+            prefix: bindings.prefix.clone(),
+        });
     }
     let active: Vec<usize> = (0..targets.len())
         .filter(|&k| !matches!(targets[k], OutputTarget::Skip))
@@ -185,18 +185,16 @@ pub fn emit_body(
         .filter(|&k| matches!(targets[k], OutputTarget::Return))
         .collect();
     if returns.len() > 1 {
-        return Err(Error::Model(
-            "at most one output can be the returned value".into(),
-        ));
+        return Err(Error::SeveralReturns);
     }
     let ret = match returns.first() {
         Some(&k) => {
             let o = &p.outputs()[k];
             if o.entries.len() != 1 {
-                return Err(Error::Model(format!(
-                    "a returned output must be 1 x 1, not {} x {}",
-                    o.rows, o.cols
-                )));
+                return Err(Error::ReturnNotScalar {
+                    rows: o.rows,
+                    cols: o.cols,
+                });
             }
             Some(o.entries[0])
         }
@@ -209,10 +207,10 @@ pub fn emit_body(
     }
     for (o, t) in p.outputs().iter().zip(&targets) {
         if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
-            return Err(Error::Model(format!(
-                "a {} x {} output cannot be written as a vector; use a matrix target",
-                o.rows, o.cols
-            )));
+            return Err(Error::MatrixAsVector {
+                rows: o.rows,
+                cols: o.cols,
+            });
         }
     }
     let e = Emitter { b: bindings };

@@ -115,7 +115,9 @@ impl Symbols {
             let s = (c.q.index() < arena.len())
                 .then(|| arena.as_symbol(c.q))
                 .flatten()
-                .ok_or_else(|| Error::Model(format!("coordinate `{}` is not a symbol", c.name)))?;
+                .ok_or_else(|| Error::NotASymbol {
+                    role: format!("coordinate `{}`", c.name),
+                })?;
             if c.qd.index() >= arena.len() {
                 return Err(Error::InvalidId {
                     id: c.qd.0,
@@ -178,10 +180,10 @@ fn check_position_level(arena: &Arena, model: &Model, id: Id, what: &str) -> Res
             if let Some(s) = arena.as_symbol(r)
                 && arena.depends_on(id, s)
             {
-                return Err(Error::Model(format!(
-                    "the {what} must depend on the coordinates and t only; it contains `{}`",
-                    arena.symbol_info(s).name
-                )));
+                return Err(Error::NotPositionLevel {
+                    what: what.to_string(),
+                    symbol: arena.symbol_info(s).name.clone(),
+                });
             }
         }
     }
@@ -200,10 +202,11 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
         check_position_level(a, model, b.mass, &format!("mass of body `{}`", b.name))?;
         if let Some(i) = &b.inertia {
             if (i.rows, i.cols) != (3, 3) {
-                return Err(Error::Model(format!(
-                    "the inertia of body `{}` is {}x{}, not 3x3",
-                    b.name, i.rows, i.cols
-                )));
+                return Err(Error::InertiaShape {
+                    body: b.name.clone(),
+                    rows: i.rows,
+                    cols: i.cols,
+                });
             }
             i.validate(a)?;
             for &e in &i.data {
@@ -256,9 +259,9 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
 /// the model itself is not changed.
 ///
 /// # Errors
-/// [`Error::Model`] when a coordinate is not a symbol, or a position, orientation, mass,
-/// inertia, gravity, spring or damper expression depends on a rate or an acceleration, or an
-/// inertia is not 3x3; [`Error::InvalidId`] for a foreign id; differentiation errors.
+/// [`Error::NotASymbol`] when a coordinate is not a symbol, [`Error::NotPositionLevel`] when
+/// a position, orientation, mass, inertia, gravity, spring or damper expression depends on a
+/// rate or an acceleration, [`Error::InertiaShape`] when an inertia is not 3x3; [`Error::InvalidId`] for a foreign id; differentiation errors.
 pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     check_system(model, system)?;
     let s = Symbols::of(model)?;
@@ -448,15 +451,14 @@ fn add_quadratic(
 /// Pi += the gravity and spring potential, tau_k += the damper forces. Returns the terms.
 ///
 /// # Errors
-/// As [`body_terms`]; [`Error::Model`] when the model has a different number of forces than
-/// coordinates.
+/// As [`body_terms`]; [`Error::ForceCount`] when the model has a different number of forces
+/// than coordinates.
 pub fn add_body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     if model.forces.len() != model.coordinates.len() {
-        return Err(Error::Model(format!(
-            "{} generalised forces given for {} coordinates",
-            model.forces.len(),
-            model.coordinates.len()
-        )));
+        return Err(Error::ForceCount {
+            forces: model.forces.len(),
+            coordinates: model.coordinates.len(),
+        });
     }
     let terms = body_terms(model, system)?;
     let arena = &mut model.arena;

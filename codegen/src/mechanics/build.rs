@@ -146,9 +146,8 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
                     velocity: 0.0,
                     location: i.at,
                 });
-                independent
-                    .last_mut()
-                    .ok_or_else(|| Error::Model("independent list is empty".into()))?
+                let last = independent.len() - 1;
+                &mut independent[last]
             }
         };
         if i.rate {

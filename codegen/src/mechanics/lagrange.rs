@@ -47,8 +47,8 @@ impl Symbols {
                     len: arena.len(),
                 });
             }
-            arena.as_symbol(id).ok_or_else(|| {
-                Error::Model(format!("the {what} of coordinate `{name}` is not a symbol"))
+            arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
+                role: format!("the {what} of coordinate `{name}`"),
             })
         };
         let (mut q, mut qd, mut qdd) = (Vec::new(), Vec::new(), Vec::new());
@@ -90,10 +90,10 @@ fn reject_dependence(
 ) -> Result<()> {
     for &s in forbidden {
         if d.depends_on(arena, id, s)? {
-            return Err(Error::Model(format!(
-                "the {what} must not depend on `{}`",
-                arena.symbol_info(s).name
-            )));
+            return Err(Error::ForbiddenDependence {
+                what: what.to_string(),
+                symbol: arena.symbol_info(s).name.clone(),
+            });
         }
     }
     Ok(())
@@ -103,23 +103,22 @@ fn reject_dependence(
 /// formulas). All expressions are built in `model.arena`.
 ///
 /// # Errors
-/// [`Error::Model`] when the model has no coordinates, a coordinate is not a symbol, the
-/// number of forces differs from the number of coordinates, the potential or a constraint
-/// depends on a rate or an acceleration, T or a force depends on an acceleration;
+/// [`Error::NoCoordinates`], [`Error::NotASymbol`] for a coordinate that is not a symbol,
+/// [`Error::ForceCount`] when the number of forces differs from the number of coordinates,
+/// [`Error::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
+/// acceleration, or T or a force on an acceleration;
 /// [`Error::InvalidId`] for a foreign id; differentiation errors.
 pub fn derive(model: &mut Model) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
     if n == 0 {
-        return Err(Error::Model(
-            "a mechanism needs at least one coordinate".into(),
-        ));
+        return Err(Error::NoCoordinates);
     }
     if model.forces.len() != n {
-        return Err(Error::Model(format!(
-            "{} generalised forces given for {n} coordinates",
-            model.forces.len()
-        )));
+        return Err(Error::ForceCount {
+            forces: model.forces.len(),
+            coordinates: n,
+        });
     }
     let (kinetic, potential) = (model.kinetic, model.potential);
     let arena = &mut model.arena;

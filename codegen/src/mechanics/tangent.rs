@@ -42,10 +42,8 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
         .collect();
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
     let symbol = |id, what: &str, name: &str| {
-        arena.as_symbol(id).ok_or_else(|| {
-            Error::Model(format!(
-                "{what}`{name}` is not a symbol of the model's arena"
-            ))
+        arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
+            role: format!("{what}`{name}`"),
         })
     };
     let q = (model.coordinates.iter())

@@ -52,8 +52,8 @@ impl Program {
     /// The CSE'd program computing every entry of every matrix in `outputs`.
     ///
     /// # Errors
-    /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::Model`] for a
-    /// matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
+    /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::MalformedMatrix`]
+    /// for a matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
     /// subexpression that is not finite.
     ///
     /// # Example
@@ -75,12 +75,11 @@ impl Program {
         let len = arena.len();
         for m in outputs {
             if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
-                return Err(Error::Model(format!(
-                    "matrix of size {} x {} has {} entries",
-                    m.rows,
-                    m.cols,
-                    m.data.len()
-                )));
+                return Err(Error::MalformedMatrix {
+                    rows: m.rows,
+                    cols: m.cols,
+                    len: m.data.len(),
+                });
             }
             if let Some(bad) = m.data.iter().find(|i| i.index() >= len) {
                 return Err(Error::InvalidId { id: bad.0, len });
@@ -160,16 +159,13 @@ impl Program {
     /// instructions only the others need.
     ///
     /// # Errors
-    /// [`Error::Model`] when some index is not an output.
+    /// [`Error::NoSuchOutput`] when some index is not an output.
     pub fn restrict(&self, ks: &[usize]) -> Result<Program> {
         let mut outs = Vec::with_capacity(ks.len());
         for &k in ks {
-            let o = self.outputs.get(k).ok_or_else(|| {
-                Error::Model(format!(
-                    "the program has {} outputs, not {}",
-                    self.outputs.len(),
-                    k + 1
-                ))
+            let o = self.outputs.get(k).ok_or_else(|| Error::NoSuchOutput {
+                outputs: self.outputs.len(),
+                wanted: k + 1,
             })?;
             outs.push(o.clone());
         }

@@ -178,15 +178,15 @@ impl Tape {
     ///
     /// # Errors
     /// [`Error::MissingValue`] when `inputs` is too short for a symbol the program reads,
-    /// [`Error::NonFinite`] for a non-finite input or output, [`Error::Model`] when `out`
-    /// has the wrong length.
+    /// [`Error::NonFinite`] for a non-finite input or output, [`Error::OutputCount`] when
+    /// `out` has the wrong length.
     pub fn eval(&mut self, inputs: &[f64], out: &mut [f64]) -> Result<()> {
         if out.len() != self.outputs.len() {
-            return Err(Error::Model(format!(
-                "{} output slots for {} outputs",
-                out.len(),
-                self.outputs.len()
-            )));
+            return Err(Error::OutputCount {
+                what: "output slots",
+                given: out.len(),
+                outputs: self.outputs.len(),
+            });
         }
         for (s, slot, name) in &self.inputs {
             match inputs.get(*s) {
