@@ -8,8 +8,8 @@
 //! all outputs, so sin/cos pairs and common subexpressions are computed once.
 
 use mechanism_codegen::{
-    EmitBindings, Equations, Matrix, Model, OutputTarget, Program, ResidualTangent, emit_body,
-    residual_tangent,
+    EmitBindings, Equations, EvaluationOutput, Matrix, Model, OutputTarget, Program,
+    ResidualTangent, emit_body, residual_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
@@ -71,7 +71,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             constraint_gamma: b.matrix(&eqs.gamma)?,
             kinetic_energy: b.scalar(&kinetic)?,
             potential_energy: b.scalar(&potential)?,
-            evaluate: b.evaluate(&eqs, &kinetic, &potential)?,
+            evaluate: b.evaluate(&eqs)?,
             residual_tangent: b.tangent(&tangent)?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
         })
@@ -149,44 +149,32 @@ impl Bodies<'_> {
     }
 
     /// The combined evaluation: one program for all outputs.
-    fn evaluate(
-        &self,
-        e: &Equations,
-        kinetic: &Matrix,
-        potential: &Matrix,
-    ) -> mechanism_codegen::Result<TokenStream> {
-        let outputs = [
-            &e.mass,
-            &e.coriolis_forces,
-            &e.gravity,
-            &e.forces,
-            &e.phi,
-            &e.phi_q,
-            &e.phi_t,
-            &e.gamma,
-            kinetic,
-            potential,
-        ];
+    fn evaluate(&self, e: &Equations) -> mechanism_codegen::Result<TokenStream> {
+        let outputs = e.evaluation_outputs();
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
         let program = Program::new(&self.model.arena, &outputs)?;
         let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
-        let targets = [
-            place(quote!(out.mass)),
-            place(quote!(out.coriolis)),
-            place(quote!(out.gravity)),
-            place(quote!(out.forces)),
-            place(quote!(out.phi)),
-            place(quote!(out.phi_q)),
-            place(quote!(out.phi_t)),
-            place(quote!(out.gamma)),
-            OutputTarget::Vector {
-                name: quote!(kinetic),
-                zeroed: true,
-            },
-            OutputTarget::Vector {
-                name: quote!(potential),
-                zeroed: true,
-            },
-        ];
+        let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
+            .iter()
+            .map(|o| match o {
+                EvaluationOutput::Mass => place(quote!(out.mass)),
+                EvaluationOutput::CoriolisForces => place(quote!(out.coriolis)),
+                EvaluationOutput::Gravity => place(quote!(out.gravity)),
+                EvaluationOutput::Forces => place(quote!(out.forces)),
+                EvaluationOutput::Phi => place(quote!(out.phi)),
+                EvaluationOutput::PhiQ => place(quote!(out.phi_q)),
+                EvaluationOutput::PhiT => place(quote!(out.phi_t)),
+                EvaluationOutput::Gamma => place(quote!(out.gamma)),
+                EvaluationOutput::Kinetic => OutputTarget::Vector {
+                    name: quote!(kinetic),
+                    zeroed: true,
+                },
+                EvaluationOutput::Potential => OutputTarget::Vector {
+                    name: quote!(potential),
+                    zeroed: true,
+                },
+            })
+            .collect();
         let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
         let (n, m, krate) = (e.n, e.m, self.krate);
         let sm = quote!(#krate::__private::SMatrix);

@@ -8,7 +8,9 @@
 
 use std::sync::Mutex;
 
-use mechanism_codegen::{Equations, Matrix, Model, Program, SymbolId, Tape, residual_tangent};
+use mechanism_codegen::{
+    Equations, EvaluationOutput, Model, Program, SymbolId, Tape, residual_tangent,
+};
 use nalgebra::DMatrix;
 
 use crate::system::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
@@ -86,10 +88,6 @@ impl Clone for Interpreted {
     }
 }
 
-fn scalar(id: mechanism_codegen::Id) -> Matrix {
-    Matrix::column(vec![id])
-}
-
 impl Interpreted {
     /// Parses, checks and derives the declaration `text` (the `.mech` grammar).
     ///
@@ -127,22 +125,8 @@ impl Interpreted {
                     role: what.to_string(),
                 })
         };
-        let (kin, pot) = (scalar(eqs.kinetic), scalar(eqs.potential));
-        let full = Program::new(
-            arena,
-            &[
-                &eqs.mass,
-                &eqs.coriolis_forces,
-                &eqs.gravity,
-                &eqs.forces,
-                &eqs.phi,
-                &eqs.phi_q,
-                &eqs.phi_t,
-                &eqs.gamma,
-                &kin,
-                &pot,
-            ],
-        )?;
+        let outputs = eqs.evaluation_outputs();
+        let full = Program::new(arena, &outputs.iter().collect::<Vec<_>>())?;
         let phi = Program::new(arena, &[&eqs.phi])?;
         let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
         let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
@@ -291,22 +275,23 @@ impl System for Interpreted {
         let (n, m) = (self.info.n(), self.info.m());
         self.run(&self.full, t, q, Some(qd), |v| {
             let mut k = 0;
-            copy_block(&v[k..], n, n, &mut out.mass);
-            k += n * n;
-            for dst in [&mut out.coriolis, &mut out.gravity, &mut out.forces] {
-                dst.as_mut_slice().copy_from_slice(&v[k..k + n]);
-                k += n;
+            for o in EvaluationOutput::ORDER {
+                let (rows, cols) = o.shape(n, m);
+                let v = &v[k..k + rows * cols];
+                match o {
+                    EvaluationOutput::Mass => copy_block(v, n, n, &mut out.mass),
+                    EvaluationOutput::CoriolisForces => out.coriolis.copy_from_slice(v),
+                    EvaluationOutput::Gravity => out.gravity.copy_from_slice(v),
+                    EvaluationOutput::Forces => out.forces.copy_from_slice(v),
+                    EvaluationOutput::Phi => out.phi.copy_from_slice(v),
+                    EvaluationOutput::PhiQ => copy_block(v, m, n, &mut out.phi_q),
+                    EvaluationOutput::PhiT => out.phi_t.copy_from_slice(v),
+                    EvaluationOutput::Gamma => out.gamma.copy_from_slice(v),
+                    EvaluationOutput::Kinetic => out.kinetic = v[0],
+                    EvaluationOutput::Potential => out.potential = v[0],
+                }
+                k += rows * cols;
             }
-            out.phi.as_mut_slice().copy_from_slice(&v[k..k + m]);
-            k += m;
-            copy_block(&v[k..], m, n, &mut out.phi_q);
-            k += m * n;
-            out.phi_t.as_mut_slice().copy_from_slice(&v[k..k + m]);
-            k += m;
-            out.gamma.as_mut_slice().copy_from_slice(&v[k..k + m]);
-            k += m;
-            out.kinetic = v[k];
-            out.potential = v[k + 1];
         });
     }
 

@@ -40,3 +40,85 @@ pub struct Equations {
     /// Pi.
     pub potential: Id,
 }
+
+/// One output of the combined evaluation program: the emitted `evaluate` and the
+/// interpreter's both compute [`EvaluationOutput::ORDER`] with one CSE'd program, so shared
+/// subexpressions of M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi are computed once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EvaluationOutput {
+    /// M, n x n.
+    Mass,
+    /// C(q, q') q', n x 1.
+    CoriolisForces,
+    /// g = dPi/dq, n x 1.
+    Gravity,
+    /// tau, n x 1.
+    Forces,
+    /// Phi, m x 1.
+    Phi,
+    /// Phi_q, m x n.
+    PhiQ,
+    /// dPhi/dt, m x 1.
+    PhiT,
+    /// gamma, m x 1.
+    Gamma,
+    /// T, 1 x 1.
+    Kinetic,
+    /// Pi, 1 x 1.
+    Potential,
+}
+
+impl EvaluationOutput {
+    /// The outputs of the evaluation program, in order.
+    pub const ORDER: [EvaluationOutput; 10] = [
+        EvaluationOutput::Mass,
+        EvaluationOutput::CoriolisForces,
+        EvaluationOutput::Gravity,
+        EvaluationOutput::Forces,
+        EvaluationOutput::Phi,
+        EvaluationOutput::PhiQ,
+        EvaluationOutput::PhiT,
+        EvaluationOutput::Gamma,
+        EvaluationOutput::Kinetic,
+        EvaluationOutput::Potential,
+    ];
+
+    /// (rows, cols) of the output for n coordinates and m constraint rows.
+    pub fn shape(self, n: usize, m: usize) -> (usize, usize) {
+        match self {
+            EvaluationOutput::Mass => (n, n),
+            EvaluationOutput::CoriolisForces
+            | EvaluationOutput::Gravity
+            | EvaluationOutput::Forces => (n, 1),
+            EvaluationOutput::Phi | EvaluationOutput::PhiT | EvaluationOutput::Gamma => (m, 1),
+            EvaluationOutput::PhiQ => (m, n),
+            EvaluationOutput::Kinetic | EvaluationOutput::Potential => (1, 1),
+        }
+    }
+}
+
+impl Equations {
+    /// The matrix of one evaluation output (T and Pi as 1 x 1).
+    pub fn evaluation_output(&self, output: EvaluationOutput) -> Matrix {
+        match output {
+            EvaluationOutput::Mass => self.mass.clone(),
+            EvaluationOutput::CoriolisForces => self.coriolis_forces.clone(),
+            EvaluationOutput::Gravity => self.gravity.clone(),
+            EvaluationOutput::Forces => self.forces.clone(),
+            EvaluationOutput::Phi => self.phi.clone(),
+            EvaluationOutput::PhiQ => self.phi_q.clone(),
+            EvaluationOutput::PhiT => self.phi_t.clone(),
+            EvaluationOutput::Gamma => self.gamma.clone(),
+            EvaluationOutput::Kinetic => Matrix::column(vec![self.kinetic]),
+            EvaluationOutput::Potential => Matrix::column(vec![self.potential]),
+        }
+    }
+
+    /// The matrices of the evaluation program, in [`EvaluationOutput::ORDER`].
+    pub fn evaluation_outputs(&self) -> Vec<Matrix> {
+        EvaluationOutput::ORDER
+            .iter()
+            .map(|&o| self.evaluation_output(o))
+            .collect()
+    }
+}
