@@ -1,9 +1,55 @@
 //! # mechanism-codegen
 //!
-//! The computer-algebra core of `mechanism`: a hash-consed expression DAG with canonical
-//! forms, a parser, differentiation (including Van Khang's matrix derivative and its
-//! Theorems 1-2 with Kronecker products), Lagrange assembly with multipliers, common
-//! subexpression elimination, Rust emission, an interpreter and a pretty printer.
+//! The computer-algebra core of `mechanism`. A declaration of a mechanism (coordinates q,
+//! parameters, kinetic energy T or rigid bodies, potential Pi, constraints Phi(q, t) = 0,
+//! forces tau) becomes its Lagrange equations with multipliers
+//!
+//! ```text
+//! M(q) q'' + C(q, q') q' + g(q) + Phi_q^T lambda = tau(t, q, q'),   Phi_q q'' = gamma
+//! ```
+//!
+//! derived symbolically (Van Khang's matrix calculus with Kronecker products), then compiled
+//! into one straight-line program per evaluation (common subexpressions shared), which is
+//! emitted as Rust, interpreted, or printed as text or LaTeX.
+//!
+//! ## Example
+//!
+//! ```
+//! use mechanism_codegen::{derive, parse_model_str, to_text};
+//!
+//! let mut model = parse_model_str(
+//!     "pub struct Pendulum;
+//!      parameters { m = 1.0; l = 0.5; g = 9.81; }
+//!      coordinates { phi = 0.1; }
+//!      independent { phi = 0.1; der(phi) = 0.0; }
+//!      kinetic = 1/2*m*l^2*der(phi)^2;
+//!      potential = -m*g*l*cos(phi);",
+//! )?;
+//! let eqs = derive(&mut model)?;
+//! // M = d2T/dphi'^2 and g = dPi/dphi.
+//! assert_eq!(to_text(&model.arena, eqs.mass.data[0]), "m*l^2");
+//! assert_eq!(to_text(&model.arena, eqs.gravity.data[0]), "m*l*g*sin(phi)");
+//! # Ok::<(), mechanism_codegen::Error>(())
+//! ```
+//!
+//! ## The stages
+//!
+//! Each stage is a folder and imports only the stages above it in this list:
+//!
+//! - `algebra/`: the expression arena ([`Arena`], [`Id`]), [`Number`], differentiation
+//!   ([`Differentiator`]), symbolic [`Matrix`] values with Khang's derivative, rotations,
+//!   numeric evaluation ([`eval`]).
+//! - `syntax/`: tokens and the declaration grammar; syntax trees only.
+//! - `mechanics/`: names resolved into the arena, the checked [`Model`], bodies and joints,
+//!   [`derive()`] ([`Equations`]) and the implicit integrators' tangent
+//!   ([`residual_tangent`]).
+//! - `program/`: common-subexpression elimination into a [`Program`], and the [`Tape`]
+//!   interpreter.
+//! - `emit/`: a program as Rust tokens ([`emit_body`]).
+//! - `print/`: text ([`to_text`], [`equations_text`]) and LaTeX ([`equations_latex`]).
+//!
+//! [`parse_declaration`] and [`parse_model_str`] run syntax, checks and model building in
+//! order, reporting every mistake in a declaration at once.
 #![warn(missing_docs)]
 
 mod algebra;
@@ -19,7 +65,7 @@ mod syntax;
 
 pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_many, eval_matrix};
-pub use algebra::expr::{Arena, Func, FxHashMap, FxHasher, Id, Node, Symbol, SymbolId, SymbolKind};
+pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
 pub use algebra::number::Number;
 pub use algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};

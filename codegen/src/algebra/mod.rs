@@ -12,7 +12,7 @@
 //! - [`matrix`]: Van Khang's matrix derivative, (dA/dx)[i, j n + k] = d a_ij / d x_k, and his
 //!   Theorem 2 with Kronecker products, d(A B)/dx = (dA/dx)(B kron I_n) + A (dB/dx).
 //! - [`rotation`]: orientations R = F_1 ... F_k and the body angular velocity
-//!   [w]x = R^T R', factor by factor: w_(AB) = B^T w_A + w_B.
+//!   \[w\]x = R^T R', factor by factor: w_(AB) = B^T w_A + w_B.
 //! - [`eval`] and [`trig`]: numeric evaluation of a DAG in id order, every intermediate
 //!   value checked to be finite; sin and cos as one inline routine shared by every route.
 

@@ -1,5 +1,5 @@
 //! sin and cos of one argument, computed together inline: the function that the emitted code,
-//! the [`crate::Tape`] and [`crate::algebra::eval`] all call for `sin`, `cos` and `sin_cos`, so all
+//! the [`crate::Tape`] and [`crate::eval`] all call for `sin`, `cos` and `sin_cos`, so all
 //! three round the same way, bit for bit.
 //!
 //! Why not `f64::sin_cos`? In the small mechanisms evaluation is bound by those calls: glibc's

@@ -1,6 +1,6 @@
 //! Lowering of the body sections ([`crate::syntax::bodies`]) into the arena: world vectors of
 //! points and axes, orientations, the [`BodySystem`] handed to [`add_body_terms`], and the
-//! joint rows appended to the model's constraints. Items are lowered in declaration order.
+//! joint rows appended to the model's constraints. Items are built in declaration order.
 
 use std::collections::HashMap;
 
@@ -14,12 +14,12 @@ use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
 use crate::mechanics::model::{Constraint, Model};
-use crate::mechanics::vectors::{VectorNames, lower_v, scalar, vec3};
+use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
 use crate::syntax::declaration::components;
-use crate::syntax::vector::{Op, VAst};
+use crate::syntax::vector::{Op, VectorAst};
 
-/// The lowering context: named world vectors, axis frames and body frames.
+/// The naming context: named world vectors, axis frames and body frames.
 #[derive(Default)]
 struct Scope {
     vectors: HashMap<String, Vec3>,
@@ -82,13 +82,13 @@ fn axis_frame(
 
 /// The orientation of a body: the top-level product's factors, elementary where written
 /// `rot_x/y/z(angle)`, explicit 3x3 otherwise.
-fn orientation(arena: &mut Arena, ast: &VAst, scope: &Scope) -> Result<Orientation> {
+fn orientation(arena: &mut Arena, ast: &VectorAst, scope: &Scope) -> Result<Orientation> {
     let mut factors = Vec::new();
     let mut stack = vec![ast];
     let mut flat = Vec::new();
     while let Some(a) = stack.pop() {
         match a {
-            VAst::Binary(Op::Mul, l, r, _) => {
+            VectorAst::Binary(Op::Mul, l, r, _) => {
                 stack.push(r);
                 stack.push(l);
             }
@@ -97,20 +97,20 @@ fn orientation(arena: &mut Arena, ast: &VAst, scope: &Scope) -> Result<Orientati
     }
     for f in flat {
         match f {
-            VAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
+            VectorAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
                 let axis = match name.as_str() {
                     "rot_x" => Axis::X,
                     "rot_y" => Axis::Y,
                     _ => Axis::Z,
                 };
-                let v = lower_v(arena, &args[0], scope)?;
+                let v = vector_value(arena, &args[0], scope)?;
                 factors.push(RotationFactor::Elementary(
                     axis,
                     scalar(&v, "a rotation angle", *at)?,
                 ));
             }
             other => {
-                let m = lower_v(arena, other, scope)?;
+                let m = vector_value(arena, other, scope)?;
                 if (m.rows, m.cols) != (3, 3) {
                     return Err(declaration(
                         format!(
@@ -181,16 +181,16 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 if system.gravity.is_some() {
                     return Err(declaration("`gravity` is given twice".into(), *at));
                 }
-                let m = lower_v(arena, v, &scope)?;
+                let m = vector_value(arena, v, &scope)?;
                 system.gravity = Some(vec3(&m, "the gravity vector", *at)?);
             }
             BodyItem::Point(name, at, v) => {
-                let m = lower_v(arena, v, &scope)?;
+                let m = vector_value(arena, v, &scope)?;
                 let p = vec3(&m, &format!("the point `{name}`"), *at)?;
                 define(&mut scope, name, *at, p)?;
             }
             BodyItem::Axis(name, at, v) => {
-                let m = lower_v(arena, v, &scope)?;
+                let m = vector_value(arena, v, &scope)?;
                 let a = vec3(&m, &format!("the axis `{name}`"), *at)?;
                 let id = Matrix::identity(arena, 3);
                 let frame = axis_frame(arena, &a, &id, &known, *at)?;
@@ -198,7 +198,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 scope.axes.insert(name.clone(), frame);
             }
             BodyItem::Body { name, at, entries } => {
-                let body = lower_body(arena, name, *at, entries, &mut scope, &known)?;
+                let body = build_body(arena, name, *at, entries, &mut scope, &known)?;
                 system.bodies.push(body);
             }
             BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
@@ -209,7 +209,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 })?;
                 let mut ends = Vec::new();
                 for v in &between.value {
-                    let m = lower_v(arena, v, &scope)?;
+                    let m = vector_value(arena, v, &scope)?;
                     ends.push(vec3(&m, &format!("an end of `{name}`"), v.location())?);
                 }
                 let ends = [ends[0], ends[1]];
@@ -219,7 +219,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                  -> Result<Option<crate::algebra::expr::Id>> {
                     match take(entries, key, name)? {
                         Some(e) => {
-                            let m = lower_v(arena, &e.value[0], scope)?;
+                            let m = vector_value(arena, &e.value[0], scope)?;
                             Ok(Some(scalar(&m, &format!("`{key}`"), e.at)?))
                         }
                         None => Ok(None),
@@ -250,7 +250,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                     });
                 }
             }
-            BodyItem::Joint(j) => rows.extend(lower_joint(arena, j, &scope)?),
+            BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
         }
     }
     add_body_terms(model, &system)?;
@@ -279,7 +279,7 @@ fn named_at(bodies: &Bodies, name: &str) -> Option<Location> {
     })
 }
 
-fn lower_body(
+fn build_body(
     arena: &mut Arena,
     name: &str,
     at: Location,
@@ -289,7 +289,7 @@ fn lower_body(
 ) -> Result<Body> {
     let mass = match take(entries, "mass", name)? {
         Some(e) => {
-            let m = lower_v(arena, &e.value[0], scope)?;
+            let m = vector_value(arena, &e.value[0], scope)?;
             scalar(&m, "the mass", e.at)?
         }
         None => arena.int(0),
@@ -300,7 +300,7 @@ fn lower_body(
             at,
         )
     })?;
-    let pm = lower_v(arena, &pe.value[0], scope)?;
+    let pm = vector_value(arena, &pe.value[0], scope)?;
     let position = vec3(&pm, "the position", pe.at)?;
     let orient = match take(entries, "orientation", name)? {
         Some(e) => Some(orientation(arena, &e.value[0], scope)?),
@@ -316,7 +316,7 @@ fn lower_body(
                     e.at,
                 ));
             }
-            let m = lower_v(arena, &e.value[0], scope)?;
+            let m = vector_value(arena, &e.value[0], scope)?;
             if (m.rows, m.cols) != (3, 3) {
                 return Err(declaration(
                     format!(
@@ -349,7 +349,7 @@ fn lower_body(
                 e.at,
             ));
         }
-        let m = lower_v(arena, &e.value[0], scope)?;
+        let m = vector_value(arena, &e.value[0], scope)?;
         let p = vec3(&m, &format!("the {} `{pname}`", e.key), e.at)?;
         if e.key == "point" {
             let rp = r.mul(arena, &Matrix::column(p.to_vec()))?;
@@ -372,13 +372,13 @@ fn lower_body(
 
 /// The rows of one `joints` statement, labelled with the statement as written and the
 /// component of each row (see [`Constraint::joint`]).
-fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
+fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
     let (exprs, components, joint, at) = match j {
         Joint::Row(lhs, rhs, at) => {
-            let l = lower_v(arena, lhs, scope)?;
+            let l = vector_value(arena, lhs, scope)?;
             let v = match rhs {
                 Some(r) => {
-                    let r = lower_v(arena, r, scope)?;
+                    let r = vector_value(arena, r, scope)?;
                     if (l.rows, l.cols) != (r.rows, r.cols) {
                         return Err(declaration(
                             format!(
@@ -400,7 +400,7 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
         }
         Joint::Helper(h, args, at) => {
             let v = |arena: &mut Arena, i: usize| -> Result<Vec3> {
-                let m = lower_v(arena, &args[i], scope)?;
+                let m = vector_value(arena, &args[i], scope)?;
                 vec3(
                     &m,
                     &format!("argument {} of `{h}`", i + 1),
@@ -409,7 +409,9 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
             };
             let frame = |i: usize| -> Result<AxisFrame> {
                 match &args[i] {
-                    VAst::Name(n, _) if scope.axes.contains_key(n) => Ok(scope.axes[n].clone()),
+                    VectorAst::Name(n, _) if scope.axes.contains_key(n) => {
+                        Ok(scope.axes[n].clone())
+                    }
                     other => Err(declaration(
                         format!(
                             "argument {} of `{h}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)",
@@ -423,7 +425,7 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
             let (rows, components): (_, &[&str]) = match h.as_str() {
                 "spherical" => (spherical(arena, &p, &q), &["x", "y", "z"]),
                 "distance" => {
-                    let m = lower_v(arena, &args[2], scope)?;
+                    let m = vector_value(arena, &args[2], scope)?;
                     let l = scalar(&m, "the distance", args[2].location())?;
                     (distance(arena, &p, &q, l), &[""])
                 }
@@ -443,7 +445,7 @@ fn lower_joint(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constr
                     )
                 }
             };
-            let written: Vec<String> = args.iter().map(VAst::text).collect();
+            let written: Vec<String> = args.iter().map(VectorAst::text).collect();
             let joint = format!("{h}({})", written.join(", "));
             let components = components.iter().map(|c| c.to_string()).collect();
             (rows, components, joint, *at)

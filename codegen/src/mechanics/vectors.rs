@@ -10,9 +10,9 @@ use crate::algebra::rotation::{Axis, elementary_rotation};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::joints::cross;
 use crate::mechanics::resolve::{ArenaResolver, Resolver};
-use crate::syntax::vector::{HELPERS, Op, VAst};
+use crate::syntax::vector::{HELPERS, Op, VectorAst};
 
-/// How names of points, axes and bodies resolve while lowering.
+/// How names of points, axes and bodies resolve while evaluating a vector expression.
 pub(crate) trait VectorNames {
     /// The world vector called `name`, if there is one.
     fn vector(&self, name: &str) -> Option<[Id; 3]>;
@@ -60,30 +60,34 @@ fn one(id: Id) -> Matrix {
 }
 
 /// Lowers `ast` into `arena` as a matrix value.
-pub(crate) fn lower_v(arena: &mut Arena, ast: &VAst, names: &dyn VectorNames) -> Result<Matrix> {
+pub(crate) fn vector_value(
+    arena: &mut Arena,
+    ast: &VectorAst,
+    names: &dyn VectorNames,
+) -> Result<Matrix> {
     match ast {
-        VAst::Number(n, _) => Ok(one(arena.number(*n))),
-        VAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
-        VAst::Name(n, at) => match names.vector(n) {
+        VectorAst::Number(n, _) => Ok(one(arena.number(*n))),
+        VectorAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
+        VectorAst::Name(n, at) => match names.vector(n) {
             Some(v) => Ok(Matrix::column(v.to_vec())),
             None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
         },
-        VAst::Neg(a, _) => {
-            let v = lower_v(arena, a, names)?;
+        VectorAst::Neg(a, _) => {
+            let v = vector_value(arena, a, names)?;
             let m1 = arena.int(-1);
             v.scale(arena, m1)
         }
-        VAst::Member(a, k, at) => {
-            let v = lower_v(arena, a, names)?;
+        VectorAst::Member(a, k, at) => {
+            let v = vector_value(arena, a, names)?;
             let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
             Ok(one(v[*k]))
         }
-        VAst::Brackets(items, at) => {
+        VectorAst::Brackets(items, at) => {
             let mut rows = Vec::new();
             for it in items {
-                rows.push(lower_v(arena, it, names)?);
+                rows.push(vector_value(arena, it, names)?);
             }
-            if items.iter().all(|i| matches!(i, VAst::Brackets(..))) && items.len() > 1 {
+            if items.iter().all(|i| matches!(i, VectorAst::Brackets(..))) && items.len() > 1 {
                 let cols = rows[0].rows;
                 let mut data = Vec::new();
                 for r in &rows {
@@ -107,11 +111,14 @@ pub(crate) fn lower_v(arena: &mut Arena, ast: &VAst, names: &dyn VectorNames) ->
             }
             Ok(Matrix::column(data))
         }
-        VAst::Binary(op, a, b, at) => {
-            let (x, y) = (lower_v(arena, a, names)?, lower_v(arena, b, names)?);
+        VectorAst::Binary(op, a, b, at) => {
+            let (x, y) = (
+                vector_value(arena, a, names)?,
+                vector_value(arena, b, names)?,
+            );
             binary(arena, *op, &x, &y, *at)
         }
-        VAst::Call(f, args, at) => call(arena, f, args, *at, names),
+        VectorAst::Call(f, args, at) => call(arena, f, args, *at, names),
     }
 }
 
@@ -171,7 +178,7 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
 fn call(
     arena: &mut Arena,
     f: &str,
-    args: &[VAst],
+    args: &[VectorAst],
     at: Location,
     names: &dyn VectorNames,
 ) -> Result<Matrix> {
@@ -185,7 +192,7 @@ fn call(
     }
     let mut v = Vec::with_capacity(args.len());
     for a in args {
-        v.push(lower_v(arena, a, names)?);
+        v.push(vector_value(arena, a, names)?);
     }
     let s = |i: usize, arena: &mut Arena| -> Result<Id> {
         let _ = arena;

@@ -11,7 +11,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::number::Number;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
-use crate::print::render::{Prec, R, Renderer, Style};
+use crate::print::render::{Prec, Rendered, Renderer, Style};
 
 /// The LaTeX spelling.
 pub(crate) struct Latex;
@@ -97,7 +97,7 @@ fn paren(s: &str) -> String {
     format!("\\left({s}\\right)")
 }
 
-fn wrap(r: &R, min: Prec) -> String {
+fn wrap(r: &Rendered, min: Prec) -> String {
     if r.prec < min {
         paren(&r.s)
     } else {
@@ -106,50 +106,50 @@ fn wrap(r: &R, min: Prec) -> String {
 }
 
 impl Style for Latex {
-    fn number(&self, n: Number) -> R {
+    fn number(&self, n: Number) -> Rendered {
         match n {
-            Number::Rational(p, 1) => R::new(p.to_string(), Prec::Atom),
-            Number::Rational(p, q) => R::new(format!("\\frac{{{p}}}{{{q}}}"), Prec::Atom),
+            Number::Rational(p, 1) => Rendered::new(p.to_string(), Prec::Atom),
+            Number::Rational(p, q) => Rendered::new(format!("\\frac{{{p}}}{{{q}}}"), Prec::Atom),
             Number::Float(x) => {
                 let s = format!("{x:?}");
                 match s.split_once('e') {
-                    Some(("1", exp)) => R::new(format!("10^{{{exp}}}"), Prec::Power),
+                    Some(("1", exp)) => Rendered::new(format!("10^{{{exp}}}"), Prec::Power),
                     Some((mantissa, exp)) => {
-                        R::new(format!("{mantissa} \\cdot 10^{{{exp}}}"), Prec::Product)
+                        Rendered::new(format!("{mantissa} \\cdot 10^{{{exp}}}"), Prec::Product)
                     }
-                    None => R::new(s, Prec::Atom),
+                    None => Rendered::new(s, Prec::Atom),
                 }
             }
         }
     }
 
-    fn pi(&self) -> R {
-        R::new("\\pi".into(), Prec::Atom)
+    fn pi(&self) -> Rendered {
+        Rendered::new("\\pi".into(), Prec::Atom)
     }
 
-    fn symbol(&self, name: &str, _kind: SymbolKind) -> R {
-        R::new(latex_name(name), Prec::Atom)
+    fn symbol(&self, name: &str, _kind: SymbolKind) -> Rendered {
+        Rendered::new(latex_name(name), Prec::Atom)
     }
 
-    fn func(&self, f: Func, x: &R) -> R {
+    fn func(&self, f: Func, x: &Rendered) -> Rendered {
         let head = match f {
-            Func::Exp => return R::new(format!("e^{{{}}}", x.s), Prec::Power),
-            Func::Abs => return R::new(format!("\\left|{}\\right|", x.s), Prec::Atom),
+            Func::Exp => return Rendered::new(format!("e^{{{}}}", x.s), Prec::Power),
+            Func::Abs => return Rendered::new(format!("\\left|{}\\right|", x.s), Prec::Atom),
             Func::Sin => "\\sin",
             Func::Cos => "\\cos",
             Func::Tan => "\\tan",
             Func::Ln => "\\ln",
         };
         let arg = format!("{{{}}}", paren(&x.s));
-        R {
+        Rendered {
             s: format!("{head}{arg}"),
             prec: Prec::Atom,
             head: Some((head.to_string(), arg)),
         }
     }
 
-    fn atan2(&self, y: &R, x: &R) -> R {
-        R::new(
+    fn atan2(&self, y: &Rendered, x: &Rendered) -> Rendered {
+        Rendered::new(
             format!(
                 "\\operatorname{{atan2}}{}",
                 paren(&format!("{}, {}", y.s, x.s))
@@ -158,28 +158,28 @@ impl Style for Latex {
         )
     }
 
-    fn sqrt(&self, x: &R) -> R {
-        R::new(format!("\\sqrt{{{}}}", x.s), Prec::Atom)
+    fn sqrt(&self, x: &Rendered) -> Rendered {
+        Rendered::new(format!("\\sqrt{{{}}}", x.s), Prec::Atom)
     }
 
-    fn power(&self, base: &R, exp: &R) -> R {
+    fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered {
         if let Some((head, arg)) = &base.head {
-            return R::new(format!("{head}^{{{}}}{arg}", exp.s), Prec::Power);
+            return Rendered::new(format!("{head}^{{{}}}{arg}", exp.s), Prec::Power);
         }
-        R::new(
+        Rendered::new(
             format!("{}^{{{}}}", wrap(base, Prec::Atom), exp.s),
             Prec::Power,
         )
     }
 
-    fn product(&self, num: Vec<R>, den: Vec<R>) -> R {
+    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered {
         if den.is_empty() && num.len() == 1 {
             return num
                 .into_iter()
                 .next()
-                .unwrap_or_else(|| R::new("1".into(), Prec::Atom));
+                .unwrap_or_else(|| Rendered::new("1".into(), Prec::Atom));
         }
-        let join = |parts: &[R]| {
+        let join = |parts: &[Rendered]| {
             let mut s = String::new();
             for (i, r) in parts.iter().enumerate() {
                 let piece = wrap(r, Prec::Product);
@@ -198,9 +198,9 @@ impl Style for Latex {
             join(&num)
         };
         if den.is_empty() {
-            return R::new(top, Prec::Product);
+            return Rendered::new(top, Prec::Product);
         }
-        R::new(format!("\\frac{{{top}}}{{{}}}", join(&den)), Prec::Product)
+        Rendered::new(format!("\\frac{{{top}}}{{{}}}", join(&den)), Prec::Product)
     }
 
     fn paren(&self, s: &str) -> String {

@@ -31,7 +31,7 @@ pub(crate) enum Prec {
 
 /// A rendered subexpression.
 #[derive(Clone, Debug)]
-pub(crate) struct R {
+pub(crate) struct Rendered {
     /// The text.
     pub(crate) s: String,
     /// How tightly it binds.
@@ -41,7 +41,7 @@ pub(crate) struct R {
     pub(crate) head: Option<(String, String)>,
 }
 
-impl R {
+impl Rendered {
     /// A rendering without a function head.
     pub(crate) fn new(s: String, prec: Prec) -> Self {
         Self {
@@ -55,21 +55,21 @@ impl R {
 /// The spelling of a printer.
 pub(crate) trait Style {
     /// A non-negative constant.
-    fn number(&self, n: Number) -> R;
+    fn number(&self, n: Number) -> Rendered;
     /// The constant pi.
-    fn pi(&self) -> R;
+    fn pi(&self) -> Rendered;
     /// A symbol.
-    fn symbol(&self, name: &str, kind: SymbolKind) -> R;
+    fn symbol(&self, name: &str, kind: SymbolKind) -> Rendered;
     /// f(x).
-    fn func(&self, f: Func, x: &R) -> R;
+    fn func(&self, f: Func, x: &Rendered) -> Rendered;
     /// atan2(y, x).
-    fn atan2(&self, y: &R, x: &R) -> R;
+    fn atan2(&self, y: &Rendered, x: &Rendered) -> Rendered;
     /// sqrt(x).
-    fn sqrt(&self, x: &R) -> R;
+    fn sqrt(&self, x: &Rendered) -> Rendered;
     /// base^exp (the style parenthesises as needed).
-    fn power(&self, base: &R, exp: &R) -> R;
+    fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered;
     /// num_1 * num_2 ... / (den_1 * den_2 ...); all parts are positive.
-    fn product(&self, num: Vec<R>, den: Vec<R>) -> R;
+    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered;
     /// x in brackets.
     fn paren(&self, s: &str) -> String;
 }
@@ -77,14 +77,14 @@ pub(crate) trait Style {
 /// An exponent as the renderer sees it: a plain number, or an expression's rendering.
 enum Exp {
     Num(Number),
-    Expr(R),
+    Expr(Rendered),
 }
 
 /// The bottom-up renderer with its memo of rendered nodes.
 pub(crate) struct Renderer<'a, S: Style> {
     arena: &'a Arena,
     style: S,
-    memo: FxHashMap<Id, R>,
+    memo: FxHashMap<Id, Rendered>,
 }
 
 impl<'a, S: Style> Renderer<'a, S> {
@@ -98,9 +98,9 @@ impl<'a, S: Style> Renderer<'a, S> {
     }
 
     /// The rendering of `id` (`<invalid id N>` when `id` is not a node of the arena).
-    pub(crate) fn render(&mut self, id: Id) -> R {
+    pub(crate) fn render(&mut self, id: Id) -> Rendered {
         if id.index() >= self.arena.len() {
-            return R::new(format!("<invalid id {}>", id.0), Prec::Atom);
+            return Rendered::new(format!("<invalid id {}>", id.0), Prec::Atom);
         }
         let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
         let mut stack = vec![id];
@@ -124,14 +124,14 @@ impl<'a, S: Style> Renderer<'a, S> {
         id.index() < self.arena.len() && self.arena.is_zero(id)
     }
 
-    fn get(&self, id: Id) -> R {
+    fn get(&self, id: Id) -> Rendered {
         self.memo
             .get(&id)
             .cloned()
-            .unwrap_or_else(|| R::new(String::from("?"), Prec::Atom))
+            .unwrap_or_else(|| Rendered::new(String::from("?"), Prec::Atom))
     }
 
-    fn node(&self, id: Id) -> R {
+    fn node(&self, id: Id) -> Rendered {
         match self.arena.node(id) {
             Node::Num(n) => self.signed_number(*n),
             Node::Pi => self.style.pi(),
@@ -151,7 +151,7 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
     }
 
-    fn signed_number(&self, n: Number) -> R {
+    fn signed_number(&self, n: Number) -> Rendered {
         if n.is_negative() {
             self.negate(self.style.number(-n))
         } else {
@@ -159,7 +159,7 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
     }
 
-    fn negate(&self, x: R) -> R {
+    fn negate(&self, x: Rendered) -> Rendered {
         let body = if x.prec == Prec::Sum {
             self.style.paren(&x.s)
         } else {
@@ -168,14 +168,14 @@ impl<'a, S: Style> Renderer<'a, S> {
         // A unary minus binds to the first factor only, and the arena distributes -1 over a
         // sum: `-(a + b)*c` would read back as (-a - b)*c. `-1*(a + b)*c` reads back as written.
         if body.starts_with('(') {
-            return R::new(format!("-1*{body}"), Prec::Sum);
+            return Rendered::new(format!("-1*{body}"), Prec::Sum);
         }
-        R::new(format!("-{body}"), Prec::Sum)
+        Rendered::new(format!("-{body}"), Prec::Sum)
     }
 
     /// -t for a term t in negative form (a negative constant, or a product with a negative
     /// coefficient); `None` for other terms.
-    fn negated(&self, t: Id) -> Option<R> {
+    fn negated(&self, t: Id) -> Option<Rendered> {
         match self.arena.node(t) {
             Node::Num(n) if n.is_negative() => Some(self.style.number(-*n)),
             Node::Mul(fs) => match self.arena.as_number(fs[0]) {
@@ -188,10 +188,10 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
     }
 
-    fn sum(&self, ts: &[Id]) -> R {
+    fn sum(&self, ts: &[Id]) -> Rendered {
         let is_const = |t: &Id| self.arena.as_number(*t).is_some();
-        let mut pos: Vec<R> = Vec::new();
-        let mut neg: Vec<R> = Vec::new();
+        let mut pos: Vec<Rendered> = Vec::new();
+        let mut neg: Vec<Rendered> = Vec::new();
         // Non-constant terms first, the constant last within its sign group.
         for &t in ts
             .iter()
@@ -203,7 +203,7 @@ impl<'a, S: Style> Renderer<'a, S> {
                 None => pos.push(self.get(t)),
             }
         }
-        let wrap = |r: R| {
+        let wrap = |r: Rendered| {
             if r.prec == Prec::Sum {
                 self.style.paren(&r.s)
             } else {
@@ -228,7 +228,7 @@ impl<'a, S: Style> Renderer<'a, S> {
             }
             first = false;
         }
-        R::new(s, Prec::Sum)
+        Rendered::new(s, Prec::Sum)
     }
 
     /// The exponent -e when e is in negative form, for a factor that goes below the bar.
@@ -245,7 +245,7 @@ impl<'a, S: Style> Renderer<'a, S> {
 
     /// c * factors for a positive coefficient c, factors with a negative exponent below the
     /// fraction bar.
-    fn product(&self, c: Number, factors: &[Id]) -> R {
+    fn product(&self, c: Number, factors: &[Id]) -> Rendered {
         let mut num = Vec::new();
         let mut den = Vec::new();
         match c {
@@ -286,7 +286,7 @@ impl<'a, S: Style> Renderer<'a, S> {
         self.style.product(num, den)
     }
 
-    fn power(&self, b: Id, e: Exp) -> R {
+    fn power(&self, b: Id, e: Exp) -> Rendered {
         let base = self.get(b);
         match e {
             // Only the exact 1: `x^-1.0` must print as `1/x^1.0` to read back as itself.

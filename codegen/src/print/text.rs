@@ -11,12 +11,12 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::number::Number;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
-use crate::print::render::{Prec, R, Renderer, Style};
+use crate::print::render::{Prec, Rendered, Renderer, Style};
 
 /// The plain-text spelling.
 pub(crate) struct Text;
 
-fn wrap(r: &R, min: Prec) -> String {
+fn wrap(r: &Rendered, min: Prec) -> String {
     if r.prec < min {
         format!("({})", r.s)
     } else {
@@ -25,51 +25,51 @@ fn wrap(r: &R, min: Prec) -> String {
 }
 
 impl Style for Text {
-    fn number(&self, n: Number) -> R {
+    fn number(&self, n: Number) -> Rendered {
         match n {
-            Number::Rational(p, 1) => R::new(p.to_string(), Prec::Atom),
-            Number::Rational(p, q) => R::new(format!("{p}/{q}"), Prec::Product),
+            Number::Rational(p, 1) => Rendered::new(p.to_string(), Prec::Atom),
+            Number::Rational(p, q) => Rendered::new(format!("{p}/{q}"), Prec::Product),
             // Debug is the shortest form that reads back as the same f64, with a `.` or an
             // exponent, so it lexes as a float literal.
-            Number::Float(x) => R::new(format!("{x:?}"), Prec::Atom),
+            Number::Float(x) => Rendered::new(format!("{x:?}"), Prec::Atom),
         }
     }
 
-    fn pi(&self) -> R {
-        R::new("pi".into(), Prec::Atom)
+    fn pi(&self) -> Rendered {
+        Rendered::new("pi".into(), Prec::Atom)
     }
 
-    fn symbol(&self, name: &str, _kind: SymbolKind) -> R {
-        R::new(name.into(), Prec::Atom)
+    fn symbol(&self, name: &str, _kind: SymbolKind) -> Rendered {
+        Rendered::new(name.into(), Prec::Atom)
     }
 
-    fn func(&self, f: Func, x: &R) -> R {
-        R::new(format!("{}({})", f.name(), x.s), Prec::Atom)
+    fn func(&self, f: Func, x: &Rendered) -> Rendered {
+        Rendered::new(format!("{}({})", f.name(), x.s), Prec::Atom)
     }
 
-    fn atan2(&self, y: &R, x: &R) -> R {
-        R::new(format!("atan2({}, {})", y.s, x.s), Prec::Atom)
+    fn atan2(&self, y: &Rendered, x: &Rendered) -> Rendered {
+        Rendered::new(format!("atan2({}, {})", y.s, x.s), Prec::Atom)
     }
 
-    fn sqrt(&self, x: &R) -> R {
-        R::new(format!("sqrt({})", x.s), Prec::Atom)
+    fn sqrt(&self, x: &Rendered) -> Rendered {
+        Rendered::new(format!("sqrt({})", x.s), Prec::Atom)
     }
 
-    fn power(&self, base: &R, exp: &R) -> R {
+    fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered {
         // `^` is right-associative: a power in the exponent needs no brackets, one in the
         // base does.
-        R::new(
+        Rendered::new(
             format!("{}^{}", wrap(base, Prec::Atom), wrap(exp, Prec::Power)),
             Prec::Power,
         )
     }
 
-    fn product(&self, num: Vec<R>, den: Vec<R>) -> R {
+    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered {
         if den.is_empty() && num.len() == 1 {
             return num
                 .into_iter()
                 .next()
-                .unwrap_or_else(|| R::new("1".into(), Prec::Atom));
+                .unwrap_or_else(|| Rendered::new("1".into(), Prec::Atom));
         }
         let top: Vec<String> = num.iter().map(|r| wrap(r, Prec::Power)).collect();
         let top = if top.is_empty() {
@@ -78,7 +78,7 @@ impl Style for Text {
             top.join("*")
         };
         if den.is_empty() {
-            return R::new(top, Prec::Product);
+            return Rendered::new(top, Prec::Product);
         }
         // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the arena's
         // canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
@@ -86,7 +86,7 @@ impl Style for Text {
             && q.s.bytes().all(|b| b.is_ascii_digit())
             && sum.prec == Prec::Sum
         {
-            return R::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
+            return Rendered::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
         }
         let bottom: Vec<String> = den.iter().map(|r| wrap(r, Prec::Power)).collect();
         let bottom = if bottom.len() == 1 {
@@ -94,7 +94,7 @@ impl Style for Text {
         } else {
             format!("({})", bottom.join("*"))
         };
-        R::new(format!("{top}/{bottom}"), Prec::Product)
+        Rendered::new(format!("{top}/{bottom}"), Prec::Product)
     }
 
     fn paren(&self, s: &str) -> String {

@@ -209,7 +209,7 @@ impl Builder {
 /// Largest integer power written as a multiplication chain.
 const MAX_CHAIN: i64 = 4;
 
-pub(crate) struct Lowering<'a> {
+pub(crate) struct InstructionSelection<'a> {
     arena: &'a Arena,
     order: Vec<Id>,
     node_op: FxHashMap<Id, Operand>,
@@ -223,7 +223,7 @@ pub(crate) struct Lowering<'a> {
     pub(crate) b: Builder,
 }
 
-impl<'a> Lowering<'a> {
+impl<'a> InstructionSelection<'a> {
     pub(crate) fn new(arena: &'a Arena, outputs: &[&Matrix]) -> Self {
         let top = outputs
             .iter()
@@ -255,7 +255,7 @@ impl<'a> Lowering<'a> {
                 }
             }
         }
-        Lowering {
+        InstructionSelection {
             arena,
             order,
             node_op: FxHashMap::default(),

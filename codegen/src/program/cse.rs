@@ -24,7 +24,7 @@
 use crate::algebra::expr::{Arena, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
-use crate::program::builder::Lowering;
+use crate::program::builder::InstructionSelection;
 use crate::program::instructions::{Instr, OpCounts, Operand, Reg, UnOp, defines};
 
 /// One output matrix of a [`Program`]: where each entry's value is, row-major.
@@ -85,7 +85,7 @@ impl Program {
                 return Err(Error::InvalidId { id: bad.0, len });
             }
         }
-        let mut lower = Lowering::new(arena, outputs);
+        let mut lower = InstructionSelection::new(arena, outputs);
         lower.run()?;
         let outs = outputs
             .iter()

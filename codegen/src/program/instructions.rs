@@ -3,7 +3,7 @@
 
 use crate::algebra::expr::SymbolId;
 
-/// A register of a [`Program`]: the value of one instruction.
+/// A register of a [`Program`](crate::Program): the value of one instruction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Reg(pub u32);
 

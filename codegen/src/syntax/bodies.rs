@@ -1,6 +1,6 @@
-//! The body sections of a declaration: their grammar and syntax tree (lowered into a
+//! The body sections of a declaration: their grammar and syntax tree (built into a
 //! [`BodySystem`](crate::BodySystem) and constraint rows of the [`Model`](crate::Model) by
-//! `lower_bodies.rs`).
+//! `mechanics::body_model`).
 //!
 //! ```text
 //! body_section := "body" NAME "{" (body_item ";")* "}"
@@ -33,12 +33,12 @@
 //! With bodies (or springs) declared, `kinetic` and `potential` are optional: T and Pi are
 //! derived (see [`crate::mechanics::bodies`]), and hand-written energies are added to them.
 //!
-//! Everything is lowered in declaration order, so a body may use the points of bodies
+//! Everything is built in declaration order, so a body may use the points of bodies
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
 use crate::error::{Error, Location, Result};
 use crate::syntax::lex::{Cursor, Tok, block, name};
-use crate::syntax::vector::{VAst, VParser};
+use crate::syntax::vector::{VectorAst, VectorParser};
 
 /// The top-level keywords of the body sections.
 pub(crate) const BODY_SECTIONS: &[&str] = &[
@@ -60,7 +60,7 @@ pub(crate) struct Entry {
     /// Where the key is.
     pub(crate) at: Location,
     /// The value (two for `between`).
-    pub(crate) value: Vec<VAst>,
+    pub(crate) value: Vec<VectorAst>,
 }
 
 /// One top-level body item, in declaration order.
@@ -71,9 +71,9 @@ pub(crate) enum BodyItem {
         at: Location,
         entries: Vec<Entry>,
     },
-    Gravity(VAst, Location),
-    Point(String, Location, VAst),
-    Axis(String, Location, VAst),
+    Gravity(VectorAst, Location),
+    Point(String, Location, VectorAst),
+    Axis(String, Location, VectorAst),
     Spring {
         name: String,
         at: Location,
@@ -90,8 +90,8 @@ pub(crate) enum BodyItem {
 /// A constraint statement of `joints`.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Joint {
-    Helper(String, Vec<VAst>, Location),
-    Row(VAst, Option<VAst>, Location),
+    Helper(String, Vec<VectorAst>, Location),
+    Row(VectorAst, Option<VectorAst>, Location),
 }
 
 /// All body sections of a declaration.
@@ -121,7 +121,7 @@ impl Bodies {
         })
     }
 
-    /// The number of constraint rows the `joints` statements add (by shapes, before lowering).
+    /// The number of constraint rows the `joints` statements add (by shapes, before evaluation).
     pub(crate) fn constraint_rows(&self) -> usize {
         let mut vectors: Vec<&str> = Vec::new();
         for i in &self.items {
@@ -173,14 +173,14 @@ pub(crate) fn parse_body_section(
     match keyword {
         "gravity" => {
             c.expect(&Tok::Punct('='), "`=` after `gravity`")?;
-            let v = VParser::parse(c)?;
+            let v = VectorParser::parse(c)?;
             c.expect(&Tok::Punct(';'), "`;` after the gravity vector")?;
             bodies.items.push(BodyItem::Gravity(v, at));
         }
         "point" | "axis" => {
             let (name, nat) = name(c, keyword)?;
             c.expect(&Tok::Punct('='), &format!("`=` after `{keyword} {name}`"))?;
-            let v = VParser::parse(c)?;
+            let v = VectorParser::parse(c)?;
             c.expect(&Tok::Punct(';'), "`;` or an operator")?;
             bodies.items.push(if keyword == "point" {
                 BodyItem::Point(name, nat, v)
@@ -250,10 +250,10 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
         None
     };
     c.expect(&Tok::Punct('='), &format!("`=` after `{key}`"))?;
-    let mut value = vec![VParser::parse(c)?];
+    let mut value = vec![VectorParser::parse(c)?];
     if key == "between" {
         c.expect(&Tok::Punct(','), "`,` between the two points")?;
-        value.push(VParser::parse(c)?);
+        value.push(VectorParser::parse(c)?);
     }
     Ok(Entry {
         key,
@@ -265,13 +265,13 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
 
 fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
     let at = c.peek().location;
-    let lhs = VParser::parse(c)?;
+    let lhs = VectorParser::parse(c)?;
     if c.eat(&Tok::Punct('=')) {
-        let rhs = VParser::parse(c)?;
+        let rhs = VectorParser::parse(c)?;
         return Ok(Joint::Row(lhs, Some(rhs), at));
     }
     Ok(match lhs {
-        VAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => {
+        VectorAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => {
             Joint::Helper(f, args, at)
         }
         other => Joint::Row(other, None, at),

@@ -17,6 +17,7 @@
 
 use crate::algebra::number::Number;
 use crate::error::{Error, Location, Result};
+use crate::syntax::MAX_DEPTH;
 use crate::syntax::lex::{Cursor, Delim, Tok};
 
 /// Functions of the language and their arities, for calls and error messages.
@@ -33,10 +34,6 @@ pub(crate) const FUNCTIONS: &[(&str, usize)] = &[
     ("der", 1),
     ("der2", 1),
 ];
-
-/// Deepest nesting the parser accepts (parentheses, unary signs and powers together); deeper
-/// input is a parse error instead of a stack overflow.
-const MAX_DEPTH: usize = 160;
 
 /// A syntax tree node of an expression, with the location of its first token.
 #[derive(Clone, Debug, PartialEq)]

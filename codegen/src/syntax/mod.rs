@@ -9,8 +9,12 @@
 //! The algorithm is recursive descent over one flat token list ([`lex`]): both routes use
 //! proc_macro2's tokenizer, so a macro and a file have one grammar. Expressions bind, loosest
 //! first, `+ -`, `* /`, unary `-`, `^` (right-associative, tighter than unary minus:
-//! `-x^2 = -(x^2)`); nesting deeper than [`expression::MAX_DEPTH`] is an error, not a stack
+//! `-x^2 = -(x^2)`); nesting deeper than [`MAX_DEPTH`] is an error, not a stack
 //! overflow, in both expression languages.
+
+/// Deepest nesting either expression parser accepts (parentheses, unary signs and powers
+/// together); deeper input is a parse error instead of a stack overflow.
+pub(crate) const MAX_DEPTH: usize = 160;
 
 pub(crate) mod bodies;
 pub(crate) mod declaration;

@@ -19,6 +19,7 @@
 
 use crate::algebra::number::Number;
 use crate::error::{Error, Location, Result};
+use crate::syntax::MAX_DEPTH;
 use crate::syntax::expression::FUNCTIONS;
 use crate::syntax::lex::{Cursor, Delim, Tok};
 
@@ -53,26 +54,26 @@ pub(crate) enum Op {
 
 /// A vector expression as written.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum VAst {
+pub(crate) enum VectorAst {
     Number(Number, Location),
     Name(String, Location),
-    Neg(Box<VAst>, Location),
-    Binary(Op, Box<VAst>, Box<VAst>, Location),
-    Call(String, Vec<VAst>, Location),
-    Member(Box<VAst>, usize, Location),
-    Brackets(Vec<VAst>, Location),
+    Neg(Box<VectorAst>, Location),
+    Binary(Op, Box<VectorAst>, Box<VectorAst>, Location),
+    Call(String, Vec<VectorAst>, Location),
+    Member(Box<VectorAst>, usize, Location),
+    Brackets(Vec<VectorAst>, Location),
 }
 
-impl VAst {
+impl VectorAst {
     /// Where the expression starts.
     pub(crate) fn location(&self) -> Location {
         match self {
-            VAst::Number(_, l)
-            | VAst::Name(_, l)
-            | VAst::Neg(_, l)
-            | VAst::Call(_, _, l)
-            | VAst::Brackets(_, l) => *l,
-            VAst::Binary(_, a, _, _) | VAst::Member(a, _, _) => a.location(),
+            VectorAst::Number(_, l)
+            | VectorAst::Name(_, l)
+            | VectorAst::Neg(_, l)
+            | VectorAst::Call(_, _, l)
+            | VectorAst::Brackets(_, l) => *l,
+            VectorAst::Binary(_, a, _, _) | VectorAst::Member(a, _, _) => a.location(),
         }
     }
 
@@ -86,10 +87,10 @@ impl VAst {
     /// 3 unary, 4 power, 5 postfix), parenthesised when `self` binds more loosely.
     fn text_in(&self, outer: u8) -> String {
         let (strength, s) = match self {
-            VAst::Number(n, _) => (5, n.to_string()),
-            VAst::Name(n, _) => (5, n.clone()),
-            VAst::Neg(a, _) => (3, format!("-{}", a.text_in(3))),
-            VAst::Binary(op, a, b, _) => match op {
+            VectorAst::Number(n, _) => (5, n.to_string()),
+            VectorAst::Name(n, _) => (5, n.clone()),
+            VectorAst::Neg(a, _) => (3, format!("-{}", a.text_in(3))),
+            VectorAst::Binary(op, a, b, _) => match op {
                 Op::Add | Op::Sub => {
                     let sign = if *op == Op::Add { '+' } else { '-' };
                     (1, format!("{} {sign} {}", a.text_in(1), b.text_in(2)))
@@ -100,13 +101,13 @@ impl VAst {
                 }
                 Op::Pow => (4, format!("{}^{}", a.text_in(5), b.text_in(3))),
             },
-            VAst::Call(f, args, _) => {
-                let a: Vec<String> = args.iter().map(VAst::text).collect();
+            VectorAst::Call(f, args, _) => {
+                let a: Vec<String> = args.iter().map(VectorAst::text).collect();
                 (5, format!("{f}({})", a.join(", ")))
             }
-            VAst::Member(a, k, _) => (5, format!("{}.{}", a.text_in(5), ["x", "y", "z"][*k])),
-            VAst::Brackets(items, _) => {
-                let a: Vec<String> = items.iter().map(VAst::text).collect();
+            VectorAst::Member(a, k, _) => (5, format!("{}.{}", a.text_in(5), ["x", "y", "z"][*k])),
+            VectorAst::Brackets(items, _) => {
+                let a: Vec<String> = items.iter().map(VectorAst::text).collect();
                 (5, format!("[{}]", a.join(", ")))
             }
         };
@@ -118,19 +119,19 @@ impl VAst {
     }
 
     /// (rows, cols) of the value, knowing which names are 3-vectors; `None` when the shapes
-    /// do not fit (lowering reports it).
+    /// do not fit (evaluation reports it).
     pub(crate) fn shape(&self, is_vector: &dyn Fn(&str) -> bool) -> Option<(usize, usize)> {
         Some(match self {
-            VAst::Number(..) => (1, 1),
-            VAst::Name(n, _) => {
+            VectorAst::Number(..) => (1, 1),
+            VectorAst::Name(n, _) => {
                 if is_vector(n) {
                     (3, 1)
                 } else {
                     (1, 1)
                 }
             }
-            VAst::Neg(a, _) => a.shape(is_vector)?,
-            VAst::Binary(op, a, b, _) => {
+            VectorAst::Neg(a, _) => a.shape(is_vector)?,
+            VectorAst::Binary(op, a, b, _) => {
                 let (sa, sb) = (a.shape(is_vector)?, b.shape(is_vector)?);
                 match op {
                     Op::Add | Op::Sub => sa,
@@ -140,14 +141,14 @@ impl VAst {
                     Op::Mul => (sa.0, sb.1),
                 }
             }
-            VAst::Call(f, _, _) => match f.as_str() {
+            VectorAst::Call(f, _, _) => match f.as_str() {
                 "rot_x" | "rot_y" | "rot_z" | "diag" => (3, 3),
                 "cross" => (3, 1),
                 _ => (1, 1),
             },
-            VAst::Member(..) => (1, 1),
-            VAst::Brackets(items, _) => match items.first() {
-                Some(VAst::Brackets(row, _)) => (items.len(), row.len()),
+            VectorAst::Member(..) => (1, 1),
+            VectorAst::Brackets(items, _) => match items.first() {
+                Some(VectorAst::Brackets(row, _)) => (items.len(), row.len()),
                 _ => (items.len(), 1),
             },
         })
@@ -155,18 +156,16 @@ impl VAst {
 }
 
 /// The recursive-descent parser of vector expressions.
-pub(crate) struct VParser<'c, 'a> {
+pub(crate) struct VectorParser<'c, 'a> {
     c: &'c mut Cursor<'a>,
     depth: usize,
 }
 
-const MAX_DEPTH: usize = 120;
-
-impl<'c, 'a> VParser<'c, 'a> {
+impl<'c, 'a> VectorParser<'c, 'a> {
     /// Parses one vector expression at the cursor (stopping before `;`, `,`, `=`, `:` or a
     /// closing bracket).
-    pub(crate) fn parse(c: &'c mut Cursor<'a>) -> Result<VAst> {
-        VParser { c, depth: 0 }.sum()
+    pub(crate) fn parse(c: &'c mut Cursor<'a>) -> Result<VectorAst> {
+        VectorParser { c, depth: 0 }.sum()
     }
 
     fn enter(&mut self) -> Result<()> {
@@ -177,7 +176,7 @@ impl<'c, 'a> VParser<'c, 'a> {
         Ok(())
     }
 
-    fn sum(&mut self) -> Result<VAst> {
+    fn sum(&mut self) -> Result<VectorAst> {
         self.enter()?;
         let mut acc = self.product()?;
         loop {
@@ -190,13 +189,13 @@ impl<'c, 'a> VParser<'c, 'a> {
             };
             let at = self.c.next().location;
             let rhs = self.product()?;
-            acc = VAst::Binary(op, Box::new(acc), Box::new(rhs), at);
+            acc = VectorAst::Binary(op, Box::new(acc), Box::new(rhs), at);
         }
         self.depth -= 1;
         Ok(acc)
     }
 
-    fn product(&mut self) -> Result<VAst> {
+    fn product(&mut self) -> Result<VectorAst> {
         let mut acc = self.unary()?;
         loop {
             let op = if self.c.at_punct('*') {
@@ -208,16 +207,16 @@ impl<'c, 'a> VParser<'c, 'a> {
             };
             let at = self.c.next().location;
             let rhs = self.unary()?;
-            acc = VAst::Binary(op, Box::new(acc), Box::new(rhs), at);
+            acc = VectorAst::Binary(op, Box::new(acc), Box::new(rhs), at);
         }
         Ok(acc)
     }
 
-    fn unary(&mut self) -> Result<VAst> {
+    fn unary(&mut self) -> Result<VectorAst> {
         self.enter()?;
         let out = if self.c.at_punct('-') {
             let at = self.c.next().location;
-            VAst::Neg(Box::new(self.unary()?), at)
+            VectorAst::Neg(Box::new(self.unary()?), at)
         } else if self.c.at_punct('+') {
             self.c.next();
             self.unary()?
@@ -226,7 +225,7 @@ impl<'c, 'a> VParser<'c, 'a> {
             if self.c.at_punct('^') {
                 let at = self.c.next().location;
                 let e = self.unary()?;
-                VAst::Binary(Op::Pow, Box::new(base), Box::new(e), at)
+                VectorAst::Binary(Op::Pow, Box::new(base), Box::new(e), at)
             } else {
                 base
             }
@@ -235,7 +234,7 @@ impl<'c, 'a> VParser<'c, 'a> {
         Ok(out)
     }
 
-    fn postfix(&mut self) -> Result<VAst> {
+    fn postfix(&mut self) -> Result<VectorAst> {
         let mut a = self.atom()?;
         while self.c.at_punct('.') {
             let at = self.c.next().location;
@@ -247,12 +246,12 @@ impl<'c, 'a> VParser<'c, 'a> {
                 _ => return Err(self.c.error_here("expected `x`, `y` or `z` after `.`")),
             };
             self.c.next();
-            a = VAst::Member(Box::new(a), k, at);
+            a = VectorAst::Member(Box::new(a), k, at);
         }
         Ok(a)
     }
 
-    fn list(&mut self, close: Delim, what: &str) -> Result<Vec<VAst>> {
+    fn list(&mut self, close: Delim, what: &str) -> Result<Vec<VectorAst>> {
         let mut out = Vec::new();
         if !self.c.at(&Tok::Close(close)) {
             loop {
@@ -266,7 +265,7 @@ impl<'c, 'a> VParser<'c, 'a> {
         Ok(out)
     }
 
-    fn atom(&mut self) -> Result<VAst> {
+    fn atom(&mut self) -> Result<VectorAst> {
         let t = self.c.peek();
         match &t.tok {
             Tok::Literal(s) => {
@@ -277,12 +276,12 @@ impl<'c, 'a> VParser<'c, 'a> {
                     location: t.location,
                 })?;
                 self.c.next();
-                Ok(VAst::Number(n, t.location))
+                Ok(VectorAst::Number(n, t.location))
             }
             Tok::Ident(name) => {
                 self.c.next();
                 if !self.c.at(&Tok::Open(Delim::Paren)) {
-                    return Ok(VAst::Name(name.clone(), t.location));
+                    return Ok(VectorAst::Name(name.clone(), t.location));
                 }
                 if name == "der" || name == "der2" {
                     return Err(Error::Declaration {
@@ -310,7 +309,7 @@ impl<'c, 'a> VParser<'c, 'a> {
                         ),
                         location: t.location,
                     }),
-                    Some(_) => Ok(VAst::Call(name.clone(), args, t.location)),
+                    Some(_) => Ok(VectorAst::Call(name.clone(), args, t.location)),
                 }
             }
             Tok::Open(Delim::Paren) => {
@@ -329,7 +328,7 @@ impl<'c, 'a> VParser<'c, 'a> {
                         location: t.location,
                     });
                 }
-                Ok(VAst::Brackets(items, t.location))
+                Ok(VectorAst::Brackets(items, t.location))
             }
             _ => Err(self.c.error_here("expected a number, a name, `(` or `[`")),
         }
