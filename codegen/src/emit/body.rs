@@ -164,117 +164,24 @@ pub fn emit_body(
     bindings: &EmitBindings,
     targets: &[OutputTarget],
 ) -> Result<EmittedBody> {
-    if targets.len() != program.outputs().len() {
-        return Err(Error::OutputCount {
-            what: "output targets for a program with",
-            given: targets.len(),
-            outputs: program.outputs().len(),
-        });
-    }
-    if !is_identifier(&bindings.prefix) {
-        return Err(Error::RegisterPrefix {
-            prefix: bindings.prefix.clone(),
-        });
-    }
+    check_request(program, bindings, targets)?;
     let active: Vec<usize> = (0..targets.len())
         .filter(|&k| !matches!(targets[k], OutputTarget::Skip))
         .collect();
     let targets: Vec<&OutputTarget> = active.iter().map(|&k| &targets[k]).collect();
     let p = program.restrict(&active)?;
-    let returns: Vec<usize> = (0..targets.len())
-        .filter(|&k| matches!(targets[k], OutputTarget::Return))
-        .collect();
-    if returns.len() > 1 {
-        return Err(Error::SeveralReturns);
-    }
-    let ret = match returns.first() {
-        Some(&k) => {
-            let o = &p.outputs()[k];
-            if o.entries.len() != 1 {
-                return Err(Error::ReturnNotScalar {
-                    rows: o.rows,
-                    cols: o.cols,
-                });
-            }
-            Some(o.entries[0])
-        }
-        None => None,
-    };
-    for (s, name) in p.symbols() {
-        if bindings.get(*s).is_none() {
-            return Err(Error::MissingValue { name: name.clone() });
-        }
-    }
-    for (o, t) in p.outputs().iter().zip(&targets) {
-        if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
-            return Err(Error::MatrixAsVector {
-                rows: o.rows,
-                cols: o.cols,
-            });
-        }
-    }
+    let ret = returned_value(&p, &targets)?;
+    check_restricted(&p, bindings, &targets)?;
     let e = Emitter { b: bindings };
-    let mut writes = TokenStream::new();
-    for (o, t) in p.outputs().iter().zip(&targets) {
-        let (name, zeroed, matrix) = match t {
-            OutputTarget::Matrix { name, zeroed } => (name, *zeroed, true),
-            OutputTarget::Vector { name, zeroed } => (name, *zeroed, false),
-            _ => continue,
-        };
-        for (k, &v) in o.entries.iter().enumerate() {
-            if zeroed && v == Operand::Const(0.0) {
-                continue;
-            }
-            let value = e.operand(v);
-            let cols = o.cols.max(1);
-            let (i, j) = (
-                Literal::usize_unsuffixed(k / cols),
-                Literal::usize_unsuffixed(k % cols),
-            );
-            let k = Literal::usize_unsuffixed(k);
-            writes.extend(if matrix {
-                quote!(#name[(#i, #j)] = #value;)
-            } else {
-                quote!(#name[#k] = #value;)
-            });
-        }
-    }
+    let writes = e.writes(&p, &targets);
     // Inline the last instruction into a returned tail when nothing else follows it.
     let n = p.instructions().len();
     let inline_last = match (ret, p.instructions().last()) {
         (Some(Operand::Reg(r)), Some(last)) => writes.is_empty() && single_dst(last) == Some(r),
         _ => false,
     };
-    let mut tokens = TokenStream::new();
     let end = if inline_last { n - 1 } else { n };
-    if n > BLOCK_LETS_ABOVE {
-        // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
-        // (a 32-bar chain) overflow its stack in a default debuginfo build. Blocks of
-        // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
-        // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
-        let last = liveness::last_reads(&p, ret);
-        let mut start = 0;
-        while end - start > BLOCK_LEN {
-            let range = start..start + BLOCK_LEN;
-            let body: TokenStream = p.instructions()[range.clone()]
-                .iter()
-                .map(|i| e.instr(i))
-                .collect();
-            let out: Vec<TokenStream> = liveness::live_out(&p, &last, range.clone())
-                .into_iter()
-                .map(|r| e.reg(r))
-                .collect();
-            tokens.extend(quote!(let (#(#out,)*) = { #body (#(#out,)*) };));
-            start = range.end;
-        }
-        for i in &p.instructions()[start..end] {
-            tokens.extend(e.instr(i));
-        }
-    } else {
-        for i in &p.instructions()[..end] {
-            tokens.extend(e.instr(i));
-        }
-    }
+    let mut tokens = e.statements(&p, ret, end);
     tokens.extend(writes);
     if let Some(r) = ret {
         match (inline_last, p.instructions().last()) {
@@ -288,6 +195,69 @@ pub fn emit_body(
         registers: p.registers(),
         symbols: p.symbols().iter().map(|(s, _)| *s).collect(),
     })
+}
+
+/// One target per output, and a register prefix that is an identifier.
+fn check_request(
+    program: &Program,
+    bindings: &EmitBindings,
+    targets: &[OutputTarget],
+) -> Result<()> {
+    if targets.len() != program.outputs().len() {
+        return Err(Error::OutputCount {
+            what: "output targets for a program with",
+            given: targets.len(),
+            outputs: program.outputs().len(),
+        });
+    }
+    if !is_identifier(&bindings.prefix) {
+        return Err(Error::RegisterPrefix {
+            prefix: bindings.prefix.clone(),
+        });
+    }
+    Ok(())
+}
+
+/// The operand of the one output targeted as the returned value (1 x 1), if any.
+fn returned_value(p: &Program, targets: &[&OutputTarget]) -> Result<Option<Operand>> {
+    let returns: Vec<usize> = (0..targets.len())
+        .filter(|&k| matches!(targets[k], OutputTarget::Return))
+        .collect();
+    if returns.len() > 1 {
+        return Err(Error::SeveralReturns);
+    }
+    match returns.first() {
+        Some(&k) => {
+            let o = &p.outputs()[k];
+            if o.entries.len() != 1 {
+                return Err(Error::ReturnNotScalar {
+                    rows: o.rows,
+                    cols: o.cols,
+                });
+            }
+            Ok(Some(o.entries[0]))
+        }
+        None => Ok(None),
+    }
+}
+
+/// Every symbol the restricted program reads has a binding, and no matrix output is
+/// targeted as a vector.
+fn check_restricted(p: &Program, bindings: &EmitBindings, targets: &[&OutputTarget]) -> Result<()> {
+    for (s, name) in p.symbols() {
+        if bindings.get(*s).is_none() {
+            return Err(Error::MissingValue { name: name.clone() });
+        }
+    }
+    for (o, t) in p.outputs().iter().zip(targets) {
+        if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
+            return Err(Error::MatrixAsVector {
+                rows: o.rows,
+                cols: o.cols,
+            });
+        }
+    }
+    Ok(())
 }
 
 fn single_dst(i: &Instr) -> Option<Reg> {
@@ -317,6 +287,71 @@ struct Emitter<'a> {
 }
 
 impl Emitter<'_> {
+    /// The writes of the matrix and vector outputs: `name[(i, j)] = value;` or
+    /// `name[k] = value;`, skipping zeros of a zeroed target.
+    fn writes(&self, p: &Program, targets: &[&OutputTarget]) -> TokenStream {
+        let mut writes = TokenStream::new();
+        for (o, t) in p.outputs().iter().zip(targets) {
+            let (name, zeroed, matrix) = match t {
+                OutputTarget::Matrix { name, zeroed } => (name, *zeroed, true),
+                OutputTarget::Vector { name, zeroed } => (name, *zeroed, false),
+                _ => continue,
+            };
+            for (k, &v) in o.entries.iter().enumerate() {
+                if zeroed && v == Operand::Const(0.0) {
+                    continue;
+                }
+                let value = self.operand(v);
+                let cols = o.cols.max(1);
+                let (i, j) = (
+                    Literal::usize_unsuffixed(k / cols),
+                    Literal::usize_unsuffixed(k % cols),
+                );
+                let k = Literal::usize_unsuffixed(k);
+                writes.extend(if matrix {
+                    quote!(#name[(#i, #j)] = #value;)
+                } else {
+                    quote!(#name[#k] = #value;)
+                });
+            }
+        }
+        writes
+    }
+
+    /// The `let` statements of the instructions `..end`, in blocks when there are many.
+    fn statements(&self, p: &Program, ret: Option<Operand>, end: usize) -> TokenStream {
+        let mut tokens = TokenStream::new();
+        if p.instructions().len() > BLOCK_LETS_ABOVE {
+            // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
+            // (a 32-bar chain) overflow its stack in a default debuginfo build. Blocks of
+            // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
+            // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
+            let last = liveness::last_reads(p, ret);
+            let mut start = 0;
+            while end - start > BLOCK_LEN {
+                let range = start..start + BLOCK_LEN;
+                let body: TokenStream = p.instructions()[range.clone()]
+                    .iter()
+                    .map(|i| self.instr(i))
+                    .collect();
+                let out: Vec<TokenStream> = liveness::live_out(p, &last, range.clone())
+                    .into_iter()
+                    .map(|r| self.reg(r))
+                    .collect();
+                tokens.extend(quote!(let (#(#out,)*) = { #body (#(#out,)*) };));
+                start = range.end;
+            }
+            for i in &p.instructions()[start..end] {
+                tokens.extend(self.instr(i));
+            }
+        } else {
+            for i in &p.instructions()[..end] {
+                tokens.extend(self.instr(i));
+            }
+        }
+        tokens
+    }
+
     fn reg(&self, r: Reg) -> TokenStream {
         Ident::new(&format!("{}{}", self.b.prefix, r.0), Span::call_site()).into_token_stream()
     }

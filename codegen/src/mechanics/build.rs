@@ -9,7 +9,7 @@ use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 use crate::mechanics::resolve::{ArenaResolver, resolve};
-use crate::syntax::declaration::Declaration;
+use crate::syntax::declaration::{Declaration, Item};
 use crate::syntax::expression::Ast;
 
 /// Locations of the parts of a declaration that [`Model`] does not record, and the spans of
@@ -72,7 +72,9 @@ fn constant(arena: &mut Arena, ast: &Ast, known: &[(SymbolId, f64)], what: &str)
     })
 }
 
-/// Builds the model of a checked declaration.
+/// Builds the model of a checked declaration. The arena's symbols and nodes are created in
+/// a fixed order (parameters, coordinates, t, then the expressions in declaration order), so
+/// that the same declaration gives the same ids.
 pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
     let mut arena = Arena::new();
     let param_items = d.parameters.as_ref().map_or(&[][..], |s| &s.body[..]);
@@ -87,112 +89,20 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         .collect();
     // Time last: products then read `Omega*t`, parameters first.
     let time = arena.symbol("t", SymbolKind::Time);
-
-    let mut known: Vec<(SymbolId, f64)> = Vec::with_capacity(param_items.len());
-    let mut parameters = Vec::with_capacity(param_items.len());
-    for (p, &s) in param_items.iter().zip(&param_syms) {
-        let default = constant(
-            &mut arena,
-            &p.value,
-            &known,
-            &format!("the default of `{}`", p.name),
-        )?;
-        known.push((s, default));
-        parameters.push(Parameter {
-            name: p.name.clone(),
-            symbol: arena.symbol_node(s),
-            default,
-            location: p.at,
-        });
-    }
-
-    let mut coordinates = Vec::with_capacity(coord_items.len());
-    for (c, ids) in coord_items.iter().zip(&coord_ids) {
-        let guess = constant(
-            &mut arena,
-            &c.value,
-            &known,
-            &format!("the initial guess of `{}`", c.name),
-        )?;
-        let [q, qd, qdd] = *ids;
-        coordinates.push(Coordinate {
-            name: c.name.clone(),
-            q,
-            qd,
-            qdd,
-            guess,
-            location: c.at,
-        });
-    }
-
-    let mut independent: Vec<IndependentSpec> = Vec::new();
-    for i in d.independent.iter().flat_map(|s| &s.body) {
-        let Some(k) = coordinates.iter().position(|c| c.name == i.name) else {
-            continue;
-        };
-        let what = if i.rate {
-            format!("the initial rate of `{}`", i.name)
-        } else {
-            format!("the initial value of `{}`", i.name)
-        };
-        let v = constant(&mut arena, &i.value, &known, &what)?;
-        let spec = match independent.iter_mut().find(|s| s.coordinate == k) {
-            Some(s) => s,
-            None => {
-                let guess = coordinates[k].guess;
-                independent.push(IndependentSpec {
-                    coordinate: k,
-                    position: guess,
-                    velocity: 0.0,
-                    location: i.at,
-                });
-                let last = independent.len() - 1;
-                &mut independent[last]
-            }
-        };
-        if i.rate {
-            spec.velocity = v;
-        } else {
-            spec.position = v;
-        }
-    }
-
+    let (parameters, known) = build_parameters(&mut arena, param_items, &param_syms)?;
+    let coordinates = build_coordinates(&mut arena, coord_items, &coord_ids, &known)?;
+    let independent = build_independent(&mut arena, d, &coordinates, &known)?;
     let (kinetic, kinetic_at) = match &d.kinetic {
         Some(k) => (resolve_at(&mut arena, &k.body)?, k.at),
-        // Bodies declare T (parse_bodies.rs); `check` rejects a missing T otherwise.
+        // Bodies declare T (`mechanics::body_model`); `check` rejects a missing T otherwise.
         None => (arena.int(0), d.bodies.first_location().unwrap_or(d.name_at)),
     };
     let potential = match &d.potential {
         Some(p) => resolve_at(&mut arena, &p.body)?,
         None => arena.int(0),
     };
-    let mut constraints = Vec::new();
-    for row in d.constraints.iter().flat_map(|s| &s.body) {
-        let lhs = resolve_at(&mut arena, &row.lhs)?;
-        let expr = match &row.rhs {
-            Some(r) => {
-                let rhs = resolve_at(&mut arena, r)?;
-                arena.sub(lhs, rhs)
-            }
-            None => lhs,
-        };
-        constraints.push(Constraint {
-            expr,
-            location: row.at,
-            joint: format!("constraint {}", row.statement),
-            component: row.component.clone(),
-        });
-    }
-    let zero = arena.int(0);
-    let mut forces = vec![zero; coordinates.len()];
-    let mut force_entries = vec![None; coordinates.len()];
-    for f in d.forces.iter().flat_map(|s| &s.body) {
-        if let Some(k) = coordinates.iter().position(|c| c.name == f.name) {
-            forces[k] = resolve_at(&mut arena, &f.value)?;
-            force_entries[k] = Some(f.at);
-        }
-    }
-
+    let constraints = build_constraints(&mut arena, d)?;
+    let (forces, force_entries) = build_forces(&mut arena, d, &coordinates)?;
     let spans = ModelSpans {
         tokens: Vec::new(),
         name: d.name_at,
@@ -221,4 +131,143 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })
+}
+
+/// Parameter symbols with their default values, in declaration order.
+type Defaults = Vec<(SymbolId, f64)>;
+
+/// The parameters with their defaults, each evaluated with the defaults before it; also
+/// the (symbol, default) table for the later constants.
+fn build_parameters(
+    arena: &mut Arena,
+    items: &[Item],
+    syms: &[SymbolId],
+) -> Result<(Vec<Parameter>, Defaults)> {
+    let mut known: Defaults = Vec::with_capacity(items.len());
+    let mut parameters = Vec::with_capacity(items.len());
+    for (p, &s) in items.iter().zip(syms) {
+        let default = constant(
+            arena,
+            &p.value,
+            &known,
+            &format!("the default of `{}`", p.name),
+        )?;
+        known.push((s, default));
+        parameters.push(Parameter {
+            name: p.name.clone(),
+            symbol: arena.symbol_node(s),
+            default,
+            location: p.at,
+        });
+    }
+    Ok((parameters, known))
+}
+
+/// The coordinates with their initial guesses.
+fn build_coordinates(
+    arena: &mut Arena,
+    items: &[Item],
+    ids: &[[Id; 3]],
+    known: &[(SymbolId, f64)],
+) -> Result<Vec<Coordinate>> {
+    let mut coordinates = Vec::with_capacity(items.len());
+    for (c, ids) in items.iter().zip(ids) {
+        let guess = constant(
+            arena,
+            &c.value,
+            known,
+            &format!("the initial guess of `{}`", c.name),
+        )?;
+        let [q, qd, qdd] = *ids;
+        coordinates.push(Coordinate {
+            name: c.name.clone(),
+            q,
+            qd,
+            qdd,
+            guess,
+            location: c.at,
+        });
+    }
+    Ok(coordinates)
+}
+
+/// The independent coordinates: one entry per coordinate named in `independent`, its
+/// position (the guess unless given) and rate (0 unless given).
+fn build_independent(
+    arena: &mut Arena,
+    d: &Declaration,
+    coordinates: &[Coordinate],
+    known: &[(SymbolId, f64)],
+) -> Result<Vec<IndependentSpec>> {
+    let mut independent: Vec<IndependentSpec> = Vec::new();
+    for i in d.independent.iter().flat_map(|s| &s.body) {
+        let Some(k) = coordinates.iter().position(|c| c.name == i.name) else {
+            continue;
+        };
+        let what = if i.rate {
+            format!("the initial rate of `{}`", i.name)
+        } else {
+            format!("the initial value of `{}`", i.name)
+        };
+        let v = constant(arena, &i.value, known, &what)?;
+        let spec = match independent.iter_mut().position(|s| s.coordinate == k) {
+            Some(at) => &mut independent[at],
+            None => {
+                independent.push(IndependentSpec {
+                    coordinate: k,
+                    position: coordinates[k].guess,
+                    velocity: 0.0,
+                    location: i.at,
+                });
+                let last = independent.len() - 1;
+                &mut independent[last]
+            }
+        };
+        if i.rate {
+            spec.velocity = v;
+        } else {
+            spec.position = v;
+        }
+    }
+    Ok(independent)
+}
+
+/// The constraint rows lhs - rhs, in declaration order.
+fn build_constraints(arena: &mut Arena, d: &Declaration) -> Result<Vec<Constraint>> {
+    let mut constraints = Vec::new();
+    for row in d.constraints.iter().flat_map(|s| &s.body) {
+        let lhs = resolve_at(arena, &row.lhs)?;
+        let expr = match &row.rhs {
+            Some(r) => {
+                let rhs = resolve_at(arena, r)?;
+                arena.sub(lhs, rhs)
+            }
+            None => lhs,
+        };
+        constraints.push(Constraint {
+            expr,
+            location: row.at,
+            joint: format!("constraint {}", row.statement),
+            component: row.component.clone(),
+        });
+    }
+    Ok(constraints)
+}
+
+/// The generalised force of each coordinate (0 unless declared) and where it is declared.
+fn build_forces(
+    arena: &mut Arena,
+    d: &Declaration,
+    coordinates: &[Coordinate],
+) -> Result<(Vec<Id>, Vec<Option<Location>>)> {
+    let zero = arena.int(0);
+    let mut forces = vec![zero; coordinates.len()];
+    let mut force_entries = vec![None; coordinates.len()];
+    for f in d.forces.iter().flat_map(|s| &s.body) {
+        if let Some(k) = coordinates.iter().position(|c| c.name == f.name) {
+            forces[k] = resolve_at(arena, &f.value)?;
+            force_entries[k] = Some(f.at);
+        }
+    }
+    Ok((forces, force_entries))
 }
