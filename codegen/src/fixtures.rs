@@ -58,6 +58,7 @@ fn midpoint_weight(i: usize, j: usize) -> Option<i64> {
 /// The closed planar chain of `n` rods as a [`Model`] named `ClosedChain{n}` (see the module
 /// documentation), built through the arena API. Coordinates th1..thn with the arch guesses of
 /// [`closed_chain_arch`]; the first n - 2 angles are independent, at rest.
+// One function: a test fixture that writes the chain's T, Pi and Phi out term by term.
 pub fn closed_chain_model(n: usize) -> Model {
     let mut a = Arena::new();
     let time = a.symbol("t", SymbolKind::Time);

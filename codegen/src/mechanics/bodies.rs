@@ -262,6 +262,8 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
 /// [`Error::NotASymbol`] when a coordinate is not a symbol, [`Error::NotPositionLevel`] when
 /// a position, orientation, mass, inertia, gravity, spring or damper expression depends on a
 /// rate or an acceleration, [`Error::InertiaShape`] when an inertia is not 3x3; [`Error::InvalidId`] for a foreign id; differentiation errors.
+// One function: the sums over bodies, springs and dampers fill one set of term lists for
+// M, b, T_0, Pi and the forces; split, every part would take all of them.
 pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     check_system(model, system)?;
     let s = Symbols::of(model)?;

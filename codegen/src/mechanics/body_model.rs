@@ -151,6 +151,8 @@ fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
 
 /// Lowers the body sections into `model`: adds T, Pi and the damper forces
 /// ([`add_body_terms`]) and appends the joint rows to `model.constraints`.
+// One function: one match arm per body-section item, in declaration order (later items use
+// the names that earlier ones define).
 pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
     if bodies.items.is_empty() {
         return Ok(());
@@ -279,6 +281,8 @@ fn named_at(bodies: &Bodies, name: &str) -> Option<Location> {
     })
 }
 
+// One function: one step per body key (mass, position, orientation, inertia, points, axes),
+// in the order in which the later ones need the earlier ones.
 fn build_body(
     arena: &mut Arena,
     name: &str,
@@ -372,6 +376,7 @@ fn build_body(
 
 /// The rows of one `joints` statement, labelled with the statement as written and the
 /// component of each row (see [`Constraint::joint`]).
+// One function: one match arm per joint kind, each its rows (see `mechanics::joints`).
 fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
     let (exprs, components, joint, at) = match j {
         Joint::Row(lhs, rhs, at) => {

@@ -108,6 +108,8 @@ fn reject_dependence(
 /// [`Error::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
 /// acceleration, or T or a force on an acceleration;
 /// [`Error::InvalidId`] for a foreign id; differentiation errors.
+// One function: the module's formulas in order (M, C, C q', g, Phi, Phi_q, Phi_t, gamma),
+// each a few lines sharing one Differentiator, so that derivatives are memoised across them.
 pub fn derive(model: &mut Model) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();

@@ -175,6 +175,7 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
     }
 }
 
+// One function: one match arm per built-in function, each its formula.
 fn call(
     arena: &mut Arena,
     f: &str,

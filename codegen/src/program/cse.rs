@@ -217,6 +217,8 @@ fn mark(live: &mut [bool], o: Operand) {
 
 /// Dead-code elimination and register renumbering: keeps what `outputs` need, downgrades a
 /// `SinCos` with one dead half to a plain `sin` or `cos`, numbers registers in order.
+// One function: liveness, the SinCos downgrade and the renumbering are one backward and
+// one forward pass over the same instructions.
 fn compact(instrs: &[Instr], mut outputs: Vec<Output>, symbols: &[(SymbolId, String)]) -> Program {
     let nregs = instrs
         .iter()

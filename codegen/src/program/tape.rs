@@ -61,6 +61,8 @@ impl Tape {
     /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
     /// assert_eq!(out, [2.0, trig::sin_cos(0.5).0]);
     /// ```
+    // One function: the slot layout (constants, symbols, registers) and the one arm per
+    // instruction kind that uses it must agree, so they stay side by side.
     pub fn new(program: &Program) -> Tape {
         let mut consts: Vec<u64> = Vec::new();
         let mut const_slot: FxHashMap<u64, u32> = FxHashMap::default();

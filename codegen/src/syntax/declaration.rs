@@ -239,6 +239,8 @@ fn duplicate_section(name: &str, at: Location) -> Error {
     }
 }
 
+// One function: one match arm of a few lines per section keyword, so the grammar reads
+// as one table (see the module docs).
 fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     let t = c.peek();
     let Tok::Ident(keyword) = &t.tok else {
