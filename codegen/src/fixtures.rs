@@ -11,9 +11,9 @@
 //! writes the same declaration in the `mechanism!` language, for the parser and the macro.
 
 use crate::algebra::expr::{Arena, Id, SymbolKind};
-use crate::algebra::number::Number;
 use crate::error::Location;
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+use crate::number::Number;
 
 /// The exact constant num/den (den > 0 here).
 fn frac(a: &mut Arena, num: i64, den: i64) -> Id {

@@ -34,9 +34,10 @@
 //!
 //! ## The stages
 //!
-//! Each stage is a folder and imports only the stages above it in this list:
+//! Each stage is a folder and imports only the stages above it in this list; `syntax/` and
+//! `algebra/` are leaves that share only [`Error`] and [`Number`]:
 //!
-//! - `algebra/`: the expression arena ([`Arena`], [`Id`]), [`Number`], differentiation
+//! - `algebra/`: the expression arena ([`Arena`], [`Id`]), differentiation
 //!   ([`Differentiator`]), symbolic [`Matrix`] values with Khang's derivative, rotations,
 //!   numeric evaluation ([`eval`]).
 //! - `syntax/`: tokens and the declaration grammar; syntax trees only.
@@ -58,6 +59,7 @@ mod error;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod mechanics;
+mod number;
 mod pipeline;
 mod print;
 mod program;
@@ -67,7 +69,6 @@ pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_many, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
-pub use algebra::number::Number;
 pub use algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
 pub use algebra::trig;
 pub use emit::body::{
@@ -84,6 +85,7 @@ pub use mechanics::lagrange::{christoffel_coriolis_forces, christoffel_coriolis_
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{ResidualTangent, lambda_symbol_name, residual_tangent};
+pub use number::Number;
 pub use pipeline::{
     SpannedError, parse_declaration, parse_declaration_str, parse_model, parse_model_str,
 };

@@ -11,8 +11,8 @@
 //! increasing id order, which is topological), so deep expressions cannot overflow the stack.
 
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
-use crate::algebra::number::Number;
 use crate::error::{Error, Result};
+use crate::number::Number;
 
 /// Per-node sets of the symbols each node depends on, as fixed-width bitsets, extended
 /// incrementally as the arena grows (ids are topological, so a node's set is the union of

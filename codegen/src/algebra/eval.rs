@@ -10,9 +10,9 @@
 
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
-use crate::algebra::number::Number;
 use crate::algebra::trig::sin_cos;
 use crate::error::{Error, Result};
+use crate::number::Number;
 
 /// The value of the expression `id`, with each symbol s bound to `env(s)`.
 ///

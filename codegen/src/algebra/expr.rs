@@ -16,8 +16,8 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use crate::algebra::number::Number;
 use crate::error::{Error, Result};
+use crate::number::Number;
 
 /// Index of a node in an [`Arena`]. Children always have smaller ids than their parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

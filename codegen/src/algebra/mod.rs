@@ -2,11 +2,12 @@
 //! numerically, knowing nothing of mechanisms.
 //!
 //! Enters: expressions built through [`Arena`](crate::Arena)'s canonical constructors.
-//! Leaves: canonical expressions, derivatives, symbolic matrices and numbers.
+//! Leaves: canonical expressions, derivatives, symbolic matrices and numbers. Imports only
+//! the shared leaves `error` and `number` (exact rationals while they fit in i64, floats
+//! otherwise), which the syntax stage uses too.
 //!
 //! - [`expr`]: a hash-consed DAG, children before parents, so increasing id order is
 //!   topological; sums and products are flat, sorted and constant-folded, like terms collect.
-//! - [`number`]: exact rationals while they fit in i64, floats otherwise.
 //! - [`diff`]: d e/d x memoised per (node, symbol), and the total time derivative
 //!   de/dt = (de/dq) q' + de/dt|_q (Van Khang's Theorem 1).
 //! - [`matrix`]: Van Khang's matrix derivative, (dA/dx)[i, j n + k] = d a_ij / d x_k, and his
@@ -20,6 +21,5 @@ pub(crate) mod diff;
 pub(crate) mod eval;
 pub(crate) mod expr;
 pub(crate) mod matrix;
-pub(crate) mod number;
 pub(crate) mod rotation;
 pub mod trig;

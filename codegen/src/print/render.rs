@@ -14,7 +14,7 @@
 
 use crate::algebra::expr::FxHashMap;
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
-use crate::algebra::number::Number;
+use crate::number::Number;
 
 /// How tightly a rendering binds, loosest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -8,9 +8,9 @@
 
 use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
 use crate::algebra::matrix::Matrix;
-use crate::algebra::number::Number;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
+use crate::number::Number;
 use crate::print::render::{Prec, Rendered, Renderer, Style};
 
 /// The plain-text spelling.

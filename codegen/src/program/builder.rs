@@ -4,8 +4,8 @@
 
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
-use crate::algebra::number::Number;
 use crate::error::{Error, Result};
+use crate::number::Number;
 use crate::program::instructions::{BinOp, Instr, Operand, Reg, UnOp};
 
 // ----- instruction builder with value numbering and constant folding -----

@@ -15,8 +15,8 @@
 //! `1e-4`) are floats. A chain of sums or products is built with one n-ary constructor call,
 //! so the result is the arena's canonical form of the whole chain.
 
-use crate::algebra::number::Number;
 use crate::error::{Error, Location, Result};
+use crate::number::Number;
 use crate::syntax::MAX_DEPTH;
 use crate::syntax::lex::{Cursor, Delim, Tok};
 

@@ -4,7 +4,8 @@
 //! file. Leaves: a [`declaration::Declaration`] whose expressions are syntax trees
 //! ([`expression::Ast`] for scalars, [`vector::VectorAst`] for the vector expressions of the
 //! body sections), every node with its [`Location`](crate::Location). No symbol is resolved
-//! and no arena node is built here; that is the job of [`crate::mechanics`].
+//! and no arena node is built here (that is the job of [`crate::mechanics`]): this stage
+//! imports nothing of the others, only the shared `error` and `number` leaves.
 //!
 //! The algorithm is recursive descent over one flat token list ([`lex`]): both routes use
 //! proc_macro2's tokenizer, so a macro and a file have one grammar. Expressions bind, loosest

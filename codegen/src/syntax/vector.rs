@@ -17,8 +17,8 @@
 //! `rot_x`, `rot_y`, `rot_z` (3x3), `diag(a, b, c)` (3x3), `dot(u, v)`, `cross(u, v)`,
 //! `norm(u)`.
 
-use crate::algebra::number::Number;
 use crate::error::{Error, Location, Result};
+use crate::number::Number;
 use crate::syntax::MAX_DEPTH;
 use crate::syntax::expression::FUNCTIONS;
 use crate::syntax::lex::{Cursor, Delim, Tok};
