@@ -5,7 +5,14 @@ use crate::algebra::expr::SymbolId;
 
 /// A register of a [`Program`](crate::Program): the value of one instruction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Reg(pub u32);
+pub struct Reg(pub(crate) u32);
+
+impl Reg {
+    /// The register's number: registers are numbered 0, 1, .. in program order.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
 
 /// An instruction operand: a register, an input symbol or a constant.
 #[derive(Clone, Copy, Debug, PartialEq)]
