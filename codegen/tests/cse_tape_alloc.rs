@@ -1,8 +1,8 @@
 //! `Tape::eval` allocates nothing: a counting global allocator (this test binary only)
 //! sees zero allocations across many evaluations of a realistic program.
 
-#[path = "alloc_support/mod.rs"]
-mod alloc_support;
+#[global_allocator]
+static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
 
 use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
 
@@ -33,12 +33,12 @@ fn tape_eval_does_not_allocate() {
     let mut inputs = vec![0.3; nsym];
     let mut out = vec![0.0; tape.output_len()];
     tape.eval(&inputs, &mut out).unwrap();
-    let before = alloc_support::allocations();
+    let before = mechanism_test_support::allocations();
     for k in 0..1000 {
         inputs[0] = 0.001 * k as f64;
         tape.eval(&inputs, &mut out).unwrap();
     }
-    let after = alloc_support::allocations();
+    let after = mechanism_test_support::allocations();
     assert_eq!(after - before, 0, "Tape::eval allocated");
     assert!(out.iter().all(|v| v.is_finite()));
 }
