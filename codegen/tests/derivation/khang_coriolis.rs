@@ -12,9 +12,7 @@
 //! Tolerance 1e-9 relative (absolute below 1), states with values above 1e4 skipped: each
 //! side is a sum of at most a few hundred O(1) products evaluated in f64.
 
-mod common;
-
-use common::{
+use crate::common::{
     Ast, State, ast, bare_model, build, close, eval_node, mat_vec, oracle_equations,
     try_eval_equations,
 };
@@ -223,7 +221,7 @@ proptest! {
 fn chain_khang_equals_christoffel() {
     let mut model = closed_chain_model(6);
     let eqs = derive(&mut model).unwrap();
-    let mut rng = common::Rng(7);
+    let mut rng = crate::common::Rng(7);
     for _ in 0..5 {
         let q: Vec<f64> = (0..6).map(|_| rng.uniform(-3.0, 3.0)).collect();
         let qd: Vec<f64> = (0..6).map(|_| rng.uniform(-2.0, 2.0)).collect();

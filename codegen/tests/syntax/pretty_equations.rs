@@ -1,15 +1,13 @@
 //! The derived equations as text: sections in order, one line per non-zero entry, and every
 //! printed entry reads back to the entry itself.
 
-mod parse_support;
-
 use mechanism_codegen::{
     Arena, Matrix, SymbolKind, derive, equations_text, matrix_to_text, parse_expr, parse_model_str,
 };
 
 #[test]
 fn seed_equations_text_has_every_section_in_order() {
-    let mut m = parse_model_str(parse_support::SEED).unwrap();
+    let mut m = parse_model_str(crate::parse_support::SEED).unwrap();
     let eqs = derive(&mut m).unwrap();
     let text = equations_text(&m, &eqs);
     assert!(
@@ -57,7 +55,7 @@ fn seed_equations_text_has_every_section_in_order() {
 
 #[test]
 fn every_printed_entry_reads_back_to_the_entry() {
-    let mut m = parse_model_str(parse_support::SEED).unwrap();
+    let mut m = parse_model_str(crate::parse_support::SEED).unwrap();
     let eqs = derive(&mut m).unwrap();
     let text = equations_text(&m, &eqs);
     let mut arena = m.arena.clone();

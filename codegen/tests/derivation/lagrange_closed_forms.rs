@@ -5,9 +5,9 @@
 //! the same smooth functions of O(1) inputs with fewer than ~50 roundings, so they agree to
 //! ~1e-14; any wrong term is off by O(1).
 
-mod common;
-
-use common::{State, assert_equations_close, bare_model, close, eval_equations, oracle_equations};
+use crate::common::{
+    State, assert_equations_close, bare_model, close, eval_equations, oracle_equations,
+};
 use mechanism_codegen::{
     Arena, Error, Func, Id, Matrix, Model, SymbolKind, christoffel_coriolis_forces, derive,
     eval_matrix,
@@ -449,7 +449,7 @@ fn malformed_models_are_typed_errors() {
 
 /// Compares everything derive gives with the num-dual oracle at a few random states.
 fn oracle_check(model: &mut Model, eqs: &mechanism_codegen::Equations, params: &[(&str, f64)]) {
-    let mut rng = common::Rng(42);
+    let mut rng = crate::common::Rng(42);
     let n = model.coordinates.len();
     for _ in 0..5 {
         let q: Vec<f64> = (0..n).map(|_| rng.uniform(-1.5, 1.5)).collect();
@@ -509,7 +509,7 @@ fn gamma_equals_minus_convective_derivative_of_velocity_constraint() {
             other.push(a.neg(dv));
         }
         let other = Matrix::column(other);
-        let mut rng = common::Rng(5);
+        let mut rng = crate::common::Rng(5);
         for _ in 0..5 {
             let table: Vec<(mechanism_codegen::SymbolId, f64)> = model
                 .coordinates

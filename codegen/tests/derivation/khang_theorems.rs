@@ -6,9 +6,7 @@
 //! Tolerance 1e-9 relative (absolute below 1), values above 1e4 skipped: as in diff_props,
 //! the two sides are one function evaluated by different operation orders.
 
-mod common;
-
-use common::{Ast, ast, build, close, eval_ast};
+use crate::common::{Ast, ast, build, close, eval_ast};
 use mechanism_codegen::{
     Arena, Differentiator, Error, Id, Matrix, SymbolId, SymbolKind, eval_matrix,
 };

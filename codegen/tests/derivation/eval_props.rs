@@ -1,12 +1,10 @@
 //! The interpreter (`eval`) against a direct f64 evaluation of random expression trees, and
 //! its typed errors.
 
-mod eval_support;
-
 use std::cell::Cell;
 use std::collections::HashMap;
 
-use eval_support::{ast, build, close, dag, direct, point, symbols};
+use crate::eval_support::{ast, build, close, dag, direct, point, symbols};
 use mechanism_codegen::{Arena, Error, Func, Id, Matrix, SymbolKind, eval, eval_many, eval_matrix};
 use proptest::prelude::*;
 

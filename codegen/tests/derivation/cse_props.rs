@@ -2,11 +2,9 @@
 //! programs; structural invariants of the program (sin/cos computed once per argument,
 //! consistent op counts, restriction).
 
-mod eval_support;
-
 use std::collections::HashMap;
 
-use eval_support::{Ast, ast, build, close, dag, point, symbols};
+use crate::eval_support::{Ast, ast, build, close, dag, point, symbols};
 use mechanism_codegen::{
     Arena, Error, Id, Instr, Matrix, Operand, Program, SymbolId, SymbolKind, Tape, UnOp, eval,
     eval_matrix,

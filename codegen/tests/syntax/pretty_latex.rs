@@ -1,7 +1,5 @@
 //! LaTeX of expressions and matrices: one line per case, text => LaTeX.
 
-mod parse_support;
-
 use mechanism_codegen::{
     Arena, Matrix, SymbolKind, derive, equations_latex, matrix_to_latex, parse_expr,
     parse_model_str, to_latex,
@@ -79,7 +77,7 @@ fn matrix_is_a_bmatrix() {
 
 #[test]
 fn seed_equations_latex() {
-    let mut m = parse_model_str(parse_support::SEED).unwrap();
+    let mut m = parse_model_str(crate::parse_support::SEED).unwrap();
     let eqs = derive(&mut m).unwrap();
     let tex = equations_latex(&m, &eqs);
     assert!(

@@ -1,0 +1,19 @@
+//! The calculus: differentiation rules and properties, evaluation against direct f64,
+//! canonical forms, Van Khang's Theorems 1-2 and C, the Lagrange assembly on closed forms
+//! and chains, CSE'd programs against the interpreter, and the inline sin_cos.
+
+mod common;
+mod eval_support;
+mod rounding;
+
+mod cse_props;
+mod diff_props;
+mod diff_rules;
+mod eval_props;
+mod expr_canonical;
+mod khang_coriolis;
+mod khang_theorems;
+mod lagrange_chain;
+mod lagrange_chain_timing;
+mod lagrange_closed_forms;
+mod trig;
