@@ -131,38 +131,7 @@ impl Interpreted {
         let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
         let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
         let symbols = arena.symbols().len();
-        let info = SystemInfo {
-            name: model.name.clone(),
-            coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
-            parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
-            initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
-            independent: model
-                .independent
-                .iter()
-                .map(|i| Independent {
-                    coordinate: i.coordinate,
-                    position: i.position,
-                    velocity: i.velocity,
-                })
-                .collect(),
-            constraints: eqs.m,
-            constraint_rows: model
-                .constraints
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    if c.joint.is_empty() {
-                        // A hand-built Model that did not name its rows.
-                        ConstraintRow::unnamed(k)
-                    } else {
-                        ConstraintRow {
-                            joint: c.joint.clone(),
-                            component: c.component.clone(),
-                        }
-                    }
-                })
-                .collect(),
-        };
+        let info = system_info(&model, eqs.m);
         let equations_text = mechanism_codegen::equations_text(&model, &eqs);
         Ok(Self {
             parameters: model.parameters.iter().map(|p| p.default).collect(),
@@ -333,5 +302,41 @@ impl System for Interpreted {
         copy_block(&s.out, n, n, &mut out.stiffness);
         copy_block(&s.out[n * n..], n, n, &mut out.damping);
         Some(())
+    }
+}
+
+/// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
+fn system_info(model: &Model, m: usize) -> SystemInfo {
+    SystemInfo {
+        name: model.name.clone(),
+        coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
+        parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
+        initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
+        independent: model
+            .independent
+            .iter()
+            .map(|i| Independent {
+                coordinate: i.coordinate,
+                position: i.position,
+                velocity: i.velocity,
+            })
+            .collect(),
+        constraints: m,
+        constraint_rows: model
+            .constraints
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                if c.joint.is_empty() {
+                    // A hand-built Model that did not name its rows.
+                    ConstraintRow::unnamed(k)
+                } else {
+                    ConstraintRow {
+                        joint: c.joint.clone(),
+                        component: c.component.clone(),
+                    }
+                }
+            })
+            .collect(),
     }
 }
