@@ -3,6 +3,7 @@
 //! small timing utilities.
 #![warn(missing_docs)]
 
+pub mod a02;
 pub mod ad_models;
 pub mod autodiff;
 pub mod n_four_bar;

@@ -1,7 +1,7 @@
 //! The N four-bar generator (`mechanism_bench::n_four_bar`): `mechanisms/n_four_bar.mech` is
-//! its output for N = 40 byte for byte (rerun with `MECHANISM_BLESS=1` to rewrite the file
-//! after changing the generator), and a small member derives and moves as the benchmark's
-//! exact solution says.
+//! its output for N = 40 and `benches/mechanisms/n_four_bar_{10,20,80}.mech` for N = 10, 20,
+//! 80, byte for byte (rerun with `MECHANISM_BLESS=1` to rewrite the files after changing the
+//! generator), and a small member derives and moves as the benchmark's exact solution says.
 
 use mechanism::{Evaluation, Interpreted, System};
 use mechanism_bench::n_four_bar::n_four_bar_source;
@@ -20,6 +20,27 @@ fn the_committed_file_is_the_generator_output_for_n_40() {
         committed == text,
         "mechanisms/n_four_bar.mech is not n_four_bar_source(40): rerun this test with MECHANISM_BLESS=1"
     );
+}
+
+/// The sizes compiled into the bench crate (`benches/mechanisms/n_four_bar_{N}.mech`,
+/// expanded by `mechanism_bench::a02`); N = 40 is `mechanisms/n_four_bar.mech` above.
+#[test]
+fn the_bench_variants_are_the_generator_output() {
+    for n in [10, 20, 80] {
+        let path = format!(
+            "{}/mechanisms/n_four_bar_{n}.mech",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let text = n_four_bar_source(n);
+        if std::env::var_os("MECHANISM_BLESS").is_some() {
+            std::fs::write(&path, &text).unwrap_or_else(|e| panic!("write {path}: {e}"));
+        }
+        let committed = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            committed == text,
+            "{path} is not n_four_bar_source({n}): rerun this test with MECHANISM_BLESS=1"
+        );
+    }
 }
 
 #[test]
