@@ -8,8 +8,9 @@
 //! (Van Khang 2011; the seed's eq. 2.11 written out), never by inverting M (which may be
 //! singular: the seed lumps its rod into two point masses). Two routes give the same q'':
 //!
-//! - **LU** with partial pivoting of the whole matrix, for small systems (n + m <= 24) whose
-//!   matrix is regular and well conditioned (condition estimate <= `condition_limit`);
+//! - **LU** with partial pivoting of the whole matrix, for small systems (n + m <= 40) whose
+//!   matrix is regular and well conditioned (condition estimate <= `condition_limit`); after
+//!   it fails, the next 64 solves go straight to the other route;
 //! - the **augmented Lagrangian** iteration ([`AugmentedLagrangian`]) otherwise: large
 //!   systems (factored inside their band), redundant constraint rows (the matrix above is
 //!   then singular although q'' is unique) and configurations near a singular one.
@@ -36,8 +37,13 @@ use crate::system::{Evaluation, System, SystemInfo};
 /// about 8 of its 16 digits).
 pub const DEFAULT_CONDITION_LIMIT: f64 = 1e8;
 
-/// Largest n + m solved by LU first (dense LU costs (n + m)^3 / 3).
-const LU_MAX_ORDER: usize = 24;
+/// Largest n + m solved by LU first (dense LU costs (n + m)^3 / 3; beyond this the banded
+/// augmented Lagrangian route wins for chains, and dense mechanisms this large are rare).
+const LU_MAX_ORDER: usize = 40;
+
+/// Solves that go straight to the augmented Lagrangian route after the LU route failed
+/// (redundant rows fail every time; a singular position only for a while).
+const LU_RETRY_AFTER: usize = 64;
 
 /// Solves between two condition estimates of the augmented matrix (one DOP853 step has 12).
 const ESTIMATE_EVERY: usize = 8;
@@ -61,6 +67,8 @@ pub struct Dynamics {
     /// last solve took that route.
     force: Vec<f64>,
     last_augmented: bool,
+    /// Solves left before the LU route is tried again.
+    skip_lu: usize,
     /// Condition-estimate limit of the LU route (default [`DEFAULT_CONDITION_LIMIT`]).
     pub condition_limit: f64,
     /// Solves done by the augmented Lagrangian route.
@@ -89,6 +97,7 @@ impl Dynamics {
             direction: vec![0.0; n],
             force: vec![0.0; n],
             last_augmented: false,
+            skip_lu: 0,
             condition_limit: DEFAULT_CONDITION_LIMIT,
             augmented_solves: 0,
             baumgarte: None,
@@ -140,7 +149,12 @@ impl Dynamics {
                 t,
             ));
         }
-        self.last_augmented = !(n + m <= LU_MAX_ORDER && self.solve_lu());
+        let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
+        self.skip_lu = self.skip_lu.saturating_sub(1);
+        self.last_augmented = !(lu && self.solve_lu());
+        if lu && self.last_augmented {
+            self.skip_lu = LU_RETRY_AFTER;
+        }
         if self.last_augmented {
             self.solve_augmented(t, q)?;
         }
