@@ -34,9 +34,6 @@ pub const T_END: f64 = 20.0;
 /// Output samples per second.
 pub const OUTPUT_RATE: f64 = 10.0;
 
-/// Gravity of the declarations (m/s^2).
-const G: f64 = 9.81;
-
 /// The compiled N four-bar chain with `n` couplers, for `n` in [`SIZES`].
 pub fn system(n: usize) -> Option<Box<dyn System>> {
     Some(match n {
@@ -64,52 +61,16 @@ pub fn options(tol: f64) -> SimulationOptions {
     }
 }
 
-/// The exact motion of the chain with `n` couplers: every rocker at one angle th from +x,
-/// ((N+1)/3 + N) th'' = -((N+1)/2 + N) g cos th, th(0) = pi/2, th'(0) = -1 rad/s. Classical
-/// RK4 at h = 1e-4 s (as `a02_branch` in tests/runtime_overconstrained.rs; global error
-/// below 1e-9 rad over 20 s), returning (th, th') at each of `times` (ascending).
+/// The exact motion of the chain with `n` couplers: (th, th') at each of `times`
+/// (`mechanism_test_support::a02::branch`).
 pub fn exact_branch(n: usize, times: &[f64]) -> Vec<(f64, f64)> {
-    let (a, b) = (
-        (n + 1) as f64 / 3.0 + n as f64,
-        (n + 1) as f64 / 2.0 + n as f64,
-    );
-    let k = b * G / a;
-    let f = |y: [f64; 2]| [y[1], -k * y[0].cos()];
-    let (mut y, mut t) = ([std::f64::consts::FRAC_PI_2, -1.0], 0.0);
-    let mut out = Vec::with_capacity(times.len());
-    for &target in times {
-        while t < target - 1e-12 {
-            let h = (target - t).min(1e-4);
-            let k1 = f(y);
-            let k2 = f([y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]]);
-            let k3 = f([y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]]);
-            let k4 = f([y[0] + h * k3[0], y[1] + h * k3[1]]);
-            for i in 0..2 {
-                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-            t += h;
-        }
-        out.push((y[0], y[1]));
-    }
-    out
+    mechanism_test_support::a02::branch(n, times)
 }
 
 /// The times in (0, [`T_END`]) where the exact branch of the chain with `n` couplers lies
-/// flat (sin th = 0, all rockers horizontal): the singular positions the run must pass,
-/// located to ~1e-8 s by linear interpolation on a 1e-4 s grid.
+/// flat: the singular positions the run must pass.
 pub fn exact_crossings(n: usize) -> Vec<f64> {
-    let h = 1e-4;
-    let steps = (T_END / h).round() as usize;
-    let grid: Vec<f64> = (0..=steps).map(|i| i as f64 * h).collect();
-    let branch = exact_branch(n, &grid);
-    let mut crossings = Vec::new();
-    for i in 1..grid.len() {
-        let (a, b) = (branch[i - 1].0.sin(), branch[i].0.sin());
-        if a * b < 0.0 {
-            crossings.push(grid[i - 1] + h * a / (a - b));
-        }
-    }
-    crossings
+    mechanism_test_support::a02::crossings(n, T_END)
 }
 
 /// What one run gives against the exact branch.

@@ -1,4 +1,4 @@
-//! Helpers shared by the workspace's test binaries.
+//! Helpers shared by the workspace's test binaries and benchmarks.
 //!
 //! [`Counting`] is a global allocator that counts allocations on the calling thread only,
 //! so tests running in parallel threads cannot disturb a measurement. A test binary installs
@@ -10,6 +10,8 @@
 //! ```
 //!
 //! and reads [`allocations`] before and after the code that must not allocate.
+
+pub mod a02;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -39,33 +39,6 @@ fn energy_drift(tr: &Trajectory) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The exact A02 branch: every rocker at angle th from +x, couplers horizontal. With
-/// rockers m L^2 / 3 about their pins and couplers translating with the tips,
-/// T = (41/3 + 40)/2 th'^2 and Pi = (41/2 + 40) g sin th, so
-/// (41/3 + 40) th'' = -(41/2 + 40) g cos th. Classical RK4 at h = 1e-4 s (global error
-/// ~ h^4 th^(5): below 1e-9 rad over 20 s), sampled at the times asked.
-fn a02_branch(times: &[f64]) -> Vec<(f64, f64)> {
-    let k = (41.0 / 2.0 + 40.0) * 9.81 / (41.0 / 3.0 + 40.0);
-    let f = |y: [f64; 2]| [y[1], -k * y[0].cos()];
-    let (mut y, mut t) = ([FRAC_PI_2, -1.0], 0.0);
-    let mut out = Vec::with_capacity(times.len());
-    for &target in times {
-        while t < target - 1e-12 {
-            let h = (target - t).min(1e-4);
-            let k1 = f(y);
-            let k2 = f([y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]]);
-            let k3 = f([y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]]);
-            let k4 = f([y[0] + h * k3[0], y[1] + h * k3[1]]);
-            for i in 0..2 {
-                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-            t += h;
-        }
-        out.push((y[0], y[1]));
-    }
-    out
-}
-
 /// A02, N = 40, 20 s: 20 passages through the flat configuration, where Phi_q loses 40 rows
 /// of rank; B0 stays within 1e-3 m of the exact branch and the loops closed.
 #[test]
@@ -78,7 +51,7 @@ fn a02_chain_of_forty_four_bars_follows_the_exact_branch_through_every_singular_
     )
     .unwrap();
     let times: Vec<f64> = tr.samples().map(|s| s.t).collect();
-    let exact = a02_branch(&times);
+    let exact = mechanism_test_support::a02::branch(40, &times);
     let (mut worst, mut at) = (0.0f64, 0.0);
     for (s, (th, _)) in tr.samples().zip(&exact) {
         let e = (s.q[0] - th.cos()).abs().max((s.q[1] - th.sin()).abs());
@@ -97,15 +70,7 @@ fn a02_chain_of_forty_four_bars_follows_the_exact_branch_through_every_singular_
     assert!(max_constraint_error(&tr) < 1e-10);
     // The exact branch crosses the horizontal (sin th = 0) 20 times in 20 s; each crossing
     // is one recorded passage, within 1 ms of it, with all 40 rocker rows dropping together.
-    let mut crossings = Vec::new();
-    let fine: Vec<f64> = (0..=200_000).map(|i| i as f64 * 1e-4).collect();
-    let branch = a02_branch(&fine);
-    for i in 1..fine.len() {
-        let (a, b) = (branch[i - 1].0.sin(), branch[i].0.sin());
-        if a * b < 0.0 {
-            crossings.push(fine[i - 1] + 1e-4 * a / (a - b));
-        }
-    }
+    let crossings = mechanism_test_support::a02::crossings(40, 20.0);
     assert_eq!(crossings.len(), 20);
     assert_eq!(
         tr.singular_passages.len(),
