@@ -133,15 +133,22 @@ fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
     let root = std::env::var_os("CARGO_MANIFEST_DIR")
         .map(PathBuf::from)
         .unwrap_or_default();
+    // The invoking file's path may be relative to rustc's working directory (cargo passes
+    // `src/lib.rs`): make it absolute, or `include_str!` in the expansion would resolve it
+    // against the invoking file's directory a second time (`src/src/...`).
+    let cwd = std::env::current_dir().unwrap_or_default();
     let beside = literal
         .span()
         .local_file()
-        .and_then(|f| f.parent().map(|d| d.join(&relative)));
+        .and_then(|f| f.parent().map(|d| cwd.join(d).join(&relative)));
     let candidates = std::iter::once(root.join(&relative)).chain(beside);
     let mut first_error = None;
     for path in candidates {
         match std::fs::read_to_string(&path) {
-            Ok(text) => return parse_text(literal, path, &text),
+            Ok(text) => {
+                let path = std::fs::canonicalize(&path).unwrap_or(path);
+                return parse_text(literal, path, &text);
+            }
             Err(e) => {
                 first_error.get_or_insert(e);
             }

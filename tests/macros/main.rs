@@ -5,5 +5,6 @@
 static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
 
 mod emitted_vs_interpreter;
+mod file_paths;
 mod large_mechanism;
 mod no_alloc;
