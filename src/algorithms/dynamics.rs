@@ -288,6 +288,9 @@ impl Dynamics {
     }
 
     /// lambda from the last [`Dynamics::solve`] (sign: +Phi_q^T lambda on the left side).
+    /// After the augmented Lagrangian route these are the iteration's own multipliers,
+    /// accurate to about kappa eps = 1e-10 relative and, with redundant rows, one choice among
+    /// many: call [`Dynamics::min_norm_multipliers`] for the minimum-norm ones to round-off.
     pub fn multipliers(&self) -> &[f64] {
         &self.sol[self.n..]
     }

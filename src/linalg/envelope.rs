@@ -108,22 +108,8 @@ impl Envelope {
     /// [`Envelope::factor`] of the leading k x k block only.
     pub fn factor_prefix(&mut self, k: usize, tolerance: f64) -> Result<(), NotPositiveDefinite> {
         let n = self.n;
-        let s = self.a.as_mut_slice();
         for i in 0..k {
-            let fi = self.first[i];
-            for j in fi..i {
-                let fj = self.first[j].max(fi);
-                let mut sum = s[j + i * n];
-                for p in fj..j {
-                    sum -= s[p + i * n] * s[p + j * n];
-                }
-                s[j + i * n] = sum / s[j + j * n];
-            }
-            let diag = s[i + i * n];
-            let mut d = diag;
-            for p in fi..i {
-                d -= s[p + i * n] * s[p + i * n];
-            }
+            let (diag, d) = self.eliminate_row(i, &[]);
             // `!(d > ..)` so that NaN fails too.
             if !(diag > 0.0) || !(d > tolerance * diag) {
                 return Err(NotPositiveDefinite {
@@ -131,8 +117,9 @@ impl Envelope {
                     ratio: if diag > 0.0 { d / diag } else { d },
                 });
             }
-            s[i + i * n] = d.sqrt();
-            self.inverse[i] = 1.0 / s[i + i * n];
+            let l = d.sqrt();
+            self.a.as_mut_slice()[i + i * n] = l;
+            self.inverse[i] = 1.0 / l;
         }
         Ok(())
     }
@@ -150,27 +137,10 @@ impl Envelope {
         ratio: &mut [f64],
     ) -> usize {
         let n = self.n;
-        let s = self.a.as_mut_slice();
         let mut kept = 0;
         for i in 0..n {
-            let fi = self.first[i];
-            for j in fi..i {
-                if dropped[j] {
-                    s[j + i * n] = 0.0;
-                    continue;
-                }
-                let fj = self.first[j].max(fi);
-                let mut sum = s[j + i * n];
-                for p in fj..j {
-                    sum -= s[p + i * n] * s[p + j * n];
-                }
-                s[j + i * n] = sum / s[j + j * n];
-            }
-            let diag = s[i + i * n];
-            let mut d = diag;
-            for p in fi..i {
-                d -= s[p + i * n] * s[p + i * n];
-            }
+            let (diag, d) = self.eliminate_row(i, &dropped[..i]);
+            let s = self.a.as_mut_slice();
             ratio[i] = if diag > 0.0 && d > 0.0 {
                 (d / diag).sqrt().min(1.0)
             } else {
@@ -186,6 +156,32 @@ impl Envelope {
             }
         }
         kept
+    }
+
+    /// Row i of L left of the diagonal (in place, over the envelope; columns of rows marked
+    /// in `dropped` are zero), and the pivot: returns (N_ii, d_i = N_ii - sum_k L_ik^2).
+    fn eliminate_row(&mut self, i: usize, dropped: &[bool]) -> (f64, f64) {
+        let n = self.n;
+        let s = self.a.as_mut_slice();
+        let fi = self.first[i];
+        for j in fi..i {
+            if dropped.get(j).copied().unwrap_or(false) {
+                s[j + i * n] = 0.0;
+                continue;
+            }
+            let fj = self.first[j].max(fi);
+            let mut sum = s[j + i * n];
+            for p in fj..j {
+                sum -= s[p + i * n] * s[p + j * n];
+            }
+            s[j + i * n] = sum / s[j + j * n];
+        }
+        let diag = s[i + i * n];
+        let mut d = diag;
+        for p in fi..i {
+            d -= s[p + i * n] * s[p + i * n];
+        }
+        (diag, d)
     }
 
     /// Solves N x = b in place after a successful [`Envelope::factor`].

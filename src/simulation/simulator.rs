@@ -19,7 +19,9 @@ use crate::algorithms::kinematics::{assemble, assemble_from};
 use crate::algorithms::mobility::mobility;
 use crate::algorithms::stabilization::{Projector, Stabilization};
 use crate::error::Error;
-use crate::integrators::{Dense, Hht, Method, OdeRhs, Tolerance, explicit_stepper, initial_step};
+use crate::integrators::{
+    Dense, Dop853, Dopri5, Hht, Method, OdeRhs, Rk4, Tolerance, initial_step,
+};
 use crate::simulation::events::{EventAction, EventHit, EventLog};
 use crate::simulation::options::{
     InitialState, MAX_OUTPUT_SAMPLES, RESERVED_SAMPLES, SimulationOptions,
@@ -719,10 +721,9 @@ fn make_stepper(
                 power: dynamics.power(&y[n..2 * n]),
             }
         }
-        method => match explicit_stepper(method, dim) {
-            Some(rk) => Stepper::Explicit(rk),
-            None => unreachable!("every method but HHT is explicit"),
-        },
+        Method::Rk4 { .. } => Stepper::Explicit(Box::new(Rk4::new(dim))),
+        Method::Dopri5 => Stepper::Explicit(Box::new(Dopri5::new(dim))),
+        Method::Dop853 => Stepper::Explicit(Box::new(Dop853::new(dim))),
     })
 }
 
