@@ -115,6 +115,10 @@ proptest! {
         let d2 = d.time_derivative(&mut a, d1).unwrap();
         // q(t) = c0 + c1 t + c2 t^2; p = 0.7 is constant.
         let x = Dual2_64::new(c[0] + c[1] * t0 + c[2] * t0 * t0, c[1] + 2.0 * c[2] * t0, 2.0 * c[2]);
+        // At q ~ 0, atan2, ln, 1/q and sqrt amplify rounding by 1/q^2 in the second
+        // derivative: the dual oracle itself loses its digits there (sin(atan2(q, q)) at
+        // q = 2e-5 gave 8e-8 for an exact 0), so such points test nothing.
+        prop_assume!(x.re.abs() > 1e-3);
         let oracle = eval_ast(&e, &[x, Dual2_64::from_re(0.7), Dual2_64::new(t0, 1.0, 0.0)]);
         prop_assume!([oracle.re, oracle.v1, oracle.v2].iter().all(|x| x.is_finite() && x.abs() < BIG));
         let syms: Vec<SymbolId> = [q, qd, qdd, p, t].iter().map(|&i| a.as_symbol(i).unwrap()).collect();
