@@ -5,7 +5,7 @@
 //!   subexpressions;
 //!
 //! with `x0 -> q[0]`, `x1 -> q[1]`, `k -> self.k`, `t -> t`, and sines and cosines by
-//! `mechanism_codegen::trig::sin_cos` (as the interpreter computes them). Also writes
+//! `mechanism_math::sin_cos` (as the interpreter computes them). Also writes
 //! `exprs.txt` (the expressions as text, one a line) and `op_counts.txt` (ops per emitted
 //! function).
 
@@ -22,7 +22,7 @@ use quote::{format_ident, quote};
 
 fn bindings(a: &mechanism_codegen::Arena) -> EmitBindings {
     let mut b = EmitBindings::new();
-    b.set_sin_cos(quote!(::mechanism_codegen::trig::sin_cos));
+    b.set_math(quote!(::mechanism_math));
     let reads = [quote!(q[0]), quote!(q[1]), quote!(self.k), quote!(t)];
     for (name, read) in random::SYMBOLS.iter().zip(reads) {
         if let Some(s) = a.lookup(name) {

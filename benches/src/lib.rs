@@ -59,7 +59,7 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
     let arena = &model.arena;
     let mut b = EmitBindings::new();
     b.set_prefix("v");
-    b.set_sin_cos(quote!(::mechanism::trig::sin_cos));
+    b.set_math(quote!(::mechanism::math));
     for (i, c) in model.coordinates.iter().enumerate() {
         if let Some(s) = arena.as_symbol(c.q) {
             b.bind(s, quote!(q[#i]));

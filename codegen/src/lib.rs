@@ -70,7 +70,6 @@ pub use algebra::eval::{eval, eval_many, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
 pub use algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
-pub use algebra::trig;
 pub use emit::body::{
     BLOCK_LETS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens,
 };

@@ -92,15 +92,16 @@ struct Bodies<'a> {
 
 impl Bodies<'_> {
     /// How the emitted code reads each symbol: parameters from `self`, coordinates and
-    /// rates from `q` and `qd`, time from `t`. Sines and cosines call the runtime crate's
-    /// `trig::sin_cos`, the function the interpreter (`Tape`) uses.
+    /// rates from `q` and `qd`, time from `t`. Real functions call the runtime crate's `math`
+    /// module (`sin_cos` is the function the interpreter, `Tape`, uses; the others exist
+    /// without std, where the f64 methods do not).
     fn bindings(&self) -> EmitBindings {
         let model = self.model;
         let arena = &model.arena;
         let krate = self.krate;
         let mut b = EmitBindings::new();
         b.set_prefix("v");
-        b.set_sin_cos(quote!(#krate::trig::sin_cos));
+        b.set_math(quote!(#krate::math));
         for (i, c) in model.coordinates.iter().enumerate() {
             if let Some(s) = arena.as_symbol(c.q) {
                 b.bind(s, quote!(q[#i]));

@@ -15,6 +15,7 @@
 //! an integrator step calls ([`dynamics::Dynamics::solve`], the projections).
 
 pub(crate) mod augmented_lagrangian;
+#[cfg(feature = "interpreter")]
 pub(crate) mod drive;
 pub(crate) mod dynamics;
 pub(crate) mod inverse;

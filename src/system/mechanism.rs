@@ -12,6 +12,16 @@
 
 use nalgebra::{SMatrix, SVector};
 
+/// q, the N coordinates of a mechanism with static sizes (lengths in m, angles in rad).
+pub type Coordinates<const N: usize> = SVector<f64, N>;
+/// q', the rates of the coordinates.
+pub type Velocities<const N: usize> = SVector<f64, N>;
+/// q'', the accelerations of the coordinates.
+pub type Accelerations<const N: usize> = SVector<f64, N>;
+/// lambda, one Lagrange multiplier per constraint row (the generalised constraint force on
+/// coordinate k is -(Phi_q^T lambda)_k).
+pub type Multipliers<const M: usize> = SVector<f64, M>;
+
 /// One coordinate the user sets directly (`independent { phi = 0.0; der(phi) = 2*pi; }`):
 /// its index in q, its position and its rate at t = 0.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -14,14 +14,24 @@
 //! into caller-owned buffers ([`Evaluation`]), plus the names and declared data
 //! ([`SystemInfo`]). Invariant: nothing here solves anything; the algorithms only read.
 
+#[cfg(feature = "std")]
 mod compiled;
+#[cfg(feature = "std")]
 mod dynamic;
+#[cfg(feature = "std")]
 mod info;
+#[cfg(feature = "interpreter")]
 mod interpreted;
 mod mechanism;
 
+#[cfg(feature = "std")]
 pub use compiled::Compiled;
+#[cfg(feature = "std")]
 pub use dynamic::{Evaluation, System, Tangent};
+#[cfg(feature = "std")]
 pub use info::{ConstraintRow, SystemInfo};
+#[cfg(feature = "interpreter")]
 pub use interpreted::Interpreted;
-pub use mechanism::{Independent, Mechanism, StaticEvaluation};
+pub use mechanism::{
+    Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
+};

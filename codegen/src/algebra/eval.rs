@@ -10,9 +10,9 @@
 
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
-use crate::algebra::trig::sin_cos;
 use crate::error::{Error, Result};
 use crate::number::Number;
+use mechanism_math::sin_cos;
 
 /// The value of the expression `id`, with each symbol s bound to `env(s)`.
 ///
@@ -26,13 +26,13 @@ use crate::number::Number;
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::{eval, trig, Arena, SymbolKind};
+/// use mechanism_codegen::{eval, Arena, SymbolKind};
 /// let mut a = Arena::new();
 /// let x = a.symbol("x", SymbolKind::Free);
 /// let s = a.sin(x);
 /// let e = a.mul2(x, s);
 /// let v = eval(&a, e, &|_| Some(0.5)).unwrap();
-/// assert_eq!(v, 0.5 * trig::sin_cos(0.5).0);
+/// assert_eq!(v, 0.5 * mechanism_math::sin_cos(0.5).0);
 /// ```
 pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Result<f64> {
     let v = eval_many(arena, &[id], env)?;
@@ -157,7 +157,7 @@ fn node_value(
     }
 }
 
-/// f(x), with sin and cos from [`crate::algebra::trig::sin_cos`] as in the tape and the emitted code.
+/// f(x), with sin and cos from `mechanism_math::sin_cos` as in the tape and the emitted code.
 fn apply(f: Func, x: f64) -> f64 {
     match f {
         Func::Sin => sin_cos(x).0,

@@ -14,12 +14,11 @@
 //!   Theorem 2 with Kronecker products, d(A B)/dx = (dA/dx)(B kron I_n) + A (dB/dx).
 //! - [`rotation`]: orientations R = F_1 ... F_k and the body angular velocity
 //!   \[w\]x = R^T R', factor by factor: w_(AB) = B^T w_A + w_B.
-//! - [`eval`] and [`trig`]: numeric evaluation of a DAG in id order, every intermediate
-//!   value checked to be finite; sin and cos as one inline routine shared by every route.
+//! - [`eval`]: numeric evaluation of a DAG in id order, every intermediate
+//!   value checked to be finite (sin and cos from `mechanism_math::sin_cos`, as every route).
 
 pub(crate) mod diff;
 pub(crate) mod eval;
 pub(crate) mod expr;
 pub(crate) mod matrix;
 pub(crate) mod rotation;
-pub mod trig;

@@ -1,9 +1,11 @@
 //! Rust emission: a [`Program`] as the statements of a function body in SSA form.
 //!
 //! Each instruction becomes one `let x12: f64 = x3 * x7;` (a `sin_cos` pair becomes
-//! `let (x4, x5): (f64, f64) = q[1].sin_cos();`, or a call of the function set with
-//! [`EmitBindings::set_sin_cos`]: `::mechanism::trig::sin_cos(q[1])`, which lone sines and
-//! cosines then use too, as `.0` and `.1`). Symbols are read through caller-supplied
+//! `let (x4, x5): (f64, f64) = q[1].sin_cos();`). With a math module set by
+//! [`EmitBindings::set_math`], every real function is a call into it instead of an f64
+//! method: `::mechanism::math::sin_cos(q[1])` (lone sines and cosines as `.0` and `.1`),
+//! `::mechanism::math::sqrt(x3)`, `::mechanism::math::powi(x3, 2)`; that is what makes the
+//! code build without std, where the f64 methods do not exist. Symbols are read through caller-supplied
 //! tokens ([`EmitBindings`]: `self.l1`, `q[2]`, `qd[2]`, `t`), and each output matrix is
 //! written into a caller-named nalgebra matrix (`out_mass[(i, j)] = x12;`), a vector
 //! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]).
@@ -36,8 +38,8 @@ use crate::program::liveness;
 pub struct EmitBindings {
     reads: FxHashMap<SymbolId, TokenStream>,
     prefix: String,
-    /// The path of a `fn(f64) -> (f64, f64)` computing (sin, cos); `None`: the f64 methods.
-    sin_cos: Option<TokenStream>,
+    /// The path of the math module (`::mechanism::math`); `None`: the f64 methods.
+    math: Option<TokenStream>,
 }
 
 impl Default for EmitBindings {
@@ -52,7 +54,7 @@ impl EmitBindings {
         Self {
             reads: FxHashMap::default(),
             prefix: "x".to_string(),
-            sin_cos: None,
+            math: None,
         }
     }
 
@@ -69,14 +71,15 @@ impl EmitBindings {
         self
     }
 
-    /// Computes sines and cosines by calling `path` (a path to a `fn(f64) -> (f64, f64)`
-    /// returning (sin x, cos x), such as `::mechanism_codegen::trig::sin_cos`): a pair as
-    /// `path(x)`, a lone sine as `path(x).0` and a lone cosine as `path(x).1`, so that every
-    /// value is rounded as that function rounds it (the [`crate::Tape`] calls
-    /// [`crate::algebra::trig::sin_cos`]). Without it the code calls the f64 methods `x.sin_cos()`,
-    /// `x.sin()` and `x.cos()`.
-    pub fn set_sin_cos(&mut self, path: TokenStream) -> &mut Self {
-        self.sin_cos = Some(path);
+    /// Calls the real functions of the module at `path` (such as `::mechanism::math`, the
+    /// `mechanism-math` crate): `path::sin_cos(x)` for a (sin, cos) pair, `path::sin_cos(x).0`
+    /// for a lone sine and `.1` for a lone cosine, so every value is rounded as that
+    /// function rounds it (the [`crate::Tape`] calls the same `sin_cos`), and
+    /// `path::sqrt(x)`, `tan`, `exp`, `ln`, `abs`, `atan2(y, x)`, `powf(x, y)`,
+    /// `powi(x, k)`. Without it the code calls the f64 methods (`x.sin_cos()`, `x.sqrt()`),
+    /// which need std.
+    pub fn set_math(&mut self, path: TokenStream) -> &mut Self {
+        self.math = Some(path);
         self
     }
 
@@ -374,6 +377,29 @@ impl Emitter<'_> {
         }
     }
 
+    /// `f` applied to `arg` (and a second argument): `math::f(arg, second)` with a math
+    /// module, else the method call `arg.f(second)`.
+    fn call(&self, f: &Ident, arg: Operand, second: Option<TokenStream>) -> TokenStream {
+        match (&self.b.math, second) {
+            (Some(m), None) => {
+                let a = self.operand(arg);
+                quote!(#m::#f(#a))
+            }
+            (Some(m), Some(b)) => {
+                let a = self.operand(arg);
+                quote!(#m::#f(#a, #b))
+            }
+            (None, None) => {
+                let a = self.receiver(arg);
+                quote!(#a.#f())
+            }
+            (None, Some(b)) => {
+                let a = self.receiver(arg);
+                quote!(#a.#f(#b))
+            }
+        }
+    }
+
     fn instr(&self, i: &Instr) -> TokenStream {
         let rhs = self.rhs(i);
         match *i {
@@ -398,12 +424,11 @@ impl Emitter<'_> {
                 quote!(-#a)
             }
             Instr::Unary { op, arg, .. } => {
-                if let (Some(f), UnOp::Sin | UnOp::Cos) = (&self.b.sin_cos, op) {
+                if let (Some(m), UnOp::Sin | UnOp::Cos) = (&self.b.math, op) {
                     let a = self.operand(arg);
                     let k = Literal::usize_unsuffixed(usize::from(op == UnOp::Cos));
-                    return quote!(#f(#a).#k);
+                    return quote!(#m::sin_cos(#a).#k);
                 }
-                let a = self.receiver(arg);
                 let f = Ident::new(
                     match op {
                         UnOp::Sin => "sin",
@@ -416,37 +441,25 @@ impl Emitter<'_> {
                     },
                     Span::call_site(),
                 );
-                quote!(#a.#f())
+                self.call(&f, arg, None)
             }
-            Instr::SinCos { arg, .. } => match &self.b.sin_cos {
-                Some(f) => {
-                    let a = self.operand(arg);
-                    quote!(#f(#a))
-                }
-                None => {
-                    let a = self.receiver(arg);
-                    quote!(#a.sin_cos())
-                }
-            },
+            Instr::SinCos { arg, .. } => {
+                self.call(&Ident::new("sin_cos", Span::call_site()), arg, None)
+            }
             Instr::Powi { base, exp, .. } => {
-                let a = self.receiver(base);
                 let k = Literal::u32_unsuffixed(exp.unsigned_abs());
-                if exp < 0 {
-                    quote!(#a.powi(-#k))
-                } else {
-                    quote!(#a.powi(#k))
-                }
+                let k = if exp < 0 { quote!(-#k) } else { quote!(#k) };
+                self.call(&Ident::new("powi", Span::call_site()), base, Some(k))
             }
             Instr::Binary { op, lhs, rhs, .. } => {
                 let b = self.operand(rhs);
                 match op {
                     BinOp::Atan2 | BinOp::Powf => {
-                        let a = self.receiver(lhs);
                         let f = Ident::new(
                             if op == BinOp::Atan2 { "atan2" } else { "powf" },
                             Span::call_site(),
                         );
-                        quote!(#a.#f(#b))
+                        self.call(&f, lhs, Some(b))
                     }
                     _ => {
                         let a = self.operand(lhs);

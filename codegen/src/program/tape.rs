@@ -7,10 +7,10 @@
 //! that was not compiled in.
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
-use crate::algebra::trig::sin_cos;
 use crate::error::{Error, Result};
 use crate::program::cse::Program;
 use crate::program::instructions::{BinOp, Instr, Operand, UnOp};
+use mechanism_math::sin_cos;
 
 /// One tape operation; operands and destinations are register-file slots.
 #[derive(Clone, Copy, Debug)]
@@ -50,7 +50,7 @@ impl Tape {
     ///
     /// # Example
     /// ```
-    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape, trig};
+    /// use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
     ///
     /// let mut a = Arena::new();
     /// let x = a.symbol("x", SymbolKind::Free);
@@ -59,7 +59,7 @@ impl Tape {
     /// let mut tape = Tape::new(&Program::new(&a, &[&m]).unwrap());
     /// let mut out = [0.0; 2];
     /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
-    /// assert_eq!(out, [2.0, trig::sin_cos(0.5).0]);
+    /// assert_eq!(out, [2.0, mechanism_math::sin_cos(0.5).0]);
     /// ```
     // One function: the slot layout (constants, symbols, registers) and the one arm per
     // instruction kind that uses it must agree, so they stay side by side.

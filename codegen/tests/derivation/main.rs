@@ -1,6 +1,6 @@
 //! The calculus: differentiation rules and properties, evaluation against direct f64,
 //! canonical forms, Van Khang's Theorems 1-2 and C, the Lagrange assembly on closed forms
-//! and chains, CSE'd programs against the interpreter, and the inline sin_cos.
+//! and chains, CSE'd programs against the interpreter, and the emitter's calls of the real functions.
 
 mod common;
 mod eval_support;
@@ -9,6 +9,7 @@ mod rounding;
 mod cse_props;
 mod diff_props;
 mod diff_rules;
+mod emit_math;
 mod eval_props;
 mod expr_canonical;
 mod khang_coriolis;
@@ -16,4 +17,3 @@ mod khang_theorems;
 mod lagrange_chain;
 mod lagrange_chain_timing;
 mod lagrange_closed_forms;
-mod trig;

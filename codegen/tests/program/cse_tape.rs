@@ -1,7 +1,7 @@
 //! The tape's contract: output layout, typed errors for bad inputs and non-finite results.
 
-use mechanism_codegen::trig::sin_cos;
 use mechanism_codegen::{Arena, Error, Func, Matrix, Program, SymbolKind, Tape};
+use mechanism_math::sin_cos;
 
 fn setup() -> (Arena, [mechanism_codegen::Id; 2]) {
     let mut a = Arena::new();

@@ -1,6 +1,6 @@
 //! sin and cos of one argument, computed together inline: the function that the emitted code,
-//! the [`crate::Tape`] and [`crate::eval`] all call for `sin`, `cos` and `sin_cos`, so all
-//! three round the same way, bit for bit.
+//! the codegen interpreter (`Tape`) and its expression evaluator all call for `sin`, `cos`
+//! and `sin_cos`, so all three round the same way, bit for bit.
 //!
 //! Why not `f64::sin_cos`? In the small mechanisms evaluation is bound by those calls: glibc's
 //! `sincos` costs about 10 ns a call and is opaque to the optimiser. [`sin_cos`] is
@@ -9,7 +9,7 @@
 //! no FMA); one alone has about the same latency as libm's.
 
 /// 2/pi.
-const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
+const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
 /// 1.5 * 2^52: for |y| < 2^51, `(y + SHIFT) - SHIFT` is y rounded to the nearest integer, and
 /// the low bits of `y + SHIFT` are that integer modulo 4.
 const SHIFT: f64 = 6_755_399_441_055_744.0;
@@ -71,12 +71,13 @@ const C: [f64; 6] = [
 /// within 3 ulps) is 0.82 ulp: the result is one of the two doubles around the exact value,
 /// and differs from a correctly rounded one (and from glibc's) by at most 1 ulp. Everything
 /// else, |x| >= 2^20, x within 2^-26 of a nonzero multiple of pi/2, -0.0, infinities and
-/// NaN, is `f64::sin_cos` (one rarely taken branch): so sin(-0.0) = -0.0 and sin and cos
+/// NaN, is the platform's `sin` and `cos` (`f64::sin_cos` with std, libm's `sincos`
+/// without; one rarely taken branch): so sin(-0.0) = -0.0 and sin and cos
 /// of infinities and NaN are NaN.
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::trig::sin_cos;
+/// use mechanism_math::sin_cos;
 /// let (s, c) = sin_cos(0.5);
 /// assert!((s - 0.5_f64.sin()).abs() <= f64::EPSILON && (c - 0.5_f64.cos()).abs() <= f64::EPSILON);
 /// assert_eq!(sin_cos(-0.0).0.to_bits(), (-0.0_f64).to_bits());
@@ -123,5 +124,5 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 #[cold]
 #[inline(never)]
 fn libm_sin_cos(x: f64) -> (f64, f64) {
-    x.sin_cos()
+    crate::route::sin_cos(x)
 }

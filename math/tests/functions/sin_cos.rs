@@ -1,26 +1,10 @@
-//! `trig::sin_cos` against libm (at most 1 ulp apart) and against a double-double reference
-//! (error below 1 ulp), on wide ranges and the special values; and its use by the emitter.
+//! `sin_cos` against the platform's libm (at most 1 ulp apart) and against a double-double reference
+//! (error below 1 ulp), on wide ranges and the special values.
 
-use mechanism_codegen::trig::sin_cos;
-use mechanism_codegen::{Arena, EmitBindings, Matrix, OutputTarget, Program, emit_body};
+use mechanism_math::sin_cos;
+
+use crate::ulps::ulps_apart;
 use proptest::prelude::*;
-use quote::quote;
-
-/// The number of doubles between a and b (0 for two NaNs, u64::MAX for a NaN and a number).
-fn ulps_apart(a: f64, b: f64) -> u64 {
-    if a.is_nan() || b.is_nan() {
-        return if a.is_nan() && b.is_nan() {
-            0
-        } else {
-            u64::MAX
-        };
-    }
-    let ord = |x: f64| {
-        let b = x.to_bits() as i64;
-        if b < 0 { i64::MIN - b } else { b }
-    };
-    (i128::from(ord(a)) - i128::from(ord(b))).unsigned_abs() as u64
-}
 
 fn assert_near_libm(x: f64) {
     let (s, c) = sin_cos(x);
@@ -248,34 +232,4 @@ proptest! {
     fn within_one_ulp_of_libm_anywhere(x in proptest::num::f64::ANY) {
         assert_near_libm(x);
     }
-}
-
-#[test]
-fn the_emitter_calls_the_given_function() {
-    let mut a = Arena::new();
-    let [phi, ..] = a.coordinate("phi");
-    let [psi, ..] = a.coordinate("psi");
-    let (c, s) = (a.cos(phi), a.sin(phi));
-    let lone = a.cos(psi);
-    let m = Matrix::column(vec![c, s, lone]);
-    let program = Program::new(&a, &[&m]).unwrap();
-    let mut b = EmitBindings::new();
-    b.bind(a.lookup("phi").unwrap(), quote!(q[0]))
-        .bind(a.lookup("psi").unwrap(), quote!(q[1]))
-        .set_sin_cos(quote!(::mechanism_codegen::trig::sin_cos));
-    let target = OutputTarget::Vector {
-        name: quote!(out),
-        zeroed: false,
-    };
-    let body = emit_body(&program, &b, &[target]).unwrap();
-    let code: String = body.tokens.to_string().split_whitespace().collect();
-    assert!(
-        code.contains("=::mechanism_codegen::trig::sin_cos(q[0]);"),
-        "{code}"
-    );
-    assert!(
-        code.contains("=::mechanism_codegen::trig::sin_cos(q[1]).1;"),
-        "{code}"
-    );
-    assert!(!code.contains(".sin") && !code.contains(".cos"), "{code}");
 }

@@ -1,0 +1,30 @@
+//! Fixed-size solvers for the code `mechanism!` emits: no allocation, no std, sizes known
+//! at compile time (`N` coordinates, `M` constraint rows). What a controller, a real-time
+//! loop or a microcontroller calls.
+//!
+//! What enters: a [`crate::Mechanism`] (or one [`crate::StaticEvaluation`] of it). What
+//! leaves:
+//! - [`kkt_solve`]: q'' and lambda from the augmented (KKT) system
+//!
+//!   ```text
+//!   [ M(q)   Phi_q^T ] [ q''    ]   [ Q = tau - C(q, q') q' - g(q) ]
+//!   [ Phi_q  0       ] [ lambda ] = [ gamma                        ]
+//!   ```
+//!
+//!   by the augmented-Lagrangian Schur complement (see [`kkt`](self::kkt_solve)), which
+//!   needs M positive definite only on the allowed motions (the seed's M is singular) and
+//!   accepts redundant rows;
+//! - [`FixedStep`]: one classical Runge–Kutta step of the index-1 equations followed by the
+//!   projection of q onto Phi(q, t) = 0 and of q' onto Phi_q q' + Phi_t = 0.
+//!
+//! The run-time library (feature `std`) has the adaptive integrators, the events and the
+//! diagnostics; these are the parts small enough to live without an allocator.
+
+mod cholesky;
+mod error;
+mod kkt;
+mod step;
+
+pub use error::FixedError;
+pub use kkt::{KktSolution, kkt_solve};
+pub use step::{FixedStep, State};
