@@ -12,25 +12,33 @@
 //! need the cargo feature `files`, the figures `plots` (both on by default).
 
 #[cfg(feature = "files")]
+pub mod animation;
+#[cfg(feature = "files")]
 pub mod csv;
 #[cfg(feature = "plots")]
 pub mod plot;
+mod scene;
 #[cfg(feature = "files")]
 pub mod summary;
 mod table;
+mod unit;
 
+#[cfg(feature = "files")]
+pub use self::animation::{MAX_FRAMES, animation_html, write_animation};
 #[cfg(feature = "files")]
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
 #[cfg(feature = "plots")]
 pub use self::plot::{
-    Figure, Unit, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
-    plot_trajectory,
+    Figure, View, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
+    plot_strobe, plot_trajectory, strobe_frames,
 };
+pub use self::scene::{Scene, SceneCoordinate, ScenePoint};
 #[cfg(feature = "files")]
 pub use self::summary::{
     MobilityReport, PassageReport, RunSettings, Summary, TrajectoryMaxima, write_summary,
 };
 pub use self::table::InverseTable;
+pub use self::unit::Unit;
 
 use std::path::PathBuf;
 

@@ -11,73 +11,18 @@
 mod axes;
 mod render;
 mod spec;
+mod strobe;
 
 use std::path::{Path, PathBuf};
 
 use self::render::render;
 use self::spec::{Line, Panel, Spec};
-use super::{InverseTable, OutputError};
+pub use self::strobe::{View, plot_strobe, strobe_frames};
+use super::{InverseTable, OutputError, Unit};
 use crate::simulation::trajectory::Trajectory;
 
 /// Values below this are drawn at this height on logarithmic axes (so exact zeros show).
 pub const LOG_FLOOR: f64 = 1e-18;
-
-/// Physical kind of a coordinate, which sets the units on its axes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Unit {
-    /// An angle: rad, rad/s, generalised force in N m.
-    Angle,
-    /// A length: m, m/s, generalised force in N.
-    Length,
-    /// Unknown: no units printed.
-    Unknown,
-}
-
-impl Unit {
-    /// Guesses from the coordinate name: `x`, `y`, `z`, `s` alone or followed by `_...` or
-    /// digits (`x_c`, `y2`, `s_1`) are lengths; every other name is an angle.
-    pub fn guess(name: &str) -> Self {
-        let mut chars = name.chars();
-        let first = chars.next().map(|c| c.to_ascii_lowercase());
-        let rest = chars.as_str();
-        let length_like = matches!(first, Some('x' | 'y' | 'z' | 's'))
-            && (rest.is_empty()
-                || rest.starts_with('_')
-                || rest.chars().all(|c| c.is_ascii_digit()));
-        if length_like {
-            Self::Length
-        } else {
-            Self::Angle
-        }
-    }
-
-    /// Unit of the coordinate itself (`rad`, `m`, or empty).
-    pub fn position(self) -> &'static str {
-        match self {
-            Self::Angle => "rad",
-            Self::Length => "m",
-            Self::Unknown => "",
-        }
-    }
-
-    /// Unit of its rate (`rad/s`, `m/s`, or empty).
-    pub fn rate(self) -> &'static str {
-        match self {
-            Self::Angle => "rad/s",
-            Self::Length => "m/s",
-            Self::Unknown => "",
-        }
-    }
-
-    /// Unit of the generalised force on it (`N m`, `N`, or empty).
-    pub fn force(self) -> &'static str {
-        match self {
-            Self::Angle => "N m",
-            Self::Length => "N",
-            Self::Unknown => "",
-        }
-    }
-}
 
 /// Which figure, for [`figure_stem`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

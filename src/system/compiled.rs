@@ -2,6 +2,7 @@
 
 use nalgebra::{DMatrix, SVector};
 
+use super::drawing::Drawing;
 use super::dynamic::{Evaluation, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::Mechanism;
@@ -33,6 +34,7 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                     None => ConstraintRow::unnamed(k),
                 })
                 .collect(),
+            drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
         };
         Self { mechanism, info }
     }
@@ -75,6 +77,9 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         let qs = to_static(q);
         phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
         phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
+    }
+    fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
+        self.mechanism.draw_points(t, &to_static(q), out);
     }
     fn tangent(
         &self,

@@ -64,6 +64,11 @@ pub trait System: Send + Sync {
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
     /// Phi_q (m x n) and Phi_t (m) at (q, t).
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
+    /// World positions of the drawn points of [`SystemInfo::drawing`] at (t, q), 3 values per
+    /// point into `out` (see [`crate::Mechanism::draw_points`]); nothing by default.
+    fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
+        let _ = (t, q, out);
+    }
     /// Exact tangent matrices of the dynamic residual
     /// F = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q(q, t)^T lambda:
     /// `out.stiffness` = dF/dq and `out.damping` = dF/dq' (n x n), for the Newton iteration of

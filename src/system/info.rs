@@ -1,6 +1,7 @@
 //! Names and declared data of a system: coordinates, parameters, the independent
 //! coordinates and initial guesses, and where each constraint row comes from.
 
+use super::drawing::Drawing;
 use super::mechanism::Independent;
 
 /// Where one scalar constraint row comes from: the statement that declared it and which of
@@ -56,6 +57,8 @@ pub struct SystemInfo {
     pub constraints: usize,
     /// Where each constraint row comes from, in row order (m entries).
     pub constraint_rows: Vec<ConstraintRow>,
+    /// The declared picture (`draw { .. }`); empty when the declaration has none.
+    pub drawing: Drawing,
 }
 
 impl SystemInfo {

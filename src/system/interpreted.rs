@@ -338,5 +338,6 @@ fn system_info(model: &Model, m: usize) -> SystemInfo {
                 }
             })
             .collect(),
+        drawing: Default::default(),
     }
 }

@@ -78,6 +78,13 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// [`super::ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
     /// for hand-written impls ([`super::Compiled::new`] then names the rows `row 1`, `row 2`, ..).
     const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] = &[];
+    /// The points of the declared drawing (`draw { .. }`), in order: name, and whether it is
+    /// a ground point. Empty when the declaration draws nothing.
+    const DRAW_POINTS: &'static [(&'static str, bool)] = &[];
+    /// The drawing's polylines, as indices into [`Mechanism::DRAW_POINTS`].
+    const DRAW_LINES: &'static [&'static [usize]] = &[];
+    /// The drawn points whose paths are traced (indices into [`Mechanism::DRAW_POINTS`]).
+    const DRAW_TRACES: &'static [usize] = &[];
 
     /// Value of parameter `index` (declaration order), or `None` out of range.
     fn parameter(&self, index: usize) -> Option<f64>;
@@ -120,6 +127,13 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     -> StaticEvaluation<N, M>;
     /// The derived equations as readable text (what the snapshot tests pin).
     fn equations() -> &'static str;
+
+    /// World positions of the drawn points at (t, q): x, y, z of point k in
+    /// `out[3 k..3 k + 3]` (`out` must hold 3 [`Mechanism::DRAW_POINTS`]`.len()` values; a
+    /// shorter slice is left untouched). Nothing for a declaration without a drawing.
+    fn draw_points(&self, t: f64, q: &SVector<f64, N>, out: &mut [f64]) {
+        let _ = (t, q, out);
+    }
 
     /// K = dF/dq and D = dF/dq' of the residual F = M q'' + C q' + g - tau + Phi_q^T lambda,
     /// derived symbolically (exact Jacobians for implicit integrators); `None` when the

@@ -17,6 +17,8 @@
 #[cfg(feature = "std")]
 mod compiled;
 #[cfg(feature = "std")]
+mod drawing;
+#[cfg(feature = "std")]
 mod dynamic;
 #[cfg(feature = "std")]
 mod info;
@@ -26,6 +28,8 @@ mod mechanism;
 
 #[cfg(feature = "std")]
 pub use compiled::Compiled;
+#[cfg(feature = "std")]
+pub use drawing::{Drawing, DrawnPoint};
 #[cfg(feature = "std")]
 pub use dynamic::{Evaluation, System, Tangent};
 #[cfg(feature = "std")]

@@ -131,6 +131,7 @@ fn awkward_values_round_trip() {
     let info = SystemInfo {
         constraints: 1,
         constraint_rows: vec![ConstraintRow::unnamed(0)],
+        drawing: Default::default(),
         ..info("awkward")
     };
     let mut tr = Trajectory::with_capacity(info, 2);

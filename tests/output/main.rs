@@ -1,7 +1,11 @@
-//! Output files: CSV columns and numbers, summary.json keys and values, the figures.
+//! Output files: CSV columns and numbers, summary.json keys and values, the figures, the
+//! animation page and the strobe figure.
 
+mod scene_support;
 mod support;
 
+mod animation;
+mod browser;
 mod csv;
 mod plot;
 mod summary;

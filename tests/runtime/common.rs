@@ -27,6 +27,7 @@ fn info(
         independent,
         constraints: m,
         constraint_rows: (0..m).map(ConstraintRow::unnamed).collect(),
+        drawing: Default::default(),
     }
 }
 

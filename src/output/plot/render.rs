@@ -14,10 +14,10 @@ use super::axes::{
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
 use crate::output::{OutputError, ensure_dir};
 
-const FONT: &str = "sans-serif";
+pub(super) const FONT: &str = "sans-serif";
 const WIDTH: u32 = 1000;
 /// MATLAB's default line colours.
-const PALETTE: [RGBColor; 7] = [
+pub(super) const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 114, 189),
     RGBColor(217, 83, 25),
     RGBColor(237, 177, 32),
@@ -28,7 +28,7 @@ const PALETTE: [RGBColor; 7] = [
 ];
 
 /// Registers the bundled DejaVu Sans as plotters' `sans-serif`, once per process.
-fn register_font() -> Result<(), String> {
+pub(super) fn register_font() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         let bytes: &'static [u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");

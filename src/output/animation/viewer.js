@@ -1,0 +1,258 @@
+"use strict";
+// The animation page's viewer: no libraries, no network. It reads the scene from the JSON
+// block `scene-data` (written by src/output/animation/mod.rs) and draws it on a 2D canvas
+// with an orthographic camera. `#t=0.5` in the URL shows that time, paused (for tests
+// and for links to a moment); the root element's data-status becomes "ok" after the first
+// frame is drawn, or "error: ..." if anything throws.
+(function () {
+  const root = document.documentElement;
+  window.addEventListener("error", (e) => { root.dataset.status = "error: " + e.message; });
+
+  const scene = JSON.parse(document.getElementById("scene-data").textContent);
+  const times = scene.times;
+  const frames = times.length;
+  const np = scene.points.length;
+  const view = document.getElementById("view");
+  const ctx = view.getContext("2d");
+  const slider = document.getElementById("slider");
+  const clock = document.getElementById("clock");
+  const playButton = document.getElementById("play");
+  const speedSelect = document.getElementById("speed");
+  const tracesBox = document.getElementById("traces");
+  document.getElementById("note").textContent = scene.note;
+  slider.max = String(Math.max(frames - 1, 0));
+
+  // Position of point i in frame f.
+  const at = (f, i) => {
+    const o = 3 * (f * np + i);
+    return [scene.positions[o], scene.positions[o + 1], scene.positions[o + 2]];
+  };
+
+  // Bounding box of every point over every frame: the camera's centre and scale.
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let f = 0; f < frames; f++) {
+    for (let i = 0; i < np; i++) {
+      const p = at(f, i);
+      for (let k = 0; k < 3; k++) {
+        lo[k] = Math.min(lo[k], p[k]);
+        hi[k] = Math.max(hi[k], p[k]);
+      }
+    }
+  }
+  const centre = [0, 1, 2].map((k) => (np ? 0.5 * (lo[k] + hi[k]) : 0));
+  const extent = [0, 1, 2].map((k) => (np ? hi[k] - lo[k] : 1));
+  const size = Math.max(...extent, 1e-9);
+
+  // Camera: yaw about world z, then pitch; the initial view looks along the axis in
+  // which the motion is thinnest (a planar mechanism is seen face on).
+  const camera = { yaw: 0, pitch: 0, zoom: 1, panX: 0, panY: 0 };
+  function resetCamera() {
+    const thin = extent.indexOf(Math.min(...extent));
+    // Along x: y right, z up; along y: x right, z up; along z: x right, y up.
+    const [yaw, pitch] = [[Math.PI / 2, 0], [0, 0], [0, Math.PI / 2]][thin];
+    Object.assign(camera, { yaw, pitch, zoom: 1, panX: 0, panY: 0 });
+    if (extent[thin] > 0.2 * size) {
+      // Spatial motion, thick in every direction: a three-quarter view shows depth.
+      Object.assign(camera, { yaw: 0.6, pitch: 0.45 });
+    }
+  }
+  resetCamera();
+
+  // World point -> canvas pixel. With yaw = pitch = 0 the screen shows x to the right and
+  // z up (looking along +y); pitch = pi/2 looks down from +z (x right, y up).
+  function project(p) {
+    const x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
+    const cy = Math.cos(camera.yaw), sy = Math.sin(camera.yaw);
+    const cp = Math.cos(camera.pitch), sp = Math.sin(camera.pitch);
+    const u = cy * x + sy * y; // screen right
+    const w = -sy * x + cy * y; // depth before pitch
+    const v = cp * z + sp * w; // screen up
+    const s = (0.8 * Math.min(view.width, view.height) / size) * camera.zoom;
+    return [view.width / 2 + camera.panX + s * u, view.height / 2 + camera.panY - s * v];
+  }
+
+  let time = times.length ? times[0] : 0;
+  let playing = false;
+  const hash = /[#&]t=([-+0-9.eE]+)/.exec(location.hash);
+  if (hash) time = Math.min(Math.max(parseFloat(hash[1]), times[0]), times[frames - 1]);
+
+  // The frame at or before `t` (binary search).
+  function frameAt(t) {
+    let a = 0, b = frames - 1;
+    while (a < b) {
+      const m = (a + b + 1) >> 1;
+      if (times[m] <= t) a = m; else b = m - 1;
+    }
+    return a;
+  }
+
+  const colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"];
+
+  function drawScene(f) {
+    ctx.clearRect(0, 0, view.width, view.height);
+    if (tracesBox.checked) {
+      ctx.lineWidth = 1.5;
+      scene.traces.forEach((i, k) => {
+        ctx.strokeStyle = colours[(k + 3) % colours.length] + "99";
+        ctx.beginPath();
+        for (let g = 0; g <= f; g++) {
+          const [px, py] = project(at(g, i));
+          if (g === 0) ctx.moveTo(px, py); else ctx.lineTo(px, py);
+        }
+        ctx.stroke();
+      });
+    }
+    ctx.lineCap = "round";
+    ctx.lineJoin = "round";
+    scene.lines.forEach((line, k) => {
+      ctx.strokeStyle = colours[k % colours.length];
+      ctx.lineWidth = 6;
+      ctx.beginPath();
+      line.forEach((i, j) => {
+        const [px, py] = project(at(f, i));
+        if (j === 0) ctx.moveTo(px, py); else ctx.lineTo(px, py);
+      });
+      ctx.stroke();
+    });
+    ctx.font = "13px system-ui, sans-serif";
+    scene.points.forEach((p, i) => {
+      const [px, py] = project(at(f, i));
+      ctx.lineWidth = 2;
+      ctx.strokeStyle = "#222";
+      if (p.ground) {
+        // A ground point: a hatched triangle under it.
+        ctx.fillStyle = "#bbb";
+        ctx.beginPath();
+        ctx.moveTo(px, py);
+        ctx.lineTo(px - 10, py + 16);
+        ctx.lineTo(px + 10, py + 16);
+        ctx.closePath();
+        ctx.fill();
+        ctx.stroke();
+        ctx.beginPath();
+        for (let h = -12; h <= 8; h += 5) {
+          ctx.moveTo(px + h, py + 22);
+          ctx.lineTo(px + h + 4, py + 16);
+        }
+        ctx.stroke();
+      }
+      ctx.fillStyle = "#fff";
+      ctx.beginPath();
+      ctx.arc(px, py, 5, 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+      ctx.fillStyle = "#444";
+      ctx.fillText(p.name, px + 8, py - 8);
+    });
+  }
+
+  // Coordinate plots: drawn once into an image, then the cursor on top at every frame.
+  const plots = scene.coordinates.map((c) => {
+    const canvas = document.createElement("canvas");
+    canvas.width = 520;
+    canvas.height = 120;
+    document.getElementById("plots").appendChild(canvas);
+    const g = canvas.getContext("2d");
+    const ymin = Math.min(...c.values), ymax = Math.max(...c.values);
+    const span = ymax - ymin || 1;
+    const t0 = times[0], t1 = times[frames - 1] || 1;
+    const x = (t) => 50 + ((t - t0) / (t1 - t0 || 1)) * (canvas.width - 60);
+    const y = (v) => canvas.height - 20 - ((v - ymin) / span) * (canvas.height - 35);
+    g.fillStyle = "#fff";
+    g.fillRect(0, 0, canvas.width, canvas.height);
+    g.strokeStyle = "#ccc";
+    g.strokeRect(50, 15, canvas.width - 60, canvas.height - 35);
+    g.fillStyle = "#333";
+    g.font = "12px system-ui, sans-serif";
+    g.fillText(c.name + (c.unit ? " (" + c.unit + ")" : ""), 54, 12);
+    g.fillText(ymax.toPrecision(4), 2, 20);
+    g.fillText(ymin.toPrecision(4), 2, canvas.height - 20);
+    g.fillText("t (s)", canvas.width - 40, canvas.height - 4);
+    g.strokeStyle = "#1f77b4";
+    g.lineWidth = 1.5;
+    g.beginPath();
+    c.values.forEach((v, k) => {
+      if (k === 0) g.moveTo(x(times[k]), y(v)); else g.lineTo(x(times[k]), y(v));
+    });
+    g.stroke();
+    return { g, x, image: g.getImageData(0, 0, canvas.width, canvas.height), canvas };
+  });
+
+  function drawCursors(t) {
+    for (const p of plots) {
+      p.g.putImageData(p.image, 0, 0);
+      p.g.strokeStyle = "#d62728";
+      p.g.lineWidth = 1.5;
+      p.g.beginPath();
+      p.g.moveTo(p.x(t), 15);
+      p.g.lineTo(p.x(t), p.canvas.height - 20);
+      p.g.stroke();
+    }
+  }
+
+  function render() {
+    const f = frameAt(time);
+    drawScene(f);
+    drawCursors(times[f]);
+    slider.value = String(f);
+    clock.textContent = "t = " + times[f].toFixed(3) + " s";
+  }
+
+  let last = null;
+  function tick(now) {
+    if (playing) {
+      if (last !== null) time += ((now - last) / 1000) * parseFloat(speedSelect.value);
+      if (time > times[frames - 1]) time = times[0];
+      last = now;
+      render();
+      requestAnimationFrame(tick);
+    }
+  }
+  function setPlaying(on) {
+    playing = on && frames > 1;
+    playButton.textContent = playing ? "Pause" : "Play";
+    last = null;
+    if (playing) requestAnimationFrame(tick);
+  }
+  playButton.addEventListener("click", () => setPlaying(!playing));
+  slider.addEventListener("input", () => {
+    setPlaying(false);
+    time = times[parseInt(slider.value, 10)];
+    render();
+  });
+  tracesBox.addEventListener("change", render);
+
+  // Orbit, pan and zoom.
+  let drag = null;
+  view.addEventListener("contextmenu", (e) => e.preventDefault());
+  view.addEventListener("mousedown", (e) => {
+    drag = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 };
+  });
+  window.addEventListener("mouseup", () => { drag = null; });
+  window.addEventListener("mousemove", (e) => {
+    if (!drag) return;
+    const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+    drag.x = e.clientX;
+    drag.y = e.clientY;
+    if (drag.pan) {
+      const k = view.width / view.clientWidth;
+      camera.panX += dx * k;
+      camera.panY += dy * k;
+    } else {
+      camera.yaw -= dx * 0.01;
+      camera.pitch = Math.max(-Math.PI / 2, Math.min(Math.PI / 2, camera.pitch + dy * 0.01));
+    }
+    render();
+  });
+  view.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    camera.zoom *= Math.exp(-e.deltaY * 0.001);
+    render();
+  }, { passive: false });
+  view.addEventListener("dblclick", () => { resetCamera(); render(); });
+
+  render();
+  if (root.dataset.status === "loading") root.dataset.status = "ok";
+  if (!hash) setPlaying(true);
+})();

@@ -1,0 +1,280 @@
+//! The strobe figure: the declared drawing at evenly spaced instants of a run, superimposed
+//! and fading (earliest faintest), projected on a view plane, with the paths of the traced
+//! points. What an engineer sketches to judge a linkage's motion on one page.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::render::{FONT, PALETTE, register_font};
+use crate::output::{OutputError, Scene, ensure_dir};
+
+/// The plane the strobe figure is drawn in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum View {
+    /// The coordinate plane normal to the axis along which the drawing moves least (a planar
+    /// mechanism is seen face on).
+    #[default]
+    Auto,
+    /// x right, y up.
+    Xy,
+    /// x right, z up.
+    Xz,
+    /// y right, z up.
+    Yz,
+}
+
+impl View {
+    /// The (horizontal, vertical) axes (0 = x, 1 = y, 2 = z) for `scene`.
+    pub fn axes(self, scene: &Scene) -> (usize, usize) {
+        match self {
+            View::Xy => (0, 1),
+            View::Xz => (0, 2),
+            View::Yz => (1, 2),
+            View::Auto => {
+                let extent = extents(scene);
+                let thin = (0..3).fold(0, |a, k| if extent[k] < extent[a] { k } else { a });
+                [(1, 2), (0, 2), (0, 1)][thin]
+            }
+        }
+    }
+}
+
+/// max - min of each world axis over every point and frame.
+fn extents(scene: &Scene) -> [f64; 3] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in scene.positions.chunks_exact(3) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]]
+}
+
+/// The frames shown: `instants` evenly spaced over the scene (first and last included).
+pub fn strobe_frames(scene: &Scene, instants: usize) -> Vec<usize> {
+    let f = scene.frames();
+    match (f, instants) {
+        (0, _) | (_, 0) => vec![],
+        (_, 1) => vec![f - 1],
+        _ => {
+            let mut picked: Vec<usize> = (0..instants)
+                .map(|i| ((i * (f - 1)) as f64 / (instants - 1) as f64).round() as usize)
+                .collect();
+            picked.dedup();
+            picked
+        }
+    }
+}
+
+const AXIS_NAMES: [&str; 3] = ["x", "y", "z"];
+
+/// Writes `<stem>.png` and `<stem>.svg`: the drawing at `instants` evenly spaced frames,
+/// superimposed, projected on `view`. Fails on an empty scene or non-finite positions.
+pub fn plot_strobe(
+    stem: &Path,
+    scene: &Scene,
+    view: View,
+    instants: usize,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    if scene.frames() == 0 || scene.points.is_empty() {
+        return Err(OutputError::invalid(
+            png.display().to_string(),
+            "the scene has no frames or no points",
+        ));
+    }
+    if scene.positions.iter().any(|v| !v.is_finite()) {
+        return Err(OutputError::invalid(
+            png.display().to_string(),
+            "a drawn point is NaN or infinite",
+        ));
+    }
+    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
+        ensure_dir(dir)?;
+    }
+    let plot_err = |path: &Path| {
+        let path = path.to_path_buf();
+        move |message: String| OutputError::Plot { path, message }
+    };
+    register_font().map_err(plot_err(&png))?;
+    let frame = Frame::new(scene, view);
+    let size = (1000, frame.height);
+    draw(
+        BitMapBackend::new(&png, size).into_drawing_area(),
+        scene,
+        &frame,
+        instants,
+    )
+    .map_err(plot_err(&png))?;
+    draw(
+        SVGBackend::new(&svg, size).into_drawing_area(),
+        scene,
+        &frame,
+        instants,
+    )
+    .map_err(plot_err(&svg))?;
+    Ok(vec![png, svg])
+}
+
+/// The projection and the ranges of the figure: equal scales on both axes.
+struct Frame {
+    axes: (usize, usize),
+    u: (f64, f64),
+    v: (f64, f64),
+    height: u32,
+}
+
+impl Frame {
+    fn new(scene: &Scene, view: View) -> Self {
+        let axes = view.axes(scene);
+        let (mut u, mut v) = (
+            (f64::INFINITY, f64::NEG_INFINITY),
+            (f64::INFINITY, f64::NEG_INFINITY),
+        );
+        for p in scene.positions.chunks_exact(3) {
+            u = (u.0.min(p[axes.0]), u.1.max(p[axes.0]));
+            v = (v.0.min(p[axes.1]), v.1.max(p[axes.1]));
+        }
+        let span = (u.1 - u.0).max(v.1 - v.0).max(1e-9);
+        // 8 % of the larger span around the drawing, so symbols at the edge stay inside.
+        let pad = 0.08 * span;
+        let (wu, wv) = ((u.1 - u.0) + 2.0 * pad, (v.1 - v.0) + 2.0 * pad);
+        // Plot area 840 px wide; the height follows for equal scales, within 300..900 px.
+        let plot_w = 840.0;
+        let plot_h = (plot_w * wv / wu).clamp(300.0, 900.0);
+        // Widen the narrower range so that a metre is as long on both axes.
+        let scale = (wu / plot_w).max(wv / plot_h);
+        let (cu, cv) = (0.5 * (u.0 + u.1), 0.5 * (v.0 + v.1));
+        let (hu, hv) = (0.5 * scale * plot_w, 0.5 * scale * plot_h);
+        Self {
+            axes,
+            u: (cu - hu, cu + hu),
+            v: (cv - hv, cv + hv),
+            height: plot_h as u32 + 130,
+        }
+    }
+
+    fn project(&self, p: [f64; 3]) -> (f64, f64) {
+        (p[self.axes.0], p[self.axes.1])
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    scene: &Scene,
+    frame: &Frame,
+    instants: usize,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let frames = strobe_frames(scene, instants);
+    let (t0, t1) = (
+        scene.times[frames[0]],
+        scene.times[*frames.last().unwrap_or(&0)],
+    );
+    let title = format!(
+        "{}: {} instants, t = {} to {} s (darker = later)",
+        scene.name,
+        frames.len(),
+        round(t0),
+        round(t1)
+    );
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 24))
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(frame.u.0..frame.u.1, frame.v.0..frame.v.1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(format!("{} (m)", AXIS_NAMES[frame.axes.0]))
+        .y_desc(format!("{} (m)", AXIS_NAMES[frame.axes.1]))
+        .label_style((FONT, 18))
+        .axis_desc_style((FONT, 20))
+        .light_line_style(WHITE)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .draw()
+        .map_err(err)?;
+    // Paths of the traced points over the whole scene, thin and grey.
+    for &i in &scene.traces {
+        let path: Vec<(f64, f64)> = (0..scene.frames())
+            .map(|f| frame.project(scene.position(f, i)))
+            .collect();
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                path,
+                RGBColor(150, 150, 150).stroke_width(1),
+            )))
+            .map_err(err)?;
+    }
+    let last = frames.len().saturating_sub(1).max(1) as f64;
+    for (k, &f) in frames.iter().enumerate() {
+        // Earliest at 15 % opacity, latest opaque.
+        let alpha = 0.15 + 0.85 * k as f64 / last;
+        for (l, line) in scene.lines.iter().enumerate() {
+            let colour = PALETTE[l % PALETTE.len()].mix(alpha);
+            let path: Vec<(f64, f64)> = line
+                .iter()
+                .map(|&i| frame.project(scene.position(f, i)))
+                .collect();
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    path,
+                    colour.stroke_width(4),
+                )))
+                .map_err(err)?;
+        }
+        let joints = scene.points.iter().enumerate().filter(|(_, p)| !p.ground);
+        chart
+            .draw_series(joints.map(|(i, _)| {
+                Circle::new(
+                    frame.project(scene.position(f, i)),
+                    4,
+                    BLACK.mix(alpha).stroke_width(2),
+                )
+            }))
+            .map_err(err)?;
+    }
+    // Ground points once (they do not move): a triangle under a circle.
+    let f = *frames.last().unwrap_or(&0);
+    for (i, _) in scene.points.iter().enumerate().filter(|(_, p)| p.ground) {
+        let at = frame.project(scene.position(f, i));
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at(at)
+                    + Polygon::new(
+                        vec![(0, 0), (-11, 18), (11, 18)],
+                        RGBColor(170, 170, 170).filled(),
+                    )
+                    + Circle::new((0, 0), 5, BLACK.stroke_width(2)),
+            ))
+            .map_err(err)?;
+    }
+    // Point names at the last instant.
+    chart
+        .draw_series(scene.points.iter().enumerate().map(|(i, p)| {
+            let at = frame.project(scene.position(f, i));
+            EmptyElement::at(at) + Text::new(p.name.clone(), (8, -22), (FONT, 18))
+        }))
+        .map_err(err)?;
+    root.present().map_err(err)
+}
+
+/// An axis label: 3 significant decimals at most, and never `-0`.
+fn tick(v: f64) -> String {
+    let s = round(v);
+    if s == "-0" { "0".into() } else { s }
+}
+
+/// `x` with at most 4 decimals, trailing zeros removed.
+fn round(x: f64) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
