@@ -6,11 +6,17 @@
 //! ```
 //!
 //! (Van Khang 2011; the seed's eq. 2.11 written out), never by inverting M (which may be
-//! singular: the seed lumps its rod into two point masses). Two routes give the same q'':
+//! singular: the seed lumps its rod into two point masses). Three routes give the same q'':
 //!
-//! - **LU** with partial pivoting of the whole matrix, for small systems (n + m <= 40) whose
-//!   matrix is regular and well conditioned (condition estimate <= `condition_limit`); after
-//!   it fails, the next 64 solves go straight to the other route;
+//! - the **null space** of Phi_q ([`crate::linalg::NullSpace`]: LU of Phi_q^T with row
+//!   pivoting splits the coordinates into dependent and independent ones, then the reduced
+//!   mass Z^T M Z is factored by Cholesky; static sizes for a compiled mechanism), first for
+//!   small systems (n + m <= 40), taken when its condition indicator is at most
+//!   `condition_limit` * 1e-3 (well clear of the limit, so no estimate is needed);
+//! - **LU** with partial pivoting of the whole matrix, for small systems whose null-space
+//!   indicator was larger (or that route failed) and whose matrix is regular and well
+//!   conditioned (condition estimate <= `condition_limit`); after it fails, the next 64
+//!   solves go straight to the next route;
 //! - the **augmented Lagrangian** iteration ([`AugmentedLagrangian`]) otherwise: large
 //!   systems (factored inside their band), redundant constraint rows (the matrix above is
 //!   then singular although q'' is unique) and configurations near a singular one.
@@ -29,7 +35,7 @@
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
 use crate::error::Error;
-use crate::linalg::{Lu, RowBasis};
+use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis};
 use crate::system::{Evaluation, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
@@ -54,6 +60,10 @@ pub struct Dynamics {
     n: usize,
     m: usize,
     eval: Evaluation,
+    /// The null-space route's solver; replaced on the first solve by the system's own
+    /// (static sizes) when it has one, which `specialised` records.
+    null_space: Box<dyn NullSpaceSolve>,
+    specialised: bool,
     lu: Lu,
     sol: Vec<f64>,
     condition: f64,
@@ -87,6 +97,8 @@ impl Dynamics {
             n,
             m,
             eval: Evaluation::zeros(n, m),
+            null_space: Box::new(NullSpace::new(n, m)),
+            specialised: false,
             lu: Lu::new(n + m),
             sol: vec![0.0; n + m],
             condition: f64::NAN,
@@ -106,6 +118,8 @@ impl Dynamics {
     }
 
     /// Evaluates the system at (t, q, q') and solves the augmented system for q'' and lambda.
+    /// The first solve asks `system` for its null-space solver of static sizes
+    /// ([`System::null_space_solver`]; one allocation), the later ones allocate nothing.
     ///
     /// Errors: [`Error::NonFinite`] when the evaluation or the solution is not finite;
     /// [`Error::UndeterminedMotion`] when M is not positive definite on the null space of
@@ -119,6 +133,14 @@ impl Dynamics {
     ) -> Result<(), Error> {
         let (n, m) = (self.n, self.m);
         self.evaluations += 1;
+        if !self.specialised {
+            self.specialised = true;
+            if let Some(solver) = system.null_space_solver()
+                && solver.dims() == (n, m)
+            {
+                self.null_space = solver;
+            }
+        }
         system.evaluate(t, q, qd, &mut self.eval);
         let e = &self.eval;
         // One pass that the compiler can vectorise (no early exit).
@@ -151,7 +173,7 @@ impl Dynamics {
         }
         let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
         self.skip_lu = self.skip_lu.saturating_sub(1);
-        self.last_augmented = !(lu && self.solve_lu());
+        self.last_augmented = !(lu && (self.solve_null_space() || self.solve_lu()));
         if lu && self.last_augmented {
             self.skip_lu = LU_RETRY_AFTER;
         }
@@ -167,6 +189,23 @@ impl Dynamics {
             return Err(Error::NonFinite { what, t });
         }
         Ok(())
+    }
+
+    /// The null-space route: true (solved in place) when Phi_q has full row rank, Z^T M Z
+    /// is positive definite and the route's condition indicator is at most
+    /// `condition_limit` * 1e-3; false (nothing solved) otherwise.
+    fn solve_null_space(&mut self) -> bool {
+        let e = &self.eval;
+        match self
+            .null_space
+            .factor(e.mass.as_slice(), e.phi_q.as_slice())
+        {
+            Some(kappa) if kappa <= self.condition_limit * 1e-3 => {
+                self.null_space.solve(&mut self.sol);
+                true
+            }
+            _ => false,
+        }
     }
 
     /// The LU route: factors [M Phi_q^T; Phi_q 0] and solves in place when the matrix is
@@ -300,8 +339,9 @@ impl Dynamics {
         &self.eval
     }
 
-    /// 1-norm condition estimate of the augmented matrix, from the latest estimate (taken at
-    /// least every 8 solves, and at every solve near the limit).
+    /// 1-norm condition estimate of the augmented matrix from the LU route's latest estimate
+    /// (taken at least every 8 of its solves, and at every one near the limit); NaN until
+    /// the LU route has run (the null-space route needs no estimate).
     pub fn condition(&self) -> f64 {
         self.condition
     }

@@ -1,8 +1,10 @@
 //! Linear algebra for the solvers.
 //!
+//! - [`NullSpace`]: the KKT system by a null-space basis of Phi_q (coordinate
+//!   partitioning), the first route of small systems, with a cheap condition indicator;
 //! - [`Lu`]: an in-place LU factorisation with partial pivoting on preallocated storage,
 //!   with solves by A and A^T and a 1-norm condition estimate (the KKT route of small
-//!   systems);
+//!   systems when the null-space route declines);
 //! - [`Envelope`]: Cholesky of a symmetric positive definite matrix inside its envelope (the
 //!   augmented Lagrangian's M + alpha Phi_q^T Phi_q, the projections' Gram matrices), O(n)
 //!   for banded chains;
@@ -15,10 +17,12 @@
 mod envelope;
 mod kernels;
 mod lu;
+mod null_space;
 mod rows;
 mod svd;
 
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
+pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
 pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
 pub use svd::{least_squares, numerical_rank};

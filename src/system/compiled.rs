@@ -6,6 +6,7 @@ use super::drawing::Drawing;
 use super::dynamic::{Evaluation, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::Mechanism;
+use crate::linalg::{FixedNullSpace, NullSpaceSolve};
 
 /// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.
 #[derive(Clone, Debug)]
@@ -77,6 +78,9 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         let qs = to_static(q);
         phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
         phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
+    }
+    fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
+        Some(Box::new(FixedNullSpace::<N, M>::default()))
     }
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
         self.mechanism.draw_points(t, &to_static(q), out);

@@ -4,6 +4,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::info::SystemInfo;
+use crate::linalg::NullSpaceSolve;
 
 /// Caller-owned buffers for one evaluation of a [`System`] (sizes n and m fixed at creation).
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +69,13 @@ pub trait System: Send + Sync {
     /// point into `out` (see [`crate::Mechanism::draw_points`]); nothing by default.
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
         let _ = (t, q, out);
+    }
+    /// A solver of the augmented system by the null space of Phi_q specialised to this
+    /// system's sizes ([`crate::linalg::FixedNullSpace`]: every loop with a constant trip
+    /// count), which [`crate::Dynamics`] asks for on its first solve; `None` (the default)
+    /// keeps the run-time-sized [`crate::linalg::NullSpace`]. [`crate::Compiled`] provides it.
+    fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
+        None
     }
     /// Exact tangent matrices of the dynamic residual
     /// F = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q(q, t)^T lambda:
