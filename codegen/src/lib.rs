@@ -91,5 +91,6 @@ pub use pipeline::{
 pub use print::latex::{equations_latex, matrix_to_latex, to_latex};
 pub use print::text::{equations_text, matrix_to_text, to_text};
 pub use program::cse::{Output, Program};
+pub use program::hoist::{Hoisted, hoist_parameters};
 pub use program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp};
 pub use program::tape::Tape;

@@ -2,7 +2,7 @@
 //! in the `cse` module docs, on top of an instruction builder with value numbering (one
 //! register per distinct instruction) and constant folding.
 
-use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId};
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::number::Number;
@@ -77,7 +77,7 @@ impl Builder {
         (a, b)
     }
 
-    fn un(&mut self, op: UnOp, arg: Operand) -> Result<Operand> {
+    pub(crate) fn un(&mut self, op: UnOp, arg: Operand) -> Result<Operand> {
         if let Operand::Const(c) = arg {
             let v = match op {
                 UnOp::Neg => -c,
@@ -104,7 +104,7 @@ impl Builder {
             .0)
     }
 
-    fn bin(&mut self, op: BinOp, lhs: Operand, rhs: Operand) -> Result<Operand> {
+    pub(crate) fn bin(&mut self, op: BinOp, lhs: Operand, rhs: Operand) -> Result<Operand> {
         if let (Operand::Const(a), Operand::Const(b)) = (lhs, rhs) {
             let v = match op {
                 BinOp::Add => a + b,
@@ -171,7 +171,7 @@ impl Builder {
             .0)
     }
 
-    fn powi(&mut self, base: Operand, exp: i32) -> Result<Operand> {
+    pub(crate) fn powi(&mut self, base: Operand, exp: i32) -> Result<Operand> {
         if let Operand::Const(c) = base {
             return finite(c.powi(exp), "powi", &[c, exp as f64]);
         }
@@ -188,7 +188,7 @@ impl Builder {
             .0)
     }
 
-    fn sin_cos(&mut self, arg: Operand) -> Result<(Operand, Operand)> {
+    pub(crate) fn sin_cos(&mut self, arg: Operand) -> Result<(Operand, Operand)> {
         if let Operand::Const(c) = arg {
             return Ok((finite(c.sin(), "sin", &[c])?, finite(c.cos(), "cos", &[c])?));
         }
@@ -219,6 +219,10 @@ pub(crate) struct InstructionSelection<'a> {
     powers: FxHashMap<(Id, i64), Operand>,
     /// coefficient-free products by factor list.
     products: FxHashMap<Box<[Id]>, Operand>,
+    /// Whether node k (up to the largest output node) depends on parameters and constants
+    /// only: sums and products take those terms and factors first, so that their partial
+    /// results are parameter-only values too (what [`crate::hoist_parameters`] moves out).
+    invariant: Vec<bool>,
     pub(crate) used_symbols: Vec<SymbolId>,
     pub(crate) b: Builder,
 }
@@ -232,6 +236,7 @@ impl<'a> InstructionSelection<'a> {
             .max();
         let mut order = Vec::new();
         let mut trig: FxHashMap<Id, (bool, bool)> = FxHashMap::default();
+        let mut invariant = Vec::new();
         if let Some(top) = top {
             let mut needed = vec![false; top + 1];
             for i in outputs.iter().flat_map(|m| m.data.iter()) {
@@ -243,10 +248,19 @@ impl<'a> InstructionSelection<'a> {
                     nodes[k].for_each_child(|c| needed[c.index()] = true);
                 }
             }
+            invariant = vec![false; top + 1];
             for (k, node) in nodes.iter().enumerate() {
                 if !needed[k] {
                     continue;
                 }
+                invariant[k] = match node {
+                    Node::Sym(s) => arena.symbol_info(*s).kind == SymbolKind::Parameter,
+                    _ => {
+                        let mut all = true;
+                        node.for_each_child(|c| all &= invariant[c.index()]);
+                        all
+                    }
+                };
                 order.push(Id(k as u32));
                 match node {
                     Node::Func(Func::Sin, u) => trig.entry(*u).or_default().0 = true,
@@ -262,6 +276,7 @@ impl<'a> InstructionSelection<'a> {
             trig,
             powers: FxHashMap::default(),
             products: FxHashMap::default(),
+            invariant,
             used_symbols: Vec::new(),
             b: Builder::default(),
         }
@@ -342,10 +357,22 @@ impl<'a> InstructionSelection<'a> {
         }
     }
 
+    /// Whether `id` depends on parameters and constants only.
+    fn is_invariant(&self, id: Id) -> bool {
+        self.invariant.get(id.index()).copied().unwrap_or(false)
+    }
+
+    /// `ids` with the parameter-only ones first, each group in its given order.
+    fn invariant_first(&self, ids: &[Id]) -> Vec<Id> {
+        let mut v = ids.to_vec();
+        v.sort_by_key(|&i| !self.is_invariant(i));
+        v
+    }
+
     /// A sum, with negative terms subtracted; starts from the first positive term.
     fn lower_sum(&mut self, ts: &[Id]) -> Result<Operand> {
         let mut terms = Vec::with_capacity(ts.len());
-        for &t in ts {
+        for t in self.invariant_first(ts) {
             terms.push(self.lower_term(t)?);
         }
         let start = terms.iter().position(|t| !t.0).unwrap_or(0);
@@ -393,7 +420,7 @@ impl<'a> InstructionSelection<'a> {
         let arena = self.arena;
         let mut num: Option<Operand> = None;
         let mut den: Option<Operand> = None;
-        for &f in fs {
+        for f in self.invariant_first(fs) {
             let (slot, x) = match arena.node(f) {
                 Node::Pow(b, e) if arena.as_number(*e).is_some_and(Number::is_negative) => {
                     let n = arena.as_number(*e).map_or(Number::int(1), |n| -n);

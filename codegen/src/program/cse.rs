@@ -112,6 +112,41 @@ impl Program {
         Ok(compact(&lower.b.instrs, outs, &symbols))
     }
 
+    /// A program of the instructions `instrs` (in execution order, registers defined
+    /// before they are read) computing `outputs`: dead instructions dropped, registers
+    /// renumbered, the symbols read named from `arena`.
+    pub(crate) fn from_parts(arena: &Arena, instrs: &[Instr], outputs: Vec<Output>) -> Program {
+        let mut used = vec![];
+        for i in instrs {
+            i.for_each_operand(|o| push_sym(&mut used, o));
+        }
+        for o in &outputs {
+            o.entries.iter().for_each(|&e| push_sym(&mut used, e));
+        }
+        let mut symbols: Vec<(SymbolId, String)> = used
+            .into_iter()
+            .map(|s| {
+                let name = arena
+                    .symbols()
+                    .get(s.0 as usize)
+                    .map_or_else(|| format!("#{}", s.0), |x| x.name.clone());
+                (s, name)
+            })
+            .collect();
+        symbols.sort_by_key(|p| p.0);
+        let mut p = compact(instrs, outputs, &symbols);
+        // Only the symbols the live instructions still read.
+        let mut live = vec![];
+        for i in &p.instrs {
+            i.for_each_operand(|o| push_sym(&mut live, o));
+        }
+        for o in &p.outputs {
+            o.entries.iter().for_each(|&e| push_sym(&mut live, e));
+        }
+        p.symbols.retain(|(s, _)| live.contains(s));
+        p
+    }
+
     /// The instructions, in execution order.
     pub fn instructions(&self) -> &[Instr] {
         &self.instrs

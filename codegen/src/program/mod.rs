@@ -6,10 +6,13 @@
 //! hash-consed DAG: [`builder`] gives each needed node one register, value-numbers identical
 //! instructions and folds constants, [`cse`] collects the outputs and drops dead registers);
 //! the last use of each register ([`liveness`]); and a [`Tape`](crate::Tape), the program
-//! as register-file operations for repeated evaluation without allocation.
+//! as register-file operations for repeated evaluation without allocation. [`hoist`] moves
+//! the values that depend on parameters only out of several programs into one cache
+//! program ([`hoist_parameters`](crate::hoist_parameters)).
 
 pub(crate) mod builder;
 pub(crate) mod cse;
+pub(crate) mod hoist;
 pub(crate) mod instructions;
 pub(crate) mod liveness;
 pub(crate) mod tape;
