@@ -2,19 +2,28 @@
 //! model (`mechanism_codegen::derive`), then one CSE'd, straight-line, allocation-free body
 //! per trait method (`Program::new` + `emit_body`).
 //!
-//! Each body starts from zeroed nalgebra matrices (stack values, no allocation), and the
-//! emitted statements write the non-zero entries with constant indices. Symbols are read as
-//! `self.<parameter>`, `q[i]`, `qd[i]` and `t`. The combined `evaluate` is one program over
-//! all outputs, so sin/cos pairs and common subexpressions are computed once.
+//! The values that depend on parameters only are moved out of every body into one cache
+//! (`hoist_parameters`), computed when the parameters are set and read as `cache[k]`; a body
+//! then computes only what depends on t, q and q'. Matrix bodies start from zeroed nalgebra
+//! matrices (stack values, no allocation) and write the non-zero entries with constant
+//! indices; `evaluate_into` writes every entry of the caller's buffer. Symbols are read as
+//! `self.__parameters.<parameter>`, `q[i]`, `qd[i]` and `t`. The combined evaluation is one
+//! program over all outputs, so sin/cos pairs and common subexpressions are computed once.
 
 use mechanism_codegen::{
-    EmitBindings, Equations, EvaluationOutput, Matrix, Model, OutputTarget, Program,
-    ResidualTangent, emit_body, residual_tangent,
+    EmitBindings, Equations, EvaluationOutput, Matrix, Model, Operand, OutputTarget, Program,
+    ResidualTangent, SymbolId, emit_body, hoist_parameters, residual_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
 use crate::ast::{self, Declaration};
+
+/// An output with more zero entries than this is zeroed with one `fill` by
+/// `evaluate_into` and then gets its nonzero entries; smaller ones get every entry written
+/// (a store per structural zero instead of a memset per call, and no thousands of zero
+/// stores for a large sparse Phi_q).
+const FILL_ZEROS_ABOVE: usize = 32;
 
 /// The bodies of the trait methods and the equations text.
 pub struct Generated {
@@ -40,43 +49,107 @@ pub struct Generated {
     pub kinetic_energy: TokenStream,
     /// `potential_energy(&self, q)`.
     pub potential_energy: TokenStream,
-    /// `evaluate(&self, t, q, qd)`: everything, sharing subexpressions.
-    pub evaluate: TokenStream,
+    /// `evaluate_into(&self, t, q, qd, out)`: everything, sharing subexpressions, written
+    /// into every entry of `out`.
+    pub evaluate_into: TokenStream,
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
     /// The derived equations as readable text (`mechanism_codegen::equations_text`).
     pub equations: String,
+    /// The number of cached parameter-only values.
+    pub cache_len: usize,
+    /// `fn(p: &Parameters) -> [f64; cache_len]`'s body: the cached values.
+    pub cache: TokenStream,
 }
 
 /// Derives the equations of `decl` and generates every body.
 pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
     let tangent = residual_tangent(&mut decl.model, &eqs).map_err(|e| codegen_error(decl, &e))?;
+    let programs = Programs::new(&mut decl.model, &eqs, &tangent);
+    let programs = programs.map_err(|e| codegen_error(decl, &e))?;
     let b = Bodies {
         model: &decl.model,
         krate: &decl.krate,
+        slots: &programs.slots,
     };
     let result = (|| -> mechanism_codegen::Result<Generated> {
-        let kinetic = Matrix::column(vec![eqs.kinetic]);
-        let potential = Matrix::column(vec![eqs.potential]);
+        let p = &programs.bodies;
         Ok(Generated {
-            mass_matrix: b.matrix(&eqs.mass)?,
-            coriolis_matrix: b.matrix(&eqs.coriolis_matrix)?,
-            coriolis_forces: b.matrix(&eqs.coriolis_forces)?,
-            gravity: b.matrix(&eqs.gravity)?,
-            generalized_forces: b.matrix(&eqs.forces)?,
-            constraints: b.matrix(&eqs.phi)?,
-            constraint_jacobian: b.matrix(&eqs.phi_q)?,
-            constraint_time_derivative: b.matrix(&eqs.phi_t)?,
-            constraint_gamma: b.matrix(&eqs.gamma)?,
-            kinetic_energy: b.scalar(&kinetic)?,
-            potential_energy: b.scalar(&potential)?,
-            evaluate: b.evaluate(&eqs)?,
-            residual_tangent: b.tangent(&tangent)?,
+            mass_matrix: b.matrix(&p[0])?,
+            coriolis_matrix: b.matrix(&p[1])?,
+            coriolis_forces: b.matrix(&p[2])?,
+            gravity: b.matrix(&p[3])?,
+            generalized_forces: b.matrix(&p[4])?,
+            constraints: b.matrix(&p[5])?,
+            constraint_jacobian: b.matrix(&p[6])?,
+            constraint_time_derivative: b.matrix(&p[7])?,
+            constraint_gamma: b.matrix(&p[8])?,
+            kinetic_energy: b.scalar(&p[9])?,
+            potential_energy: b.scalar(&p[10])?,
+            evaluate_into: b.evaluate_into(&p[11])?,
+            residual_tangent: b.tangent(&p[12], &tangent)?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
+            cache_len: programs.slots.len(),
+            cache: b.cache(&programs.cache)?,
         })
     })();
     result.map_err(|e| codegen_error(decl, &e))
+}
+
+/// The program of every body, with the parameter-only values moved into one cache program.
+struct Programs {
+    /// mass_matrix .. potential_energy (11), evaluate_into, residual_tangent.
+    bodies: Vec<Program>,
+    /// Computes the cache from the parameters.
+    cache: Program,
+    /// The symbol standing for cache entry k in the bodies.
+    slots: Vec<SymbolId>,
+}
+
+impl Programs {
+    fn new(
+        model: &mut Model,
+        e: &Equations,
+        tangent: &ResidualTangent,
+    ) -> mechanism_codegen::Result<Programs> {
+        let (kinetic, potential) = (
+            Matrix::column(vec![e.kinetic]),
+            Matrix::column(vec![e.potential]),
+        );
+        let singles = [
+            &e.mass,
+            &e.coriolis_matrix,
+            &e.coriolis_forces,
+            &e.gravity,
+            &e.forces,
+            &e.phi,
+            &e.phi_q,
+            &e.phi_t,
+            &e.gamma,
+            &kinetic,
+            &potential,
+        ];
+        let arena = &model.arena;
+        let mut programs = Vec::with_capacity(singles.len() + 2);
+        for m in singles {
+            programs.push(Program::new(arena, &[m])?);
+        }
+        let outputs = e.evaluation_outputs();
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
+        programs.push(Program::new(arena, &outputs)?);
+        programs.push(Program::new(
+            arena,
+            &[&tangent.stiffness, &tangent.damping],
+        )?);
+        let all: Vec<&Program> = programs.iter().collect();
+        let h = hoist_parameters(&mut model.arena, &all)?;
+        Ok(Programs {
+            bodies: h.programs,
+            cache: h.cache,
+            slots: h.slots,
+        })
+    }
 }
 
 /// A codegen error as a compile error at the user's token (or the file literal).
@@ -88,14 +161,21 @@ fn codegen_error(decl: &Declaration, e: &mechanism_codegen::Error) -> syn::Error
 struct Bodies<'a> {
     model: &'a Model,
     krate: &'a TokenStream,
+    slots: &'a [SymbolId],
 }
 
 impl Bodies<'_> {
-    /// How the emitted code reads each symbol: parameters from `self`, coordinates and
-    /// rates from `q` and `qd`, time from `t`. Real functions call the runtime crate's `math`
-    /// module (`sin_cos` is the function the interpreter, `Tape`, uses; the others exist
-    /// without std, where the f64 methods do not).
+    /// How the emitted code reads each symbol: parameters from `self.__parameters`, cached
+    /// values from `cache`, coordinates and rates from `q` and `qd`, time from `t`. Real
+    /// functions call the runtime crate's `math` module (`sin_cos` is the function the
+    /// interpreter, `Tape`, uses; the others exist without std, where the f64 methods do
+    /// not).
     fn bindings(&self) -> EmitBindings {
+        self.bindings_with(quote!(self.__parameters))
+    }
+
+    /// [`Bodies::bindings`] with the parameters read from the struct at `params`.
+    fn bindings_with(&self, params: TokenStream) -> EmitBindings {
         let model = self.model;
         let arena = &model.arena;
         let krate = self.krate;
@@ -113,97 +193,137 @@ impl Bodies<'_> {
         for p in &model.parameters {
             let field = Ident::new(&p.name, Span::call_site());
             if let Some(s) = arena.as_symbol(p.symbol) {
-                b.bind(s, quote!(self.#field));
+                b.bind(s, quote!(#params.#field));
             }
         }
         if let Some(s) = arena.as_symbol(model.time) {
             b.bind(s, quote!(t));
         }
+        for (k, &s) in self.slots.iter().enumerate() {
+            b.bind(s, quote!(cache[#k]));
+        }
         b
     }
 
-    /// A body returning one nalgebra matrix (or vector) of the shape of `m`.
-    fn matrix(&self, m: &Matrix) -> mechanism_codegen::Result<TokenStream> {
-        let program = Program::new(&self.model.arena, &[m])?;
+    /// `let cache = ...;` when `program` reads a cached value: the struct's cache while it
+    /// is current, else the values computed here from the parameters (after a change
+    /// through `DerefMut` that was not followed by `refresh`).
+    fn cache_read(&self, program: &Program) -> TokenStream {
+        let reads = program
+            .symbols()
+            .iter()
+            .any(|(s, _)| self.slots.contains(s));
+        if !reads {
+            return quote!();
+        }
+        let k = self.slots.len();
+        quote! {
+            let computed: [f64; #k];
+            let cache: &[f64; #k] = if self.__cached {
+                &self.__cache
+            } else {
+                computed = Self::parameter_cache(&self.__parameters);
+                &computed
+            };
+        }
+    }
+
+    /// A body returning one nalgebra matrix (or vector) of the shape of `program`'s output.
+    fn matrix(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
         let targets = [OutputTarget::Matrix {
             name: quote!(out),
             zeroed: true,
         }];
-        let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
-        let (r, c, krate) = (m.rows, m.cols, self.krate);
+        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let o = &program.outputs()[0];
+        let (r, c, krate) = (o.rows, o.cols, self.krate);
         let mutable = if body.is_empty() {
             quote!()
         } else {
             quote!(mut)
         };
+        let cache = self.cache_read(program);
         Ok(quote! {
+            #cache
             let #mutable out = #krate::__private::SMatrix::<f64, #r, #c>::zeros();
             #body
             out
         })
     }
 
-    /// A body returning the single entry of a 1 x 1 `m`.
-    fn scalar(&self, m: &Matrix) -> mechanism_codegen::Result<TokenStream> {
-        let program = Program::new(&self.model.arena, &[m])?;
-        Ok(emit_body(&program, &self.bindings(), &[OutputTarget::Return])?.tokens)
+    /// A body returning the single entry of a 1 x 1 output.
+    fn scalar(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+        let body = emit_body(program, &self.bindings(), &[OutputTarget::Return])?.tokens;
+        let cache = self.cache_read(program);
+        Ok(quote! {
+            #cache
+            #body
+        })
     }
 
-    /// The combined evaluation: one program for all outputs.
-    fn evaluate(&self, e: &Equations) -> mechanism_codegen::Result<TokenStream> {
-        let outputs = e.evaluation_outputs();
-        let outputs: Vec<&Matrix> = outputs.iter().collect();
-        let program = Program::new(&self.model.arena, &outputs)?;
-        let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
+    /// The combined evaluation into the caller's `out`: one program for all outputs. Every
+    /// entry is written: small outputs entry by entry (zeros included), outputs with many
+    /// zeros by one `fill(0.0)` and their nonzero entries.
+    fn evaluate_into(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+        let mut fills = TokenStream::new();
         let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
             .iter()
-            .map(|o| match o {
-                EvaluationOutput::Mass => place(quote!(out.mass)),
-                EvaluationOutput::CoriolisForces => place(quote!(out.coriolis)),
-                EvaluationOutput::Gravity => place(quote!(out.gravity)),
-                EvaluationOutput::Forces => place(quote!(out.forces)),
-                EvaluationOutput::Phi => place(quote!(out.phi)),
-                EvaluationOutput::PhiQ => place(quote!(out.phi_q)),
-                EvaluationOutput::PhiT => place(quote!(out.phi_t)),
-                EvaluationOutput::Gamma => place(quote!(out.gamma)),
-                EvaluationOutput::Kinetic => OutputTarget::Vector {
-                    name: quote!(kinetic),
-                    zeroed: true,
-                },
-                EvaluationOutput::Potential => OutputTarget::Vector {
-                    name: quote!(potential),
-                    zeroed: true,
-                },
+            .zip(program.outputs())
+            .map(|(o, output)| {
+                let name = match o {
+                    EvaluationOutput::Mass => quote!(out.mass),
+                    EvaluationOutput::CoriolisForces => quote!(out.coriolis),
+                    EvaluationOutput::Gravity => quote!(out.gravity),
+                    EvaluationOutput::Forces => quote!(out.forces),
+                    EvaluationOutput::Phi => quote!(out.phi),
+                    EvaluationOutput::PhiQ => quote!(out.phi_q),
+                    EvaluationOutput::PhiT => quote!(out.phi_t),
+                    EvaluationOutput::Gamma => quote!(out.gamma),
+                    EvaluationOutput::Kinetic => {
+                        return OutputTarget::Vector {
+                            name: quote!(kinetic),
+                            zeroed: false,
+                        };
+                    }
+                    EvaluationOutput::Potential => {
+                        return OutputTarget::Vector {
+                            name: quote!(potential),
+                            zeroed: false,
+                        };
+                    }
+                };
+                let zeros = output
+                    .entries
+                    .iter()
+                    .filter(|e| **e == Operand::Const(0.0))
+                    .count();
+                let zeroed = zeros > FILL_ZEROS_ABOVE;
+                if zeroed {
+                    fills.extend(quote!(#name.fill(0.0);));
+                }
+                OutputTarget::Matrix { name, zeroed }
             })
             .collect();
-        let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
-        let (n, m, krate) = (e.n, e.m, self.krate);
-        let sm = quote!(#krate::__private::SMatrix);
+        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let cache = self.cache_read(program);
         Ok(quote! {
-            let mut out = #krate::StaticEvaluation::<#n, #m> {
-                mass: #sm::<f64, #n, #n>::zeros(),
-                coriolis: #sm::<f64, #n, 1>::zeros(),
-                gravity: #sm::<f64, #n, 1>::zeros(),
-                forces: #sm::<f64, #n, 1>::zeros(),
-                phi: #sm::<f64, #m, 1>::zeros(),
-                phi_q: #sm::<f64, #m, #n>::zeros(),
-                phi_t: #sm::<f64, #m, 1>::zeros(),
-                gamma: #sm::<f64, #m, 1>::zeros(),
-                kinetic: 0.0,
-                potential: 0.0,
-            };
+            #cache
             let mut kinetic = [0.0_f64; 1];
             let mut potential = [0.0_f64; 1];
+            #fills
             #body
             out.kinetic = kinetic[0];
             out.potential = potential[0];
-            out
         })
     }
 
     /// `Some((K, D))` with K = dF/dq and D = dF/dq' (one program for both); q'' is read
     /// from `qdd`, the multipliers from `lambda`.
-    fn tangent(&self, tangent: &ResidualTangent) -> mechanism_codegen::Result<TokenStream> {
+    fn tangent(
+        &self,
+        program: &Program,
+        tangent: &ResidualTangent,
+    ) -> mechanism_codegen::Result<TokenStream> {
         let arena = &self.model.arena;
         let mut bindings = self.bindings();
         for (i, c) in self.model.coordinates.iter().enumerate() {
@@ -214,16 +334,33 @@ impl Bodies<'_> {
         for (k, &s) in tangent.lambda.iter().enumerate() {
             bindings.bind(s, quote!(lambda[#k]));
         }
-        let program = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
         let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
         let targets = [place(quote!(stiffness)), place(quote!(damping))];
-        let body = emit_body(&program, &bindings, &targets)?.tokens;
+        let body = emit_body(program, &bindings, &targets)?.tokens;
         let (n, krate) = (tangent.stiffness.rows, self.krate);
+        let cache = self.cache_read(program);
         Ok(quote! {
+            #cache
             let mut stiffness = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
             let mut damping = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
             #body
             ::core::option::Option::Some((stiffness, damping))
+        })
+    }
+
+    /// The body of `fn parameter_cache(p: &Parameters) -> [f64; K]`.
+    fn cache(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+        let k = self.slots.len();
+        let targets = [OutputTarget::Vector {
+            name: quote!(out),
+            zeroed: false,
+        }];
+        let body = emit_body(program, &self.bindings_with(quote!(p)), &targets)?.tokens;
+        let mutable = if k == 0 { quote!() } else { quote!(mut) };
+        Ok(quote! {
+            let #mutable out = [0.0_f64; #k];
+            #body
+            out
         })
     }
 }

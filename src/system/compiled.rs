@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, SVector};
 use super::drawing::Drawing;
 use super::dynamic::{Evaluation, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
-use super::mechanism::Mechanism;
+use super::mechanism::{Mechanism, StaticEvaluation};
 use crate::linalg::{FixedNullSpace, NullSpaceSolve};
 
 /// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.
@@ -17,8 +17,10 @@ pub struct Compiled<T, const N: usize, const M: usize> {
 }
 
 impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
-    /// Wraps `mechanism`, recording its names and declared data.
-    pub fn new(mechanism: T) -> Self {
+    /// Wraps `mechanism` (its cached parameter values refreshed: [`Mechanism::refresh`]),
+    /// recording its names and declared data.
+    pub fn new(mut mechanism: T) -> Self {
+        mechanism.refresh();
         let info = SystemInfo {
             name: T::NAME.to_string(),
             coordinates: T::COORDINATES.iter().map(|s| s.to_string()).collect(),
@@ -58,7 +60,9 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         self.mechanism.set_parameter(index, value)
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
-        let e = self.mechanism.evaluate(t, &to_static(q), &to_static(qd));
+        let mut e = StaticEvaluation::<N, M>::zeros();
+        self.mechanism
+            .evaluate_into(t, &to_static(q), &to_static(qd), &mut e);
         out.mass.copy_from(&e.mass);
         out.coriolis.copy_from(&e.coriolis);
         out.gravity.copy_from(&e.gravity);

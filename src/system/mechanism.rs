@@ -60,9 +60,29 @@ pub struct StaticEvaluation<const N: usize, const M: usize> {
     pub potential: f64,
 }
 
+impl<const N: usize, const M: usize> StaticEvaluation<N, M> {
+    /// Every entry zero (a buffer for [`Mechanism::evaluate_into`]).
+    pub fn zeros() -> Self {
+        Self {
+            mass: SMatrix::zeros(),
+            coriolis: SVector::zeros(),
+            gravity: SVector::zeros(),
+            forces: SVector::zeros(),
+            phi: SVector::zeros(),
+            phi_q: SMatrix::zeros(),
+            phi_t: SVector::zeros(),
+            gamma: SVector::zeros(),
+            kinetic: 0.0,
+            potential: 0.0,
+        }
+    }
+}
+
 /// A mechanism with derived equations and static sizes: `N` coordinates, `M` constraint rows.
 ///
-/// Implemented by the code `mechanism!` emits. Every method is allocation-free.
+/// Implemented by the code `mechanism!` emits. Every method is allocation-free. The emitted
+/// code computes the values that depend on parameters only (`m2*g`, `sin(alpha)`, ...) once
+/// per parameter set ([`Mechanism::refresh`]), not on every call.
 pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'static {
     /// Name of the mechanism (the struct name).
     const NAME: &'static str;
@@ -125,6 +145,23 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// All of the above at one (t, q, q'), sharing sin, cos and common subexpressions.
     fn evaluate(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>)
     -> StaticEvaluation<N, M>;
+    /// [`Mechanism::evaluate`] written into `out` (every entry overwritten): M, C q', g,
+    /// tau, Phi, Phi_q, Phi_t, gamma, T and Pi at (t, q, q'), with nothing returned by
+    /// value, for a caller that reuses one buffer. The emitted code writes the entries
+    /// directly; the default copies the result of `evaluate`.
+    fn evaluate_into(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        out: &mut StaticEvaluation<N, M>,
+    ) {
+        *out = self.evaluate(t, q, qd);
+    }
+    /// Brings values cached from the parameters up to date (the emitted code caches the
+    /// parameter-only subexpressions; `set_parameter` refreshes them itself, a change
+    /// through a field does not). Nothing by default.
+    fn refresh(&mut self) {}
     /// The derived equations as readable text (what the snapshot tests pin).
     fn equations() -> &'static str;
 

@@ -8,3 +8,4 @@ mod emitted_vs_interpreter;
 mod file_paths;
 mod large_mechanism;
 mod no_alloc;
+mod parameter_cache;

@@ -3,7 +3,10 @@
 //! connecting rod of the seed against M and g worked out by hand.
 
 use mechanism::Mechanism;
-use mechanism::builtin::{SpatialCrankSliderRigid, SpatialFourBarBodies, builtin_source};
+use mechanism::builtin::{
+    SpatialCrankSliderRigid, SpatialCrankSliderRigidParameters, SpatialFourBarBodies,
+    builtin_source,
+};
 use mechanism_codegen::{derive, equations_text, parse_model_str};
 use nalgebra::{SMatrix, SVector, Vector3};
 
@@ -41,10 +44,10 @@ fn spatial_crank_slider_rigid() {
 /// alpha = 0.3 (all terms alive) to 1e-15 absolute (entries ~1e-2, a few roundings).
 #[test]
 fn rigid_rod_mass_matrix_and_gravity_match_the_hand_derivation() {
-    let s = SpatialCrankSliderRigid {
+    let s = SpatialCrankSliderRigid::from(SpatialCrankSliderRigidParameters {
         alpha: 0.3,
         ..Default::default()
-    };
+    });
     for (phi, beta, gamma) in [(0.4, 0.5, 0.8), (2.0, -1.1, 2.2), (-0.9, 3.0, 0.3)] {
         let q = SVector::<f64, 4>::new(phi, beta, gamma, 0.2);
         let (sa, ca) = s.alpha.sin_cos();

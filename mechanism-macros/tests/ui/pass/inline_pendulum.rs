@@ -14,8 +14,22 @@ mechanism! {
 }
 
 fn main() {
-    let p = Pendulum::default();
-    assert_eq!(p, Pendulum { m: 2.0, l: 1.5, g: 9.81 });
+    let mut p = Pendulum::default();
+    assert_eq!(*p.parameters(), PendulumParameters { m: 2.0, l: 1.5, g: 9.81 });
+    assert_eq!(p, Pendulum::from(PendulumParameters { m: 2.0, l: 1.5, g: 9.81 }));
+    assert!(p.is_cached());
+    // Through the fields: the cache is stale (the methods compute the values themselves)
+    // until `refresh`, and the new value is what the methods use either way.
+    p.l = 1.0;
+    assert!(!p.is_cached());
+    assert_eq!(p.l, 1.0);
+    assert_eq!(p.constraints(0.0, &SVector::<f64, 2>::new(1.0, 0.0))[0], 0.0);
+    p.refresh();
+    assert!(p.is_cached());
+    assert_eq!(p.constraints(0.0, &SVector::<f64, 2>::new(1.0, 0.0))[0], 0.0);
+    p.l = 1.5;
+    p.refresh();
+    assert_eq!(format!("{p:?}"), "Pendulum { m: 2.0, l: 1.5, g: 9.81 }");
     assert_eq!(Pendulum::COORDINATES, ["x", "y"]);
     assert_eq!(<Pendulum as Mechanism<2, 1>>::PARAMETERS, &["m", "l", "g"]);
     assert_eq!((Pendulum::N, Pendulum::M), (2, 1));
