@@ -77,3 +77,37 @@ pub fn powf(x: f64, y: f64) -> f64 {
 pub fn powi(x: f64, k: i32) -> f64 {
     route::powi(x, k)
 }
+
+/// a b + c, rounded once where the target has a fused multiply-add instruction (x86-64
+/// built with the `fma` target feature, e.g. `-C target-cpu=native` on a CPU that has it,
+/// and aarch64), and as a b, then + c (two roundings) everywhere else. Rust never contracts
+/// `a * b + c` by itself; the generated code and the interpreter both call this function
+/// for every product that is used only by one sum, so they agree bit for bit in every build,
+/// and a portable build gives exactly the bits of `a * b + c`.
+#[inline(always)]
+pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(all(
+        feature = "std",
+        any(
+            all(target_arch = "x86_64", target_feature = "fma"),
+            target_arch = "aarch64"
+        )
+    ))]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(all(not(feature = "std"), target_arch = "x86_64", target_feature = "fma"))]
+    {
+        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
+        // SAFETY: this build enables the `fma` (and so `sse2`) target feature for all of
+        // its code, which is what the intrinsics require.
+        unsafe { _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c))) }
+    }
+    #[cfg(not(any(
+        all(target_arch = "x86_64", target_feature = "fma"),
+        all(feature = "std", target_arch = "aarch64")
+    )))]
+    {
+        a * b + c
+    }
+}

@@ -58,8 +58,9 @@ const C: [f64; 6] = [
 ///      of w is added back),
 ///
 ///    S and C of degree 5 in z, by Estrin's scheme: (c0 + z c1) + z^2 ((c2 + z c3) +
-///    z^2 (c4 + z c5)), which halves the dependency chain of Horner's. No `mul_add`: without
-///    a target FMA that is a libm call.
+///    z^2 (c4 + z c5)), which halves the dependency chain of Horner's, each step a
+///    [`crate::mul_add`] (fused where the target has FMA, the plain product and sum
+///    elsewhere: never a libm call).
 /// 3. Quadrant k mod 4: (sin x, cos x) = (sin r, cos r), (cos r, -sin r), (-sin r, -cos r),
 ///    (-cos r, sin r), chosen with bit masks (no branch).
 ///
@@ -106,8 +107,8 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     }
     let z = hi * hi;
     let z2 = z * z;
-    let ps = (S[0] + z * S[1]) + z2 * ((S[2] + z * S[3]) + z2 * (S[4] + z * S[5]));
-    let pc = (C[0] + z * C[1]) + z2 * ((C[2] + z * C[3]) + z2 * (C[4] + z * C[5]));
+    let ps = estrin(&S, z, z2);
+    let pc = estrin(&C, z, z2);
     let hz = 0.5 * z;
     let sin_r = hi + ((z * hi) * ps + (lo - lo * hz));
     let w = 1.0 - hz;
@@ -118,6 +119,16 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     let sin_bits = ((sb & !swap) | (cb & swap)) ^ ((q & 2) << 62);
     let cos_bits = ((cb & !swap) | (sb & swap)) ^ ((q.wrapping_add(1) & 2) << 62);
     (f64::from_bits(sin_bits), f64::from_bits(cos_bits))
+}
+
+/// p0 + z p1 + ... + z^5 p5 by Estrin's scheme, (p0 + z p1) + z^2 ((p2 + z p3) +
+/// z^2 (p4 + z p5)), each step a [`crate::mul_add`] (one rounding where the target has
+/// FMA, which shortens the dependency chain; exactly the unfused value elsewhere).
+#[inline(always)]
+fn estrin(p: &[f64; 6], z: f64, z2: f64) -> f64 {
+    use crate::mul_add;
+    let inner = mul_add(z2, mul_add(z, p[5], p[4]), mul_add(z, p[3], p[2]));
+    mul_add(z2, inner, mul_add(z, p[1], p[0]))
 }
 
 /// The rare cases, out of line so that the inlined fast path stays small.

@@ -1,6 +1,7 @@
 //! Rust emission: a [`Program`] as the statements of a function body in SSA form.
 //!
-//! Each instruction becomes one `let x12: f64 = x3 * x7;` (a `sin_cos` pair becomes
+//! Each instruction becomes one `let x12: f64 = x3 * x7;` (a fused product and sum
+//! `let x13: f64 = ::mechanism::math::mul_add(x3, x7, x9);`, a `sin_cos` pair becomes
 //! `let (x4, x5): (f64, f64) = q[1].sin_cos();`). With a math module set by
 //! [`EmitBindings::set_math`], every real function is a call into it instead of an f64
 //! method: `::mechanism::math::sin_cos(q[1])` (lone sines and cosines as `.0` and `.1`),
@@ -265,7 +266,10 @@ fn check_restricted(p: &Program, bindings: &EmitBindings, targets: &[&OutputTarg
 
 fn single_dst(i: &Instr) -> Option<Reg> {
     match *i {
-        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => Some(dst),
+        Instr::Unary { dst, .. }
+        | Instr::Binary { dst, .. }
+        | Instr::Powi { dst, .. }
+        | Instr::MulAdd { dst, .. } => Some(dst),
         Instr::SinCos { .. } => None,
     }
 }
@@ -407,9 +411,54 @@ impl Emitter<'_> {
                 let (s, c) = (self.reg(sin), self.reg(cos));
                 quote!(let (#s, #c): (f64, f64) = #rhs;)
             }
-            Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
+            Instr::Unary { dst, .. }
+            | Instr::Binary { dst, .. }
+            | Instr::Powi { dst, .. }
+            | Instr::MulAdd { dst, .. } => {
                 let d = self.reg(dst);
                 quote!(let #d: f64 = #rhs;)
+            }
+        }
+    }
+
+    /// `math::mul_add(+-a, b, +-c)` with a math module; else the unfused `a * b + c`,
+    /// `a * b - c` or `c - a * b` (the f64 method `mul_add` would round once, which the
+    /// interpreter's portable `mul_add` does not).
+    fn mul_add(
+        &self,
+        a: Operand,
+        b: Operand,
+        c: Operand,
+        neg_ab: bool,
+        neg_c: bool,
+    ) -> TokenStream {
+        let (bt, ct) = (self.operand(b), self.operand(c));
+        match &self.b.math {
+            Some(m) => {
+                let at = self.signed(a, neg_ab);
+                let ct = self.signed(c, neg_c);
+                quote!(#m::mul_add(#at, #bt, #ct))
+            }
+            None => {
+                let at = self.operand(a);
+                match (neg_ab, neg_c) {
+                    (false, false) => quote!(#at * #bt + #ct),
+                    (false, true) => quote!(#at * #bt - #ct),
+                    (true, false) => quote!(#ct - #at * #bt),
+                    (true, true) => quote!(-(#at * #bt) - #ct),
+                }
+            }
+        }
+    }
+
+    /// `o`, or `-o` (a negative constant written as its magnitude).
+    fn signed(&self, o: Operand, negate: bool) -> TokenStream {
+        match (o, negate) {
+            (_, false) => self.operand(o),
+            (Operand::Const(c), true) => f64_tokens(-c),
+            (_, true) => {
+                let t = self.operand(o);
+                quote!(-#t)
             }
         }
     }
@@ -451,6 +500,14 @@ impl Emitter<'_> {
                 let k = if exp < 0 { quote!(-#k) } else { quote!(#k) };
                 self.call(&Ident::new("powi", Span::call_site()), base, Some(k))
             }
+            Instr::MulAdd {
+                a,
+                b,
+                c,
+                negate_product,
+                negate_addend,
+                ..
+            } => self.mul_add(a, b, c, negate_product, negate_addend),
             Instr::Binary { op, lhs, rhs, .. } => {
                 let b = self.operand(rhs);
                 match op {

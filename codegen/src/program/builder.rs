@@ -17,6 +17,7 @@ enum Key {
     Bin(BinOp, OpKey, OpKey),
     Powi(OpKey, i32),
     SinCos(OpKey),
+    MulAdd(OpKey, OpKey, OpKey, bool, bool),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -181,6 +182,38 @@ impl Builder {
                 let dst = b.reg();
                 (
                     Instr::Powi { dst, base, exp },
+                    Operand::Reg(dst),
+                    Operand::Reg(dst),
+                )
+            })
+            .0)
+    }
+
+    /// (+-a) b + (+-c), one fused instruction (see [`crate::program::fuse`]).
+    pub(crate) fn mul_add(
+        &mut self,
+        [a, b, c]: [Operand; 3],
+        negate_product: bool,
+        negate_addend: bool,
+    ) -> Result<Operand> {
+        if let (Operand::Const(x), Operand::Const(y), Operand::Const(z)) = (a, b, c) {
+            let x = if negate_product { -x } else { x };
+            let z = if negate_addend { -z } else { z };
+            return finite(mechanism_math::mul_add(x, y, z), "mul_add", &[x, y, z]);
+        }
+        let k = Key::MulAdd(key(a), key(b), key(c), negate_product, negate_addend);
+        Ok(self
+            .lookup(k, |bd| {
+                let dst = bd.reg();
+                (
+                    Instr::MulAdd {
+                        dst,
+                        a,
+                        b,
+                        c,
+                        negate_product,
+                        negate_addend,
+                    },
                     Operand::Reg(dst),
                     Operand::Reg(dst),
                 )

@@ -17,6 +17,7 @@
 //! | `sin u` and `cos u` both needed | one `u.sin_cos()` for all outputs           |
 //! | `tan u` with `sin u`, `cos u`   | `s/c` from that `sin_cos`                   |
 //! | constant subexpressions         | folded to one f64 constant                  |
+//! | `a*b + c` (`a*b` used once)     | `mul_add(a, b, c)` (see [`super::fuse`])    |
 //!
 //! Identical instructions are value-numbered (one register), so partial products such as
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
@@ -25,6 +26,7 @@ use crate::algebra::expr::{Arena, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
+use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Reg, UnOp, defines};
 
 /// One output matrix of a [`Program`]: where each entry's value is, row-major.
@@ -87,7 +89,7 @@ impl Program {
         }
         let mut lower = InstructionSelection::new(arena, outputs);
         lower.run()?;
-        let outs = outputs
+        let outs: Vec<Output> = outputs
             .iter()
             .map(|m| Output {
                 rows: m.rows,
@@ -109,7 +111,10 @@ impl Program {
             })
             .collect();
         symbols.sort_by_key(|p| p.0);
-        Ok(compact(&lower.b.instrs, outs, &symbols))
+        // Dead instructions first, so that a product counts only its live readers.
+        let live = compact(&lower.b.instrs, outs, &symbols);
+        let fused = fuse_multiply_add(&live.instrs, &live.outputs);
+        Ok(compact(&fused, live.outputs, &symbols))
     }
 
     /// A program of the instructions `instrs` (in execution order, registers defined
@@ -323,6 +328,21 @@ fn compact(instrs: &[Instr], mut outputs: Vec<Output>, symbols: &[(SymbolId, Str
             Instr::Powi { dst, base, exp } if live[dst.0 as usize] => Instr::Powi {
                 base: map(base, &rename),
                 exp,
+                dst: fresh(dst, &mut rename),
+            },
+            Instr::MulAdd {
+                dst,
+                a,
+                b,
+                c,
+                negate_product,
+                negate_addend,
+            } if live[dst.0 as usize] => Instr::MulAdd {
+                a: map(a, &rename),
+                b: map(b, &rename),
+                c: map(c, &rename),
+                negate_product,
+                negate_addend,
                 dst: fresh(dst, &mut rename),
             },
             _ => continue,

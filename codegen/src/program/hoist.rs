@@ -162,6 +162,18 @@ impl Hoister {
                         hoisted[sin.index()] = Some(s);
                         hoisted[cos.index()] = Some(c);
                     }
+                    Instr::MulAdd {
+                        dst,
+                        a,
+                        b,
+                        c,
+                        negate_product,
+                        negate_addend,
+                    } => {
+                        let abc = [arg(a), arg(b), arg(c)];
+                        let v = self.cache.mul_add(abc, negate_product, negate_addend)?;
+                        hoisted[dst.index()] = Some(v);
+                    }
                 }
                 continue;
             }
@@ -226,6 +238,21 @@ fn map_operands(i: Instr, mut f: impl FnMut(Operand) -> Operand) -> Instr {
             sin,
             cos,
             arg: f(arg),
+        },
+        Instr::MulAdd {
+            dst,
+            a,
+            b,
+            c,
+            negate_product,
+            negate_addend,
+        } => Instr::MulAdd {
+            dst,
+            a: f(a),
+            b: f(b),
+            c: f(c),
+            negate_product,
+            negate_addend,
         },
     }
 }

@@ -95,6 +95,22 @@ pub enum Instr {
         /// Integer exponent.
         exp: i32,
     },
+    /// dst = (+-a) b + (+-c) as one `mul_add` (rounded once where the target fuses, see
+    /// `mechanism_math::mul_add`): a product used by nothing but one sum or difference.
+    MulAdd {
+        /// Destination register.
+        dst: Reg,
+        /// First factor.
+        a: Operand,
+        /// Second factor.
+        b: Operand,
+        /// Addend.
+        c: Operand,
+        /// The product is subtracted: dst = c - a b.
+        negate_product: bool,
+        /// The addend is subtracted: dst = a b - c.
+        negate_addend: bool,
+    },
     /// (sin, cos) = (sin arg, cos arg), computed together.
     SinCos {
         /// Register receiving sin arg.
@@ -116,6 +132,11 @@ impl Instr {
                 f(lhs);
                 f(rhs);
             }
+            Instr::MulAdd { a, b, c, .. } => {
+                f(a);
+                f(b);
+                f(c);
+            }
         }
     }
 
@@ -129,6 +150,10 @@ impl Instr {
                 ..
             } => c.adds = 1,
             Instr::Binary { op: BinOp::Mul, .. } => c.muls = 1,
+            Instr::MulAdd { .. } => {
+                c.muls = 1;
+                c.adds = 1;
+            }
             Instr::Binary { op: BinOp::Div, .. } => c.divs = 1,
             _ => c.calls = 1,
         }
@@ -138,7 +163,8 @@ impl Instr {
 
 /// Operation counts: what the emitted code executes, one per instruction.
 ///
-/// `adds` counts additions, subtractions and negations; `muls` multiplications; `divs`
+/// `adds` counts additions, subtractions and negations; `muls` multiplications (a
+/// `mul_add` counts as one multiplication and one addition); `divs`
 /// divisions; `calls` the calls `sin_cos`, `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt`, `abs`,
 /// `atan2`, `powi`, `powf` (each 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -195,9 +221,10 @@ impl std::fmt::Display for OpCounts {
 /// The registers an instruction defines.
 pub(crate) fn defines(i: &Instr) -> [Option<Reg>; 2] {
     match *i {
-        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
-            [Some(dst), None]
-        }
+        Instr::Unary { dst, .. }
+        | Instr::Binary { dst, .. }
+        | Instr::Powi { dst, .. }
+        | Instr::MulAdd { dst, .. } => [Some(dst), None],
         Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
     }
 }

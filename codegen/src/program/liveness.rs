@@ -5,17 +5,7 @@
 //! block returns exactly the values it defines that are read after it.
 
 use crate::program::cse::Program;
-use crate::program::instructions::{Instr, Operand, Reg};
-
-/// The registers an instruction defines (two for a sin/cos pair).
-pub(crate) fn defs(i: &Instr) -> [Option<Reg>; 2] {
-    match *i {
-        Instr::Unary { dst, .. } | Instr::Binary { dst, .. } | Instr::Powi { dst, .. } => {
-            [Some(dst), None]
-        }
-        Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
-    }
-}
+use crate::program::instructions::{Operand, Reg, defines as defs};
 
 /// `last[r]`: the index of the last instruction reading register r; n (the instruction
 /// count) when the outputs or the returned operand `ret` read it; `None` when nothing does.

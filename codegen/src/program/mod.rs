@@ -12,6 +12,7 @@
 
 pub(crate) mod builder;
 pub(crate) mod cse;
+pub(crate) mod fuse;
 pub(crate) mod hoist;
 pub(crate) mod instructions;
 pub(crate) mod liveness;

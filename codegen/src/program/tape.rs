@@ -10,7 +10,7 @@ use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::error::{Error, Result};
 use crate::program::cse::Program;
 use crate::program::instructions::{BinOp, Instr, Operand, UnOp};
-use mechanism_math::sin_cos;
+use mechanism_math::{mul_add, sin_cos};
 
 /// One tape operation; operands and destinations are register-file slots.
 #[derive(Clone, Copy, Debug)]
@@ -31,6 +31,8 @@ enum Op {
     Abs(u32, u32),
     Powi(u32, i32, u32),
     SinCos(u32, u32, u32),
+    /// dst = (+-a) b + (+-c): (a, b, c, dst, negate product, negate addend).
+    MulAdd(u32, u32, u32, u32, bool, bool),
 }
 
 /// A compiled [`Program`]: `eval` writes every output entry (each output matrix row-major,
@@ -126,6 +128,21 @@ impl Tape {
                 }
                 Instr::Powi { dst, base, exp } => Op::Powi(slot(base), exp, d(dst)),
                 Instr::SinCos { sin, cos, arg } => Op::SinCos(slot(arg), d(sin), d(cos)),
+                Instr::MulAdd {
+                    dst,
+                    a,
+                    b,
+                    c,
+                    negate_product,
+                    negate_addend,
+                } => Op::MulAdd(
+                    slot(a),
+                    slot(b),
+                    slot(c),
+                    d(dst),
+                    negate_product,
+                    negate_addend,
+                ),
             })
             .collect();
         let mut regs = vec![0.0; base as usize + program.registers()];
@@ -224,6 +241,12 @@ impl Tape {
                     let (x, y) = sin_cos(r[a as usize]);
                     r[s as usize] = x;
                     r[c as usize] = y;
+                }
+                Op::MulAdd(a, b, c, t, negate_product, negate_addend) => {
+                    let (x, z) = (r[a as usize], r[c as usize]);
+                    let x = if negate_product { -x } else { x };
+                    let z = if negate_addend { -z } else { z };
+                    r[t as usize] = mul_add(x, r[b as usize], z);
                 }
             }
         }

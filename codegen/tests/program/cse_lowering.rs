@@ -72,7 +72,7 @@ lowering! {
     symbolic_power_is_powf: |s| s.a.pow(s.x, s.y).unwrap() => "x.powf(y)", [0, 0, 0, 1];
     difference_subtracts: |s| s.a.sub(s.x, s.y) => "x - y", [1, 0, 0, 0];
     scaled_difference: |s| { let two = s.a.int(2); let ty = s.a.mul2(two, s.y); s.a.sub(s.x, ty) }
-        => "let x0: f64 = 2.0_f64 * y; x - x0", [1, 1, 0, 0];
+        => "x - 2.0_f64 * y", [1, 1, 0, 0];
     negative_product_is_negation: |s| { let p = s.a.mul2(s.x, s.y); s.a.neg(p) }
         => "let x0: f64 = x * y; -x0", [1, 1, 0, 0];
     all_negative_sum: |s| { let t = s.a.add2(s.x, s.y); s.a.neg(t) }
@@ -120,5 +120,36 @@ lowering! {
         let x2 = s.a.powi(s.x, 2).unwrap();
         let x3 = s.a.powi(s.x, 3).unwrap();
         s.a.add2(x2, x3)
-    } => "let x0: f64 = x * x; let x1: f64 = x0 * x; x0 + x1", [1, 2, 0, 0];
+    } => "let x0: f64 = x * x; x0 * x + x0", [1, 2, 0, 0];
+}
+
+/// With a math module, a product used by one sum alone is one `mul_add` call (fused where
+/// the target has the instruction); its sign moves onto an operand.
+#[test]
+fn fused_multiply_add_calls_the_math_module() {
+    let mut s = xyz();
+    let xy = s.a.mul2(s.x, s.y);
+    let sum = s.a.add2(xy, s.z);
+    let difference = s.a.sub(s.z, xy);
+    for (e, want) in [
+        (sum, "m::mul_add(x,y,z)"),
+        (difference, "m::mul_add(-x,y,z)"),
+    ] {
+        let p = Program::new(&s.a, &[&Matrix::column(vec![e])]).unwrap();
+        let mut b = EmitBindings::new();
+        b.set_math(quote::quote!(m));
+        for (sym, name) in p.symbols() {
+            let id = format_ident!("{}", name);
+            b.bind(*sym, quote::quote!(#id));
+        }
+        let body = emit_body(&p, &b, &[OutputTarget::Return]).unwrap();
+        let text: String = body
+            .tokens
+            .to_string()
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect();
+        assert_eq!(text, want);
+        assert_eq!((body.counts.adds, body.counts.muls), (1, 1));
+    }
 }
