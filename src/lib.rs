@@ -65,7 +65,7 @@ pub use crate::algorithms::stabilization::{Projector, Stabilization};
 #[cfg(feature = "std")]
 pub use crate::error::Error;
 #[cfg(feature = "std")]
-pub use crate::integrators::{IntegratorOptions, Method};
+pub use crate::integrators::{IntegratorOptions, Method, StepController};
 #[cfg(feature = "std")]
 pub use crate::simulation::events::{Event, EventAction, EventFn, EventHit};
 #[cfg(feature = "std")]

@@ -51,6 +51,31 @@ pub enum Method {
     },
 }
 
+/// How the adaptive methods choose the next step after an accepted one.
+///
+/// With err_n the scaled error norm of step n (accepted when <= 1), h_n its size and k = 1/8
+/// for DOP853, 1/5 for DOPRI5:
+///
+/// ```text
+/// Pi:          h_new = 0.9 h_n err_n^-(k - 0.2 beta) err_(n-1)^beta      (beta = 0.04)
+/// Predictive:  the smaller of that and 0.9 h_n (h_n / h_(n-1)) (err_(n-1) / err_n^2)^k
+/// ```
+///
+/// The predictive term (Gustafsson, BIT 34, 1994; Hairer & Wanner, Solving ODEs II,
+/// sec. IV.8) extrapolates the growth of the error constant err / h^(1/k) from the last two
+/// steps. Where the solution's high derivatives rise steeply (the mechanisms' dead centres,
+/// where err / h^8 grows 3-10x from one step to the next) it cuts most rejected steps; the
+/// accepted steps then carry errors closer to the tolerance, so at one tolerance the global
+/// error is somewhat larger (BENCHMARKS.md measures both).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StepController {
+    /// Hairer's PI controller (the default).
+    #[default]
+    Pi,
+    /// The PI step, capped by Gustafsson's predictive step.
+    Predictive,
+}
+
 /// Step-size and tolerance options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IntegratorOptions {
@@ -68,6 +93,8 @@ pub struct IntegratorOptions {
     pub h_max: Option<f64>,
     /// Accepted-step limit before [`Error::TooManySteps`].
     pub max_steps: usize,
+    /// The step-size controller of the adaptive methods.
+    pub controller: StepController,
 }
 
 impl Default for IntegratorOptions {
@@ -80,6 +107,7 @@ impl Default for IntegratorOptions {
             h_min: 1e-14,
             h_max: None,
             max_steps: 10_000_000,
+            controller: StepController::Pi,
         }
     }
 }

@@ -20,7 +20,7 @@ use crate::algorithms::mobility::mobility;
 use crate::algorithms::stabilization::{Projector, Stabilization};
 use crate::error::Error;
 use crate::integrators::{
-    Dense, Dop853, Dopri5, Hht, Method, OdeRhs, Rk4, Tolerance, initial_step,
+    Dense, Dop853, Dopri5, Hht, Method, OdeRhs, Rk4, StepController, Tolerance, initial_step,
 };
 use crate::simulation::events::{EventAction, EventHit, EventLog};
 use crate::simulation::options::{
@@ -345,6 +345,10 @@ impl<'a> Simulator<'a> {
                         rk.finish(&mut rhs, t, &state.y_new, h)?;
                         let mut fac =
                             0.9 * err.max(1e-10).powf(-expo) * clock.errold.powf(rk.pi_beta());
+                        if io.controller == StepController::Predictive {
+                            let k = expo + 0.2 * rk.pi_beta();
+                            fac = fac.min(clock.predictive(h, err, k));
+                        }
                         fac = fac.clamp(0.2, rk.max_growth());
                         if clock.rejected_last {
                             fac = fac.min(1.0);

@@ -53,6 +53,10 @@ pub(crate) struct StepControl {
     pub(crate) errold: f64,
     /// The last attempt was rejected (no growth on the next).
     pub(crate) rejected_last: bool,
+    /// Size and error norm of the last accepted step (the predictive controller's memory;
+    /// h_acc = 0 before the first).
+    pub(crate) h_acc: f64,
+    pub(crate) err_acc: f64,
     /// The end time or a stopping event was reached.
     pub(crate) finished: bool,
 }
@@ -66,8 +70,26 @@ impl StepControl {
             h_step: 0.0,
             errold: 1e-4,
             rejected_last: false,
+            h_acc: 0.0,
+            err_acc: 1e-2,
             finished: false,
         }
+    }
+
+    /// Gustafsson's predictive step factor h_new / h after accepting a step of size `h`
+    /// with error norm `err` (exponent `k`): 0.9 (h / h_acc) (err_acc / err^2)^k, or
+    /// infinite for the first step; then remembers h and err (see
+    /// [`crate::StepController`]).
+    pub(crate) fn predictive(&mut self, h: f64, err: f64, k: f64) -> f64 {
+        let err = err.max(1e-10);
+        let fac = if self.h_acc > 0.0 {
+            0.9 * (h / self.h_acc) * (self.err_acc / (err * err)).powf(k)
+        } else {
+            f64::INFINITY
+        };
+        self.h_acc = h;
+        self.err_acc = err.max(1e-2);
+        fac
     }
 }
 
