@@ -143,29 +143,32 @@ impl Dynamics {
         }
         system.evaluate(t, q, qd, &mut self.eval);
         let e = &self.eval;
-        // One pass that the compiler can vectorise (no early exit).
-        let finite_matrix = e
-            .mass
-            .as_slice()
-            .iter()
-            .chain(e.phi_q.as_slice())
-            .fold(true, |ok, v| ok & v.is_finite());
-        for i in 0..n {
-            self.sol[i] = e.forces[i] - e.coriolis[i] - e.gravity[i];
+        // Passes that the compiler can vectorise (no early exit).
+        let all_finite = |v: &[f64]| v.iter().fold(true, |ok, x| ok & x.is_finite());
+        let finite_matrix = all_finite(e.mass.as_slice()) & all_finite(e.phi_q.as_slice());
+        let (load, rest) = self.sol.split_at_mut(n);
+        let (f, c, g) = (
+            e.forces.as_slice(),
+            e.coriolis.as_slice(),
+            e.gravity.as_slice(),
+        );
+        for (((s, f), c), g) in load.iter_mut().zip(f).zip(c).zip(g) {
+            *s = f - c - g;
         }
+        rest[..m].copy_from_slice(e.gamma.as_slice());
         for r in 0..m {
-            let mut g = e.gamma[r];
             if let Some((alpha, beta)) = self.baumgarte {
+                let mut g = e.gamma[r];
                 let v = e.phi_t[r]
                     + qd.iter()
                         .enumerate()
                         .map(|(j, w)| e.phi_q[(r, j)] * w)
                         .sum::<f64>();
                 g -= 2.0 * alpha * v + beta * beta * e.phi[r];
+                self.sol[n + r] = g;
             }
-            self.sol[n + r] = g;
         }
-        if !finite_matrix || !self.sol.iter().fold(true, |ok, v| ok & v.is_finite()) {
+        if !(finite_matrix & all_finite(&self.sol)) {
             return Err(self.non_finite(
                 "the equations of motion (M, C q', g, tau, Phi_q or gamma)",
                 t,
