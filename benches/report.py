@@ -1,28 +1,44 @@
-"""Collects the criterion medians (target/criterion/*/*/new/estimates.json), the whole-simulation
-tables (target/bench-results/simulation.md/json) and the baselines (target/bench-results/
-baselines.json) into the markdown tables of BENCHMARKS.md. Standard library only.
+"""The tables of BENCHMARKS.md from one run of `benches/run.sh`: target/bench-results/run.json
+(the interleaved rounds, profiles, controller study), the criterion estimates
+(target/criterion), simulation.md/json, baselines.json (SymPy derivation), mujoco.json,
+a02.md and compile_time.md. Standard library only.
 
-    python3 benches/report.py > target/bench-results/report.md
+    python3 benches/report.py           # print every generated block
+    python3 benches/report.py --write   # rewrite the blocks of BENCHMARKS.md in place
+
+A block is the text between `<!-- generated: NAME -->` and `<!-- end: NAME -->`; nothing
+else in the file is touched. A block whose source is missing says so instead of keeping
+old numbers.
 """
 
 import json
 import os
-import platform
-import subprocess
+import re
+import statistics
+import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CRIT = os.path.join(ROOT, "target", "criterion")
 RES = os.path.join(ROOT, "target", "bench-results")
 MODELS = ["seed", "four_bar", "rssr", "chain8", "chain16", "chain32"]
-# The issue's SymPy-C all-five times (ns), used when the baseline script has not run.
-ISSUE_C = {"seed": 192.0, "four_bar": 371.0, "chain8": 1400.0}
+# Targets of issue 17 (evaluation against SymPy's strict C) and issue 6 (seed simulation).
+TARGET_PORTABLE, TARGET_NATIVE, TARGET_SCIPY = 0.7, 0.5, 100.0
 
 
-def median(group, bench):
+def load(name):
+    p = os.path.join(RES, name)
+    if not os.path.exists(p):
+        return None
+    with open(p) as f:
+        return json.load(f) if name.endswith(".json") else f.read()
+
+
+def crit(group, bench):
     p = os.path.join(CRIT, group, bench, "new", "estimates.json")
     if not os.path.exists(p):
         return None
-    return json.load(open(p))["median"]["point_estimate"]
+    with open(p) as f:
+        return json.load(f)["median"]["point_estimate"]
 
 
 def fmt(ns):
@@ -37,123 +53,310 @@ def fmt(ns):
     return f"{ns / 1e9:.2f} s"
 
 
+def spread(s, scale=1.0, unit=fmt):
+    """`median [min-max]` of a round summary."""
+    if not s:
+        return "-"
+    return f"{unit(s['median'] * scale)} [{unit(s['min'] * scale)}-{unit(s['max'] * scale)}]"
+
+
 def ratio(a, b):
-    return "-" if a is None or b is None or b == 0 else f"{a / b:.1f}x"
+    """Per-round ratios a_r / b_r of two subjects timed in the same rounds:
+    {median, min, max}."""
+    if not a or not b:
+        return None
+    r = [x / y for x, y in zip(a["rounds"], b["rounds"])]
+    return dict(median=statistics.median(r), min=min(r), max=max(r))
 
 
-def machine():
-    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
-    nproc = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip()
-    load = open("/proc/loadavg").read().split()[:3]
-    return f"{cpu}, {nproc} cores, {platform.system()} {platform.release()}; load average at report time {' '.join(load)}"
+def fr(r, digits=2):
+    if r is None:
+        return "-"
+    return f"{r['median']:.{digits}f} [{r['min']:.{digits}f}-{r['max']:.{digits}f}]"
+
+
+def table(header, rows):
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(out)
+
+
+class Run:
+    def __init__(self, run):
+        self.run = run
+        self.r = run.get("rounds", {})
+
+    def get(self, table_, subject, model):
+        return self.r.get(f"{table_}|{subject}|{model}")
+
+    def block_run(self):
+        run = self.run
+        m = run["machine"]
+        loads = ", ".join(run.get("round_loads", []))
+        dur = run.get("duration_s")
+        return "\n".join([
+            f"One run of `benches/run.sh` started {run['started']} at commit {run['commit'][:12]}"
+            + (f", {dur / 60:.0f} minutes in all" if dur else "") + ".",
+            f"Machine: {m['cpu']}, {m['nproc']} cores ({'AVX-512, ' if m['avx512'] else ''}{'FMA' if m['fma'] else 'no FMA'}), "
+            f"{m['kernel']}; {m['rustc']}; {m['gcc']}; Python {m['python']}. Our portable build is rustc's default "
+            "x86-64 target (SSE2, no FMA); native = `-C target-cpu=native`; SymPy's C is always gcc -O3 -march=native.",
+            f"Load average (1, 5, 15 min) at the start {run['load_start']}, at the start of each round: {loads}; "
+            f"at the end {run.get('load_end', '-')}. The machine is shared with other jobs: read the spreads.",
+            "Skipped steps: " + (", ".join(run.get("skipped", [])) or "none") + ".",
+        ])
+
+    def block_evaluation(self):
+        rows, five = [], []
+        met_p = met_n = 0
+        for m in MODELS:
+            ours_p, ours_n = self.get("eval", "ours portable evaluate", m), self.get("eval", "ours native evaluate", m)
+            st, st10, pr = (self.get("eval", f"C {v}", m) for v in ("strict", "strict10", "per_routine"))
+            rp, rn = ratio(ours_p, st), ratio(ours_n, st)
+            met_p += bool(rp and rp["median"] <= TARGET_PORTABLE)
+            met_n += bool(rn and rn["median"] <= TARGET_NATIVE)
+            rows.append([m, spread(ours_p), spread(ours_n), spread(st), spread(st10), spread(pr), fr(rp), fr(rn),
+                         fr(ratio(ours_p, st10)), fr(ratio(ours_n, st10)), fr(ratio(ours_p, pr)), fr(ratio(ours_n, pr))])
+            f_p, f_n = self.get("eval", "ours portable five", m), self.get("eval", "ours native five", m)
+            five.append([m, spread(f_p), spread(f_n), spread(pr), fr(ratio(f_p, pr)), fr(ratio(f_n, pr))])
+        c = self.run.get("c", {})
+        ops = table(["model", "C strict: ops, libm calls", "C strict10", "C per routine"],
+                    [[m] + [f"{c[m][v]['ops']}, {c[m][v]['libm']}" for v in ("strict", "strict10", "per_routine")]
+                     for m in MODELS if m in c])
+        return "\n\n".join([
+            "ns per call, median [min-max] over the rounds; ratios are ours / C per round, median [min-max]. "
+            "`evaluate_into` computes all ten outputs (M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi); *strict* C "
+            "computes five (M, C q', g, Phi, Phi_q), *strict10* the same ten as ours.",
+            table(["model", "ours, portable", "ours, native", "C strict (5)", "C strict10", "C per routine (5)",
+                   "/ strict, portable", "/ strict, native", "/ strict10, portable", "/ strict10, native",
+                   "/ per routine, portable", "/ per routine, native"], rows),
+            f"Targets (issue 17): ours / strict C <= {TARGET_PORTABLE} with the portable build: met on {met_p} of 6 models; "
+            f"<= {TARGET_NATIVE} native: met on {met_n} of 6.",
+            "The five functions `mass_matrix`, `coriolis_forces`, `gravity`, `constraints`, `constraint_jacobian`, "
+            "each called through a pointer (nothing shared between them), against SymPy's per-routine C:",
+            table(["model", "ours, portable", "ours, native", "C per routine", "/ per routine, portable",
+                   "/ per routine, native"], five),
+            "Operation counts and libm calls of the C:",
+            ops,
+        ])
+
+    def block_solve(self):
+        rows = []
+        for m in MODELS:
+            s = self.get("solve", "ours portable", m)
+            e = self.get("eval", "ours portable evaluate", m)
+            rows.append([m, spread(s), spread(e), fr(ratio(s, e), 1)])
+        return "\n\n".join([
+            "`Dynamics::solve` through `Compiled` (evaluation, copy into the run-time buffers, checks, the augmented "
+            "solve), ns per call, median [min-max] over the rounds:",
+            table(["model", "solve", "evaluate_into alone", "solve / evaluate_into"], rows),
+        ])
+
+    def block_simulation(self):
+        ref = self.run.get("reference")
+        st = self.run.get("simulation_stats", {})
+        ours = self.get("simulate", "ours portable", "seed")
+        rows = []
+        for name in ("ours portable", "ours native", "scipy strict", "scipy defaults"):
+            s, x = self.get("simulate", name, "seed"), st.get(name, {})
+            if not s:
+                continue
+            err = x.get("error")
+            if err is None and ref and x.get("q_end"):
+                err = max(abs(a - b) for a, b in zip(x["q_end"], ref))
+            rhs = x.get("rhs")
+            rows.append([name, spread(s, 1e9), x.get("steps", "-"), x.get("rejected", "-"), rhs or "-",
+                         f"{s['median'] / rhs * 1e9:.0f} ns" if rhs else "-",
+                         f"{err:.1e}" if err is not None else "-", f"{x['max_phi']:.1e}" if "max_phi" in x else "-",
+                         fr(ratio(s, ours), 0) if name.startswith("scipy") else "-"])
+        scipy = ratio(self.get("simulate", "scipy strict", "seed"), ours)
+        met = scipy and scipy["median"] >= TARGET_SCIPY
+        e = self.get("eval", "ours portable evaluate", "seed")
+        s = self.get("solve", "ours portable", "seed")
+        rhs = st.get("ours portable", {}).get("rhs")
+        per_rhs = ours["median"] * 1e9 / rhs if ours and rhs else None
+        lines = [
+            "Seed crank-slider, 10 s, DOP853 at rtol = atol = 1e-10, projection, 10 samples per second. Wall time per "
+            "run, median [min-max] over the rounds (each round: one untimed run, the median of three timed runs); "
+            "error = max |q(10 s) - q_ref(10 s)| with q_ref from our DOP853 at 1e-13; scipy's step count excludes "
+            "rejected steps (solve_ivp does not report them).",
+            table(["run", "wall", "steps", "rejected", "RHS", "wall / RHS", "error at 10 s", "max abs(Phi)",
+                   "scipy / ours (per round)"], rows),
+            f"Target (issue 17): scipy strict / ours >= {TARGET_SCIPY:.0f}: "
+            + (f"{scipy['median']:.0f} (range {scipy['min']:.0f}-{scipy['max']:.0f}), {'met' if met else 'missed'}." if scipy else "-"),
+        ]
+        if per_rhs and e:
+            lines.append(f"Per right-hand side: {per_rhs:.0f} ns of wall time per RHS against {e['median']:.1f} ns "
+                         f"for one `evaluate_into` ({per_rhs / e['median']:.1f}x) and {fmt(s['median']) if s else '-'} "
+                         "for one `Dynamics::solve` (evaluation + augmented solve); the rest is the integrator, the "
+                         "projection after every step and the output.")
+        return "\n\n".join(lines)
+
+    def block_changes(self):
+        out = []
+        profiles = self.run.get("profiles", {})
+        for ch in self.run.get("changes", []):
+            b, a = self._label(ch["before"]), self._label(ch["after"])
+            rows = []
+            for what in ch["measure"]:
+                builds = ["portable"] + (["native"] if ch.get("native") else [])
+                for build in builds:
+                    if what == "eval":
+                        for m in MODELS:
+                            rows.append(self._row(f"{m} evaluate ({build})", "eval", b, a, build, m))
+                    elif what == "solve" and build == "portable":
+                        for m in MODELS:
+                            rows.append(self._row(f"{m} solve", "solve", b, a, "portable", m))
+                    elif what == "simulate":
+                        rows.append(self._row(f"seed 10 s DOP853 1e-10 ({build})", "simulate", b, a, build, "seed",
+                                              scale=1e9))
+            prof = profiles.get(ch["before"])
+            ptxt = "; ".join(f"{p} {v:.0f} %" for p, v in prof["parts"] if v >= 1.0) if prof and prof.get("parts") else "no profile (perf unavailable)"
+            out.append("\n\n".join([
+                f"#### {ch['name']} ({ch['before']} -> {ch['after']})",
+                f"Why: {ch['why']} Profile of the seed simulation at {ch['before']} (perf, self time; load {prof['load'] if prof else '-'}): {ptxt}.",
+                table(["measurement", f"before ({ch['before']})", f"after ({ch['after']})", "after / before (per round)"],
+                      [r for r in rows if r]),
+            ]))
+        now = profiles.get("now")
+        if now and now.get("parts"):
+            out.append("Profile of the seed simulation now (perf, self time): "
+                       + "; ".join(f"{p} {v:.0f} %" for p, v in now["parts"] if v >= 1.0) + ".")
+        return "\n\n".join(out) if out else "No changes listed in benches/changes.toml."
+
+    def _label(self, rev):
+        for full, info in self.run.get("revisions", {}).items():
+            if info["rev"] == rev or full.startswith(rev):
+                return full
+        return rev
+
+    def _row(self, label, table_, before, after, build, model, scale=1.0):
+        def subject(full):
+            prefix = self.run.get("revisions", {}).get(full, {}).get("prefix", f"rev {full[:12]}")
+            return f"{prefix} {build}" + (" evaluate" if table_ == "eval" else "")
+        x, y = self.get(table_, subject(before), model), self.get(table_, subject(after), model)
+        return [label, spread(x, scale), spread(y, scale), fr(ratio(y, x))]
+
+    def block_controllers(self):
+        c = self.run.get("controllers")
+        if not c:
+            return "Not measured in this run."
+        rows = []
+        for m in ("seed", "four_bar"):
+            for tol in ("1e-08", "1e-09", "1e-10", "1e-11"):
+                pi, pr = c.get(f"{m}|{tol}|pi"), c.get(f"{m}|{tol}|predictive")
+                if not pi or not pr:
+                    continue
+                rows.append([m, tol, pi["steps"], pi["rejected"], pi["rhs"], f"{pi['error']:.2e}", pr["steps"],
+                             pr["rejected"], pr["rhs"], f"{pr['error']:.2e}", f"{pr['rhs'] / pi['rhs']:.2f}",
+                             f"{pr['error'] / pi['error']:.2f}"])
+        return table(["model", "rtol = atol", "PI: steps", "rejected", "RHS", "error at 10 s", "predictive: steps",
+                      "rejected", "RHS", "error at 10 s", "RHS ratio", "error ratio"], rows)
+
+
+def block_criterion():
+    """Each generated function, and the three routes (compiled, interpreter, AD) through the
+    run-time interface: criterion medians."""
+    fns = ["fn_mass_matrix", "fn_coriolis_forces", "fn_gravity", "fn_constraints", "fn_constraint_jacobian",
+           "fn_constraint_gamma", "evaluate_static"]
+    if crit("seed", "evaluate_static") is None:
+        return "Criterion was skipped in this run."
+    t1 = table(["model"] + [f.replace("fn_", "") for f in fns], [[m] + [fmt(crit(m, f)) for f in fns] for m in MODELS])
+    rows = []
+    for m in MODELS:
+        cells = [crit(m, f"evaluate_{r}") for r in ("compiled", "interpreted", "autodiff")]
+        cells += [crit(m, f"solve_{r}") for r in ("compiled", "interpreted", "autodiff")]
+        cells += [crit(m, f"step_rk4_{r}") for r in ("compiled", "interpreted", "autodiff")]
+        cells.append(crit(m, "step_dop853_compiled"))
+        rows.append([m] + [fmt(x) for x in cells])
+    t2 = table(["model", "evaluate: compiled", "interpreter", "AD", "solve: compiled", "interpreter", "AD",
+                "rk4 step: compiled", "interpreter", "AD", "dop853 step: compiled"], rows)
+    return "\n\n".join(["Each generated method (criterion median; `evaluate_static` returns the struct by value):", t1,
+                        "The three routes through the run-time `System` interface (criterion medians; one integrator "
+                        "step with projection, restarted when the 10 000 s run ends):", t2])
+
+
+def block_derivation():
+    base = load("baselines.json") or {}
+    der = base.get("derivation", {})
+    if crit("derive_closed_chain", "macro_path/4") is None:
+        return "The derivation benchmark was skipped in this run."
+    rows = []
+    for n in [4, 8, 16, 32, 64]:
+        g = "derive_closed_chain"
+        a, b, mp = crit(g, f"model/{n}"), crit(g, f"from_source/{n}"), crit(g, f"macro_path/{n}")
+        d = der.get(str(n), {})
+        lm, di = d.get("lagranges_cpu_s"), d.get("direct_cpu_s")
+        rows.append([n, fmt(a), fmt(b), fmt(mp), fmt(lm * 1e9) if lm else "-", fmt(di * 1e9) if di else "-",
+                     f"{lm * 1e9 / mp:.0f}x" if lm and mp else "-", f"{di * 1e9 / mp:.0f}x" if di and mp else "-",
+                     d.get("lagranges_load") or d.get("direct_load") or "-"])
+    return table(["N", "model API + CSE", "from source + CSE", "macro path (12 bodies emitted)",
+                  "SymPy LagrangesMethod (CPU)", "SymPy direct (CPU)", "LM / macro path", "direct / macro path",
+                  "load during SymPy"], rows)
+
+
+def block_mujoco():
+    mj = load("mujoco.json")
+    if not mj:
+        return "MuJoCo was skipped or not installable in this run."
+    simj = load("simulation.json") or {}
+    rows = []
+    for name, r in mj.get("runs", {}).items():
+        st = r.get("settings", {})
+        desc = ", ".join(f"{k} {v}" for k, v in st.items() if k in ("integrator", "timestep", "solref"))
+        rows.append([f"MuJoCo {name} ({desc or 'defaults'})", f"{r['sim_per_wall']:.0f}", f"{r['th1_error_rad']:.1e}",
+                     f"{r['max_loop_violation_m']:.1e}"])
+    fb = simj.get("four_bar dop853")
+    if fb:
+        rows.append([f"ours, DOP853 at {fb['tol']:g}", f"{fb['sim_per_wall']:.0f}", f"{fb['error']:.1e}",
+                     f"{simj.get('phi four-bar projection', {}).get('max_phi', float('nan')):.1e} (max abs(Phi))"])
+    return f"MuJoCo {mj.get('mujoco_version', '?')}.\n\n" + table(
+        ["run", "simulated s per wall s", "crank angle error at 10 s (rad)", "max loop violation (m)"], rows)
+
+
+def block_file(name, missing):
+    text = load(name)
+    return text.strip() if text else missing
+
+
+def blocks():
+    run = load("run.json")
+    out = {}
+    if run:
+        r = Run(run)
+        out.update({"run": r.block_run(), "evaluation": r.block_evaluation(), "solve": r.block_solve(),
+                    "simulation": r.block_simulation(), "changes": r.block_changes(),
+                    "controllers": r.block_controllers()})
+    else:
+        for k in ("run", "evaluation", "solve", "simulation", "changes", "controllers"):
+            out[k] = "No run.json: run `benches/run.sh`."
+    out["criterion"] = block_criterion()
+    out["derivation"] = block_derivation()
+    out["whole-simulations"] = block_file("simulation.md", "The simulation benchmark was skipped in this run.")
+    out["mujoco"] = block_mujoco()
+    out["a02"] = block_file("a02.md", "A02 was skipped in this run.")
+    out["compile-time"] = block_file("compile_time.md", "The compile-time measurement was skipped in this run.")
+    return out
 
 
 def main():
-    base = json.load(open(os.path.join(RES, "baselines.json"))) if os.path.exists(os.path.join(RES, "baselines.json")) else {}
-    cc = base.get("c_code", {})
-    print(f"Machine: {machine()}\n")
+    b = blocks()
+    if "--write" not in sys.argv:
+        for k, v in b.items():
+            print(f"<!-- generated: {k} -->\n{v}\n<!-- end: {k} -->\n")
+        return
+    path = os.path.join(ROOT, "BENCHMARKS.md")
+    with open(path) as f:
+        text = f.read()
+    for k, v in b.items():
+        pat = re.compile(rf"(<!-- generated: {re.escape(k)} -->\n).*?(\n<!-- end: {re.escape(k)} -->)", re.S)
+        if not pat.search(text):
+            print(f"report.py: BENCHMARKS.md has no block {k!r}", file=sys.stderr)
+            continue
+        text = pat.sub(lambda mm: mm.group(1) + v + mm.group(2), text)
+    with open(path, "w") as f:
+        f.write(text)
+    print(f"wrote {path}")
 
-    pr = base.get("c_code_per_routine", {})
-    print("### Combined evaluation of M, C q', g, Phi, Phi_q (median per call)\n")
-    print("SymPy-C two ways (see \"What is compared\"): *strict* = one C function after one joint `cse` of all five; "
-          "*per routine* = `sympy.utilities.codegen`'s one CSE'd routine per matrix, called in turn. Ratios are ours / C "
-          "(target <= 0.25); like for like: `evaluate` vs strict, 5 separate fns vs per routine.\n")
-    print("| model | ours: `evaluate` (all 10 outputs) | ours: 5 separate fns | SymPy-C strict | evaluate / strict | SymPy-C per routine | evaluate / per routine | 5 fns / per routine | interpreter | autodiff (num-dual) | interp / ours | AD / ours |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for m in MODELS:
-        ev = median(m, "evaluate_static")
-        sep = median(m, "five_separate_static")
-        c = cc.get(m, {}).get("ns")
-        src = "" if c is not None else " (issue)"
-        if c is None:
-            c = ISSUE_C.get(m)
-        r = pr.get(m, {}).get("ns")
-        it, ad = median(m, "evaluate_interpreted"), median(m, "evaluate_autodiff")
-        ours_dyn = median(m, "evaluate_compiled")
-        q = lambda a, b: "-" if a is None or b is None else f"{a / b:.2f}"
-        print(f"| {m} | {fmt(ev)} | {fmt(sep)} | {fmt(c)}{src if c else ''} | {q(ev, c)} | {fmt(r)} | {q(ev, r)} | {q(sep, r)} | {fmt(it)} | {fmt(ad)} | {ratio(it, ours_dyn)} | {ratio(ad, ours_dyn)} |")
-    print("\n(interp / ours and AD / ours compare the three routes through the same run-time `System::evaluate` interface; ours there = "
-          "`Compiled<T>` adapter, which adds the copies into the caller's `Evaluation`.)\n")
-
-    print("### Each generated function (median per call)\n")
-    fns = ["fn_mass_matrix", "fn_coriolis_forces", "fn_gravity", "fn_constraints", "fn_constraint_jacobian", "fn_constraint_gamma", "evaluate_static"]
-    print("| model | " + " | ".join(f.replace("fn_", "") for f in fns) + " |")
-    print("|---|" + "---|" * len(fns))
-    for m in MODELS:
-        print(f"| {m} | " + " | ".join(fmt(median(m, f)) for f in fns) + " |")
-
-    print("\n### Augmented solve and one integrator step (median)\n")
-    print("| model | solve: ours | interp | AD | rk4 step (h = 1e-3, projection): ours | interp | AD | dop853 step (1e-10): ours |")
-    print("|---|---|---|---|---|---|---|---|")
-    for m in MODELS:
-        cells = [median(m, f"solve_{r}") for r in ("compiled", "interpreted", "autodiff")]
-        cells += [median(m, f"step_rk4_{r}") for r in ("compiled", "interpreted", "autodiff")]
-        cells.append(median(m, "step_dop853_compiled"))
-        print(f"| {m} | " + " | ".join(fmt(x) for x in cells) + " |")
-
-    print("\n### Derivation of the closed chain (median)\n")
-    der = base.get("derivation", {})
-    issue_lm = {4: 1.7, 8: 7.7, 16: 48, 32: 408}
-    issue_direct = {4: 1.0, 8: 2.7, 16: 14.8, 32: 142}
-    print("| N | model API + CSE | from source + CSE | macro path (all 12 bodies emitted) | SymPy LagrangesMethod (CPU) | SymPy direct (CPU) | LM / macro path | direct / macro path |")
-    print("|---|---|---|---|---|---|---|---|")
-    for n in [4, 8, 16, 32, 64]:
-        g = "derive_closed_chain"
-        a, b, mp = median(g, f"model/{n}"), median(g, f"from_source/{n}"), median(g, f"macro_path/{n}")
-        d = der.get(str(n), {})
-        # CPU time where recorded: SymPy is single-threaded, so on an idle machine it equals
-        # the wall time, and it is not inflated when the machine is shared.
-        lm = d.get("lagranges_cpu_s", d.get("lagranges_s"))
-        lm_src = "" if lm is not None else (" (issue)" if n in issue_lm else "")
-        lm = lm if lm is not None else issue_lm.get(n)
-        di = d.get("direct_cpu_s", d.get("direct_s"))
-        di_src = "" if di is not None else (" (issue)" if n in issue_direct else "")
-        di = di if di is not None else issue_direct.get(n)
-        print(f"| {n} | {fmt(a)} | {fmt(b)} | {fmt(mp)} | {fmt(lm * 1e9) if lm else '-'}{lm_src} | {fmt(di * 1e9) if di else '-'}{di_src} | "
-              f"{ratio(lm * 1e9 if lm else None, mp)} | {ratio(di * 1e9 if di else None, mp)} |")
-
-    sim = os.path.join(RES, "simulation.md")
-    if os.path.exists(sim):
-        print("\n## Whole simulations\n")
-        print(open(sim).read())
-    scipy = base.get("scipy", {})
-    simj = json.load(open(os.path.join(RES, "simulation.json"))) if os.path.exists(os.path.join(RES, "simulation.json")) else {}
-    ours = median("simulate_10s", "seed_dop853_1e-10")
-    if ours is not None:
-        ours_err = simj.get("seed dop853, rtol = atol = 1e-10", {}).get("error")
-        print("\n### Seed, 10 s, DOP853 at rtol = atol = 1e-10: ours against scipy\n")
-        print("| run | wall | ours faster by (target 1000x) | steps | RHS evals | us per RHS | error at 10 s | max abs(Phi) |")
-        print("|---|---|---|---|---|---|---|---|")
-        print(f"| ours (criterion median) | {fmt(ours)} | - | - | - | - | {ours_err:.1e} | - |")
-        for key, label in (("seed_dop853_1e-10", "scipy, lambdify(cse=True), preallocated KKT"),
-                           ("seed_dop853_1e-10_lambdify_default", "scipy, lambdify defaults, np.block per call")):
-            sc = scipy.get(key)
-            if sc:
-                err = f"{sc['error']:.1e}" if sc.get("error") is not None else "-"
-                print(f"| {label} | {sc['wall_s']:.3f} s | {sc['wall_s'] * 1e9 / ours:.0f}x | {sc['steps']} | {sc['rhs']} | "
-                      f"{sc.get('us_per_rhs', sc['wall_s'] * 1e6 / sc['rhs']):.1f} | {err} | {sc['max_phi']:.1e} |")
-        print(f"| scipy (issue) | 1.55 s | {1.55e9 / ours:.0f}x | - | - | - | - | - |")
-    for k in ("four_bar_dop853_1e-9", "four_bar_dop853_1e-8"):
-        t = median("simulate_10s", k)
-        if t is not None:
-            print(f"\nFour-bar 10 s, {k} (criterion; a looser tolerance than the 1e-7 rad table above needs): "
-                  f"{fmt(t)} = {10 / (t * 1e-9):.0f} simulated s per wall s.")
-
-    mj_path = os.path.join(RES, "mujoco.json")
-    if os.path.exists(mj_path):
-        mj = json.load(open(mj_path))
-        print(f"\n### Four-bar, 10 s: MuJoCo {mj.get('mujoco_version', '?')} against ours\n")
-        print("| run | simulated s per wall s | crank angle error at 10 s (rad) | max loop violation (m) |")
-        print("|---|---|---|---|")
-        for name, r in mj.get("runs", {}).items():
-            st = r.get("settings", {})
-            desc = ", ".join(f"{k} {v}" for k, v in st.items() if k in ("integrator", "timestep", "solref"))
-            print(f"| MuJoCo {name} ({desc or 'defaults'}) | {r['sim_per_wall']:.0f} (rollout: {r.get('sim_per_wall_rollout', float('nan')):.0f}) | "
-                  f"{r['th1_error_rad']:.1e} | {r['max_loop_violation_m']:.1e} |")
-        fb = simj.get("four_bar dop853")
-        if fb:
-            print(f"| ours, DOP853 at {fb['tol']:g} (projection; simulation.json) | {fb['sim_per_wall']:.0f} | {fb['error']:.1e} | "
-                  f"{simj.get('phi four-bar projection', {}).get('max_phi', float('nan')):.1e} (max abs(Phi)) |")
 
 if __name__ == "__main__":
     main()

@@ -1,28 +1,20 @@
-"""The peers' side of BENCHMARKS.md: SymPy derivation, SymPy-cse C code and scipy DOP853.
+"""The peers' side of BENCHMARKS.md: SymPy's derivation, the C code SymPy generates, and
+scipy's DOP853 on SymPy-lambdified equations.
 
-Run through `benches/baselines/run.sh` (it creates the venv). Models:
+Used by `benches/run.sh` (which creates the venv), or alone with that venv's python for the
+derivation timings (`--chains`, `--lagranges`). Models:
 - the seed crank-slider, the planar four-bar and the RSSR are read from the same `.mech`
   files `mechanism!` compiles (a small reader below: `^` is power, `der(x)` is x');
 - the closed N-bar chain is built as a SymPy user would (issue 2's definition), for the
   derivation timings, and read from `benches/mechanisms/closed_chain_N.mech` for the C code.
 
-Two variants of each peer (issue 6 asks for "SymPy's CSE'd C code" and "scipy's DOP853 with
-SymPy-lambdified equations"; both are routes a SymPy user takes, see VARIANTS):
-- C, strict (`c_code`): the five matrices in ONE function after ONE joint `sympy.cse`, so every
-  angle's sin/cos is computed once and gcc merges each pair into one `sincos` call; the
-  strongest SymPy-C there is.
-- C, per routine (`c_code_per_routine`): `sympy.utilities.codegen` with
-  `C99CodeGen(cse=True)`, one routine per matrix (each CSE'd on its own), called one after
-  another from a separate file; every routine computes its own sin/cos.
-- scipy, `seed_dop853_1e-10`: lambdify(cse=True), parameters substituted, KKT matrix in
-  preallocated arrays; `seed_dop853_1e-10_lambdify_default`: lambdify with its defaults (no
-  cse), one function per matrix, `np.block` per call.
-Every number is stored with the load average at the time (`load`, `*_load`) and, where the
-wall clock is distorted by a busy machine, with this thread's CPU time (`ns_cpu`, `cpu_s`,
-`*_cpu_s`); `ns` / `*_s` stay the wall-clock medians / times as before. `libm` holds the cost
-of one glibc sin / cos / sincos call here.
-
-Everything is written to target/bench-results/baselines.json (merged into earlier results).
+The C generators (`c_code`: one function after one joint `sympy.cse`; `c_code_per_routine`:
+`sympy.utilities.codegen`'s one routine per matrix) are built and timed by `c_peer.py`; the
+scipy problems (`seed_rhs_strict`: lambdify(cse=True) with a preallocated KKT matrix;
+`seed_rhs_default`: lambdify's defaults and `np.block` per call) are timed by
+`benches/rounds.py`. This file's own run writes the derivation times, with the load average
+and the process CPU time, to target/bench-results/baselines.json (merged into earlier
+results).
 """
 
 import argparse
@@ -31,7 +23,6 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -39,12 +30,7 @@ import sympy as sp
 from sympy.physics.mechanics import LagrangesMethod, dynamicsymbols
 
 VARIANTS = {
-    "c_code": "Strict SymPy-C: M, C q', g, Phi, Phi_q emitted by ccode as ONE C function after ONE joint sympy.cse of all five (each sin/cos once, gcc merges pairs into sincos), gcc -O3 -march=native.",
-    "c_code_per_routine": "Typical SymPy-C: sympy.utilities.codegen with C99CodeGen(cse=True) emits one C routine per matrix (M, C q', g, Phi, Phi_q), each CSE'd on its own, called one after another from a separate file, so each routine recomputes its own sin/cos; gcc -O3 -march=native.",
-    "scipy.seed_dop853_1e-10": "solve_ivp DOP853 (rtol = atol = 1e-10) on SymPy-lambdified equations with cse=True and the parameters substituted, the KKT matrix filled into preallocated arrays and solved with numpy.linalg.solve.",
-    "scipy.seed_dop853_1e-10_lambdify_default": "solve_ivp DOP853 (rtol = atol = 1e-10) on lambdify with its defaults (no cse), one function per matrix taking (q, q', p, t), the KKT matrix built with np.block on every call and solved with numpy.linalg.solve.",
     "derivation": "SymPy derivation of the closed N-bar chain: direct_s = differentiation and jacobians on plain symbols; lagranges_s = sympy.physics.mechanics.LagrangesMethod(...).form_lagranges_equations() with the loop closure as hol_coneqs.",
-    "libm": "ns per glibc call, gcc -O3 -march=native: *_dependent = each argument is the previous result (latency), *_independent = arguments from a table (throughput); sincos = sin(x) and cos(x) of one x, which gcc merges into one sincos call.",
 }
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -168,37 +154,6 @@ def timed_cpu(f, *a):
 
 
 # ---------------------------------------------------------------- C code
-C_MAIN = r"""
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-void all5(const double *x, double *out);
-static double clock_s(clockid_t c) { struct timespec ts; clock_gettime(c, &ts); return ts.tv_sec + 1e-9 * ts.tv_nsec; }
-static int cmp(const void *a, const void *b) { double d = *(const double *)a - *(const double *)b; return (d > 0) - (d < 0); }
-int main(int argc, char **argv) {
-    double x[NX], out[NOUT];
-    for (int i = 0; i < NX; i++) x[i] = atof(argv[1 + i]);
-    long iters = ITERS; double samples[21], cpu[21], sink = 0;
-    for (int r = 0; r < 21; r++) {
-        double t0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID);
-        for (long k = 0; k < iters; k++) {
-            x[0] += 1e-15;
-            all5(x, out);
-            __asm__ volatile("" : : "r"(out) : "memory");
-            sink += out[0];
-        }
-        samples[r] = (clock_s(CLOCK_MONOTONIC) - t0) / iters * 1e9;
-        cpu[r] = (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0) / iters * 1e9;
-    }
-    qsort(samples, 21, sizeof(double), cmp);
-    qsort(cpu, 21, sizeof(double), cmp);
-    /* median wall, minimum wall, median thread CPU time (ns per call) */
-    printf("%.3f %.3f %.3f %g\n", samples[10], samples[0], cpu[10], sink);
-    return 0;
-}
-"""
-
-
 def c_code(model, exprs):
     """SymPy cse + ccode of `exprs` over inputs x = [q, qd, params, t]; returns (source, nx, nout, ops)."""
     inputs = model["q"] + model["qd"] + list(model["params"].keys()) + [model.get("t", sp.Symbol("t"))]
@@ -213,14 +168,6 @@ def c_code(model, exprs):
     lines += [f"  out[{k}] = {sp.ccode(r)};" for k, r in enumerate(red)]
     lines.append("}")
     return "\n".join(lines), len(inputs), len(red), int(ops)
-
-
-def time_c(model, exprs, values, iters=2_000_000):
-    """The strict variant: one function, one joint cse of the five (same build as the
-    per-routine variant: one object per file, gcc -O3 -march=native)."""
-    src, nx, nout, ops = c_code(model, exprs)
-    t, calls = build_and_time({"f.c": src}, nx, nout, values, iters, "f.o")
-    return t, ops, calls
 
 
 C_PER_ROUTINE = [("mass_matrix", "M"), ("coriolis", "Cqd"), ("gravity", "g"), ("constraints", "Phi"), ("constraint_jacobian", "Phi_q")]
@@ -268,91 +215,10 @@ def c_code_per_routine(model, d):
     return src, header, caller, len(inputs), offset, int(ops)
 
 
-def build_and_time(files, nx, nout, values, iters, objdump=None):
-    """Compiles `files` ({name: source}) with C_MAIN, gcc -O3 -march=native, one object per
-    file (no LTO, so nothing is inlined across files); returns (ns per call, libm calls in
-    the object `objdump`)."""
-    with tempfile.TemporaryDirectory() as d:
-        files = dict(files, **{"main.c": C_MAIN})
-        objs = []
-        for name, text in files.items():
-            open(os.path.join(d, name), "w").write(text)
-        for name in files:
-            if name.endswith(".c"):
-                o = os.path.join(d, name[:-2] + ".o")
-                subprocess.run(["gcc", "-O3", "-march=native", f"-DNX={nx}", f"-DNOUT={nout}", f"-DITERS={iters}",
-                                "-c", os.path.join(d, name), "-o", o], check=True, cwd=d)
-                objs.append(o)
-        exe = os.path.join(d, "bench")
-        subprocess.run(["gcc"] + objs + ["-lm", "-o", exe], check=True)
-        res = subprocess.run([exe] + [repr(v) for v in values], check=True, capture_output=True, text=True).stdout.split()
-        calls = libm_calls(os.path.join(d, objdump)) if objdump else None
-    return dict(ns=float(res[0]), ns_min=float(res[1]), ns_cpu=float(res[2])), calls
-
-
-def time_c_per_routine(model, d, values, iters=2_000_000):
-    src, header, caller, nx, nout, ops = c_code_per_routine(model, d)
-    t, calls = build_and_time({"routines.c": src, "routines.h": header, "calls.c": caller}, nx, nout, values, iters, "routines.o")
-    return t, ops, calls
-
-
-LIBM_BENCH = r"""
-#define _GNU_SOURCE
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-static double now(void) { struct timespec ts; clock_gettime(CLOCK_MONOTONIC, &ts); return ts.tv_sec + 1e-9 * ts.tv_nsec; }
-static int cmp(const void *a, const void *b) { double d = *(const double *)a - *(const double *)b; return (d > 0) - (d < 0); }
-volatile double vin = 0.7;
-static double xs[1024], s[101], sink;
-#define N 100000
-#define RUN(label, ...) for (int r = 0; r < 101; r++) { double x = vin, acc = 0, t0 = now(); \
-    for (long k = 0; k < N; k++) { __VA_ARGS__ } s[r] = (now() - t0) / N * 1e9; sink += x + acc; } \
-    qsort(s, 101, sizeof s[0], cmp); printf("%s %.3f %.3f\n", label, s[0], s[50]);
-int main(void) {
-    for (int i = 0; i < 1024; i++) xs[i] = 0.3 + 1.2 * i / 1024.0;
-    RUN("sin_dependent", x = sin(x) + 0.7;)
-    RUN("sin_independent", acc += sin(xs[k & 1023] + vin * 1e-300);)
-    RUN("cos_dependent", x = cos(x) + 0.7;)
-    RUN("sincos_dependent", { double a = sin(x), b = cos(x); x = a + 0.5 * b + 0.3; })
-    RUN("sincos_independent", { double y = xs[k & 1023] + vin * 1e-300; acc += sin(y) + cos(y); })
-    RUN("fma_dependent", x = x * 0.5 + 0.7;)
-    fprintf(stderr, "%g\n", sink);
-    return 0;
-}
-"""
-
-
-def libm_cost():
-    """ns per libm call (glibc, gcc -O3 -march=native): min and median of 101 batches of 1e5.
-    `dependent`: each call's argument is the previous result (latency); `independent`:
-    arguments from a table (throughput). sin(x) and cos(x) of the same x: gcc emits sincos."""
-    with tempfile.TemporaryDirectory() as d:
-        open(os.path.join(d, "libm.c"), "w").write(LIBM_BENCH)
-        exe = os.path.join(d, "libm")
-        subprocess.run(["gcc", "-O3", "-march=native", os.path.join(d, "libm.c"), "-lm", "-o", exe], check=True)
-        text = subprocess.run([exe], check=True, capture_output=True, text=True).stdout
-    res = {}
-    for line in text.splitlines():
-        name, lo, med = line.split()
-        res[name] = dict(min_ns=float(lo), median_ns=float(med))
-    return res
-
-
-def five(d):
-    return list(d["M"]) + list(d["Cqd"]) + list(d["g"]) + list(d["Phi"]) + list(d["Phi_q"])
-
-
-def c_inputs(model):
-    q = model["guesses"] if "guesses" in model else [0.3] * len(model["q"])
-    return list(q) + [1.0] * len(model["qd"]) + list(model["params"].values()) + [0.3]
-
-
 # ---------------------------------------------------------------- scipy
-def seed_scipy(model, rtol, reference=None):
-    from scipy.integrate import solve_ivp
-
+def seed_rhs_strict(model):
+    """y' for scipy from lambdify(cse=True) with the parameters substituted, the KKT matrix
+    filled into preallocated arrays; returns (rhs, y0, Phi(t, y))."""
     d = direct(model)
     n, m = len(model["q"]), len(model["Phi"])
     ps = model["params"]
@@ -375,23 +241,14 @@ def seed_scipy(model, rtol, reference=None):
         return np.concatenate([y[n:], x[:n]])
 
     y0 = seed_initial_state(ps, lambda q0: Phiq_f(*q0, *np.zeros(n), 0.0))
-    t0, c0 = time.perf_counter(), time.thread_time()
-    sol = solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=rtol, atol=rtol)
-    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
-    qend = sol.y[:n, -1]
-    max_phi = max(np.abs(Phi_f(*sol.y[:, k], sol.t[k])).max() for k in range(sol.y.shape[1]))
-    err = float(np.abs(qend - np.array(reference)).max()) if reference is not None else None
-    return dict(wall_s=wall, cpu_s=cpu, steps=int(len(sol.t) - 1), rhs=int(sol.nfev), us_per_rhs=wall / sol.nfev * 1e6,
-                q_end=list(map(float, qend)), max_phi=float(max_phi), error=err)
+    return rhs, y0, lambda t, y: Phi_f(*y, t)
 
 
-def seed_scipy_default(model, rtol, reference=None):
+def seed_rhs_default(model):
     """The plain SymPy user's route: `sympy.lambdify` with its defaults (no cse, modules =
     scipy + numpy), one function per matrix taking (q, q', p, t) with the parameters as a
     vector argument, the KKT system built with `np.block` on every call and solved with
-    `numpy.linalg.solve`; same integrator, tolerance and initial state as `seed_scipy`."""
-    from scipy.integrate import solve_ivp
-
+    `numpy.linalg.solve`; same initial state as `seed_rhs_strict`."""
     d = direct(model)
     n, m = len(model["q"]), len(model["Phi"])
     ps = model["params"]
@@ -412,14 +269,33 @@ def seed_scipy_default(model, rtol, reference=None):
         return np.concatenate([qd, x[:n]])
 
     y0 = seed_initial_state(ps, lambda q0: Phiq_f(q0, np.zeros(n), pv, 0.0))
+    return rhs, y0, lambda t, y: Phi_f(y[:n], y[n:], pv, t)
+
+
+def seed_solve(problem, rtol, reference=None):
+    """One timed solve_ivp(DOP853, rtol = atol = rtol) of 10 s of a `seed_rhs_*` problem."""
+    from scipy.integrate import solve_ivp
+
+    rhs, y0, phi = problem
+    n = len(y0) // 2
     t0, c0 = time.perf_counter(), time.thread_time()
     sol = solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=rtol, atol=rtol)
     wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
     qend = sol.y[:n, -1]
-    max_phi = max(np.abs(Phi_f(sol.y[:n, k], sol.y[n:, k], pv, sol.t[k])).max() for k in range(sol.y.shape[1]))
+    max_phi = max(np.abs(phi(sol.t[k], sol.y[:, k])).max() for k in range(sol.y.shape[1]))
     err = float(np.abs(qend - np.array(reference)).max()) if reference is not None else None
     return dict(wall_s=wall, cpu_s=cpu, steps=int(len(sol.t) - 1), rhs=int(sol.nfev), us_per_rhs=wall / sol.nfev * 1e6,
                 q_end=list(map(float, qend)), max_phi=float(max_phi), error=err)
+
+
+def seed_scipy(model, rtol, reference=None):
+    """scipy DOP853 on the seed with lambdify(cse=True) (see `seed_rhs_strict`)."""
+    return seed_solve(seed_rhs_strict(model), rtol, reference)
+
+
+def seed_scipy_default(model, rtol, reference=None):
+    """scipy DOP853 on the seed with lambdify's defaults (see `seed_rhs_default`)."""
+    return seed_solve(seed_rhs_default(model), rtol, reference)
 
 
 def seed_initial_state(ps, phiq):
@@ -440,10 +316,6 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--chains", type=int, nargs="*", default=[4, 8, 16])
     ap.add_argument("--lagranges", type=int, nargs="*", default=[4, 8, 16])
-    ap.add_argument("--c-chains", type=int, nargs="*", default=[8, 16])
-    ap.add_argument("--skip-scipy", action="store_true")
-    ap.add_argument("--skip-c", action="store_true", help="skip the SymPy-C timings (all variants)")
-    ap.add_argument("--c-variants", nargs="*", default=["strict", "per_routine"], choices=["strict", "per_routine"])
     a = ap.parse_args()
     os.makedirs(RESULTS, exist_ok=True)
     path = os.path.join(RESULTS, "baselines.json")
@@ -469,34 +341,7 @@ def main():
         json.dump(old, open(tmp, "w"), indent=1)
         os.replace(tmp, path)
 
-    for k in ("derivation", "c_code", "scipy"):
-        out.setdefault(k, {})
-
-    mechs = {
-        "seed": read_mech(os.path.join(ROOT, "mechanisms", "spatial_crank_slider.mech")),
-        "four_bar": read_mech(os.path.join(ROOT, "mechanisms", "planar_four_bar.mech")),
-        "rssr": read_mech(os.path.join(ROOT, "mechanisms", "spatial_four_bar.mech")),
-    }
-    for n in a.c_chains:
-        mechs[f"chain{n}"] = read_mech(os.path.join(ROOT, "benches", "mechanisms", f"closed_chain_{n}.mech"))
-    if not a.skip_c:
-        out["libm"] = dict(libm_cost(), load=load_avg())
-        lm = out["libm"]
-        print("libm (ns per call, min/median): " + ", ".join(f"{k} {v['min_ns']:.1f}/{v['median_ns']:.1f}" for k, v in lm.items() if k != "load") + f"; load {lm['load']}", flush=True)
-        save()
-    for name, model in ({} if a.skip_c else mechs).items():
-        dt, d = timed(direct, model)
-        if "strict" in a.c_variants:
-            t, ops, calls = time_c(model, five(d), c_inputs(model))
-            out["c_code"][name] = dict(t, ops=ops, derive_s=dt, libm_calls=calls, load=load_avg())
-            print(f"C strict (one function, one joint cse) {name}: M, C q', g, Phi, Phi_q in {t['ns']:.1f} ns (min {t['ns_min']:.1f}, cpu {t['ns_cpu']:.1f}), {ops} ops, libm {calls}, load {load_avg()}", flush=True)
-            save()
-        if "per_routine" in a.c_variants:
-            t, ops, calls = time_c_per_routine(model, d, c_inputs(model))
-            out.setdefault("c_code_per_routine", {})[name] = dict(t, ops=ops, libm_calls=calls, load=load_avg())
-            print(f"C per routine (codegen, C99CodeGen(cse=True), 5 routines) {name}: {t['ns']:.1f} ns (min {t['ns_min']:.1f}, cpu {t['ns_cpu']:.1f}), {ops} ops, libm {calls}, load {load_avg()}", flush=True)
-            save()
-
+    out.setdefault("derivation", {})
     for n in a.chains:
         dt, dc, d = timed_cpu(lambda: direct(chain_direct(n)))
         ct, (repl, red) = timed(lambda: sp.cse([e for k in ("M", "Cqd", "g", "Phi", "Phi_q", "gamma") for e in d[k]]))
@@ -513,19 +358,6 @@ def main():
             print(f"SymPy LagrangesMethod chain N = {n}: {lt:.2f} s (cpu {lc:.2f} s), load {entry['lagranges_load']}", flush=True)
             save()
 
-    if not a.skip_scipy:
-        ref = None
-        sim = os.path.join(RESULTS, "simulation.json")
-        if os.path.exists(sim):
-            ref = json.load(open(sim)).get("seed_reference_q")
-        for key, f, what in (("seed_dop853_1e-10", seed_scipy, "lambdify(cse=True), parameters substituted, KKT in preallocated arrays"),
-                             ("seed_dop853_1e-10_lambdify_default", seed_scipy_default, "lambdify defaults (no cse), one function per matrix, np.block per call")):
-            r = f(mechs["seed"], 1e-10, ref)
-            r["load"] = load_avg()
-            r["variant"] = what
-            out["scipy"][key] = r
-            print(f"scipy DOP853 seed 10 s at 1e-10, {what}: {r['wall_s']:.3f} s (cpu {r['cpu_s']:.3f} s), {r['steps']} steps, {r['rhs']} RHS ({r['us_per_rhs']:.1f} us each), error {r['error']}, max |Phi| {r['max_phi']:.1e}, load {r['load']}", flush=True)
-            save()
     print(f"wrote {path}")
 
 

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Every benchmark of BENCHMARKS.md in one run, then its tables (see benches/run.py):
+#
+#   benches/run.sh [--rounds 7] [--skip criterion derivation mujoco a02 compile-time]
+#
+# Creates a Python environment under target/baselines-venv (sympy, scipy, numpy, and mujoco
+# when it installs), then runs benches/run.py with it. The run takes about 35-45 minutes on
+# the 2-core machine of BENCHMARKS.md (SymPy's LagrangesMethod at N = 32 alone is ~6 min,
+# the compile-time builds ~6 min); `--skip` leaves out the slow steps that do not feed the
+# headline tables.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+venv="$root/target/baselines-venv"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/pip" install -q sympy scipy numpy
+"$venv/bin/pip" install -q mujoco || echo "mujoco not installable here: skipping it"
+exec "$venv/bin/python" "$root/benches/run.py" --venv-python "$venv/bin/python" "$@"
