@@ -121,14 +121,9 @@ impl Program {
     /// before they are read) computing `outputs`: dead instructions dropped, registers
     /// renumbered, the symbols read named from `arena`.
     pub(crate) fn from_parts(arena: &Arena, instrs: &[Instr], outputs: Vec<Output>) -> Program {
-        let mut used = vec![];
-        for i in instrs {
-            i.for_each_operand(|o| push_sym(&mut used, o));
-        }
-        for o in &outputs {
-            o.entries.iter().for_each(|&e| push_sym(&mut used, e));
-        }
-        let mut symbols: Vec<(SymbolId, String)> = used
+        let mut p = compact(instrs, outputs, &[]);
+        let mut symbols: Vec<(SymbolId, String)> = p
+            .read_symbols()
             .into_iter()
             .map(|s| {
                 let name = arena
@@ -139,17 +134,20 @@ impl Program {
             })
             .collect();
         symbols.sort_by_key(|p| p.0);
-        let mut p = compact(instrs, outputs, &symbols);
-        // Only the symbols the live instructions still read.
-        let mut live = vec![];
-        for i in &p.instrs {
-            i.for_each_operand(|o| push_sym(&mut live, o));
-        }
-        for o in &p.outputs {
-            o.entries.iter().for_each(|&e| push_sym(&mut live, e));
-        }
-        p.symbols.retain(|(s, _)| live.contains(s));
+        p.symbols = symbols;
         p
+    }
+
+    /// The symbols the instructions and the outputs read, in order of first read.
+    fn read_symbols(&self) -> Vec<SymbolId> {
+        let mut used = vec![];
+        for i in &self.instrs {
+            i.for_each_operand(|o| push_sym(&mut used, o));
+        }
+        for o in &self.outputs {
+            o.entries.iter().for_each(|&e| push_sym(&mut used, e));
+        }
+        used
     }
 
     /// The instructions, in execution order.
@@ -211,13 +209,7 @@ impl Program {
         }
         let mut p = compact(&self.instrs, outs, &self.symbols);
         // keep only the symbols still read
-        let mut used = vec![];
-        for i in &p.instrs {
-            i.for_each_operand(|o| push_sym(&mut used, o));
-        }
-        for o in &p.outputs {
-            o.entries.iter().for_each(|&e| push_sym(&mut used, e));
-        }
+        let used = p.read_symbols();
         p.symbols.retain(|(s, _)| used.contains(s));
         Ok(p)
     }
