@@ -12,6 +12,7 @@ pub mod simulation;
 use mechanism::{Interpreted, System};
 use mechanism_codegen::{
     EmitBindings, Equations, Matrix, Model, OpCounts, OutputTarget, Program, Result, emit_body,
+    hoist_parameters,
 };
 use quote::quote;
 
@@ -50,9 +51,10 @@ pub fn derive_and_cse(mut model: Model) -> Result<OpCounts> {
 }
 
 /// What `mechanism!` does at build time, minus the final `quote!` of the impl: parse the
-/// declaration, derive the equations, CSE and emit one body per trait method (11) plus the
-/// combined `evaluate`, and print the equations text. Returns the number of emitted token
-/// trees (to keep the work observable).
+/// declaration, derive the equations, CSE one program per trait method (11) plus the
+/// combined `evaluate`, move their parameter-only values into the cache program, emit
+/// every body, and print the equations text. Returns the number of emitted token trees
+/// (to keep the work observable).
 pub fn macro_pipeline(source: &str) -> Result<usize> {
     let mut model = mechanism_codegen::parse_model_str(source)?;
     let eqs = mechanism_codegen::derive(&mut model)?;
@@ -97,14 +99,6 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
         name: quote!(out),
         zeroed: true,
     };
-    let mut tokens = 0;
-    for m in singles {
-        let program = Program::new(arena, &[m])?;
-        tokens += emit_body(&program, &b, &[place()])?
-            .tokens
-            .into_iter()
-            .count();
-    }
     let all = [
         &eqs.mass,
         &eqs.coriolis_forces,
@@ -117,9 +111,23 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
         &kinetic,
         &potential,
     ];
-    let program = Program::new(arena, &all)?;
-    let targets: Vec<_> = all.iter().map(|_| place()).collect();
-    tokens += emit_body(&program, &b, &targets)?
+    let mut programs = Vec::with_capacity(singles.len() + 1);
+    for m in singles {
+        programs.push(Program::new(arena, &[m])?);
+    }
+    programs.push(Program::new(arena, &all)?);
+    // The parameter-only values moved into one cache, as the macro does.
+    let refs: Vec<&Program> = programs.iter().collect();
+    let hoisted = hoist_parameters(&mut model.arena, &refs)?;
+    for (k, &s) in hoisted.slots.iter().enumerate() {
+        b.bind(s, quote!(cache[#k]));
+    }
+    let mut tokens = 0;
+    for p in &hoisted.programs {
+        let targets: Vec<_> = p.outputs().iter().map(|_| place()).collect();
+        tokens += emit_body(p, &b, &targets)?.tokens.into_iter().count();
+    }
+    tokens += emit_body(&hoisted.cache, &b, &[place()])?
         .tokens
         .into_iter()
         .count();
