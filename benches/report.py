@@ -289,7 +289,7 @@ def block_derivation():
         rows.append([n, fmt(a), fmt(b), fmt(mp), fmt(lm * 1e9) if lm else "-", fmt(di * 1e9) if di else "-",
                      f"{lm * 1e9 / mp:.0f}x" if lm and mp else "-", f"{di * 1e9 / mp:.0f}x" if di and mp else "-",
                      d.get("lagranges_load") or d.get("direct_load") or "-"])
-    return table(["N", "model API + CSE", "from source + CSE", "macro path (12 bodies emitted)",
+    return table(["N", "model API + CSE", "from source + CSE", "macro path (every body and the cache emitted)",
                   "SymPy LagrangesMethod (CPU)", "SymPy direct (CPU)", "LM / macro path", "direct / macro path",
                   "load during SymPy"], rows)
 
