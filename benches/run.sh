@@ -4,9 +4,10 @@
 #   benches/run.sh [--rounds 7] [--skip criterion derivation mujoco a02 compile-time]
 #
 # Creates a Python environment under target/baselines-venv (sympy, scipy, numpy, and mujoco
-# when it installs), then runs benches/run.py with it. The run takes about 35-45 minutes on
-# the 2-core machine of BENCHMARKS.md (SymPy's LagrangesMethod at N = 32 alone is ~6 min,
-# the compile-time builds ~6 min); `--skip` leaves out the slow steps that do not feed the
+# when it installs), then runs benches/run.py with it. The run takes about 20 minutes on
+# the 2-core machine of BENCHMARKS.md, plus a few the first time (the harness built at each
+# commit of benches/changes.toml); SymPy's LagrangesMethod at N = 32 and the compile-time
+# builds are its slowest steps, and `--skip` leaves out the steps that do not feed the
 # headline tables.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
