@@ -78,6 +78,7 @@ pub use mechanics::bodies::{
     Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms,
 };
 pub use mechanics::build::{ModelSpans, ParsedModel};
+pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput};
 pub use mechanics::joints::{AxisFrame, distance, parallel, prismatic, revolute, spherical};
 pub use mechanics::lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};

@@ -44,6 +44,9 @@ pub struct Generated {
     pub evaluate: TokenStream,
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
+    /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
+    /// drawing).
+    pub draw_points: TokenStream,
     /// The derived equations as readable text (`mechanism_codegen::equations_text`).
     pub equations: String,
 }
@@ -73,6 +76,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             potential_energy: b.scalar(&potential)?,
             evaluate: b.evaluate(&eqs)?,
             residual_tangent: b.tangent(&tangent)?,
+            draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
         })
     })();
@@ -140,6 +144,30 @@ impl Bodies<'_> {
             let #mutable out = #krate::__private::SMatrix::<f64, #r, #c>::zeros();
             #body
             out
+        })
+    }
+
+    /// The drawn points' x, y, z into the slice `out` (3 per point, in drawing order),
+    /// after a length check so that the constant indices cannot panic.
+    fn draw_points(&self) -> mechanism_codegen::Result<TokenStream> {
+        let points = &self.model.drawing.points;
+        if points.is_empty() {
+            return Ok(quote!(let _ = (t, q, out);));
+        }
+        let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
+        let program = Program::new(&self.model.arena, &[&column])?;
+        let targets = [OutputTarget::Vector {
+            name: quote!(out),
+            zeroed: false,
+        }];
+        let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
+        let len = 3 * points.len();
+        Ok(quote! {
+            let _ = (t, q);
+            if out.len() < #len {
+                return;
+            }
+            #body
         })
     }
 

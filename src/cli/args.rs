@@ -56,6 +56,32 @@ pub struct CommonArgs {
     /// Output folder (default: `out/<mechanism>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Do not write animation.html and the strobe figure mechanism.png/svg (written when the
+    /// mechanism declares a `draw` section).
+    #[arg(long)]
+    pub no_animation: bool,
+    /// Plane of the strobe figure: auto (a planar drawing face on, a spatial one oblique),
+    /// xy, xz, yz or oblique.
+    #[arg(long, value_enum, default_value_t = ViewArg::Auto)]
+    pub view: ViewArg,
+    /// Instants superimposed in the strobe figure, evenly spaced over the run (1 to 100).
+    #[arg(long, default_value_t = 12, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub strobe: u32,
+}
+
+/// View planes of the strobe figure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ViewArg {
+    /// The plane normal to the axis of least motion.
+    Auto,
+    /// x right, y up.
+    Xy,
+    /// x right, z up.
+    Xz,
+    /// y right, z up.
+    Yz,
+    /// Oblique, from azimuth -50 deg and elevation 25 deg, z up.
+    Oblique,
 }
 
 /// `mechanism simulate` options.

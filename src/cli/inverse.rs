@@ -2,6 +2,7 @@
 
 use super::CliError;
 use super::args::InverseArgs;
+use super::drawing::write_drawing;
 use super::load::{apply_sets, load};
 use super::simulate::{check_span, out_dir};
 use mechanism::AssemblyOptions;
@@ -59,6 +60,14 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     }
     let stem = dir.join(figure_stem(&loaded.key, Figure::DrivingTorque));
     files.extend(plot_driving_torque(&stem, &table, Unit::guess)?);
+    let samples = &result.samples;
+    files.extend(write_drawing(
+        system,
+        &a.common,
+        &dir,
+        samples.len(),
+        |i| (samples[i].t, samples[i].q.as_slice()),
+    )?);
     let peak = |k: usize| {
         result
             .samples

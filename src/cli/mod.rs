@@ -5,6 +5,7 @@
 //! usage errors exit with 2.
 
 pub mod args;
+mod drawing;
 mod equations;
 mod inverse;
 mod load;

@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use super::CliError;
-use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg};
+use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
+use super::drawing::write_drawing;
 use super::load::{apply_sets, initial_values, load};
 use super::progress::Progress;
 use super::report::summary_text;
@@ -34,6 +35,9 @@ pub fn default_args() -> SimulateArgs {
             set: vec![],
             init: vec![],
             out: None,
+            no_animation: false,
+            view: ViewArg::Auto,
+            strobe: 12,
         },
         integrator: IntegratorArg::Dop853,
         rtol: 1e-10,
@@ -189,6 +193,16 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
         let res = residuals(system, &trajectory);
         files.extend(plot_trajectory(&dir, &trajectory, None, Some(&res))?);
     }
+    files.extend(write_drawing(
+        system,
+        &a.common,
+        &dir,
+        trajectory.len(),
+        |i| {
+            let s = trajectory.sample(i);
+            (s.t, s.q)
+        },
+    )?);
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     print!("{}", summary_text(&loaded.key, system, &summary, &names));
     loaded.source.clear();

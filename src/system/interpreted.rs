@@ -9,11 +9,13 @@
 use std::sync::Mutex;
 
 use mechanism_codegen::{
-    Equations, EvaluationOutput, Model, Program, SymbolId, Tape, residual_tangent,
+    Equations, EvaluationOutput, Matrix, Model, Program, SymbolId, Tape, residual_tangent,
 };
 use nalgebra::DMatrix;
 
-use crate::system::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
+use crate::system::{
+    ConstraintRow, Drawing, DrawnPoint, Evaluation, Independent, System, SystemInfo, Tangent,
+};
 
 /// Which evaluations a tape computes.
 struct Scratch {
@@ -53,6 +55,8 @@ pub struct Interpreted {
     /// dF/dq, dF/dq' of the residual (exact Jacobians for implicit integrators).
     tangent: Mutex<Scratch>,
     programs: [Program; 4],
+    /// The drawn points' positions (3 per point), when the declaration draws.
+    draw: Option<Program>,
     symbols: usize,
     equations_text: String,
 }
@@ -82,6 +86,7 @@ impl Clone for Interpreted {
             jacobian: Mutex::new(Scratch::new(c, self.symbols)),
             tangent: Mutex::new(Scratch::new(d, self.symbols)),
             programs: self.programs.clone(),
+            draw: self.draw.clone(),
             symbols: self.symbols,
             equations_text: self.equations_text.clone(),
         }
@@ -130,6 +135,13 @@ impl Interpreted {
         let phi = Program::new(arena, &[&eqs.phi])?;
         let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
         let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
+        let points = &model.drawing.points;
+        let draw = if points.is_empty() {
+            None
+        } else {
+            let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
+            Some(Program::new(arena, &[&column])?)
+        };
         let symbols = arena.symbols().len();
         let info = system_info(&model, eqs.m);
         let equations_text = mechanism_codegen::equations_text(&model, &eqs);
@@ -162,6 +174,7 @@ impl Interpreted {
             jacobian: Mutex::new(Scratch::new(&jac, symbols)),
             tangent: Mutex::new(Scratch::new(&tan, symbols)),
             programs: [full, phi, jac, tan],
+            draw,
             symbols,
             info,
             equations_text,
@@ -264,6 +277,21 @@ impl System for Interpreted {
         });
     }
 
+    /// Evaluates the drawing's program (a fresh tape per call: drawing is not in the step
+    /// loop). A failed evaluation gives NaN positions, which the figures refuse by name.
+    fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
+        let Some(program) = &self.draw else {
+            return;
+        };
+        let mut s = Scratch::new(program, self.symbols);
+        self.load(&mut s, t, q, None);
+        if s.tape.eval(&s.inputs, &mut s.out).is_err() {
+            s.out.iter_mut().for_each(|x| *x = f64::NAN);
+        }
+        if let Some(dst) = out.get_mut(..s.out.len()) {
+            dst.copy_from_slice(&s.out);
+        }
+    }
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
         self.run(&self.phi, t, q, None, |v| phi.copy_from_slice(v));
     }
@@ -338,6 +366,18 @@ fn system_info(model: &Model, m: usize) -> SystemInfo {
                 }
             })
             .collect(),
-        drawing: Default::default(),
+        drawing: Drawing {
+            points: model
+                .drawing
+                .points
+                .iter()
+                .map(|p| DrawnPoint {
+                    name: p.name.clone(),
+                    ground: p.ground,
+                })
+                .collect(),
+            lines: model.drawing.lines.clone(),
+            traces: model.drawing.traces.clone(),
+        },
     }
 }

@@ -10,6 +10,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
+use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
@@ -176,6 +177,13 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
             ));
         }
     }
+    let mut moving: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| model.arena.as_symbol(c.q))
+        .collect();
+    moving.extend(model.arena.as_symbol(model.time));
+    let mut drawing = None;
     for item in &bodies.items {
         let arena = &mut model.arena;
         match item {
@@ -253,8 +261,21 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 }
             }
             BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
+            BodyItem::Draw(d) => {
+                if drawing.is_some() {
+                    return Err(declaration("`draw` is given twice".into(), d.at));
+                }
+                drawing = Some(build_drawing(
+                    arena,
+                    d,
+                    |n| scope.vectors.get(n).copied(),
+                    |n| scope.axes.contains_key(n),
+                    &moving,
+                )?);
+            }
         }
     }
+    model.drawing = drawing.unwrap_or_default();
     add_body_terms(model, &system)?;
     model.constraints.extend(rows);
     Ok(())

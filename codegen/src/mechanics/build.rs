@@ -128,6 +128,7 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         potential,
         constraints,
         forces,
+        drawing: Default::default(),
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })

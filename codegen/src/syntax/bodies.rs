@@ -12,6 +12,7 @@
 //!               | "damper" NAME "{" "between" "=" vexpr "," vexpr ";"
 //!                     "coefficient" "=" vexpr ";" "}"
 //!               | "joints" "{" (joint ";")* "}"
+//!               | "draw" "{" .. "}"                           lines through points (syntax::draw)
 //! body_item    := "mass" "=" vexpr                            m
 //!               | "position" "=" vexpr                        centre of mass r(q, t), world
 //!               | "orientation" "=" vexpr                     R = F_1 * F_2 * ... (body to world)
@@ -37,12 +38,13 @@
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
 use crate::error::{Error, Location, Result};
+use crate::syntax::draw::{DrawSection, parse_draw};
 use crate::syntax::lex::{Cursor, Tok, block, name};
 use crate::syntax::vector::{VectorAst, VectorParser};
 
 /// The top-level keywords of the body sections.
 pub(crate) const BODY_SECTIONS: &[&str] = &[
-    "body", "gravity", "point", "axis", "spring", "damper", "joints",
+    "body", "gravity", "point", "axis", "spring", "damper", "joints", "draw",
 ];
 
 /// True when `keyword` starts a body section.
@@ -85,6 +87,7 @@ pub(crate) enum BodyItem {
         entries: Vec<Entry>,
     },
     Joint(Joint),
+    Draw(DrawSection),
 }
 
 /// A constraint statement of `joints`.
@@ -118,6 +121,7 @@ impl Bodies {
             | BodyItem::Point(_, at, _)
             | BodyItem::Axis(_, at, _)
             | BodyItem::Joint(Joint::Helper(_, _, at) | Joint::Row(_, _, at)) => *at,
+            BodyItem::Draw(d) => d.at,
         })
     }
 
@@ -209,6 +213,7 @@ pub(crate) fn parse_body_section(
                 },
             });
         }
+        "draw" => bodies.items.push(BodyItem::Draw(parse_draw(c, at)?)),
         _ => {
             let joints = block(c, joint)?;
             bodies.items.extend(joints.into_iter().map(BodyItem::Joint));

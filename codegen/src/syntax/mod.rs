@@ -19,6 +19,7 @@ pub(crate) const MAX_DEPTH: usize = 160;
 
 pub(crate) mod bodies;
 pub(crate) mod declaration;
+pub(crate) mod draw;
 pub(crate) mod expression;
 pub(crate) mod lex;
 pub(crate) mod vector;

@@ -280,5 +280,6 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         potential: zero,
         constraints: vec![],
         forces: vec![zero, zero],
+        drawing: Default::default(),
     }
 }
