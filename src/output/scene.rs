@@ -105,7 +105,7 @@ impl Scene {
             format!("{t_end} s, {} frames (every sample)", picked.len())
         } else {
             format!(
-                "{t_end} s, {} frames: every {every}th of {samples} samples, so the page stays small",
+                "{t_end} s, {} frames: one sample in {every} of {samples}, so the page stays small",
                 picked.len()
             )
         };

@@ -134,3 +134,24 @@ fn a_short_output_slice_is_left_untouched() {
     seed.draw_points(0.0, &[0.0, 0.46, 0.84, 0.2], &mut out);
     assert_eq!(out, [7.0; 5]);
 }
+
+#[test]
+fn a_long_run_is_decimated_to_the_frame_limit_keeping_the_last_sample() {
+    use mechanism::output::{MAX_FRAMES, Scene};
+    let four_bar = builtin("planar_four_bar").unwrap();
+    let options = SimulationOptions {
+        t_end: 40.0,
+        output_rate: 100.0,
+        ..Default::default()
+    };
+    let trajectory = simulate(four_bar.as_ref(), &options).unwrap();
+    assert_eq!(trajectory.len(), 4001);
+    let scene = Scene::new(four_bar.as_ref(), &trajectory, MAX_FRAMES).unwrap();
+    // k = ceil(4001 / 1499) = 3: samples 0, 3, .., 3999 and the last, 4000.
+    assert_eq!(scene.decimation, 3);
+    assert!(scene.frames() <= MAX_FRAMES);
+    assert_eq!(scene.frames(), 1335);
+    assert_eq!(scene.times[1], trajectory.sample(3).t);
+    assert_eq!(*scene.times.last().unwrap(), trajectory.last().unwrap().t);
+    assert!(scene.note.contains("one sample in 3 of 4001"), "{}", scene.note);
+}
