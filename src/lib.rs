@@ -98,15 +98,15 @@ pub use nalgebra;
 /// What a crate that declares and runs mechanisms uses: the macro, the traits, the vector
 /// aliases, the fixed-size solvers, and with `std` the simulation and inverse dynamics.
 pub mod prelude {
-    pub use crate::fixed::{FixedStep, kkt_solve};
+    pub use crate::fixed::{FixedError, FixedStep, KktSolution, State, kkt_solve};
     pub use crate::{
         Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation,
         Velocities, mechanism,
     };
     #[cfg(feature = "std")]
     pub use crate::{
-        Compiled, Error, InitialState, SimulationOptions, System, Trajectory, inverse_dynamics,
-        simulate,
+        AssemblyOptions, Compiled, Error, InitialState, SimulationOptions, System, Trajectory,
+        inverse_dynamics, simulate,
     };
     #[cfg(feature = "interpreter")]
     pub use crate::{Interpreted, parse_drive};

@@ -153,5 +153,9 @@ fn a_long_run_is_decimated_to_the_frame_limit_keeping_the_last_sample() {
     assert_eq!(scene.frames(), 1335);
     assert_eq!(scene.times[1], trajectory.sample(3).t);
     assert_eq!(*scene.times.last().unwrap(), trajectory.last().unwrap().t);
-    assert!(scene.note.contains("one sample in 3 of 4001"), "{}", scene.note);
+    assert!(
+        scene.note.contains("one sample in 3 of 4001"),
+        "{}",
+        scene.note
+    );
 }
