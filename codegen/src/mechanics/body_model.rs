@@ -15,9 +15,9 @@ use crate::mechanics::joints::{
 };
 use crate::mechanics::model::{Constraint, Model};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
+use crate::syntax::ast::Ast;
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
 use crate::syntax::declaration::components;
-use crate::syntax::vector::{Op, VectorAst};
 
 /// The naming context: named world vectors, axis frames and body frames.
 #[derive(Default)]
@@ -80,24 +80,35 @@ fn axis_frame(
     })
 }
 
+/// The factors of an orientation product as written: `F_1 * F_2 * ...` (parenthesised
+/// products flattened); a chain with a division keeps everything up to its last divisor as
+/// one factor, since only a pure product is a sequence of rotations.
+fn product_factors(ast: &Ast, out: &mut Vec<Ast>) {
+    let Ast::Product(items) = ast else {
+        out.push(ast.clone());
+        return;
+    };
+    let rest = match items.iter().rposition(|i| i.0) {
+        Some(last_divisor) => {
+            out.push(Ast::Product(items[..=last_divisor].to_vec()));
+            &items[last_divisor + 1..]
+        }
+        None => &items[..],
+    };
+    for (_, f, _) in rest {
+        product_factors(f, out);
+    }
+}
+
 /// The orientation of a body: the top-level product's factors, elementary where written
 /// `rot_x/y/z(angle)`, explicit 3x3 otherwise.
-fn orientation(arena: &mut Arena, ast: &VectorAst, scope: &Scope) -> Result<Orientation> {
+fn orientation(arena: &mut Arena, ast: &Ast, scope: &Scope) -> Result<Orientation> {
     let mut factors = Vec::new();
-    let mut stack = vec![ast];
     let mut flat = Vec::new();
-    while let Some(a) = stack.pop() {
-        match a {
-            VectorAst::Binary(Op::Mul, l, r, _) => {
-                stack.push(r);
-                stack.push(l);
-            }
-            other => flat.push(other),
-        }
-    }
-    for f in flat {
+    product_factors(ast, &mut flat);
+    for f in &flat {
         match f {
-            VectorAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
+            Ast::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
                 let axis = match name.as_str() {
                     "rot_x" => Axis::X,
                     "rot_y" => Axis::Y,
@@ -414,9 +425,7 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
             };
             let frame = |i: usize| -> Result<AxisFrame> {
                 match &args[i] {
-                    VectorAst::Name(n, _) if scope.axes.contains_key(n) => {
-                        Ok(scope.axes[n].clone())
-                    }
+                    Ast::Name(n, _) if scope.axes.contains_key(n) => Ok(scope.axes[n].clone()),
                     other => Err(declaration(
                         format!(
                             "argument {} of `{h}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)",
@@ -450,7 +459,7 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
                     )
                 }
             };
-            let written: Vec<String> = args.iter().map(VectorAst::text).collect();
+            let written: Vec<String> = args.iter().map(Ast::text).collect();
             let joint = format!("{h}({})", written.join(", "));
             let components = components.iter().map(|c| c.to_string()).collect();
             (rows, components, joint, *at)

@@ -9,8 +9,8 @@ use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 use crate::mechanics::resolve::{ArenaResolver, resolve};
+use crate::syntax::ast::Ast;
 use crate::syntax::declaration::{Declaration, Item};
-use crate::syntax::expression::Ast;
 
 /// Locations of the parts of a declaration that [`Model`] does not record, and the spans of
 /// all tokens, so later stages (derivation, the macro) can point at the user's text.

@@ -6,8 +6,9 @@ use std::collections::HashMap;
 use crate::algebra::expr::{Id, SymbolId};
 use crate::error::{Error, Location};
 use crate::mechanics::model::Model;
+use crate::syntax::ast::Ast;
 use crate::syntax::declaration::{Declaration, Item};
-use crate::syntax::expression::{Ast, closest};
+use crate::syntax::spelling::closest;
 
 /// What a declared name is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -232,10 +233,10 @@ fn check_expression(ast: &Ast, ctx: Context, scope: &Scope<'_>, errors: &mut Vec
             }
             Ast::Number(..) => {}
             Ast::Neg(x, _) => stack.push(x),
-            Ast::Sum(ts) => stack.extend(ts.iter().map(|t| &t.1)),
-            Ast::Product(fs) => stack.extend(fs.iter().map(|f| &f.1)),
+            Ast::Sum(items) | Ast::Product(items) => stack.extend(items.iter().map(|i| &i.1)),
             Ast::Pow(b, e, _) => stack.extend([&**b, &**e]),
-            Ast::Call(_, args, _) => stack.extend(args),
+            Ast::Call(_, args, _) | Ast::Brackets(args, _) => stack.extend(args),
+            Ast::Member(x, _, _) => stack.push(x),
         }
     }
 }

@@ -6,8 +6,10 @@
 
 use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
 use crate::error::{Error, Location, Result};
-use crate::syntax::expression::{Ast, ExprParser, closest};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Tok, tokens_from_str};
+use crate::syntax::spelling::closest;
 
 /// How names resolve while building the node of a syntax tree.
 pub(crate) trait Resolver {
@@ -103,7 +105,7 @@ pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver)
         }
         Ast::Sum(ts) => {
             let mut terms = Vec::with_capacity(ts.len());
-            for (minus, t) in ts {
+            for (minus, t, _) in ts {
                 let v = resolve(arena, t, resolver)?;
                 terms.push(if *minus { arena.neg(v) } else { v });
             }
@@ -129,6 +131,11 @@ pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver)
             arena.pow(bv, ev).map_err(|_| zero_divisor(b, *at))
         }
         Ast::Call(name, args, at) => resolve_call(arena, name, args, *at, resolver),
+        // The scalar language has no vector forms (its parser refuses them).
+        Ast::Member(_, _, at) | Ast::Brackets(_, at) => Err(Error::Parse {
+            message: "a vector form in a scalar expression".into(),
+            location: *at,
+        }),
     }
 }
 
@@ -220,7 +227,7 @@ fn resolve_call(
 pub fn parse_expr(arena: &mut Arena, text: &str) -> Result<Id> {
     let tokens = tokens_from_str(text)?;
     let mut cursor = Cursor::new(&tokens);
-    let ast = ExprParser::parse(&mut cursor)?;
+    let ast = parse(&mut cursor, Language::Scalar)?;
     if !cursor.at(&Tok::End) {
         return Err(cursor.error_here("expected an operator or the end of the expression"));
     }

@@ -10,7 +10,18 @@ use crate::algebra::rotation::{Axis, elementary_rotation};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::joints::cross;
 use crate::mechanics::resolve::{ArenaResolver, Resolver};
-use crate::syntax::vector::{HELPERS, Op, VectorAst};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::HELPERS;
+
+/// A binary operation on matrix values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Op {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Pow,
+}
 
 /// How names of points, axes and bodies resolve while evaluating a vector expression.
 pub(crate) trait VectorNames {
@@ -62,32 +73,32 @@ fn one(id: Id) -> Matrix {
 /// Lowers `ast` into `arena` as a matrix value.
 pub(crate) fn vector_value(
     arena: &mut Arena,
-    ast: &VectorAst,
+    ast: &Ast,
     names: &dyn VectorNames,
 ) -> Result<Matrix> {
     match ast {
-        VectorAst::Number(n, _) => Ok(one(arena.number(*n))),
-        VectorAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
-        VectorAst::Name(n, at) => match names.vector(n) {
+        Ast::Number(n, _) => Ok(one(arena.number(*n))),
+        Ast::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
+        Ast::Name(n, at) => match names.vector(n) {
             Some(v) => Ok(Matrix::column(v.to_vec())),
             None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
         },
-        VectorAst::Neg(a, _) => {
+        Ast::Neg(a, _) => {
             let v = vector_value(arena, a, names)?;
             let m1 = arena.int(-1);
             v.scale(arena, m1)
         }
-        VectorAst::Member(a, k, at) => {
+        Ast::Member(a, k, at) => {
             let v = vector_value(arena, a, names)?;
             let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
             Ok(one(v[*k]))
         }
-        VectorAst::Brackets(items, at) => {
+        Ast::Brackets(items, at) => {
             let mut rows = Vec::new();
             for it in items {
                 rows.push(vector_value(arena, it, names)?);
             }
-            if items.iter().all(|i| matches!(i, VectorAst::Brackets(..))) && items.len() > 1 {
+            if items.iter().all(|i| matches!(i, Ast::Brackets(..))) && items.len() > 1 {
                 let cols = rows[0].rows;
                 let mut data = Vec::new();
                 for r in &rows {
@@ -111,15 +122,37 @@ pub(crate) fn vector_value(
             }
             Ok(Matrix::column(data))
         }
-        VectorAst::Binary(op, a, b, at) => {
+        Ast::Sum(terms) => fold(arena, terms, [Op::Add, Op::Sub], names),
+        Ast::Product(factors) => fold(arena, factors, [Op::Mul, Op::Div], names),
+        Ast::Pow(a, b, at) => {
             let (x, y) = (
                 vector_value(arena, a, names)?,
                 vector_value(arena, b, names)?,
             );
-            binary(arena, *op, &x, &y, *at)
+            binary(arena, Op::Pow, &x, &y, *at)
         }
-        VectorAst::Call(f, args, at) => call(arena, f, args, *at, names),
+        Ast::Call(f, args, at) => call(arena, f, args, *at, names),
     }
+}
+
+/// A left-associative chain `a op b op c ..`, evaluated left to right (`ops[1]` for an
+/// operand flagged inverse, `ops[0]` otherwise).
+fn fold(
+    arena: &mut Arena,
+    items: &[(bool, Ast, Location)],
+    ops: [Op; 2],
+    names: &dyn VectorNames,
+) -> Result<Matrix> {
+    let Some(((_, first, _), rest)) = items.split_first() else {
+        // The parser never builds an empty chain; its value would be the identity.
+        return Ok(one(arena.int(i64::from(ops[0] == Op::Mul))));
+    };
+    let mut acc = vector_value(arena, first, names)?;
+    for (inverse, item, at) in rest {
+        let y = vector_value(arena, item, names)?;
+        acc = binary(arena, ops[usize::from(*inverse)], &acc, &y, *at)?;
+    }
+    Ok(acc)
 }
 
 fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
@@ -179,7 +212,7 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
 fn call(
     arena: &mut Arena,
     f: &str,
-    args: &[VectorAst],
+    args: &[Ast],
     at: Location,
     names: &dyn VectorNames,
 ) -> Result<Matrix> {

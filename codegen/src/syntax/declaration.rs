@@ -18,8 +18,10 @@
 //! [b1, b2, b3]` is three rows a_i - b_i = 0.
 
 use crate::error::{Error, Location, Result};
-use crate::syntax::expression::{Ast, ExprParser, closest};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Delim, Tok, Tokens, block, name};
+use crate::syntax::spelling::closest;
 
 /// The section keywords, in the order the README documents them.
 pub(crate) const SECTIONS: &[&str] = &[
@@ -254,7 +256,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             let body = block(c, |c| {
                 let (name, at) = name(c, keyword)?;
                 c.expect(&Tok::Punct('='), &format!("`=` and a value after `{name}`"))?;
-                let value = ExprParser::parse(c)?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(Item { name, at, value })
             })?;
             let slot = if keyword == "parameters" {
@@ -279,7 +281,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                     (first, first_at, false)
                 };
                 c.expect(&Tok::Punct('='), "`=` and an initial value")?;
-                let value = ExprParser::parse(c)?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(IndependentItem {
                     name,
                     rate,
@@ -294,7 +296,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         }
         "kinetic" | "potential" => {
             c.expect(&Tok::Punct('='), &format!("`=` after `{keyword}`"))?;
-            let body = ExprParser::parse(c)?;
+            let body = parse(c, Language::Scalar)?;
             c.expect(
                 &Tok::Punct(';'),
                 &format!("`;` or an operator after the {keyword} energy"),
@@ -332,7 +334,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                     &Tok::Punct(':'),
                     &format!("`:` after `{name}` (forces are written `coordinate: expression;`)"),
                 )?;
-                let value = ExprParser::parse(c)?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(Force { name, at, value })
             })?;
             if d.forces.is_some() {
@@ -364,9 +366,9 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
 fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
     let at = c.peek().location;
     if !c.at(&Tok::Open(Delim::Bracket)) {
-        let lhs = ExprParser::parse(c)?;
+        let lhs = parse(c, Language::Scalar)?;
         let rhs = if c.eat(&Tok::Punct('=')) {
-            Some(ExprParser::parse(c)?)
+            Some(parse(c, Language::Scalar)?)
         } else {
             None
         };
@@ -427,7 +429,7 @@ fn vector(c: &mut Cursor<'_>) -> Result<Vec<(Ast, Location)>> {
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Bracket)) {
         let at = c.peek().location;
-        out.push((ExprParser::parse(c)?, at));
+        out.push((parse(c, Language::Scalar)?, at));
         if !c.eat(&Tok::Punct(',')) {
             break;
         }
