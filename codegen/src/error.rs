@@ -41,8 +41,9 @@ pub enum Error {
         /// Where.
         location: Location,
     },
-    /// A name that is neither a coordinate, a parameter, nor `t` or `pi`.
-    #[error("unknown symbol `{name}` at {location}{}", did_you_mean(.suggestion))]
+    /// A name that is neither a coordinate, a parameter, nor `t` or `pi` (nor, in a body
+    /// section, a body, point or axis).
+    #[error("unknown symbol `{name}` at {location}{}", unknown_hint(.suggestion, .known))]
     UnknownSymbol {
         /// The name written.
         name: String,
@@ -50,6 +51,9 @@ pub enum Error {
         location: Location,
         /// The closest declared name, when one is near (a likely typo).
         suggestion: Option<String>,
+        /// The names that exist there, closest to `name` first (the message shows the
+        /// first few).
+        known: Vec<String>,
     },
     /// A division by (or a negative power of) an expression that simplifies to the constant 0.
     #[error("division by zero")]
@@ -248,12 +252,28 @@ pub enum Error {
 /// Result with the crate's [`Error`](enum@Error).
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// `"; did you mean `x`?"` for an unknown-symbol message, or nothing.
-fn did_you_mean(suggestion: &Option<String>) -> String {
-    match suggestion {
+/// Known names an unknown-symbol message lists before `...`.
+const KNOWN_SHOWN: usize = 8;
+
+/// `"; did you mean `x`? known: x, y, ..."` for an unknown-symbol message (each part only
+/// when there is something to say).
+fn unknown_hint(suggestion: &Option<String>, known: &[String]) -> String {
+    let mut hint = match suggestion {
         Some(s) => format!("; did you mean `{s}`?"),
         None => String::new(),
+    };
+    if !known.is_empty() {
+        hint.push_str(if suggestion.is_some() {
+            " known: "
+        } else {
+            "; known: "
+        });
+        hint.push_str(&known[..known.len().min(KNOWN_SHOWN)].join(", "));
+        if known.len() > KNOWN_SHOWN {
+            hint.push_str(", ...");
+        }
     }
+    hint
 }
 
 impl Error {
@@ -265,12 +285,10 @@ impl Error {
             Error::Parse { message, .. } => format!("parse error: {message}"),
             Error::UnknownSymbol {
                 name,
-                suggestion: Some(s),
+                suggestion,
+                known,
                 ..
-            } => {
-                format!("unknown symbol `{name}`; did you mean `{s}`?")
-            }
-            Error::UnknownSymbol { name, .. } => format!("unknown symbol `{name}`"),
+            } => format!("unknown symbol `{name}`{}", unknown_hint(suggestion, known)),
             Error::UnknownFunction { name, .. } => format!(
                 "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
             ),

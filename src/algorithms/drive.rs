@@ -20,8 +20,8 @@ pub enum DriveError {
     Expression {
         /// The drive text.
         text: String,
-        /// The codegen error.
-        source: mechanism_codegen::Error,
+        /// The codegen error (boxed: it carries the names a message lists).
+        source: Box<mechanism_codegen::Error>,
     },
     /// The runtime refused the drive (an unknown coordinate, for one).
     #[error(transparent)]
@@ -47,7 +47,7 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
         })?;
     let wrap = |source| DriveError::Expression {
         text: text.to_string(),
-        source,
+        source: Box::new(source),
     };
     let mut arena = Arena::new();
     let t = arena.symbol_id("t", SymbolKind::Time);

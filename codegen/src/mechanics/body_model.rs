@@ -23,12 +23,18 @@ use crate::syntax::declaration::components;
 #[derive(Default)]
 struct Scope {
     vectors: HashMap<String, Vec3>,
+    /// The keys of `vectors` in declaration order.
+    order: Vec<String>,
     axes: HashMap<String, AxisFrame>,
 }
 
 impl VectorNames for Scope {
     fn vector(&self, name: &str) -> Option<[crate::algebra::expr::Id; 3]> {
         self.vectors.get(name).copied()
+    }
+
+    fn names(&self) -> Vec<&str> {
+        self.order.iter().map(String::as_str).collect()
     }
 }
 
@@ -157,6 +163,7 @@ fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
             at,
         ));
     }
+    scope.order.push(name.to_string());
     Ok(())
 }
 

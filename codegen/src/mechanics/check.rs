@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use crate::algebra::expr::{Id, SymbolId};
 use crate::error::{Error, Location};
 use crate::mechanics::model::Model;
+use crate::mechanics::resolve::unknown_symbol;
 use crate::syntax::ast::Ast;
 use crate::syntax::declaration::{Declaration, Item};
 use crate::syntax::spelling::closest;
@@ -70,8 +71,10 @@ impl<'d> Scope<'d> {
         }
     }
 
-    fn suggest(&self, name: &str) -> Option<String> {
-        closest(name, self.names.iter().copied().chain(["t", "pi"]))
+    /// The error for an unknown `name` at `at`, with the declared names, `t` and `pi`.
+    fn unknown(&self, name: &str, at: Location) -> Error {
+        let known: Vec<&str> = self.names.iter().copied().chain(["t", "pi"]).collect();
+        unknown_symbol(name, at, &known)
     }
 }
 
@@ -253,7 +256,7 @@ fn check_name(name: &str, at: Location, ctx: Context, scope: &Scope<'_>, errors:
         return;
     }
     match (scope.kinds.get(name), ctx) {
-        (None, _) => errors.push(Error::UnknownSymbol { name: name.into(), location: at, suggestion: scope.suggest(name) }),
+        (None, _) => errors.push(scope.unknown(name, at)),
         (Some(Kind::Coordinate(_)), _) if constant_place(ctx).is_some() => {
             let place = constant_place(ctx).unwrap_or_default();
             errors.push(declaration_error(format!("{place}; `{name}` is a coordinate"), at));
@@ -303,11 +306,7 @@ fn check_rate(
             return;
         }
         None => {
-            errors.push(Error::UnknownSymbol {
-                name: x.clone(),
-                location: *xat,
-                suggestion: scope.suggest(x),
-            });
+            errors.push(scope.unknown(x, *xat));
             return;
         }
     }

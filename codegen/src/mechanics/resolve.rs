@@ -9,7 +9,7 @@ use crate::error::{Error, Location, Result};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Tok, tokens_from_str};
-use crate::syntax::spelling::closest;
+use crate::syntax::spelling::{closest, ranked};
 
 /// How names resolve while building the node of a syntax tree.
 pub(crate) trait Resolver {
@@ -31,19 +31,7 @@ impl Resolver for ArenaResolver {
         match name {
             "pi" => Ok(arena.pi()),
             "t" => Ok(arena.symbol("t", SymbolKind::Time)),
-            _ => {
-                let names: Vec<&str> = arena
-                    .symbols()
-                    .iter()
-                    .filter(|s| !matches!(s.kind, SymbolKind::Velocity | SymbolKind::Acceleration))
-                    .map(|s| s.name.as_str())
-                    .collect();
-                Err(Error::UnknownSymbol {
-                    name: name.to_string(),
-                    location: at,
-                    suggestion: closest(name, names.iter().copied().chain(["t", "pi"])),
-                })
-            }
+            _ => Err(unknown_symbol(name, at, &arena_names(arena))),
         }
     }
 
@@ -66,6 +54,34 @@ impl Resolver for ArenaResolver {
             }
         }
         Ok(arena.symbol_node(d))
+    }
+}
+
+/// The names an expression may use in `arena`: its symbols but rates and accelerations
+/// (written `der(x)`, `der2(x)`), then `t` and `pi`.
+pub(crate) fn arena_names(arena: &Arena) -> Vec<&str> {
+    let symbols = arena
+        .symbols()
+        .iter()
+        .filter(|s| !matches!(s.kind, SymbolKind::Velocity | SymbolKind::Acceleration))
+        .map(|s| s.name.as_str());
+    let mut names: Vec<&str> = symbols.collect();
+    for builtin in ["t", "pi"] {
+        if !names.contains(&builtin) {
+            names.push(builtin);
+        }
+    }
+    names
+}
+
+/// The error for the unknown name `name` at `at`, among the names `known` (in the order to
+/// list them when equally close).
+pub(crate) fn unknown_symbol(name: &str, at: Location, known: &[&str]) -> Error {
+    Error::UnknownSymbol {
+        name: name.to_string(),
+        location: at,
+        suggestion: closest(name, known.iter().copied()),
+        known: ranked(name, known.iter().copied()),
     }
 }
 

@@ -9,7 +9,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, elementary_rotation};
 use crate::error::{Error, Location, Result};
 use crate::mechanics::joints::cross;
-use crate::mechanics::resolve::{ArenaResolver, Resolver};
+use crate::mechanics::resolve::{ArenaResolver, Resolver, arena_names, unknown_symbol};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::HELPERS;
 
@@ -27,6 +27,8 @@ enum Op {
 pub(crate) trait VectorNames {
     /// The world vector called `name`, if there is one.
     fn vector(&self, name: &str) -> Option<[Id; 3]>;
+    /// The names of the world vectors, in declaration order (for unknown-name errors).
+    fn names(&self) -> Vec<&str>;
 }
 
 fn shape_error(message: String, at: Location) -> Error {
@@ -81,7 +83,16 @@ pub(crate) fn vector_value(
         Ast::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
         Ast::Name(n, at) => match names.vector(n) {
             Some(v) => Ok(Matrix::column(v.to_vec())),
-            None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
+            None => match ArenaResolver.name(arena, n, *at) {
+                Ok(id) => Ok(one(id)),
+                // Points, axes and bodies are names here too.
+                Err(Error::UnknownSymbol { .. }) => {
+                    let mut known = names.names();
+                    known.extend(arena_names(arena));
+                    Err(unknown_symbol(n, *at, &known))
+                }
+                Err(e) => Err(e),
+            },
         },
         Ast::Neg(a, _) => {
             let v = vector_value(arena, a, names)?;

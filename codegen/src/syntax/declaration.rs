@@ -13,9 +13,9 @@
 //! row         := expr ["=" expr] | vector ["=" vector]
 //! vector      := "[" expr ("," expr)* "]"
 //! ```
-//! Sections come in any order, each at most once; the last `;` of a block may be left out,
-//! and a `;` after a block is allowed. A row `a = b` means a - b = 0; `[a1, a2, a3] =
-//! [b1, b2, b3]` is three rows a_i - b_i = 0.
+//! Sections come in any order, each at most once; every statement of a block ends with `;`
+//! (the last one too), and a `;` after a block is allowed. A row `a = b` means a - b = 0;
+//! `[a1, a2, a3] = [b1, b2, b3]` is three rows a_i - b_i = 0.
 
 use crate::error::{Error, Location, Result};
 use crate::syntax::ast::Ast;

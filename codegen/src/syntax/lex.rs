@@ -294,7 +294,8 @@ pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Locatio
     }
 }
 
-/// `{ item; item; ... }` with an optional last `;`.
+/// `{ item; item; ... }`: every item ends with `;`, the last one too (a missing `;` is
+/// reported at the token where it was expected, so a dropped statement cannot go unnoticed).
 pub(crate) fn block<T>(
     c: &mut Cursor<'_>,
     mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
@@ -303,7 +304,10 @@ pub(crate) fn block<T>(
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Brace)) {
         out.push(item(c)?);
-        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
+        if c.at(&Tok::Close(Delim::Brace)) {
+            return Err(c.error_here("expected `;` after the last statement of the block"));
+        }
+        if !c.eat(&Tok::Punct(';')) {
             return Err(c.error_here("expected `;` or an operator"));
         }
     }
