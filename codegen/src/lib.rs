@@ -55,7 +55,7 @@
 
 mod algebra;
 mod emit;
-mod error;
+pub mod error;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod mechanics;

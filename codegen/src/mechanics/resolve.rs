@@ -5,7 +5,7 @@
 //! constructor call each, so the node is the arena's canonical form of the whole chain.
 
 use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result, SymbolRole};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Tok, tokens_from_str};
@@ -39,18 +39,17 @@ impl Resolver for ArenaResolver {
         let Some(s) = arena.lookup(name) else {
             // Reports the unknown name (with its suggestion).
             self.name(arena, name, at)?;
-            return Err(der_error(name, "not a coordinate", at));
+            return Err(der_error(name, SymbolRole::NotACoordinate, at));
         };
         let info = arena.symbol_info(s);
         if info.kind != SymbolKind::Coordinate {
-            let what = kind_phrase(info.kind);
-            return Err(der_error(name, what, at));
+            return Err(der_error(name, role(info.kind), at));
         }
         let mut d = s;
         for _ in 0..order {
             match arena.symbol_info(d).derivative {
                 Some(next) => d = next,
-                None => return Err(der_error(name, "a coordinate without a declared rate", at)),
+                None => return Err(der_error(name, SymbolRole::CoordinateWithoutRate, at)),
             }
         }
         Ok(arena.symbol_node(d))
@@ -85,24 +84,25 @@ pub(crate) fn unknown_symbol(name: &str, at: Location, known: &[&str]) -> Error 
     }
 }
 
-/// "a parameter", "time", ... for messages.
-pub(crate) fn kind_phrase(kind: SymbolKind) -> &'static str {
+/// What a symbol of kind `kind` is, for messages.
+fn role(kind: SymbolKind) -> SymbolRole {
     match kind {
-        SymbolKind::Coordinate => "a coordinate",
-        SymbolKind::Velocity => "a rate",
-        SymbolKind::Acceleration => "an acceleration",
-        SymbolKind::Parameter => "a parameter",
-        SymbolKind::Time => "time",
-        SymbolKind::Free => "not a coordinate",
+        SymbolKind::Coordinate => SymbolRole::Coordinate,
+        SymbolKind::Velocity => SymbolRole::Rate,
+        SymbolKind::Acceleration => SymbolRole::Acceleration,
+        SymbolKind::Parameter => SymbolRole::Parameter,
+        SymbolKind::Time => SymbolRole::Time,
+        SymbolKind::Free => SymbolRole::NotACoordinate,
     }
 }
 
 /// "der() takes a coordinate; `m1` is a parameter".
-pub(crate) fn der_error(name: &str, what: &str, at: Location) -> Error {
-    Error::Declaration {
-        message: format!("der() takes a coordinate; `{name}` is {what}"),
-        location: at,
-    }
+fn der_error(name: &str, role: SymbolRole, at: Location) -> Error {
+    let kind = DeclarationError::RateOfNonCoordinate {
+        name: name.to_string(),
+        role,
+    };
+    Error::declaration(kind, at)
 }
 
 /// Builds the canonical node of `ast` in `arena`, resolving names with `resolver`.
@@ -148,10 +148,9 @@ pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver)
         }
         Ast::Call(name, args, at) => resolve_call(arena, name, args, *at, resolver),
         // The scalar language has no vector forms (its parser refuses them).
-        Ast::Member(_, _, at) | Ast::Brackets(_, at) => Err(Error::Parse {
-            message: "a vector form in a scalar expression".into(),
-            location: *at,
-        }),
+        Ast::Member(_, _, at) | Ast::Brackets(_, at) => {
+            Err(Error::parse(ParseError::VectorInScalar, *at))
+        }
     }
 }
 
@@ -173,17 +172,21 @@ fn resolve_call(
         let order = if name == "der" { 1 } else { 2 };
         return match args {
             [Ast::Name(x, xat)] => r.rate(arena, x, order, *xat),
-            [other] => Err(Error::Declaration {
-                message: format!(
-                    "{name}() takes the name of a coordinate, like {name}(phi); found `{}`",
-                    other.text()
-                ),
-                location: other.location(),
-            }),
-            _ => Err(Error::Parse {
-                message: format!("`{name}` takes 1 argument"),
-                location: at,
-            }),
+            [other] => {
+                let kind = DeclarationError::RateOfExpression {
+                    function: name.to_string(),
+                    found: other.text(),
+                };
+                Err(Error::declaration(kind, other.location()))
+            }
+            _ => {
+                let kind = ParseError::Arity {
+                    function: name.to_string(),
+                    expected: 1,
+                    found: args.len(),
+                };
+                Err(Error::parse(kind, at))
+            }
         };
     }
     let mut v = Vec::with_capacity(args.len());
@@ -195,10 +198,12 @@ fn resolve_call(
             divisor: args[0].text(),
             location: at,
         },
-        other => Error::Declaration {
-            message: other.to_string(),
-            location: at,
-        },
+        other => {
+            let kind = DeclarationError::ConstantOutOfDomain {
+                error: Box::new(other),
+            };
+            Error::declaration(kind, at)
+        }
     };
     match (name, v.as_slice()) {
         ("sqrt", [x]) => arena.sqrt(*x).map_err(domain),
@@ -245,7 +250,7 @@ pub fn parse_expr(arena: &mut Arena, text: &str) -> Result<Id> {
     let mut cursor = Cursor::new(&tokens);
     let ast = parse(&mut cursor, Language::Scalar)?;
     if !cursor.at(&Tok::End) {
-        return Err(cursor.error_here("expected an operator or the end of the expression"));
+        return Err(cursor.expected(Expected::EndOfExpression));
     }
     resolve(arena, &ast, &mut ArenaResolver)
 }

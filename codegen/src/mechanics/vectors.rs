@@ -7,7 +7,7 @@
 use crate::algebra::expr::{Arena, Func, Id};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, elementary_rotation};
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Location, Quantity, Result};
 use crate::mechanics::joints::cross;
 use crate::mechanics::resolve::{ArenaResolver, Resolver, arena_names, unknown_symbol};
 use crate::syntax::ast::Ast;
@@ -31,40 +31,25 @@ pub(crate) trait VectorNames {
     fn names(&self) -> Vec<&str>;
 }
 
-fn shape_error(message: String, at: Location) -> Error {
-    Error::Declaration {
-        message,
-        location: at,
-    }
-}
-
 /// The 1x1 value's entry, or an error naming `what`.
-pub(crate) fn scalar(m: &Matrix, what: &str, at: Location) -> Result<Id> {
+pub(crate) fn scalar(m: &Matrix, what: Quantity, at: Location) -> Result<Id> {
     if (m.rows, m.cols) == (1, 1) {
         Ok(m.data[0])
     } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a scalar; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
+        let (rows, cols) = (m.rows, m.cols);
+        let kind = DeclarationError::NotScalar { what, rows, cols };
+        Err(Error::declaration(kind, at))
     }
 }
 
 /// The 3x1 value's entries, or an error naming `what`.
-pub(crate) fn vec3(m: &Matrix, what: &str, at: Location) -> Result<[Id; 3]> {
+pub(crate) fn vec3(m: &Matrix, what: Quantity, at: Location) -> Result<[Id; 3]> {
     if (m.rows, m.cols) == (3, 1) {
         Ok([m.data[0], m.data[1], m.data[2]])
     } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
+        let (rows, cols) = (m.rows, m.cols);
+        let kind = DeclarationError::NotVector3 { what, rows, cols };
+        Err(Error::declaration(kind, at))
     }
 }
 
@@ -101,7 +86,7 @@ pub(crate) fn vector_value(
         }
         Ast::Member(a, k, at) => {
             let v = vector_value(arena, a, names)?;
-            let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
+            let v = vec3(&v, Quantity::MemberBase, *at)?;
             Ok(one(v[*k]))
         }
         Ast::Brackets(items, at) => {
@@ -114,10 +99,7 @@ pub(crate) fn vector_value(
                 let mut data = Vec::new();
                 for r in &rows {
                     if r.cols != 1 || r.rows != cols {
-                        return Err(shape_error(
-                            "the rows of a matrix `[[..], [..]]` must have equal lengths".into(),
-                            *at,
-                        ));
+                        return Err(Error::declaration(DeclarationError::RaggedMatrix, *at));
                     }
                     data.extend(&r.data);
                 }
@@ -129,7 +111,7 @@ pub(crate) fn vector_value(
             }
             let mut data = Vec::new();
             for (r, it) in rows.iter().zip(items) {
-                data.push(scalar(r, "an entry of a vector `[..]`", it.location())?);
+                data.push(scalar(r, Quantity::VectorEntry, it.location())?);
             }
             Ok(Matrix::column(data))
         }
@@ -167,19 +149,12 @@ fn fold(
 }
 
 fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
-    let mismatch = |what: &str| {
-        shape_error(
-            format!(
-                "{what}: the left side is {}x{}, the right side {}x{}",
-                x.rows, x.cols, y.rows, y.cols
-            ),
-            at,
-        )
-    };
+    let (left, right) = ((x.rows, x.cols), (y.rows, y.cols));
     match op {
         Op::Add | Op::Sub => {
-            if (x.rows, x.cols) != (y.rows, y.cols) {
-                return Err(mismatch("a sum needs values of one shape"));
+            if left != right {
+                let kind = DeclarationError::SumShapes { left, right };
+                return Err(Error::declaration(kind, at));
             }
             if op == Op::Add {
                 x.add(arena, y)
@@ -195,13 +170,12 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             } else if x.cols == y.rows {
                 x.mul(arena, y)
             } else {
-                Err(mismatch(
-                    "a matrix product needs as many columns on the left as rows on the right",
-                ))
+                let kind = DeclarationError::ProductShapes { left, right };
+                Err(Error::declaration(kind, at))
             }
         }
         Op::Div => {
-            let d = scalar(y, "a divisor", at)?;
+            let d = scalar(y, Quantity::Divisor, at)?;
             let inv = arena.powi(d, -1).map_err(|_| Error::ZeroDivisor {
                 divisor: "0".into(),
                 location: at,
@@ -209,8 +183,8 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             x.scale(arena, inv)
         }
         Op::Pow => {
-            let b = scalar(x, "the base of `^`", at)?;
-            let e = scalar(y, "an exponent", at)?;
+            let b = scalar(x, Quantity::PowerBase, at)?;
+            let e = scalar(y, Quantity::Exponent, at)?;
             Ok(one(arena.pow(b, e).map_err(|_| Error::ZeroDivisor {
                 divisor: "0".into(),
                 location: at,
@@ -228,12 +202,10 @@ fn call(
     names: &dyn VectorNames,
 ) -> Result<Matrix> {
     if HELPERS.contains(&f) {
-        return Err(shape_error(
-            format!(
-                "`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"
-            ),
-            at,
-        ));
+        let kind = DeclarationError::JointInExpression {
+            helper: f.to_string(),
+        };
+        return Err(Error::declaration(kind, at));
     }
     let mut v = Vec::with_capacity(args.len());
     for a in args {
@@ -241,12 +213,15 @@ fn call(
     }
     let s = |i: usize, arena: &mut Arena| -> Result<Id> {
         let _ = arena;
-        scalar(&v[i], &format!("the argument of `{f}`"), args[i].location())
+        scalar(&v[i], Quantity::Argument(f.to_string()), args[i].location())
     };
-    let w = |i: usize| vec3(&v[i], &format!("the argument of `{f}`"), args[i].location());
-    let domain = |e: Error| Error::Declaration {
-        message: format!("`{f}`: {e}"),
-        location: at,
+    let w = |i: usize| vec3(&v[i], Quantity::Argument(f.to_string()), args[i].location());
+    let domain = |e: Error| {
+        let kind = DeclarationError::FunctionOutOfDomain {
+            function: f.to_string(),
+            error: Box::new(e),
+        };
+        Error::declaration(kind, at)
     };
     Ok(match f {
         "rot_x" | "rot_y" | "rot_z" => {

@@ -36,7 +36,7 @@
 //! Everything is built in declaration order, so a body may use the points of bodies
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Expected, Location, ParseError, Result};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{HELPERS, Language, parse};
 use crate::syntax::lex::{Cursor, Tok, block, name};
@@ -166,16 +166,18 @@ pub(crate) fn parse_body_section(
 ) -> Result<()> {
     match keyword {
         "gravity" => {
-            c.expect(&Tok::Punct('='), "`=` after `gravity`")?;
+            let written = "gravity".to_string();
+            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
             let v = parse(c, Language::Vector)?;
-            c.expect(&Tok::Punct(';'), "`;` after the gravity vector")?;
+            c.expect(&Tok::Punct(';'), Expected::GravitySemicolon)?;
             bodies.items.push(BodyItem::Gravity(v, at));
         }
         "point" | "axis" => {
             let (name, nat) = name(c, keyword)?;
-            c.expect(&Tok::Punct('='), &format!("`=` after `{keyword} {name}`"))?;
+            let written = format!("{keyword} {name}");
+            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
             let v = parse(c, Language::Vector)?;
-            c.expect(&Tok::Punct(';'), "`;` or an operator")?;
+            c.expect(&Tok::Punct(';'), Expected::Semicolon)?;
             bodies.items.push(if keyword == "point" {
                 BodyItem::Point(name, nat, v)
             } else {
@@ -230,23 +232,23 @@ fn keys(block: &str) -> &'static [&'static str] {
 fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
     let (key, at) = name(c, block)?;
     if !keys(block).contains(&key.as_str()) {
-        return Err(Error::Parse {
-            message: format!(
-                "`{key}` is not an entry of a {block}; expected one of {}",
-                keys(block).join(", ")
-            ),
-            location: at,
-        });
+        let kind = ParseError::UnknownEntry {
+            key,
+            block: block.to_string(),
+            keys: keys(block),
+        };
+        return Err(Error::parse(kind, at));
     }
     let name = if key == "point" || key == "axis" {
         Some(name(c, &key)?.0)
     } else {
         None
     };
-    c.expect(&Tok::Punct('='), &format!("`=` after `{key}`"))?;
+    let written = key.clone();
+    c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
     let mut value = vec![parse(c, Language::Vector)?];
     if key == "between" {
-        c.expect(&Tok::Punct(','), "`,` between the two points")?;
+        c.expect(&Tok::Punct(','), Expected::BetweenComma)?;
         value.push(parse(c, Language::Vector)?);
     }
     Ok(Entry {

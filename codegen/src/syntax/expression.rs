@@ -24,7 +24,7 @@
 //! as well as symbols; its extra functions are `rot_x`, `rot_y`, `rot_z` (3x3),
 //! `diag(a, b, c)` (3x3), `dot(u, v)`, `cross(u, v)`, `norm(u)` and the joint helpers.
 
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result};
 use crate::number::Number;
 use crate::syntax::MAX_DEPTH;
 use crate::syntax::ast::Ast;
@@ -144,7 +144,9 @@ impl Parser<'_, '_> {
     fn expr(&mut self, min: u8) -> Result<Ast> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self.c.error_here("the expression is nested too deeply"));
+            return Err(self.c.error_here(ParseError::TooDeep {
+                found: self.c.found(),
+            }));
         }
         let mut lhs = self.prefix()?;
         while let Some(op) = Infix::at(self.c) {
@@ -179,7 +181,7 @@ impl Parser<'_, '_> {
             };
             let at = self.c.next().location;
             if next == Infix::Product(false) && self.c.at_punct('*') {
-                return Err(self.c.error_here("powers are written `x^2` (not `x**2`)"));
+                return Err(self.c.error_here(ParseError::DoubleStar));
             }
             items.push((inverse, self.expr(op.power() + 1)?, at));
         }
@@ -203,7 +205,7 @@ impl Parser<'_, '_> {
                 Tok::Ident(s) if s == "x" => 0,
                 Tok::Ident(s) if s == "y" => 1,
                 Tok::Ident(s) if s == "z" => 2,
-                _ => return Err(self.c.error_here("expected `x`, `y` or `z` after `.`")),
+                _ => return Err(self.c.expected(Expected::Component)),
             };
             self.c.next();
             a = Ast::Member(Box::new(a), k, at);
@@ -215,10 +217,7 @@ impl Parser<'_, '_> {
         let t = self.c.peek();
         match &t.tok {
             Tok::Literal(s) => {
-                let n = parse_number(s).map_err(|m| Error::Parse {
-                    message: m,
-                    location: t.location,
-                })?;
+                let n = parse_number(s).map_err(|kind| Error::parse(kind, t.location))?;
                 self.c.next();
                 Ok(Ast::Number(n, t.location))
             }
@@ -234,24 +233,21 @@ impl Parser<'_, '_> {
                 self.c.next();
                 let inner = self.expr(0)?;
                 self.c
-                    .expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
+                    .expect(&Tok::Close(Delim::Paren), Expected::CloseParen)?;
                 Ok(inner)
             }
             Tok::Open(Delim::Bracket) if self.language == Language::Vector => {
                 self.c.next();
-                let items = self.list(Delim::Bracket, "`,` or `]` in a vector")?;
+                let items = self.list(Delim::Bracket, Expected::VectorSeparator)?;
                 if items.is_empty() {
-                    return Err(Error::Parse {
-                        message: "a vector needs at least one entry".into(),
-                        location: t.location,
-                    });
+                    return Err(Error::parse(ParseError::EmptyVector, t.location));
                 }
                 Ok(Ast::Brackets(items, t.location))
             }
-            Tok::Punct('^') => Err(self.c.error_here("`^` needs a base on its left")),
-            _ => Err(self.c.error_here(match self.language {
-                Language::Scalar => "expected a number, a name or `(`",
-                Language::Vector => "expected a number, a name, `(` or `[`",
+            Tok::Punct('^') => Err(self.c.error_here(ParseError::CaretWithoutBase)),
+            _ => Err(self.c.expected(match self.language {
+                Language::Scalar => Expected::Operand,
+                Language::Vector => Expected::VectorOperand,
             })),
         }
     }
@@ -259,34 +255,34 @@ impl Parser<'_, '_> {
     /// `name(args)`, the cursor at `(`.
     fn call(&mut self, name: &str, at: Location) -> Result<Ast> {
         if self.language == Language::Vector && (name == "der" || name == "der2") {
-            return Err(Error::Declaration {
-                message: format!(
-                    "`{name}(..)` cannot appear in a body, point, spring or joint: they are position-level (functions of q and t)"
-                ),
-                location: at,
-            });
+            return Err(Error::declaration(
+                DeclarationError::RateInBody {
+                    function: name.to_string(),
+                },
+                at,
+            ));
         }
         self.c.next();
-        let args = self.list(Delim::Paren, "`,` or `)` after a function argument")?;
+        let args = self.list(Delim::Paren, Expected::ArgumentSeparator)?;
         match arity(self.language, name) {
             None => Err(Error::UnknownFunction {
                 name: name.to_string(),
                 location: at,
             }),
-            Some(arity) if arity != args.len() => Err(Error::Parse {
-                message: format!(
-                    "`{name}` takes {arity} argument{}, found {}",
-                    if arity == 1 { "" } else { "s" },
-                    args.len()
-                ),
-                location: at,
-            }),
+            Some(arity) if arity != args.len() => Err(Error::parse(
+                ParseError::Arity {
+                    function: name.to_string(),
+                    expected: arity,
+                    found: args.len(),
+                },
+                at,
+            )),
             Some(_) => Ok(Ast::Call(name.to_string(), args, at)),
         }
     }
 
-    /// `a, b, ...` up to the closing `close` (consumed; `what` names it in the error).
-    fn list(&mut self, close: Delim, what: &str) -> Result<Vec<Ast>> {
+    /// `a, b, ...` up to the closing `close` (consumed; `expected` names it in the error).
+    fn list(&mut self, close: Delim, expected: Expected) -> Result<Vec<Ast>> {
         let mut out = Vec::new();
         if !self.c.at(&Tok::Close(close)) {
             loop {
@@ -296,26 +292,23 @@ impl Parser<'_, '_> {
                 }
             }
         }
-        self.c.expect(&Tok::Close(close), what)?;
+        self.c.expect(&Tok::Close(close), expected)?;
         Ok(out)
     }
 }
 
 /// A numeric literal: decimal integers are exact, decimals and exponent forms are floats.
-fn parse_number(text: &str) -> std::result::Result<Number, String> {
+fn parse_number(text: &str) -> std::result::Result<Number, ParseError> {
     // A negative literal only arises from tokens built by code, never from the lexer.
     if let Some(rest) = text.strip_prefix('-') {
         return parse_number(rest).map(|n| -n);
     }
+    let literal = || text.to_string();
     if text.starts_with(['"', '\'', 'b', 'c', 'r']) {
-        return Err(format!("expected a number, found the literal {text}"));
+        return Err(ParseError::NotANumber { literal: literal() });
     }
     let clean: String = text.chars().filter(|&c| c != '_').collect();
-    let bad = || {
-        format!(
-            "`{text}` is not a number of the language (write e.g. 2, 0.04 or 1e-4, without a type suffix)"
-        )
-    };
+    let bad = || ParseError::BadNumber { literal: literal() };
     if clean.starts_with("0x") || clean.starts_with("0o") || clean.starts_with("0b") {
         return Err(bad());
     }
@@ -336,7 +329,7 @@ fn parse_number(text: &str) -> std::result::Result<Number, String> {
         return Err(bad());
     }
     let x: f64 = clean.parse().map_err(|_| bad())?;
-    Number::float(x).ok_or_else(|| format!("`{text}` is too large for a 64-bit float"))
+    Number::float(x).ok_or_else(|| ParseError::NumberTooLarge { literal: literal() })
 }
 
 #[cfg(test)]

@@ -358,3 +358,75 @@ fn token_route_errors_carry_the_offending_span() {
         "unknown symbol `gg`; did you mean `g`? known: g, m, l, x, y, t, pi"
     );
 }
+
+/// Errors are typed: the kind says which rule or which token, with its data.
+#[test]
+fn errors_carry_their_kind_and_data() {
+    use mechanism_codegen::error::{
+        CoordinatePlace, DeclarationError, Expected, NameKind, ParseError, SymbolRole,
+    };
+    let first = |d: D| parse_declaration_str(&d.text()).unwrap_err().remove(0);
+    let rule = |d: D| match first(d) {
+        Error::Declaration { kind, .. } => *kind,
+        other => panic!("{other:?}"),
+    };
+    let grammar = |d: D| match first(d) {
+        Error::Parse { kind, .. } => *kind,
+        other => panic!("{other:?}"),
+    };
+    let forces = Some("x: 1.0; x: 2.0;");
+    let kind = rule(D { forces, ..BASE });
+    assert!(
+        matches!(&kind, DeclarationError::TwoForces { name, first } if name == "x" && first.line == 8),
+        "{kind:?}"
+    );
+    let coordinates = Some("x = 0.5; y = 0.0; x = 1.0;");
+    let kind = rule(D {
+        coordinates,
+        ..BASE
+    });
+    assert!(
+        matches!(
+            kind,
+            DeclarationError::DeclaredTwice {
+                kind: NameKind::Coordinate,
+                ..
+            }
+        ),
+        "{kind:?}"
+    );
+    let kind = rule(D {
+        forces: Some("l: 1.0;"),
+        ..BASE
+    });
+    assert!(
+        matches!(
+            kind,
+            DeclarationError::NotACoordinate {
+                place: CoordinatePlace::Force,
+                role: SymbolRole::Parameter,
+                ..
+            }
+        ),
+        "{kind:?}"
+    );
+    let constraints = Some("x^2 + y^2 - l^2");
+    assert_eq!(
+        grammar(D {
+            constraints,
+            ..BASE
+        }),
+        ParseError::Expected {
+            expected: Expected::LastSemicolon,
+            found: "`}`".into()
+        }
+    );
+    let constraints = Some("[x, y] = [l, 0, 1];");
+    assert_eq!(
+        grammar(D {
+            constraints,
+            ..BASE
+        }),
+        ParseError::VectorLengths { left: 2, right: 3 }
+    );
+}
