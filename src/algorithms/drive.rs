@@ -65,10 +65,10 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
     let program = Program::new(&arena, &[&Matrix::column(vec![f, f1, f2])]).map_err(wrap)?;
     let mut inputs = vec![0.0; arena.symbols().len()];
     for (s, v) in params.iter().zip(&values) {
-        inputs[s.0 as usize] = *v;
+        inputs[s.index()] = *v;
     }
     let state = Mutex::new((Tape::new(&program), inputs));
-    let t_index = t.0 as usize;
+    let t_index = t.index();
     Ok(Drive::new(coordinate, move |time| {
         let mut guard = state.lock().unwrap_or_else(|p| p.into_inner());
         let (tape, inputs) = &mut *guard;

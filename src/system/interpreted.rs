@@ -175,18 +175,18 @@ impl Interpreted {
 
     fn load(&self, s: &mut Scratch, t: f64, q: &[f64], qd: Option<&[f64]>) {
         for (sym, v) in self.parameter_symbols.iter().zip(&self.parameters) {
-            s.inputs[sym.0 as usize] = *v;
+            s.inputs[sym.index()] = *v;
         }
         for (sym, v) in self.q_symbols.iter().zip(q) {
-            s.inputs[sym.0 as usize] = *v;
+            s.inputs[sym.index()] = *v;
         }
         if let Some(qd) = qd {
             for (sym, v) in self.qd_symbols.iter().zip(qd) {
-                s.inputs[sym.0 as usize] = *v;
+                s.inputs[sym.index()] = *v;
             }
         }
         if let Some(ts) = self.time_symbol {
-            s.inputs[ts.0 as usize] = t;
+            s.inputs[ts.index()] = t;
         }
     }
 
@@ -295,7 +295,7 @@ impl System for Interpreted {
             .zip(qdd)
             .chain(self.lambda_symbols.iter().zip(lambda))
         {
-            s.inputs[sym.0 as usize] = *v;
+            s.inputs[sym.index()] = *v;
         }
         // On a non-finite tangent the caller falls back to finite differences.
         s.tape.eval(&s.inputs, &mut s.out).ok()?;

@@ -16,11 +16,7 @@ fn outputs_are_written_matrix_after_matrix_row_major() {
     let s = a.sin(x);
     let xy = a.mul2(x, y);
     let one = a.int(1);
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![x, y, s, one],
-    };
+    let m = Matrix::new(2, 2, vec![x, y, s, one]).unwrap();
     let v = Matrix::column(vec![xy, s]);
     let p = Program::new(&a, &[&m, &v]).unwrap();
     let mut t = Tape::new(&p);
