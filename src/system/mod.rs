@@ -19,6 +19,8 @@ mod dynamic;
 mod info;
 mod interpreted;
 mod mechanism;
+mod registers;
+pub(crate) mod routine;
 
 pub use compiled::Compiled;
 pub use dynamic::{Evaluation, System, Tangent};

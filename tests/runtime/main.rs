@@ -14,6 +14,7 @@ mod energy;
 mod integrators;
 mod interpreted_errors;
 mod interpreted_tangent;
+mod interpreted_threads;
 mod inverse;
 mod linearize;
 mod no_alloc;
