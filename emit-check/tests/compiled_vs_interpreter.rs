@@ -6,19 +6,17 @@
 //! multiplications where the tape calls the runtime routine). Against `eval` the operations
 //! are the same but reassociated (see codegen's `cse` docs), so they differ by rounding:
 //! 1e-12 relative, or, for the few ill-conditioned entries (cancellation in a sum), the
-//! first-order rounding bound 16 eps E of the DAG (tests/support). The test also asserts
-//! that the relative 1e-12 criterion alone holds for the vast majority of comparisons, so
-//! the bound is not vacuous.
-
-mod support;
+//! first-order rounding bound 16 eps E of the DAG (`mechanism_test_support::rounding`). The
+//! test also asserts that the relative 1e-12 criterion alone holds for the vast majority of
+//! comparisons, so the bound is not vacuous.
 
 use std::collections::HashMap;
 
 use mechanism_codegen::{Matrix, Program, SymbolId, Tape, eval, eval_matrix, parse_expr};
 use mechanism_emit_check::generated::{MATRICES, P, SCALARS};
 use mechanism_emit_check::random::{self, Rng};
+use mechanism_test_support::rounding::dag;
 use nalgebra::{SMatrix, SVector};
-use support::dag;
 
 const POINTS: usize = 8;
 
