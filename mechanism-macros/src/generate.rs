@@ -134,7 +134,7 @@ impl Bodies<'_> {
             zeroed: true,
         }];
         let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
-        let (r, c, krate) = (m.rows, m.cols, self.krate);
+        let (r, c, krate) = (m.rows(), m.cols(), self.krate);
         let mutable = if body.is_empty() {
             quote!()
         } else {
@@ -246,7 +246,7 @@ impl Bodies<'_> {
         let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
         let targets = [place(quote!(stiffness)), place(quote!(damping))];
         let body = emit_body(&program, &bindings, &targets)?.tokens;
-        let (n, krate) = (tangent.stiffness.rows, self.krate);
+        let (n, krate) = (tangent.stiffness.rows(), self.krate);
         Ok(quote! {
             let mut stiffness = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
             let mut damping = #krate::__private::SMatrix::<f64, #n, #n>::zeros();

@@ -112,6 +112,34 @@ impl InverseDynamics {
         let (n, m, k) = (info.n(), info.m(), self.fixed.len());
         let mut qd = vec![0.0; n];
         let mut fdd = vec![0.0; k];
+        self.prescribe(info, t, &mut qd, &mut fdd)?;
+        self.check_drives(system, t)?;
+        solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
+        solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
+        system.evaluate(t, &self.q, &qd, &mut self.eval);
+        self.assemble(t, &fdd)?;
+        let qdd = self.accelerations(info, t)?;
+        self.multipliers(&qdd);
+        Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
+        Ok(InverseSample {
+            t,
+            q: self.q.clone(),
+            qd,
+            qdd,
+            driving: self.lambda[m..].iter().map(|l| -l).collect(),
+            lambda: self.lambda[..m].to_vec(),
+        })
+    }
+
+    /// The prescribed motion at t: q_k = f(t) into the positions, f'(t) into `qd` and
+    /// f''(t) into `fdd` (drive order).
+    fn prescribe(
+        &mut self,
+        info: &SystemInfo,
+        t: f64,
+        qd: &mut [f64],
+        fdd: &mut [f64],
+    ) -> Result<(), Error> {
         for (j, d) in self.drives.iter().enumerate() {
             let [f, fd, f2] = (d.f)(t);
             if !(f.is_finite() && fd.is_finite() && f2.is_finite()) {
@@ -124,26 +152,25 @@ impl InverseDynamics {
             qd[d.coordinate] = fd;
             fdd[j] = f2;
         }
-        self.check_drives(system, t)?;
-        solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
-        solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
-        system.evaluate(t, &self.q, &qd, &mut self.eval);
+        Ok(())
+    }
+
+    /// The driven system from the evaluation at the solved state: the rows [Phi_q; E], the
+    /// force side tau* - C q' - g (driven entries of tau zeroed) and [gamma; f''].
+    fn assemble(&mut self, t: f64, fdd: &[f64]) -> Result<(), Error> {
         let e = &self.eval;
-        self.rows.fill(0.0);
-        self.rows.view_mut((0, 0), (m, n)).copy_from(&e.phi_q);
-        for (j, &c) in self.fixed.iter().enumerate() {
-            self.rows[(m + j, c)] = 1.0;
-        }
-        for i in 0..n {
+        let m = e.phi.len();
+        driven_rows(&mut self.rows, &e.phi_q, &self.fixed);
+        for (i, rhs) in self.rhs.iter_mut().enumerate() {
             let tau = if self.fixed.contains(&i) {
                 0.0
             } else {
                 e.forces[i]
             };
-            self.rhs[i] = tau - e.coriolis[i] - e.gravity[i];
+            *rhs = tau - e.coriolis[i] - e.gravity[i];
         }
         self.gamma[..m].copy_from_slice(e.gamma.as_slice());
-        self.gamma[m..].copy_from_slice(&fdd);
+        self.gamma[m..].copy_from_slice(fdd);
         if self.rhs.iter().chain(&self.gamma).any(|v| !v.is_finite())
             || e.mass.iter().any(|v| !v.is_finite())
         {
@@ -152,10 +179,18 @@ impl InverseDynamics {
                 t,
             });
         }
-        if let Err(failure) = self
+        Ok(())
+    }
+
+    /// q'' of the driven system by the augmented Lagrangian route; a motion the system
+    /// leaves undetermined is [`Error::UndeterminedMotion`], naming the coordinates that
+    /// move freely (largest first).
+    fn accelerations(&mut self, info: &SystemInfo, t: f64) -> Result<Vec<f64>, Error> {
+        let n = info.n();
+        let solved = self
             .augmented
-            .solve(&e.mass, &self.rows, &self.rhs, &self.gamma)
-        {
+            .solve(&self.eval.mass, &self.rows, &self.rhs, &self.gamma);
+        if let Err(failure) = solved {
             let mut v = vec![0.0; n];
             self.augmented.undetermined_direction(failure, &mut v);
             let mut moving: Vec<usize> = (0..n).filter(|&i| v[i].abs() > 1e-6).collect();
@@ -169,24 +204,30 @@ impl InverseDynamics {
                 q: self.q.clone(),
             });
         }
+        Ok(self.augmented.solution().to_vec())
+    }
+
+    /// lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm), where
+    /// `rhs` holds Q = tau* - C q' - g.
+    fn multipliers(&mut self, qdd: &[f64]) {
         self.basis.factor(&self.rows);
-        // lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm).
-        let qdd = self.augmented.solution().to_vec();
-        for i in 0..n {
-            let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * qdd[j]).sum();
-            self.rhs[i] -= mx;
+        let mass = &self.eval.mass;
+        for (i, rhs) in self.rhs.iter_mut().enumerate() {
+            let mx: f64 = (0..qdd.len()).map(|j| mass[(i, j)] * qdd[j]).sum();
+            *rhs -= mx;
         }
         self.basis
             .multipliers_for(&self.rows, &self.rhs, &mut self.lambda);
-        Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
-        Ok(InverseSample {
-            t,
-            q: self.q.clone(),
-            qd,
-            qdd,
-            driving: self.lambda[m..].iter().map(|l| -l).collect(),
-            lambda: self.lambda[..m].to_vec(),
-        })
+    }
+}
+
+/// [Phi_q; E] into `rows`: the constraint rows, then the unit row of each driven coordinate.
+fn driven_rows(rows: &mut DMatrix<f64>, phi_q: &DMatrix<f64>, fixed: &[usize]) {
+    let (m, n) = phi_q.shape();
+    rows.fill(0.0);
+    rows.view_mut((0, 0), (m, n)).copy_from(phi_q);
+    for (j, &c) in fixed.iter().enumerate() {
+        rows[(m + j, c)] = 1.0;
     }
 }
 
@@ -201,11 +242,7 @@ impl InverseDynamics {
         let mut phi_t = vec![0.0; m];
         let mut phi_q = nalgebra::DMatrix::zeros(m, n);
         system.constraint_jacobian(t, &self.q, &mut phi_q, &mut phi_t);
-        self.rows.fill(0.0);
-        self.rows.view_mut((0, 0), (m, n)).copy_from(&phi_q);
-        for (j, &c) in self.fixed.iter().enumerate() {
-            self.rows[(m + j, c)] = 1.0;
-        }
+        driven_rows(&mut self.rows, &phi_q, &self.fixed);
         self.basis.factor(&self.rows);
         let conflicting: Vec<String> = (0..k)
             .filter(|&j| self.basis.is_redundant(m + j))

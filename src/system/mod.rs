@@ -25,6 +25,8 @@ mod info;
 #[cfg(feature = "interpreter")]
 mod interpreted;
 mod mechanism;
+mod registers;
+pub(crate) mod routine;
 
 #[cfg(feature = "std")]
 pub use compiled::Compiled;

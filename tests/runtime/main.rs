@@ -15,6 +15,7 @@ mod fixed;
 mod integrators;
 mod interpreted_errors;
 mod interpreted_tangent;
+mod interpreted_threads;
 mod inverse;
 mod linearize;
 mod no_alloc;

@@ -3,7 +3,7 @@
 //! on time, with the lines and traces by index.
 
 use crate::algebra::expr::{Arena, SymbolId};
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Location, Result};
 use crate::mechanics::bodies::Vec3;
 use crate::syntax::draw::DrawSection;
 
@@ -47,18 +47,12 @@ pub(crate) fn build_drawing(
             return Ok(i);
         }
         if is_axis(name) {
-            return Err(Error::Declaration {
-                message: format!(
-                    "`{name}` is an axis (a direction), not a point: `draw` joins points"
-                ),
-                location: at,
-            });
+            let kind = DeclarationError::DrawnAxis { name: name.into() };
+            return Err(Error::declaration(kind, at));
         }
-        let position = vector(name).ok_or_else(|| Error::Declaration {
-            message: format!(
-                "`draw` names `{name}`, which is not a point declared before it (declare it with `point {name} = [x, y, z];` or in a body)"
-            ),
-            location: at,
+        let position = vector(name).ok_or_else(|| {
+            let kind = DeclarationError::UnknownDrawnPoint { name: name.into() };
+            Error::declaration(kind, at)
         })?;
         let ground = !position
             .iter()

@@ -6,7 +6,7 @@
 //! draw := "draw" "{" (("line" NAME ("," NAME)+ | "trace" NAME ("," NAME)*) ";")* "}"
 //! ```
 
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Location, ParseError, Result};
 use crate::syntax::lex::{Cursor, Tok, block, name};
 
 /// A name as written, and where.
@@ -47,12 +47,10 @@ pub(crate) fn parse_draw(c: &mut Cursor<'_>, at: Location) -> Result<DrawSection
 fn statement(c: &mut Cursor<'_>) -> Result<Statement> {
     let (keyword, at) = name(c, "draw")?;
     if keyword != "line" && keyword != "trace" {
-        return Err(Error::Parse {
-            message: format!(
-                "`{keyword}` is not a statement of `draw`; expected `line A, B, ..;` or `trace A, ..;`"
-            ),
-            location: at,
-        });
+        return Err(Error::parse(
+            ParseError::NotADrawStatement { found: keyword },
+            at,
+        ));
     }
     let mut names = vec![name(c, &keyword)?];
     while c.eat(&Tok::Punct(',')) {
@@ -62,10 +60,7 @@ fn statement(c: &mut Cursor<'_>) -> Result<Statement> {
         return Ok(Statement::Trace(names));
     }
     if names.len() < 2 {
-        return Err(Error::Parse {
-            message: "a `line` joins at least two points: `line A, B;`".into(),
-            location: at,
-        });
+        return Err(Error::parse(ParseError::ShortLine, at));
     }
     Ok(Statement::Line(names))
 }
