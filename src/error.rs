@@ -134,6 +134,29 @@ pub enum Error {
         /// Time (s).
         t: f64,
     },
+    /// One entry of the equations (M, C q', g, tau, Phi, Phi_q, Phi_t or gamma) evaluated to
+    /// NaN or infinity at (t, q): the expression behind it is undefined there (a logarithm
+    /// or a square root of a negative number, a division by zero) or overflows. `term` names
+    /// the entry: `Phi row 2 (constraint 2)`, `gamma row 1 (revolute(B1, B2, z, z) x)`
+    /// (1-based row and its label, [`crate::SystemInfo::constraint_label`]),
+    /// `Phi_q[constraint 1, th3]`, `M[th1, th2]`, `tau of th1`, `C q' of th2`, `g of th1`.
+    /// Raised by the assembly, the projections, [`crate::Dynamics::solve`], HHT and the
+    /// inverse dynamics, before any solve uses the value.
+    #[error(
+        "{term} is {value} at t = {t} s, q = {q:?}: its expression is undefined or overflows \
+         there (a logarithm or square root of a negative number, a division by zero, a huge \
+         parameter)"
+    )]
+    NonFiniteTerm {
+        /// The entry, named as above.
+        term: String,
+        /// Its value: NaN, inf or -inf.
+        value: f64,
+        /// Time (s).
+        t: f64,
+        /// The configuration where it was evaluated.
+        q: Vec<f64>,
+    },
     /// A coordinate name that the mechanism does not declare.
     #[error("unknown coordinate '{name}'; the coordinates are {known:?}")]
     UnknownCoordinate {

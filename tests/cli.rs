@@ -334,7 +334,12 @@ fn a_failed_run_writes_its_partial_results() {
     assert_eq!(summary["status"], "failed");
     let t_last = summary["t_last"].as_f64().unwrap();
     assert!(t_last > 0.4 && t_last <= 0.5, "{t_last}");
-    assert!(summary["error"].as_str().unwrap().contains("non-finite"));
+    assert!(
+        summary["error"]
+            .as_str()
+            .unwrap()
+            .contains("tau of x is NaN")
+    );
     let rows = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
     assert_eq!(
         rows.lines().count() - 1,

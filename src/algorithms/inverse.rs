@@ -38,6 +38,7 @@
 use nalgebra::DMatrix;
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::finite;
 use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
@@ -147,10 +148,12 @@ impl InverseDynamics {
         if self.rhs.iter().chain(&self.gamma).any(|v| !v.is_finite())
             || e.mass.iter().any(|v| !v.is_finite())
         {
-            return Err(Error::NonFinite {
-                what: "the equations of motion along the prescribed motion".into(),
-                t,
-            });
+            return Err(finite::evaluation_error(
+                e,
+                info,
+                (t, &self.q, &qd),
+                "the equations of motion along the prescribed motion",
+            ));
         }
         if let Err(failure) = self
             .augmented

@@ -9,6 +9,7 @@ use serde::ser::{SerializeMap, Serializer};
 
 use super::{OutputError, ensure_dir};
 use crate::algorithms::mobility::Mobility;
+use crate::linalg::max_nan;
 use crate::simulation::singular::SingularPassage;
 use crate::simulation::trajectory::Trajectory;
 use crate::system::SystemInfo;
@@ -74,15 +75,6 @@ pub struct TrajectoryMaxima {
     /// by the applied forces tau since t = 0. For an exact solution E is constant, so this
     /// measures the integration error of the energy (zero for an empty trajectory).
     pub energy_balance_error: f64,
-}
-
-/// Maximum that propagates NaN, so that a failed sample is not hidden.
-fn max_nan(acc: f64, x: f64) -> f64 {
-    if acc.is_nan() || x.is_nan() {
-        f64::NAN
-    } else {
-        acc.max(x)
-    }
 }
 
 impl TrajectoryMaxima {

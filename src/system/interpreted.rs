@@ -203,9 +203,11 @@ impl Interpreted {
         let mut guard = cell.lock().unwrap_or_else(|p| p.into_inner());
         let s = &mut *guard;
         self.load(s, t, q, qd);
-        if s.tape.eval(&s.inputs, &mut s.out).is_err() {
-            s.out.iter_mut().for_each(|x| *x = f64::NAN);
-        }
+        // The tape writes its outputs in order and stops at the first non-finite one: the
+        // outputs before it keep their values and the rest read NaN, so the first NaN in
+        // output order is the entry that failed (what the solvers' error messages name).
+        s.out.fill(f64::NAN);
+        let _ = s.tape.eval(&s.inputs, &mut s.out);
         sink(&s.out);
     }
 }

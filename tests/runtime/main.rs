@@ -18,6 +18,7 @@ mod interpreted_tangent;
 mod inverse;
 mod linearize;
 mod no_alloc;
+mod non_finite;
 mod overconstrained;
 mod pendulum;
 mod portable_math;
