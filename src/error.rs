@@ -126,6 +126,73 @@ pub enum Error {
         /// The limit.
         max_steps: usize,
     },
+    /// The adaptive step size collapsed: at the mean size of the last 100 accepted steps,
+    /// the steps still needed to reach the end time, (t_end - t) / h, plus those taken
+    /// exceed 10 times the step limit (`IntegratorOptions::max_steps`). Tested from the
+    /// 1000th step on (the first ones say little about the rest), so a doomed run stops in
+    /// about a thousand steps instead of running into the limit; a run that would need the
+    /// step to grow more than tenfold on average to finish cannot be told apart from one
+    /// that never will. Thresholds: `WINDOW`, `MIN_STEPS`, `COLLAPSE_FACTOR` of
+    /// `src/simulation/fail_fast.rs`.
+    #[error(
+        "the step size collapsed to h = {h:.3e} s at t = {t} s (mean of the last 100 steps): \
+         reaching the end time would take about {steps_needed:.1e} more steps, more than 10 \
+         times the limit of {max_steps}; the motion is too fast or stiff for the method and \
+         tolerance, or a parameter or force is far out of scale (try HHT, a looser \
+         tolerance, or check the parameters)"
+    )]
+    StepSizeCollapse {
+        /// Time reached (s).
+        t: f64,
+        /// Mean size of the last 100 accepted steps (s).
+        h: f64,
+        /// (t_end - t) / h.
+        steps_needed: f64,
+        /// The step limit.
+        max_steps: usize,
+    },
+    /// A fixed step (RK4, HHT) that cannot reach the end time within the step limit:
+    /// ceil((t_end - t0) / h) > `IntegratorOptions::max_steps`. Refused by
+    /// [`crate::Simulator::new`] before any work.
+    #[error(
+        "a fixed step of h = {h:e} s over {span} s takes {steps:.1e} steps, more than the \
+         limit of {max_steps}: choose a step of at least {:e} s or an adaptive method",
+        span / *max_steps as f64
+    )]
+    FixedStepTooSmall {
+        /// The step (s).
+        h: f64,
+        /// t_end - t0 (s).
+        span: f64,
+        /// Steps needed.
+        steps: f64,
+        /// The step limit.
+        max_steps: usize,
+    },
+    /// The motion diverged: after an accepted step a coordinate or a rate is NaN, infinite
+    /// or beyond 1e12 times its scale at the start (positions: the largest of 1,
+    /// |q(t0)|_inf and |q'(t0)|_inf (t_end - t0); rates: the larger of 1 and
+    /// |q'(t0)|_inf). A factor of 1e12 leaves every physical range and 12 of the 16 digits
+    /// of f64, so nothing after it means anything; an unstable integration (a fixed step
+    /// too large for a stiff spring) or a force far out of scale ends here.
+    #[error(
+        "the motion diverged at t = {t} s: {quantity} of {coordinate} is {value:.3e}, beyond \
+         {limit:.3e} (1e12 times its scale at the start); the integration is unstable or a \
+         force or parameter is far out of scale (try a smaller step or tolerance, or check \
+         the parameters)"
+    )]
+    Diverged {
+        /// Time of the step's end (s).
+        t: f64,
+        /// `q` or `q'`.
+        quantity: &'static str,
+        /// The coordinate.
+        coordinate: String,
+        /// Its value (NaN or infinite included).
+        value: f64,
+        /// The bound it crossed.
+        limit: f64,
+    },
     /// A parameter, a state component or a computed quantity is NaN or infinite.
     #[error("non-finite value: {what} at t = {t} s")]
     NonFinite {
@@ -202,6 +269,24 @@ pub enum Error {
         expected: usize,
         /// Entries given.
         got: usize,
+    },
+    /// The output the run would keep in memory is larger than
+    /// [`crate::MAX_OUTPUT_BYTES`]: samples x values per sample x 8 bytes (plus the
+    /// per-sample bookkeeping where samples are kept as vectors). Refused before any work.
+    #[error(
+        "{samples} samples of {columns} values would take about {:.2} GB of memory, more \
+         than the {:.2} GB a run may use: lower the output rate or shorten the time span",
+        *bytes / 1e9, *limit as f64 / 1e9
+    )]
+    TooMuchOutput {
+        /// Samples that would be recorded.
+        samples: usize,
+        /// Values per sample.
+        columns: usize,
+        /// Estimated bytes.
+        bytes: f64,
+        /// The limit in bytes.
+        limit: usize,
     },
     /// The run would record more output samples than allowed.
     #[error(

@@ -6,6 +6,9 @@ use std::process::Output;
 
 use assert_cmd::Command;
 
+#[path = "cli/fail_fast.rs"]
+mod fail_fast;
+
 fn mechanism(args: &[&str]) -> Output {
     Command::cargo_bin("mechanism")
         .expect("binary built")

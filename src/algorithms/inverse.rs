@@ -43,6 +43,7 @@ use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
 use crate::error::Error;
+use crate::limits::check_output_memory;
 use crate::linalg::RowBasis;
 use crate::system::{Evaluation, System, SystemInfo};
 
@@ -226,7 +227,13 @@ impl InverseDynamics {
     }
 }
 
-/// Inverse dynamics at each of `times` (in order). The error of the first failing sample is
+/// Bytes an [`InverseSample`] takes beyond its values: five vectors, each a 24-byte header
+/// and a heap block (about 16 bytes of allocator bookkeeping).
+const SAMPLE_OVERHEAD: usize = 5 * (24 + 16);
+
+/// Inverse dynamics at each of `times` (in order). More samples than
+/// [`crate::MAX_OUTPUT_BYTES`] can hold are refused before any work
+/// ([`Error::TooMuchOutput`]). The error of the first failing sample is
 /// returned, e.g. [`Error::SingularConfiguration`] where the prescribed motion drives the
 /// mechanism through a dead point it cannot pass.
 pub fn inverse_dynamics(
@@ -235,6 +242,9 @@ pub fn inverse_dynamics(
     times: &[f64],
     assembly: &AssemblyOptions,
 ) -> Result<InverseResult, Error> {
+    let info = system.info();
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
     let samples = times

@@ -3,7 +3,8 @@
 use super::CliError;
 use super::args::InverseArgs;
 use super::load::{apply_sets, load};
-use super::simulate::{check_span, out_dir};
+use super::simulate::out_dir;
+use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::plot::{Unit, figure_stem, plot_coordinate};
 use mechanism::output::{Figure, InverseTable, plot_driving_torque, write_inverse_csv};
@@ -26,6 +27,9 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
         .iter()
         .map(|d| parse_drive(system, d).map_err(|e| CliError::Argument(format!("--drive: {e}"))))
         .collect::<Result<Vec<_>, _>>()?;
+    let info = system.info();
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_csv_size(&a.common, "inverse.csv", columns)?;
     let times = sample_times(0.0, a.common.t_end, a.common.samples_per_second);
     let result = inverse_dynamics(system, drives, &times, &AssemblyOptions::default())?;
     let info = &result.info;

@@ -15,6 +15,7 @@ mod progress;
 mod progress;
 mod report;
 mod simulate;
+mod validate;
 
 use std::process::ExitCode;
 

@@ -8,11 +8,11 @@ use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg};
 use super::load::{apply_sets, initial_values, load};
 use super::progress::Progress;
 use super::report::summary_text;
+use super::validate::{check_csv_size, check_span};
 use mechanism::Stabilization;
 use mechanism::System;
 use mechanism::Trajectory;
 use mechanism::integrators::{IntegratorOptions, Method};
-use mechanism::output::csv::format_f64;
 use mechanism::output::{
     RunSettings, Summary, plot_trajectory, write_summary, write_trajectory_csv,
 };
@@ -41,32 +41,6 @@ pub fn default_args() -> SimulateArgs {
         step: None,
         stabilization: StabilizationArg::Projection,
     }
-}
-
-/// Checks the time span and sampling arguments shared by simulate and inverse.
-pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
-    if !(c.t_end.is_finite() && c.t_end > 0.0) {
-        return Err(CliError::Argument(format!(
-            "--t-end must be a positive number of seconds, got {}",
-            c.t_end
-        )));
-    }
-    if !(c.samples_per_second.is_finite() && c.samples_per_second > 0.0) {
-        return Err(CliError::Argument(format!(
-            "--samples-per-second must be positive, got {}",
-            c.samples_per_second
-        )));
-    }
-    let samples = c.t_end * c.samples_per_second;
-    if samples > mechanism::MAX_OUTPUT_SAMPLES as f64 {
-        return Err(CliError::Argument(format!(
-            "--t-end {} at --samples-per-second {} asks for {samples:e} samples; at most {} are recorded",
-            format_f64(c.t_end),
-            format_f64(c.samples_per_second),
-            mechanism::MAX_OUTPUT_SAMPLES
-        )));
-    }
-    Ok(())
 }
 
 /// The integrator options the flags ask for.
@@ -127,6 +101,8 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     let mut loaded = load(&a.common.mechanism)?;
     apply_sets(loaded.system.as_mut(), &a.common.set)?;
     let system = loaded.system.as_ref();
+    let columns = 1 + 3 * system.info().n() + system.info().m() + 5;
+    check_csv_size(&a.common, "trajectory.csv", columns)?;
     let (independent, guess) = initial_values(system, &a.common)?;
     let assembly = AssemblyOptions::default();
     let start = assemble_from(system, 0.0, &independent, &guess, &assembly)?;

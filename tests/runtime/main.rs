@@ -11,6 +11,7 @@ mod common;
 mod assembly;
 mod closure;
 mod energy;
+mod fail_fast;
 mod fixed;
 mod integrators;
 mod interpreted_errors;
