@@ -8,10 +8,22 @@ use assert_cmd::Command;
 
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
+#[path = "cli/outputs.rs"]
+mod outputs;
 
+/// Runs the binary with `args` in a scratch working folder (so the default `out/<key>`
+/// lands there, never in the repository).
 fn mechanism(args: &[&str]) -> Output {
+    let cwd = std::env::temp_dir().join(format!("mechanism-cli-cwd-{}", std::process::id()));
+    std::fs::create_dir_all(&cwd).expect("scratch folder");
+    mechanism_in(&cwd, args)
+}
+
+/// Runs the binary with `args` in the working folder `cwd`.
+fn mechanism_in(cwd: &Path, args: &[&str]) -> Output {
     Command::cargo_bin("mechanism")
         .expect("binary built")
+        .current_dir(cwd)
         .args(args)
         .output()
         .expect("runs")

@@ -14,6 +14,7 @@ mod progress;
 #[path = "progress_off.rs"]
 mod progress;
 mod report;
+mod run_dir;
 mod simulate;
 mod validate;
 

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
-use super::{OutputError, ensure_dir};
+use super::{OutputError, ensure_dir, write_atomically};
 use crate::algorithms::mobility::Mobility;
 use crate::linalg::max_nan;
 use crate::simulation::singular::SingularPassage;
@@ -209,10 +209,17 @@ pub struct Summary {
     pub singular_passages: Vec<PassageReport>,
     /// `completed`, or `failed` when the run stopped before its end time.
     pub status: String,
-    /// Time of the last sample written (s).
+    /// Time of the last sample written (s); `null` when no sample was.
     pub t_last: f64,
     /// Why the run stopped early (`null` when completed).
     pub error: Option<String>,
+    /// Where a failed run stopped: `setup` (loading the mechanism, parameters, initial
+    /// values, the output checks), `assembly`, `integration` or `output` (`null` when
+    /// completed).
+    pub stage: Option<String>,
+    /// The files the run wrote into its output folder, by name, this summary included: the
+    /// next run there removes them first ([`super::remove_previous_results`]).
+    pub files: Vec<String>,
 }
 
 impl Summary {
@@ -273,7 +280,47 @@ impl Summary {
             status: "completed".into(),
             t_last: trajectory.last().map_or(0.0, |s| s.t),
             error: None,
+            stage: None,
+            files: Vec::new(),
         })
+    }
+
+    /// The summary of a run of `mechanism` that stopped before its first sample (status
+    /// `failed`, stopped by `error` in `stage`): no state, counters 0, and the maxima and
+    /// `t_last` NaN (`null` in JSON), since nothing was computed.
+    pub fn not_started(
+        mechanism: &str,
+        parameters: NamedValues,
+        settings: &RunSettings,
+        stage: &str,
+        error: &dyn std::fmt::Display,
+    ) -> Self {
+        let mut summary = Self {
+            mechanism: mechanism.to_string(),
+            parameters,
+            consistent_initial_state: InitialState::default(),
+            max_constraint_error: f64::NAN,
+            max_velocity_constraint_error: f64::NAN,
+            max_energy_balance_error: f64::NAN,
+            steps: 0,
+            rejected_steps: 0,
+            rhs_evaluations: 0,
+            wall_time_s: 0.0,
+            integrator: settings.integrator.clone(),
+            rtol: settings.rtol,
+            atol: settings.atol,
+            stabilization: settings.stabilization.clone(),
+            augmented_solves: 0,
+            mobility: MobilityReport::default(),
+            singular_passages: Vec::new(),
+            status: String::new(),
+            t_last: f64::NAN,
+            error: None,
+            stage: None,
+            files: Vec::new(),
+        };
+        summary.failed_in(stage, error);
+        summary
     }
 
     /// Marks the run as stopped early by `error` (status `failed`).
@@ -281,20 +328,34 @@ impl Summary {
         self.status = "failed".into();
         self.error = Some(error.to_string());
     }
+
+    /// Marks the run as stopped early in `stage` (see [`Summary::stage`]) by `error`.
+    pub fn failed_in(&mut self, stage: &str, error: &dyn std::fmt::Display) {
+        self.failed(error);
+        self.stage = Some(stage.to_string());
+    }
 }
 
 /// Writes `summary` as pretty-printed JSON to `path`, creating its directory.
 /// Non-finite numbers are written as `null`.
 pub fn write_summary(path: &Path, summary: &Summary) -> Result<(), OutputError> {
+    write_json(path, summary)
+}
+
+/// Writes `value` as pretty-printed JSON to `path`, creating its directory; under a
+/// temporary name renamed when complete ([`super::write_atomically`]).
+pub(crate) fn write_json(path: &Path, value: &impl Serialize) -> Result<(), OutputError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         ensure_dir(dir)?;
     }
-    let mut text = serde_json::to_string_pretty(summary).map_err(|source| OutputError::Json {
+    let mut text = serde_json::to_string_pretty(value).map_err(|source| OutputError::Json {
         path: path.to_path_buf(),
         source,
     })?;
     text.push('\n');
-    let mut file = std::fs::File::create(path).map_err(|e| OutputError::io(path, e))?;
-    file.write_all(text.as_bytes())
-        .map_err(|e| OutputError::io(path, e))
+    write_atomically(path, |partial| {
+        let mut file = std::fs::File::create(partial).map_err(|e| OutputError::io(path, e))?;
+        file.write_all(text.as_bytes())
+            .map_err(|e| OutputError::io(path, e))
+    })
 }

@@ -2,6 +2,7 @@
 
 mod support;
 
+mod atomic;
 mod csv;
 mod plot;
 mod summary;

@@ -1,0 +1,98 @@
+//! `summary.json` of an inverse-dynamics run: what was prescribed, the peak driving forces,
+//! how the run ended and the files it wrote (the forward run's is [`super::Summary`]).
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::OutputError;
+use super::summary::{NamedValues, write_json};
+use super::table::InverseTable;
+use crate::linalg::max_nan;
+
+/// The contents of an inverse run's `summary.json` (keys in this order).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InverseSummary {
+    /// `inverse`, which tells this summary from a forward run's.
+    pub command: String,
+    /// Mechanism name.
+    pub mechanism: String,
+    /// Parameter values by name, in declaration order.
+    pub parameters: NamedValues,
+    /// The prescribed motions as given (`phi = 2*pi*t`).
+    pub drives: Vec<String>,
+    /// Samples computed.
+    pub samples: usize,
+    /// max_t |tau| of each driven coordinate, by column name `tau_<coordinate>` (N m for
+    /// an angle, N for a length); NaN (`null`) when a sample's force is.
+    pub max_abs_driving_force: NamedValues,
+    /// `completed` or `failed`.
+    pub status: String,
+    /// Time of the last sample computed (s); `null` when none was.
+    pub t_last: f64,
+    /// Why the run failed (`null` when completed).
+    pub error: Option<String>,
+    /// Where a failed run stopped: `setup`, `inverse dynamics` or `output` (`null` when
+    /// completed).
+    pub stage: Option<String>,
+    /// The files the run wrote into its output folder, by name, this summary included.
+    pub files: Vec<String>,
+}
+
+impl InverseSummary {
+    /// A completed run of `mechanism` with `parameters` and `drives` whose results are
+    /// `table`.
+    pub fn new(
+        mechanism: &str,
+        parameters: NamedValues,
+        drives: &[String],
+        table: &InverseTable,
+    ) -> Self {
+        let peaks = (0..table.driven.len())
+            .map(|k| {
+                let peak = table.torque(k).iter().fold(0.0, |a, v| max_nan(a, v.abs()));
+                (format!("tau_{}", table.driven[k]), peak)
+            })
+            .collect();
+        Self {
+            command: "inverse".into(),
+            mechanism: mechanism.to_string(),
+            parameters,
+            drives: drives.to_vec(),
+            samples: table.rows.len(),
+            max_abs_driving_force: NamedValues(peaks),
+            status: "completed".into(),
+            t_last: table.times().last().copied().unwrap_or(f64::NAN),
+            error: None,
+            stage: None,
+            files: Vec::new(),
+        }
+    }
+
+    /// A run of `mechanism` that failed in `stage` with `error` before any result: no
+    /// samples, `t_last` NaN (`null`).
+    pub fn not_started(
+        mechanism: &str,
+        parameters: NamedValues,
+        drives: &[String],
+        stage: &str,
+        error: &dyn std::fmt::Display,
+    ) -> Self {
+        let mut summary = Self::new(mechanism, parameters, drives, &InverseTable::default());
+        summary.failed_in(stage, error);
+        summary
+    }
+
+    /// Marks the run as failed in `stage` by `error`.
+    pub fn failed_in(&mut self, stage: &str, error: &dyn std::fmt::Display) {
+        self.status = "failed".into();
+        self.stage = Some(stage.to_string());
+        self.error = Some(error.to_string());
+    }
+}
+
+/// Writes `summary` as pretty-printed JSON to `path` (whole or not at all), creating its
+/// directory. Non-finite numbers are written as `null`.
+pub fn write_inverse_summary(path: &Path, summary: &InverseSummary) -> Result<(), OutputError> {
+    write_json(path, summary)
+}
