@@ -114,6 +114,16 @@ pub fn constant(text: &str) -> Result<f64, String> {
         .map_err(|e| format!("`{text}` is not a constant: {e}"))
 }
 
+/// [`constant`], which must be finite: `--set` and `--init` values are.
+fn finite_constant(text: &str) -> Result<f64, String> {
+    let v = constant(text)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("the value must be finite, got `{text}` = {v}"))
+    }
+}
+
 /// Applies every `--set NAME=VALUE`.
 pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliError> {
     for s in sets {
@@ -126,12 +136,8 @@ pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliErr
                 info.parameters.join(", ")
             ))
         })?;
-        let v = constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
-        if !v.is_finite() {
-            return Err(CliError::Argument(format!(
-                "--set {name}: the value must be finite"
-            )));
-        }
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
         system.set_parameter(index, v);
     }
     Ok(())
@@ -163,7 +169,8 @@ pub fn initial_values(
                 info.coordinates.join(", ")
             ))
         })?;
-        let v = constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
         match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
             (Some(ind), false) => ind.position = v,
             (Some(ind), true) => ind.velocity = v,

@@ -7,7 +7,7 @@ use super::load::{apply_sets, initial_values, load};
 use super::progress::Progress;
 use super::report::summary_text;
 use super::run_dir::{At, Failure, Known, RunDir};
-use super::validate::{check_csv_size, check_span};
+use super::validate::{check_csv_size, check_integrator, check_span};
 use mechanism::Stabilization;
 use mechanism::System;
 use mechanism::Trajectory;
@@ -53,16 +53,7 @@ struct Settings {
 
 /// The integrator and stabilisation the flags ask for.
 fn settings(a: &SimulateArgs) -> Result<Settings, CliError> {
-    if let Some(h) = a.step.filter(|h| !(h.is_finite() && *h > 0.0)) {
-        return Err(CliError::Argument(format!(
-            "--step must be a positive number of seconds, got {h}"
-        )));
-    }
-    if !(a.rtol > 0.0 && a.atol > 0.0) {
-        return Err(CliError::Argument(
-            "--rtol and --atol must be positive".into(),
-        ));
-    }
+    check_integrator(a)?;
     let h = a.step.unwrap_or(DEFAULT_STEP);
     let (method, name) = match a.integrator {
         IntegratorArg::Rk4 => (Method::Rk4 { h }, "rk4"),
