@@ -247,10 +247,11 @@ pub fn inverse_dynamics(
     check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
-    let samples = times
-        .iter()
-        .map(|&t| inv.solve_at(system, t))
-        .collect::<Result<Vec<_>, _>>()?;
+    // Reserved exactly: a growing vector would hold up to twice the room it needs.
+    let mut samples = Vec::with_capacity(times.len());
+    for &t in times {
+        samples.push(inv.solve_at(system, t)?);
+    }
     Ok(InverseResult {
         info: system.info().clone(),
         driven: coordinates,
@@ -298,15 +299,25 @@ impl InverseResult {
 
     /// The samples as rows in [`InverseResult::headers`] order.
     pub fn rows(&self) -> Vec<Vec<f64>> {
-        self.samples
-            .iter()
-            .map(|s| {
-                let mut r = vec![s.t];
-                for part in [&s.q, &s.qd, &s.qdd, &s.driving, &s.lambda] {
-                    r.extend_from_slice(part);
-                }
-                r
-            })
-            .collect()
+        self.samples.iter().map(InverseSample::row).collect()
+    }
+
+    /// [`InverseResult::rows`], consuming the samples one by one (so that the rows take the
+    /// memory the samples free, instead of doubling it).
+    pub fn into_rows(self) -> Vec<Vec<f64>> {
+        self.samples.into_iter().map(|s| s.row()).collect()
+    }
+}
+
+impl InverseSample {
+    /// The sample as one row in [`InverseResult::headers`] order.
+    pub fn row(&self) -> Vec<f64> {
+        let parts = [&self.q, &self.qd, &self.qdd, &self.driving, &self.lambda];
+        let mut r = Vec::with_capacity(1 + parts.iter().map(|p| p.len()).sum::<usize>());
+        r.push(self.t);
+        for part in parts {
+            r.extend_from_slice(part);
+        }
+        r
     }
 }

@@ -6,13 +6,13 @@ use super::args::InverseArgs;
 use super::load::{apply_sets, load};
 use super::run_dir::{At, Failure, Known, RunDir};
 use super::validate::{check_csv_size, check_span};
+use mechanism::AssemblyOptions;
 use mechanism::output::plot::{Unit, figure_stem, plot_coordinate};
 use mechanism::output::{
     Figure, InverseSummary, InverseTable, OutputError, SUMMARY_FILE, plot_driving_torque,
     write_inverse_csv, write_inverse_summary,
 };
 use mechanism::parse_drive;
-use mechanism::{AssemblyOptions, InverseResult};
 use mechanism::{inverse_dynamics, sample_times};
 
 /// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
@@ -76,11 +76,11 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
             .map(|&k| info.coordinates[k].clone())
             .collect(),
         constraints: info.m(),
-        rows: result.rows(),
+        rows: result.into_rows(),
     };
     let parameters = std::mem::take(&mut known.parameters);
     let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
-    let written = write_data(&result, &table, out, &loaded.key);
+    let written = write_data(&table, out, &loaded.key);
     if let Err(e) = &written {
         summary.failed_in("output", e);
     }
@@ -102,19 +102,13 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
 }
 
 /// inverse.csv, one figure per coordinate and the driving-torque figure.
-fn write_data(
-    result: &InverseResult,
-    table: &InverseTable,
-    out: &mut RunDir,
-    key: &str,
-) -> Result<(), OutputError> {
+fn write_data(table: &InverseTable, out: &mut RunDir, key: &str) -> Result<(), OutputError> {
     let csv = out.file("inverse.csv");
     write_inverse_csv(&csv, table)?;
     out.wrote_data(csv);
-    let t: Vec<f64> = result.samples.iter().map(|s| s.t).collect();
-    for (i, name) in result.info.coordinates.iter().enumerate() {
-        let q: Vec<f64> = result.samples.iter().map(|s| s.q[i]).collect();
-        let qd: Vec<f64> = result.samples.iter().map(|s| s.qd[i]).collect();
+    let t = table.times();
+    for (i, name) in table.coordinates.iter().enumerate() {
+        let (q, qd) = (table.positions(i), table.rates(i));
         let stem = out.file(&figure_stem(key, Figure::Coordinate(name)));
         out.wrote_figures(plot_coordinate(
             &stem,
