@@ -25,9 +25,36 @@ pub enum Error {
         /// Last iterate q.
         q: Vec<f64>,
     },
-    /// The augmented matrix [M Phi_q^T; Phi_q 0] (or the constraint Jacobian of the
-    /// dependent coordinates) is singular or nearly so: the mechanism is locked, at a dead
-    /// point, or at a bifurcation of its assembly branches.
+    /// A kinematic solve cannot continue: the coordinates it solves for are not determined
+    /// at this configuration (the mechanism is locked, at a dead point, at a bifurcation of
+    /// its assembly branches, or a prescribed motion takes it out of reach).
+    ///
+    /// Every test for a singular configuration, in one place (the README section
+    /// "Overconstrained mechanisms and singular positions" summarises it):
+    /// - **Velocity and acceleration solves** ([`crate::solve_velocities`],
+    ///   [`crate::solve_accelerations`], kinematic analysis, inverse dynamics): the
+    ///   constraint Jacobian of the dependent coordinates, Phi_v, has numerical rank below
+    ///   their number, by SVD with singular values at most
+    ///   [`crate::AssemblyOptions::rank_tolerance`] (1e-10) times the largest counting as
+    ///   zero; `condition` is sigma_max / sigma_min.
+    /// - **Position solves** ([`crate::solve_positions`], kinematic analysis, inverse
+    ///   dynamics), once Newton has failed: Phi_v has a condition above
+    ///   [`crate::AssemblyOptions::singular_condition`] (1e6), or more than 90 % of the
+    ///   residual Phi lies outside the span of its well-conditioned left singular vectors
+    ///   while its condition exceeds 4 (Gauss-Newton creeping towards a fold of the
+    ///   constraint manifold). At assembly ([`crate::assemble_from`]) there is no motion to
+    ///   be singular, and the same finding is [`Error::ConstraintsUnsatisfiable`].
+    /// - **HHT**: its Newton matrix has an exactly zero or non-finite pivot (`condition`
+    ///   infinite).
+    ///
+    /// Not errors: the forward dynamics integrates through singular positions (the LU route
+    /// of [`crate::Dynamics`] hands over to the augmented Lagrangian route when its
+    /// condition estimate exceeds [`crate::DEFAULT_CONDITION_LIMIT`], 1e8). Where a motion
+    /// passes one is recorded ([`crate::SingularPassage`]) by the row-independence test of
+    /// [`crate::linalg::RowBasis`], the one that also finds redundant rows
+    /// ([`crate::mobility()`], [`Error::ConflictingDrives`]): a row's distance to the span
+    /// of the rows before it, relative to its norm, is at most 1e-6 for a redundant row,
+    /// and a passage is recorded where the weakest independence falls below 1e-3.
     #[error(
         "singular configuration at t = {t} s (condition estimate {condition:e}): the mechanism \
          is at a dead point, locked, or its constraints lose rank; q = {q:?}"
