@@ -4,7 +4,7 @@
 use super::CliError;
 use super::args::InverseArgs;
 use super::load::{apply_sets, load};
-use super::run_dir::{At, Failure, Known, RunDir};
+use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
 use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::plot::{Unit, figure_stem, plot_coordinate};
@@ -24,16 +24,8 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
             "--init does not apply to inverse: the drives prescribe the motion".into(),
         ));
     }
-    let Some(mut out) = RunDir::claim(&a.common)? else {
-        // An unknown name without --out: no folder is touched; say what is available.
-        return load(&a.common.mechanism).map(|_| ());
-    };
-    let mut known = Known::given(&a.common);
-    let failure = match inverse(a, &mut out, &mut known) {
-        Ok(()) => return Ok(()),
-        Err(failure) => failure,
-    };
-    if !failure.summarized {
+    let run = |out: &mut RunDir, known: &mut Known| inverse(a, out, known);
+    owning_folder(&a.common, run, |known, failure, out| {
         let mut summary = InverseSummary::not_started(
             &known.mechanism,
             known.parameters,
@@ -41,12 +33,9 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
             failure.stage,
             &failure.error,
         );
-        summary.files = out.names();
-        // The run's own error is what the user needs; a summary that cannot be written
-        // either (a full disk) adds nothing to it.
-        let _ = write_inverse_summary(&out.file(SUMMARY_FILE), &summary);
-    }
-    Err(*failure.error)
+        summary.outcome.files = out.names();
+        write_inverse_summary(&out.file(SUMMARY_FILE), &summary)
+    })
 }
 
 /// The run itself: load, solve along the drives, write.
@@ -82,9 +71,9 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
     let written = write_data(&table, out, &loaded.key);
     if let Err(e) = &written {
-        summary.failed_in("output", e);
+        summary.outcome.failed_in("output", e);
     }
-    summary.files = out.names();
+    summary.outcome.files = out.names();
     write_inverse_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
     for (name, peak) in &summary.max_abs_driving_force.0 {
         println!(

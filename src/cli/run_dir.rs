@@ -12,10 +12,10 @@ use std::path::{Path, PathBuf};
 
 use super::CliError;
 use super::args::CommonArgs;
-use super::load::key_of;
+use super::load::{key_of, load};
 use mechanism::System;
-use mechanism::output::remove_previous_results;
 use mechanism::output::summary::NamedValues;
+use mechanism::output::{OutputError, remove_previous_results};
 
 /// The folder of one run and the files written into it so far.
 pub struct RunDir {
@@ -88,6 +88,31 @@ impl RunDir {
             .map(|p| p.display().to_string())
             .collect()
     }
+}
+
+/// Runs `run` in the output folder of `common` (options already checked): claims the
+/// folder ([`RunDir::claim`]), runs, and when the run fails without having recorded it,
+/// writes the summary `failed_summary` makes of what is known. With no folder to claim
+/// (an unknown name and no `--out`) nothing is touched and the error is the loader's.
+pub fn owning_folder(
+    common: &CommonArgs,
+    run: impl FnOnce(&mut RunDir, &mut Known) -> Result<(), Failure>,
+    failed_summary: impl FnOnce(Known, &Failure, &RunDir) -> Result<(), OutputError>,
+) -> Result<(), CliError> {
+    let Some(mut out) = RunDir::claim(common)? else {
+        return load(&common.mechanism).map(|_| ());
+    };
+    let mut known = Known::given(common);
+    let failure = match run(&mut out, &mut known) {
+        Ok(()) => return Ok(()),
+        Err(failure) => failure,
+    };
+    if !failure.summarized {
+        // The run's own error is what the user needs; a summary that cannot be written
+        // either (a full disk) adds nothing to it.
+        let _ = failed_summary(known, &failure, &out);
+    }
+    Err(*failure.error)
 }
 
 /// Where a run stopped and why.

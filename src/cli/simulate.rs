@@ -6,7 +6,7 @@ use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg};
 use super::load::{apply_sets, initial_values, load};
 use super::progress::Progress;
 use super::report::summary_text;
-use super::run_dir::{At, Failure, Known, RunDir};
+use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
 use super::validate::{check_csv_size, check_integrator, check_span};
 use mechanism::Stabilization;
 use mechanism::System;
@@ -113,16 +113,8 @@ fn residuals(system: &dyn System, trajectory: &Trajectory) -> Vec<Vec<f64>> {
 pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
     let settings = settings(a)?;
-    let Some(mut out) = RunDir::claim(&a.common)? else {
-        // An unknown name without --out: no folder is touched; say what is available.
-        return load(&a.common.mechanism).map(|_| ());
-    };
-    let mut known = Known::given(&a.common);
-    let failure = match simulate(a, &settings, &mut out, &mut known) {
-        Ok(()) => return Ok(()),
-        Err(failure) => failure,
-    };
-    if !failure.summarized {
+    let run = |out: &mut RunDir, known: &mut Known| simulate(a, &settings, out, known);
+    owning_folder(&a.common, run, |known, failure, out| {
         let mut summary = Summary::not_started(
             &known.mechanism,
             known.parameters,
@@ -130,12 +122,9 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
             failure.stage,
             &failure.error,
         );
-        summary.files = out.names();
-        // The run's own error is what the user needs; a summary that cannot be written
-        // either (a full disk) adds nothing to it.
-        let _ = write_summary(&out.file(SUMMARY_FILE), &summary);
-    }
-    Err(*failure.error)
+        summary.outcome.files = out.names();
+        write_summary(&out.file(SUMMARY_FILE), &summary)
+    })
 }
 
 /// The run itself: load, assemble, integrate, write.
@@ -206,11 +195,11 @@ fn write_results(
     let mut summary = Summary::new(trajectory, &params, settings).at("output")?;
     let written = write_data(system, trajectory, out);
     match (&failure, &written) {
-        (_, Err(e)) => summary.failed_in("output", e),
-        (Some(e), Ok(())) => summary.failed_in("integration", e),
+        (_, Err(e)) => summary.outcome.failed_in("output", e),
+        (Some(e), Ok(())) => summary.outcome.failed_in("integration", e),
         (None, Ok(())) => {}
     }
-    summary.files = out.names();
+    summary.outcome.files = out.names();
     write_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
     print!("{}", summary_text(key, system, &summary, &out.displayed()));
     let summarized = |stage, error| Failure {
@@ -224,7 +213,7 @@ fn write_results(
         (Some(e), Ok(())) => Err(summarized(
             "integration",
             Box::new(CliError::Stopped {
-                t: summary.t_last,
+                t: summary.outcome.t_last,
                 dir: out.dir().display().to_string(),
                 error: e,
             }),

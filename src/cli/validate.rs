@@ -35,20 +35,24 @@ pub fn sample_count(c: &CommonArgs) -> usize {
 /// `--t-end` in (0, 1e9] s, `--samples-per-second` > 0 and finite, and at most
 /// [`mechanism::MAX_OUTPUT_SAMPLES`] samples.
 pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
-    let t_end = c.t_end;
-    check(
-        "--t-end",
-        t_end,
-        "> 0 s and at most 1e9 s",
-        t_end > 0.0 && t_end <= MAX_T_END,
-    )?;
-    let rate = c.samples_per_second;
-    check(
-        "--samples-per-second",
-        rate,
-        "> 0 and finite",
-        rate > 0.0 && rate.is_finite(),
-    )?;
+    let (t_end, rate) = (c.t_end, c.samples_per_second);
+    let ranges = [
+        (
+            "--t-end",
+            t_end,
+            "> 0 s and at most 1e9 s",
+            t_end > 0.0 && t_end <= MAX_T_END,
+        ),
+        (
+            "--samples-per-second",
+            rate,
+            "> 0 and finite",
+            rate > 0.0 && rate.is_finite(),
+        ),
+    ];
+    for (option, value, allowed, ok) in ranges {
+        check(option, value, allowed, ok)?;
+    }
     let samples = c.t_end * c.samples_per_second;
     if samples > mechanism::MAX_OUTPUT_SAMPLES as f64 {
         return Err(CliError::Argument(format!(
@@ -64,20 +68,24 @@ pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
 /// Checks the integrator options of `simulate`: `--rtol` finite in [1e-15, 1) (a relative
 /// error of 100 % accepts any step), `--atol` finite and > 0, `--step` in (0, --t-end] s.
 pub fn check_integrator(a: &SimulateArgs) -> Result<(), CliError> {
-    let rtol = a.rtol;
-    check(
-        "--rtol",
-        rtol,
-        "finite, at least 1e-15 and below 1",
-        (MIN_RTOL..1.0).contains(&rtol),
-    )?;
-    let atol = a.atol;
-    check(
-        "--atol",
-        atol,
-        "> 0 and finite",
-        atol > 0.0 && atol.is_finite(),
-    )?;
+    let (rtol, atol) = (a.rtol, a.atol);
+    let ranges = [
+        (
+            "--rtol",
+            rtol,
+            "finite, at least 1e-15 and below 1",
+            (MIN_RTOL..1.0).contains(&rtol),
+        ),
+        (
+            "--atol",
+            atol,
+            "> 0 and finite",
+            atol > 0.0 && atol.is_finite(),
+        ),
+    ];
+    for (option, value, allowed, ok) in ranges {
+        check(option, value, allowed, ok)?;
+    }
     if let Some(h) = a.step {
         let allowed = format!(
             "> 0 s and at most --t-end ({} s)",

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::OutputError;
+use super::outcome::Outcome;
 use super::summary::{NamedValues, write_json};
 use super::table::InverseTable;
 use crate::linalg::max_nan;
@@ -26,17 +27,10 @@ pub struct InverseSummary {
     /// max_t |tau| of each driven coordinate, by column name `tau_<coordinate>` (N m for
     /// an angle, N for a length); NaN (`null`) when a sample's force is.
     pub max_abs_driving_force: NamedValues,
-    /// `completed` or `failed`.
-    pub status: String,
-    /// Time of the last sample computed (s); `null` when none was.
-    pub t_last: f64,
-    /// Why the run failed (`null` when completed).
-    pub error: Option<String>,
-    /// Where a failed run stopped: `setup`, `inverse dynamics` or `output` (`null` when
-    /// completed).
-    pub stage: Option<String>,
-    /// The files the run wrote into its output folder, by name, this summary included.
-    pub files: Vec<String>,
+    /// How the run ended and the files it wrote: `status`, `t_last`, `error`, `stage`
+    /// (`setup`, `inverse dynamics` or `output` for a failure), `files` (see [`Outcome`]).
+    #[serde(flatten)]
+    pub outcome: Outcome,
 }
 
 impl InverseSummary {
@@ -61,11 +55,7 @@ impl InverseSummary {
             drives: drives.to_vec(),
             samples: table.rows.len(),
             max_abs_driving_force: NamedValues(peaks),
-            status: "completed".into(),
-            t_last: table.times().last().copied().unwrap_or(f64::NAN),
-            error: None,
-            stage: None,
-            files: Vec::new(),
+            outcome: Outcome::completed(table.times().last().copied().unwrap_or(f64::NAN)),
         }
     }
 
@@ -79,15 +69,8 @@ impl InverseSummary {
         error: &dyn std::fmt::Display,
     ) -> Self {
         let mut summary = Self::new(mechanism, parameters, drives, &InverseTable::default());
-        summary.failed_in(stage, error);
+        summary.outcome.failed_in(stage, error);
         summary
-    }
-
-    /// Marks the run as failed in `stage` by `error`.
-    pub fn failed_in(&mut self, stage: &str, error: &dyn std::fmt::Display) {
-        self.status = "failed".into();
-        self.stage = Some(stage.to_string());
-        self.error = Some(error.to_string());
     }
 }
 

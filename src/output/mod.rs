@@ -22,6 +22,8 @@ mod atomic;
 pub mod csv;
 #[cfg(feature = "files")]
 mod inverse_summary;
+#[cfg(feature = "files")]
+mod outcome;
 #[cfg(feature = "plots")]
 pub mod plot;
 #[cfg(feature = "files")]
@@ -35,6 +37,8 @@ pub use self::atomic::{temporary_path, write_atomically};
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
 #[cfg(feature = "files")]
 pub use self::inverse_summary::{InverseSummary, write_inverse_summary};
+#[cfg(feature = "files")]
+pub use self::outcome::Outcome;
 #[cfg(feature = "plots")]
 pub use self::plot::{
     Figure, Unit, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,

@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
+use super::outcome::Outcome;
 use super::{OutputError, ensure_dir, write_atomically};
 use crate::algorithms::mobility::Mobility;
 use crate::linalg::max_nan;
@@ -207,19 +208,10 @@ pub struct Summary {
     pub mobility: MobilityReport,
     /// Singular configurations the motion passed through, in time order.
     pub singular_passages: Vec<PassageReport>,
-    /// `completed`, or `failed` when the run stopped before its end time.
-    pub status: String,
-    /// Time of the last sample written (s); `null` when no sample was.
-    pub t_last: f64,
-    /// Why the run stopped early (`null` when completed).
-    pub error: Option<String>,
-    /// Where a failed run stopped: `setup` (loading the mechanism, parameters, initial
-    /// values, the output checks), `assembly`, `integration` or `output` (`null` when
-    /// completed).
-    pub stage: Option<String>,
-    /// The files the run wrote into its output folder, by name, this summary included: the
-    /// next run there removes them first ([`super::remove_previous_results`]).
-    pub files: Vec<String>,
+    /// How the run ended and the files it wrote: `status`, `t_last`, `error`, `stage`,
+    /// `files` (see [`Outcome`]).
+    #[serde(flatten)]
+    pub outcome: Outcome,
 }
 
 impl Summary {
@@ -277,11 +269,7 @@ impl Summary {
                 .iter()
                 .map(|p| PassageReport::new(p, info))
                 .collect(),
-            status: "completed".into(),
-            t_last: trajectory.last().map_or(0.0, |s| s.t),
-            error: None,
-            stage: None,
-            files: Vec::new(),
+            outcome: Outcome::completed(trajectory.last().map_or(0.0, |s| s.t)),
         })
     }
 
@@ -313,26 +301,18 @@ impl Summary {
             augmented_solves: 0,
             mobility: MobilityReport::default(),
             singular_passages: Vec::new(),
-            status: String::new(),
-            t_last: f64::NAN,
-            error: None,
-            stage: None,
-            files: Vec::new(),
+            outcome: Outcome {
+                t_last: f64::NAN,
+                ..Outcome::default()
+            },
         };
-        summary.failed_in(stage, error);
+        summary.outcome.failed_in(stage, error);
         summary
     }
 
     /// Marks the run as stopped early by `error` (status `failed`).
     pub fn failed(&mut self, error: &dyn std::fmt::Display) {
-        self.status = "failed".into();
-        self.error = Some(error.to_string());
-    }
-
-    /// Marks the run as stopped early in `stage` (see [`Summary::stage`]) by `error`.
-    pub fn failed_in(&mut self, stage: &str, error: &dyn std::fmt::Display) {
-        self.failed(error);
-        self.stage = Some(stage.to_string());
+        self.outcome.failed(error);
     }
 }
 

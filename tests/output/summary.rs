@@ -246,7 +246,7 @@ fn the_inverse_summary_holds_the_peak_driving_forces() {
         (Some("completed"), Some(0.5))
     );
     let mut failed = summary.clone();
-    failed.failed_in("output", &"disk full");
+    failed.outcome.failed_in("output", &"disk full");
     let json = serde_json::to_value(&failed).expect("serialise");
     assert_eq!(
         (json["status"].as_str(), json["stage"].as_str()),
