@@ -34,6 +34,8 @@ pub mod fixed;
 #[cfg(feature = "std")]
 pub mod integrators;
 #[cfg(feature = "std")]
+mod limits;
+#[cfg(feature = "std")]
 pub mod linalg;
 #[cfg(feature = "std")]
 pub mod output;
@@ -67,9 +69,11 @@ pub use crate::error::Error;
 #[cfg(feature = "std")]
 pub use crate::integrators::{IntegratorOptions, Method};
 #[cfg(feature = "std")]
+pub use crate::limits::{MAX_OUTPUT_BYTES, MAX_OUTPUT_SAMPLES};
+#[cfg(feature = "std")]
 pub use crate::simulation::events::{Event, EventAction, EventFn, EventHit};
 #[cfg(feature = "std")]
-pub use crate::simulation::options::{InitialState, MAX_OUTPUT_SAMPLES, SimulationOptions};
+pub use crate::simulation::options::{InitialState, SimulationOptions};
 #[cfg(feature = "std")]
 pub use crate::simulation::simulator::{
     Simulation, Simulator, simulate, simulate_recording, simulate_with_events,

@@ -28,8 +28,9 @@
 //! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::finite;
 use crate::error::Error;
-use crate::linalg::{Lu, RowBasis};
+use crate::linalg::{Lu, RowBasis, inf_norm, max_nan};
 use crate::system::{Evaluation, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
@@ -107,7 +108,9 @@ impl Dynamics {
 
     /// Evaluates the system at (t, q, q') and solves the augmented system for q'' and lambda.
     ///
-    /// Errors: [`Error::NonFinite`] when the evaluation or the solution is not finite;
+    /// Errors: [`Error::NonFiniteTerm`] naming the first entry of M, C q', g, tau, Phi_q,
+    /// Phi_t, gamma (or Phi, with Baumgarte) that is NaN or infinite; [`Error::NonFinite`]
+    /// when the state or the solution is not finite;
     /// [`Error::UndeterminedMotion`] when M is not positive definite on the null space of
     /// Phi_q (see the module docs).
     pub fn solve(
@@ -144,9 +147,11 @@ impl Dynamics {
             self.sol[n + r] = g;
         }
         if !finite_matrix || !self.sol.iter().fold(true, |ok, v| ok & v.is_finite()) {
-            return Err(self.non_finite(
-                "the equations of motion (M, C q', g, tau, Phi_q or gamma)",
-                t,
+            return Err(finite::evaluation_error(
+                e,
+                system.info(),
+                (t, q, qd),
+                "the right-hand side tau - C q' - g or gamma of the equations of motion",
             ));
         }
         let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
@@ -275,13 +280,6 @@ impl Dynamics {
         &self.sol[n..]
     }
 
-    fn non_finite(&self, what: &str, t: f64) -> Error {
-        Error::NonFinite {
-            what: what.to_string(),
-            t,
-        }
-    }
-
     /// q'' from the last [`Dynamics::solve`].
     pub fn accelerations(&self) -> &[f64] {
         &self.sol[..self.n]
@@ -313,7 +311,7 @@ impl Dynamics {
 
     /// |Phi|_inf at the last solve.
     pub fn constraint_error(&self) -> f64 {
-        self.eval.phi.iter().fold(0.0, |a, v| a.max(v.abs()))
+        inf_norm(self.eval.phi.as_slice())
     }
 
     /// |Phi_q q' + Phi_t|_inf at the last solve.
@@ -321,7 +319,7 @@ impl Dynamics {
         let e = &self.eval;
         (0..self.m).fold(0.0, |a, r| {
             let v: f64 = e.phi_t[r] + (0..self.n).map(|j| e.phi_q[(r, j)] * qd[j]).sum::<f64>();
-            a.max(v.abs())
+            max_nan(a, v.abs())
         })
     }
 }

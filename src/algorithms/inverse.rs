@@ -38,10 +38,12 @@
 use nalgebra::DMatrix;
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::finite;
 use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
 use crate::error::Error;
+use crate::limits::check_output_memory;
 use crate::linalg::RowBasis;
 use crate::system::{Evaluation, System, SystemInfo};
 
@@ -117,7 +119,7 @@ impl InverseDynamics {
         solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
         system.evaluate(t, &self.q, &qd, &mut self.eval);
-        self.assemble(t, &fdd)?;
+        self.assemble(info, (t, &qd), &fdd)?;
         let qdd = self.accelerations(info, t)?;
         self.multipliers(&qdd);
         Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
@@ -157,7 +159,13 @@ impl InverseDynamics {
 
     /// The driven system from the evaluation at the solved state: the rows [Phi_q; E], the
     /// force side tau* - C q' - g (driven entries of tau zeroed) and [gamma; f''].
-    fn assemble(&mut self, t: f64, fdd: &[f64]) -> Result<(), Error> {
+    /// A non-finite term is [`Error::NonFiniteTerm`] naming the entry, at (t, q, q').
+    fn assemble(
+        &mut self,
+        info: &SystemInfo,
+        (t, qd): (f64, &[f64]),
+        fdd: &[f64],
+    ) -> Result<(), Error> {
         let e = &self.eval;
         let m = e.phi.len();
         driven_rows(&mut self.rows, &e.phi_q, &self.fixed);
@@ -174,10 +182,12 @@ impl InverseDynamics {
         if self.rhs.iter().chain(&self.gamma).any(|v| !v.is_finite())
             || e.mass.iter().any(|v| !v.is_finite())
         {
-            return Err(Error::NonFinite {
-                what: "the equations of motion along the prescribed motion".into(),
-                t,
-            });
+            return Err(finite::evaluation_error(
+                e,
+                info,
+                (t, &self.q, qd),
+                "the equations of motion along the prescribed motion",
+            ));
         }
         Ok(())
     }
@@ -260,7 +270,13 @@ impl InverseDynamics {
     }
 }
 
-/// Inverse dynamics at each of `times` (in order). The error of the first failing sample is
+/// Bytes an [`InverseSample`] takes beyond its values: five vectors, each a 24-byte header
+/// and a heap block (about 16 bytes of allocator bookkeeping).
+const SAMPLE_OVERHEAD: usize = 5 * (24 + 16);
+
+/// Inverse dynamics at each of `times` (in order). More samples than
+/// [`crate::MAX_OUTPUT_BYTES`] can hold are refused before any work
+/// ([`Error::TooMuchOutput`]). The error of the first failing sample is
 /// returned, e.g. [`Error::SingularConfiguration`] where the prescribed motion drives the
 /// mechanism through a dead point it cannot pass.
 pub fn inverse_dynamics(
@@ -269,12 +285,16 @@ pub fn inverse_dynamics(
     times: &[f64],
     assembly: &AssemblyOptions,
 ) -> Result<InverseResult, Error> {
+    let info = system.info();
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
-    let samples = times
-        .iter()
-        .map(|&t| inv.solve_at(system, t))
-        .collect::<Result<Vec<_>, _>>()?;
+    // Reserved exactly: a growing vector would hold up to twice the room it needs.
+    let mut samples = Vec::with_capacity(times.len());
+    for &t in times {
+        samples.push(inv.solve_at(system, t)?);
+    }
     Ok(InverseResult {
         info: system.info().clone(),
         driven: coordinates,
@@ -322,15 +342,25 @@ impl InverseResult {
 
     /// The samples as rows in [`InverseResult::headers`] order.
     pub fn rows(&self) -> Vec<Vec<f64>> {
-        self.samples
-            .iter()
-            .map(|s| {
-                let mut r = vec![s.t];
-                for part in [&s.q, &s.qd, &s.qdd, &s.driving, &s.lambda] {
-                    r.extend_from_slice(part);
-                }
-                r
-            })
-            .collect()
+        self.samples.iter().map(InverseSample::row).collect()
+    }
+
+    /// [`InverseResult::rows`], consuming the samples one by one (so that the rows take the
+    /// memory the samples free, instead of doubling it).
+    pub fn into_rows(self) -> Vec<Vec<f64>> {
+        self.samples.into_iter().map(|s| s.row()).collect()
+    }
+}
+
+impl InverseSample {
+    /// The sample as one row in [`InverseResult::headers`] order.
+    pub fn row(&self) -> Vec<f64> {
+        let parts = [&self.q, &self.qd, &self.qdd, &self.driving, &self.lambda];
+        let mut r = Vec::with_capacity(1 + parts.iter().map(|p| p.len()).sum::<usize>());
+        r.push(self.t);
+        for part in parts {
+            r.extend_from_slice(part);
+        }
+        r
     }
 }

@@ -4,10 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::CliError;
 use super::args::{CommonArgs, ViewArg};
 use mechanism::System;
-use mechanism::output::{MAX_FRAMES, Scene, View, plot_strobe, write_animation};
+use mechanism::output::{MAX_FRAMES, OutputError, Scene, View, plot_strobe, write_animation};
 
 /// Writes the animation page and the strobe figure of the states `state(i)`, i < `samples`,
 /// into `dir`; returns the files written (none when the mechanism draws nothing or
@@ -18,7 +17,7 @@ pub fn write_drawing<'a>(
     dir: &Path,
     samples: usize,
     state: impl Fn(usize) -> (f64, &'a [f64]),
-) -> Result<Vec<PathBuf>, CliError> {
+) -> Result<Vec<PathBuf>, OutputError> {
     if common.no_animation {
         return Ok(vec![]);
     }

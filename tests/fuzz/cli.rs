@@ -206,10 +206,11 @@ fn run(args: &[String], scratch: &PathBuf) -> Result<i32, String> {
     if stderr.contains("panicked") || stderr.contains("RUST_BACKTRACE") {
         return Err(format!("panicked: {stderr}"));
     }
+    let one_line = stderr.trim_end().lines().count() == 1 && stderr.starts_with("error: ");
     match code {
-        0 | 2 => Ok(code),
-        1 if stderr.trim_end().lines().count() == 1 && stderr.starts_with("error: ") => Ok(1),
-        1 => Err(format!("exit 1 without a one-line error: {stderr:?}")),
+        0 => Ok(0),
+        1 | 2 if one_line => Ok(code),
+        1 | 2 => Err(format!("exit {code} without a one-line error: {stderr:?}")),
         other => Err(format!("exit status {other}: {stderr}")),
     }
 }

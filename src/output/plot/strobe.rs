@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::render::{FONT, PALETTE, register_font};
-use crate::output::{OutputError, Scene, ensure_dir};
+use crate::output::{OutputError, Scene, ensure_dir, write_atomically};
 
 /// The plane the strobe figure is drawn in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -130,20 +130,15 @@ pub fn plot_strobe(
     register_font().map_err(plot_err(&png))?;
     let frame = Frame::new(scene, view);
     let size = (1000, frame.height);
-    draw(
-        BitMapBackend::new(&png, size).into_drawing_area(),
-        scene,
-        &frame,
-        instants,
-    )
-    .map_err(plot_err(&png))?;
-    draw(
-        SVGBackend::new(&svg, size).into_drawing_area(),
-        scene,
-        &frame,
-        instants,
-    )
-    .map_err(plot_err(&svg))?;
+    // Written under temporary names and renamed when complete (see `output::atomic`).
+    write_atomically(&png, |partial| {
+        let area = BitMapBackend::new(partial, size).into_drawing_area();
+        draw(area, scene, &frame, instants).map_err(plot_err(&png))
+    })?;
+    write_atomically(&svg, |partial| {
+        let area = SVGBackend::new(partial, size).into_drawing_area();
+        draw(area, scene, &frame, instants).map_err(plot_err(&svg))
+    })?;
     Ok(vec![png, svg])
 }
 
