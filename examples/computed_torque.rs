@@ -10,9 +10,7 @@
 //!
 //! Run with `cargo run --release --example computed_torque`.
 
-use mechanism::fixed::{FixedStep, State};
 use mechanism::prelude::*;
-use mechanism::{AssemblyOptions, Coordinates};
 
 // The crank-rocker of `mechanisms/planar_four_bar.mech` with a crank torque parameter u:
 // `forces { th1: u; }`. The runtime test of the fixed step uses the same file.

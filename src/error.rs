@@ -25,9 +25,36 @@ pub enum Error {
         /// Last iterate q.
         q: Vec<f64>,
     },
-    /// The augmented matrix [M Phi_q^T; Phi_q 0] (or the constraint Jacobian of the
-    /// dependent coordinates) is singular or nearly so: the mechanism is locked, at a dead
-    /// point, or at a bifurcation of its assembly branches.
+    /// A kinematic solve cannot continue: the coordinates it solves for are not determined
+    /// at this configuration (the mechanism is locked, at a dead point, at a bifurcation of
+    /// its assembly branches, or a prescribed motion takes it out of reach).
+    ///
+    /// Every test for a singular configuration, in one place (the README section
+    /// "Overconstrained mechanisms and singular positions" summarises it):
+    /// - **Velocity and acceleration solves** ([`crate::solve_velocities`],
+    ///   [`crate::solve_accelerations`], kinematic analysis, inverse dynamics): the
+    ///   constraint Jacobian of the dependent coordinates, Phi_v, has numerical rank below
+    ///   their number, by SVD with singular values at most
+    ///   [`crate::AssemblyOptions::rank_tolerance`] (1e-10) times the largest counting as
+    ///   zero; `condition` is sigma_max / sigma_min.
+    /// - **Position solves** ([`crate::solve_positions`], kinematic analysis, inverse
+    ///   dynamics), once Newton has failed: Phi_v has a condition above
+    ///   [`crate::AssemblyOptions::singular_condition`] (1e6), or more than 90 % of the
+    ///   residual Phi lies outside the span of its well-conditioned left singular vectors
+    ///   while its condition exceeds 4 (Gauss-Newton creeping towards a fold of the
+    ///   constraint manifold). At assembly ([`crate::assemble_from`]) there is no motion to
+    ///   be singular, and the same finding is [`Error::ConstraintsUnsatisfiable`].
+    /// - **HHT**: its Newton matrix has an exactly zero or non-finite pivot (`condition`
+    ///   infinite).
+    ///
+    /// Not errors: the forward dynamics integrates through singular positions (the LU route
+    /// of [`crate::Dynamics`] hands over to the augmented Lagrangian route when its
+    /// condition estimate exceeds [`crate::DEFAULT_CONDITION_LIMIT`], 1e8). Where a motion
+    /// passes one is recorded ([`crate::SingularPassage`]) by the row-independence test of
+    /// [`crate::linalg::RowBasis`], the one that also finds redundant rows
+    /// ([`crate::mobility()`], [`Error::ConflictingDrives`]): a row's distance to the span
+    /// of the rows before it, relative to its norm, is at most 1e-6 for a redundant row,
+    /// and a passage is recorded where the weakest independence falls below 1e-3.
     #[error(
         "singular configuration at t = {t} s (condition estimate {condition:e}): the mechanism \
          is at a dead point, locked, or its constraints lose rank; q = {q:?}"
@@ -126,6 +153,73 @@ pub enum Error {
         /// The limit.
         max_steps: usize,
     },
+    /// The adaptive step size collapsed: at the mean size of the last 100 accepted steps,
+    /// the steps still needed to reach the end time, (t_end - t) / h, plus those taken
+    /// exceed 10 times the step limit (`IntegratorOptions::max_steps`). Tested from the
+    /// 1000th step on (the first ones say little about the rest), so a doomed run stops in
+    /// about a thousand steps instead of running into the limit; a run that would need the
+    /// step to grow more than tenfold on average to finish cannot be told apart from one
+    /// that never will. Thresholds: `WINDOW`, `MIN_STEPS`, `COLLAPSE_FACTOR` of
+    /// `src/simulation/fail_fast.rs`.
+    #[error(
+        "the step size collapsed to h = {h:.3e} s at t = {t} s (mean of the last 100 steps): \
+         reaching the end time would take about {steps_needed:.1e} more steps, more than 10 \
+         times the limit of {max_steps}; the motion is too fast or stiff for the method and \
+         tolerance, or a parameter or force is far out of scale (try HHT, a looser \
+         tolerance, or check the parameters)"
+    )]
+    StepSizeCollapse {
+        /// Time reached (s).
+        t: f64,
+        /// Mean size of the last 100 accepted steps (s).
+        h: f64,
+        /// (t_end - t) / h.
+        steps_needed: f64,
+        /// The step limit.
+        max_steps: usize,
+    },
+    /// A fixed step (RK4, HHT) that cannot reach the end time within the step limit:
+    /// ceil((t_end - t0) / h) > `IntegratorOptions::max_steps`. Refused by
+    /// [`crate::Simulator::new`] before any work.
+    #[error(
+        "a fixed step of h = {h:e} s over {span} s takes {steps:.1e} steps, more than the \
+         limit of {max_steps}: choose a step of at least {:e} s or an adaptive method",
+        span / *max_steps as f64
+    )]
+    FixedStepTooSmall {
+        /// The step (s).
+        h: f64,
+        /// t_end - t0 (s).
+        span: f64,
+        /// Steps needed.
+        steps: f64,
+        /// The step limit.
+        max_steps: usize,
+    },
+    /// The motion diverged: after an accepted step a coordinate or a rate is NaN, infinite
+    /// or beyond 1e12 times its scale at the start (positions: the largest of 1,
+    /// |q(t0)|_inf and |q'(t0)|_inf (t_end - t0); rates: the larger of 1 and
+    /// |q'(t0)|_inf). A factor of 1e12 leaves every physical range and 12 of the 16 digits
+    /// of f64, so nothing after it means anything; an unstable integration (a fixed step
+    /// too large for a stiff spring) or a force far out of scale ends here.
+    #[error(
+        "the motion diverged at t = {t} s: {quantity} of {coordinate} is {value:.3e}, beyond \
+         {limit:.3e} (1e12 times its scale at the start); the integration is unstable or a \
+         force or parameter is far out of scale (try a smaller step or tolerance, or check \
+         the parameters)"
+    )]
+    Diverged {
+        /// Time of the step's end (s).
+        t: f64,
+        /// `q` or `q'`.
+        quantity: &'static str,
+        /// The coordinate.
+        coordinate: String,
+        /// Its value (NaN or infinite included).
+        value: f64,
+        /// The bound it crossed.
+        limit: f64,
+    },
     /// A parameter, a state component or a computed quantity is NaN or infinite.
     #[error("non-finite value: {what} at t = {t} s")]
     NonFinite {
@@ -133,6 +227,29 @@ pub enum Error {
         what: String,
         /// Time (s).
         t: f64,
+    },
+    /// One entry of the equations (M, C q', g, tau, Phi, Phi_q, Phi_t or gamma) evaluated to
+    /// NaN or infinity at (t, q): the expression behind it is undefined there (a logarithm
+    /// or a square root of a negative number, a division by zero) or overflows. `term` names
+    /// the entry: `Phi row 2 (constraint 2)`, `gamma row 1 (revolute(B1, B2, z, z) x)`
+    /// (1-based row and its label, [`crate::SystemInfo::constraint_label`]),
+    /// `Phi_q[constraint 1, th3]`, `M[th1, th2]`, `tau of th1`, `C q' of th2`, `g of th1`.
+    /// Raised by the assembly, the projections, [`crate::Dynamics::solve`], HHT and the
+    /// inverse dynamics, before any solve uses the value.
+    #[error(
+        "{term} is {value} at t = {t} s, q = {q:?}: its expression is undefined or overflows \
+         there (a logarithm or square root of a negative number, a division by zero, a huge \
+         parameter)"
+    )]
+    NonFiniteTerm {
+        /// The entry, named as above.
+        term: String,
+        /// Its value: NaN, inf or -inf.
+        value: f64,
+        /// Time (s).
+        t: f64,
+        /// The configuration where it was evaluated.
+        q: Vec<f64>,
     },
     /// A coordinate name that the mechanism does not declare.
     #[error("unknown coordinate '{name}'; the coordinates are {known:?}")]
@@ -179,6 +296,24 @@ pub enum Error {
         expected: usize,
         /// Entries given.
         got: usize,
+    },
+    /// The output the run would keep in memory is larger than
+    /// [`crate::MAX_OUTPUT_BYTES`]: samples x values per sample x 8 bytes (plus the
+    /// per-sample bookkeeping where samples are kept as vectors). Refused before any work.
+    #[error(
+        "{samples} samples of {columns} values would take about {:.2} GB of memory, more \
+         than the {:.2} GB a run may use: lower the output rate or shorten the time span",
+        *bytes / 1e9, *limit as f64 / 1e9
+    )]
+    TooMuchOutput {
+        /// Samples that would be recorded.
+        samples: usize,
+        /// Values per sample.
+        columns: usize,
+        /// Estimated bytes.
+        bytes: f64,
+        /// The limit in bytes.
+        limit: usize,
     },
     /// The run would record more output samples than allowed.
     #[error(

@@ -34,6 +34,8 @@ pub mod fixed;
 #[cfg(feature = "std")]
 pub mod integrators;
 #[cfg(feature = "std")]
+mod limits;
+#[cfg(feature = "std")]
 pub mod linalg;
 #[cfg(feature = "std")]
 pub mod output;
@@ -67,9 +69,11 @@ pub use crate::error::Error;
 #[cfg(feature = "std")]
 pub use crate::integrators::{IntegratorOptions, Method, StepController};
 #[cfg(feature = "std")]
+pub use crate::limits::{MAX_OUTPUT_BYTES, MAX_OUTPUT_SAMPLES};
+#[cfg(feature = "std")]
 pub use crate::simulation::events::{Event, EventAction, EventFn, EventHit};
 #[cfg(feature = "std")]
-pub use crate::simulation::options::{InitialState, MAX_OUTPUT_SAMPLES, SimulationOptions};
+pub use crate::simulation::options::{InitialState, SimulationOptions};
 #[cfg(feature = "std")]
 pub use crate::simulation::simulator::{
     Simulation, Simulator, simulate, simulate_recording, simulate_with_events,
@@ -98,15 +102,15 @@ pub use nalgebra;
 /// What a crate that declares and runs mechanisms uses: the macro, the traits, the vector
 /// aliases, the fixed-size solvers, and with `std` the simulation and inverse dynamics.
 pub mod prelude {
-    pub use crate::fixed::{FixedStep, kkt_solve};
+    pub use crate::fixed::{FixedError, FixedStep, KktSolution, State, kkt_solve};
     pub use crate::{
         Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation,
         Velocities, mechanism,
     };
     #[cfg(feature = "std")]
     pub use crate::{
-        Compiled, Error, InitialState, SimulationOptions, System, Trajectory, inverse_dynamics,
-        simulate,
+        AssemblyOptions, Compiled, Error, InitialState, SimulationOptions, System, Trajectory,
+        inverse_dynamics, simulate,
     };
     #[cfg(feature = "interpreter")]
     pub use crate::{Interpreted, parse_drive};

@@ -70,7 +70,26 @@ pub fn n_four_bar_source(n: usize) -> String {
         }
     }
     s.push_str("}\n");
+    drawing(&mut s, n);
     s
+}
+
+/// The drawing: ground pivots G_i = (i, 0), rocker tips P_i = (x_i, y_i), rockers G_i-P_i and
+/// couplers P_i-P_(i+1); the first coupler's end is traced.
+fn drawing(s: &mut String, n: usize) {
+    s.push_str("// The drawing: rockers from the ground pivots (i, 0) to their tips, couplers between tips.\n");
+    for i in 0..=n {
+        let _ = writeln!(s, "point G{i} = [{i}, 0, 0];");
+        let _ = writeln!(s, "point P{i} = [x{i}, y{i}, 0];");
+    }
+    s.push_str("draw {\n");
+    for i in 0..=n {
+        let _ = writeln!(s, "    line G{i}, P{i};");
+        if i < n {
+            let _ = writeln!(s, "    line P{i}, P{};", i + 1);
+        }
+    }
+    s.push_str("    trace P1;\n}\n");
 }
 
 /// The doc header: source, geometry, coordinates, the singular configuration and the exact

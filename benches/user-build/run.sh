@@ -39,7 +39,10 @@ dep_line() {
 for v in "${variants[@]}"; do
     mkdir -p "$work/$v/src"
     cp "$here/user.rs" "$work/$v/src/lib.rs"
-    cp "$root/mechanisms/spatial_crank_slider.mech" "$work/$v/"
+    # Each side's own declaration of the seed (the baseline's grammar has no `draw`).
+    src="$work/src-now"
+    [ "$v" = baseline ] && src="$work/src-base"
+    cp "$src/mechanisms/spatial_crank_slider.mech" "$work/$v/"
     cat >"$work/$v/Cargo.toml" <<TOML
 [package]
 name = "user"

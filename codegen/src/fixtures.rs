@@ -154,6 +154,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         potential,
         constraints,
         forces: vec![zero; n],
+        drawing: Default::default(),
     }
 }
 

@@ -27,8 +27,8 @@
 //! )?;
 //! let eqs = derive(&mut model)?;
 //! // M = d2T/dphi'^2 and g = dPi/dphi.
-//! assert_eq!(to_text(&model.arena, eqs.mass.data[0]), "m*l^2");
-//! assert_eq!(to_text(&model.arena, eqs.gravity.data[0]), "m*l*g*sin(phi)");
+//! assert_eq!(to_text(&model.arena, eqs.mass.get(0, 0)), "m*l^2");
+//! assert_eq!(to_text(&model.arena, eqs.gravity.get(0, 0)), "m*l*g*sin(phi)");
 //! # Ok::<(), mechanism_codegen::Error>(())
 //! ```
 //!
@@ -50,12 +50,16 @@
 //! - `print/`: text ([`to_text`], [`equations_text`]) and LaTeX ([`equations_latex`]).
 //!
 //! [`parse_declaration`] and [`parse_model_str`] run syntax, checks and model building in
-//! order, reporting every mistake in a declaration at once.
+//! order, reporting every mistake in a declaration at once; [`error`] holds what each
+//! mistake carries.
+//!
+//! The handles ([`Id`], [`SymbolId`]) and [`Matrix`] are opaque: indices and entries are
+//! read through methods, so a matrix always has rows x cols entries.
 #![warn(missing_docs)]
 
 mod algebra;
 mod emit;
-mod error;
+pub mod error;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod mechanics;
@@ -65,32 +69,51 @@ mod print;
 mod program;
 mod syntax;
 
+// The public surface: what the macro, the runtime, the benches and emit-check use, and the
+// types their signatures name. Everything else is crate-private or, for codegen's own tests,
+// in the hidden `internals`.
 pub use algebra::diff::Differentiator;
-pub use algebra::eval::{eval, eval_many, eval_matrix};
+pub use algebra::eval::{eval, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
-pub use algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
-pub use emit::body::{
-    BLOCK_LETS_ABOVE, EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens,
-};
+pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
-pub use mechanics::bodies::{
-    Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms,
-};
 pub use mechanics::build::{ModelSpans, ParsedModel};
+pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput};
-pub use mechanics::joints::{AxisFrame, distance, parallel, prismatic, revolute, spherical};
-pub use mechanics::lagrange::{christoffel_coriolis_forces, christoffel_coriolis_matrix, derive};
+pub use mechanics::lagrange::derive;
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
-pub use mechanics::tangent::{ResidualTangent, lambda_symbol_name, residual_tangent};
+pub use mechanics::tangent::{ResidualTangent, residual_tangent};
 pub use number::Number;
-pub use pipeline::{
-    SpannedError, parse_declaration, parse_declaration_str, parse_model, parse_model_str,
-};
-pub use print::latex::{equations_latex, matrix_to_latex, to_latex};
-pub use print::text::{equations_text, matrix_to_text, to_text};
+pub use pipeline::{SpannedError, parse_declaration, parse_declaration_str, parse_model_str};
+pub use print::latex::equations_latex;
+pub use print::text::{equations_text, to_text};
 pub use program::cse::{Output, Program};
 pub use program::hoist::{Hoisted, hoist_parameters};
-pub use program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp};
+pub use program::instructions::{OpCounts, Operand};
 pub use program::tape::Tape;
+
+/// The parts of the stages that no dependent needs, reached only by codegen's own tests (the
+/// second routes they check against, the printers of single matrices, the instructions of a
+/// program): hidden, not part of the API, free to change.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::algebra::eval::eval_many;
+    pub use crate::algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
+    pub use crate::emit::body::BLOCK_LETS_ABOVE;
+    pub use crate::mechanics::bodies::{
+        Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms,
+    };
+    pub use crate::mechanics::joints::{
+        AxisFrame, distance, parallel, prismatic, revolute, spherical,
+    };
+    pub use crate::mechanics::lagrange::{
+        christoffel_coriolis_forces, christoffel_coriolis_matrix,
+    };
+    pub use crate::mechanics::tangent::lambda_symbol_name;
+    pub use crate::pipeline::parse_model;
+    pub use crate::print::latex::{matrix_to_latex, to_latex};
+    pub use crate::print::text::matrix_to_text;
+    pub use crate::program::instructions::{BinOp, Instr, Reg, UnOp};
+}

@@ -6,7 +6,7 @@
 
 use proc_macro2::{Span, TokenStream};
 
-use crate::error::{Error, Result};
+use crate::error::{DeclarationError, Error, Result};
 use crate::mechanics::build::{ParsedModel, build};
 use crate::mechanics::check::{ModelFinding, check, check_model};
 use crate::mechanics::model::Model;
@@ -160,20 +160,18 @@ fn finding_error(model: &Model, finding: ModelFinding) -> Error {
             row,
             expr,
             location,
-        } => Error::Declaration {
-            message: format!(
-                "constraint {} does not depend on the coordinates or t (it simplifies to `{}`), so it constrains nothing: remove it or correct it",
-                row + 1,
-                to_text(&model.arena, expr)
-            ),
-            location,
-        },
-        ModelFinding::KineticWithoutRates { expr, location } => Error::Declaration {
-            message: format!(
-                "the kinetic energy does not depend on any rate der(q) (it is `{}`): write T with the rates, e.g. `1/2*m*der(x)^2`",
-                to_text(&model.arena, expr)
-            ),
-            location,
-        },
+        } => {
+            let kind = DeclarationError::ConstraintWithoutMotion {
+                row: row + 1,
+                simplified: to_text(&model.arena, expr),
+            };
+            Error::declaration(kind, location)
+        }
+        ModelFinding::KineticWithoutRates { expr, location } => {
+            let kind = DeclarationError::KineticWithoutRates {
+                kinetic: to_text(&model.arena, expr),
+            };
+            Error::declaration(kind, location)
+        }
     }
 }

@@ -150,14 +150,15 @@ pub fn matrices(a: &mut Arena, ids: &[Id]) -> Vec<Matrix> {
     let zero = a.int(0);
     ids.chunks_exact(n)
         .enumerate()
-        .map(|(k, c)| Matrix {
-            rows: ROWS,
-            cols: COLS,
-            data: c
-                .iter()
-                .enumerate()
-                .map(|(j, &e)| if (k + j) % 4 == 0 { zero } else { e })
-                .collect(),
+        .map(|(k, c)| {
+            Matrix::from_fn(ROWS, COLS, |i, j| {
+                let entry = i * COLS + j;
+                if (k + entry).is_multiple_of(4) {
+                    zero
+                } else {
+                    c[entry]
+                }
+            })
         })
         .collect()
 }

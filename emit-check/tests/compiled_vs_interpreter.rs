@@ -6,19 +6,17 @@
 //! multiplications where the tape calls the runtime routine). Against `eval` the operations
 //! are the same but reassociated (see codegen's `cse` docs), so they differ by rounding:
 //! 1e-12 relative, or, for the few ill-conditioned entries (cancellation in a sum), the
-//! first-order rounding bound 16 eps E of the DAG (tests/support). The test also asserts
-//! that the relative 1e-12 criterion alone holds for the vast majority of comparisons, so
-//! the bound is not vacuous.
-
-mod support;
+//! first-order rounding bound 16 eps E of the DAG (`mechanism_test_support::rounding`). The
+//! test also asserts that the relative 1e-12 criterion alone holds for the vast majority of
+//! comparisons, so the bound is not vacuous.
 
 use std::collections::HashMap;
 
 use mechanism_codegen::{Matrix, Program, SymbolId, Tape, eval, eval_matrix, parse_expr};
 use mechanism_emit_check::generated::{MATRICES, P, SCALARS};
 use mechanism_emit_check::random::{self, Rng};
+use mechanism_test_support::rounding::dag;
 use nalgebra::{SMatrix, SVector};
-use support::dag;
 
 const POINTS: usize = 8;
 
@@ -50,12 +48,12 @@ fn scalar_functions_match_eval_and_tape() {
         let program = Program::new(&a, &[&Matrix::column(vec![id])]).unwrap();
         let mut tape = Tape::new(&program);
         for x in points() {
-            let env = |s: SymbolId| x.get(s.0 as usize).copied();
+            let env = |s: SymbolId| x.get(s.index()).copied();
             let Ok(want) = eval(&a, id, &env) else {
                 skipped += 1; // a non-finite intermediate at this point: eval's typed error
                 continue;
             };
-            let bound = dag(&a, id, &|s| x[s.0 as usize], &mut HashMap::new()).e;
+            let bound = dag(&a, id, &|s| x[s.index()], &mut HashMap::new()).e;
             if !bound.is_finite() {
                 skipped += 1;
                 continue;
@@ -95,7 +93,7 @@ fn matrix_functions_match_eval_and_the_combined_function() {
     assert_eq!(mats.len(), MATRICES.len());
     let mut checked = 0;
     for x in points() {
-        let env = |s: SymbolId| x.get(s.0 as usize).copied();
+        let env = |s: SymbolId| x.get(s.index()).copied();
         let (p, q, t) = (P { k: x[2] }, SVector::<f64, 2>::new(x[0], x[1]), x[3]);
         let mut all = [SMatrix::<f64, 2, 3>::repeat(f64::NAN); MATRICES.len()];
         p.all(&q, t, &mut all);
@@ -103,14 +101,14 @@ fn matrix_functions_match_eval_and_the_combined_function() {
             let got = f(&p, &q, t);
             let want = eval_matrix(&a, m, &env).ok();
             let mut memo = HashMap::new();
-            for (e, &id) in m.data.iter().enumerate() {
+            for (e, &id) in m.data().iter().enumerate() {
                 let (i, j) = (e / 3, e % 3);
                 if a.is_zero(id) {
                     assert_eq!(got[(i, j)], 0.0, "a zero entry stays 0");
                     assert_eq!(all[k][(i, j)], 0.0, "and is written as 0 in `all`");
                     continue;
                 }
-                let bound = dag(&a, id, &|s| x[s.0 as usize], &mut memo).e;
+                let bound = dag(&a, id, &|s| x[s.index()], &mut memo).e;
                 let Some(want) = want.as_ref().filter(|_| bound.is_finite()) else {
                     continue;
                 };

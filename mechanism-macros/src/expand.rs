@@ -335,6 +335,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     } = t;
     let indices: Vec<usize> = (0..*p).collect();
     let methods = expand_equation_methods(decl, t, g);
+    let drawing = drawing_constants(decl);
     quote! {
         #[allow(
             non_snake_case,
@@ -362,6 +363,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
             const INDEPENDENT: &'static [#krate::Independent] = &[#(#independent),*];
             const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] =
                 &[#((#row_joints, #row_components)),*];
+            #drawing
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
                 match index {
@@ -387,6 +389,24 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     }
 }
 
+/// `DRAW_POINTS`, `DRAW_LINES` and `DRAW_TRACES` of the declared drawing (nothing without one:
+/// the trait's defaults are empty).
+fn drawing_constants(decl: &Declaration) -> TokenStream {
+    let d = &decl.model.drawing;
+    if d.points.is_empty() {
+        return quote!();
+    }
+    let names = d.points.iter().map(|p| &p.name);
+    let ground = d.points.iter().map(|p| p.ground);
+    let lines = d.lines.iter().map(|l| quote!(&[#(#l),*]));
+    let traces = &d.traces;
+    quote! {
+        const DRAW_POINTS: &'static [(&'static str, bool)] = &[#((#names, #ground)),*];
+        const DRAW_LINES: &'static [&'static [usize]] = &[#(#lines),*];
+        const DRAW_TRACES: &'static [usize] = &[#(#traces),*];
+    }
+}
+
 /// The trait's equation methods, one generated body each.
 fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
     let krate = &decl.krate;
@@ -407,6 +427,7 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
         potential_energy,
         evaluate_into,
         residual_tangent,
+        draw_points,
         equations,
         ..
     } = g;
@@ -475,6 +496,9 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
         lambda: &#sv<f64, #m>,
     ) -> ::core::option::Option<(#sm<f64, #n, #n>, #sm<f64, #n, #n>)> {
         #residual_tangent
+    }
+    fn draw_points(&self, t: f64, q: &#sv<f64, #n>, out: &mut [f64]) {
+        #draw_points
     }
     }
 }

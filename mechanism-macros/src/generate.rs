@@ -54,6 +54,9 @@ pub struct Generated {
     pub evaluate_into: TokenStream,
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
+    /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
+    /// drawing).
+    pub draw_points: TokenStream,
     /// The derived equations as readable text (`mechanism_codegen::equations_text`).
     pub equations: String,
     /// The number of cached parameter-only values.
@@ -89,6 +92,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             potential_energy: b.scalar(&p[10])?,
             evaluate_into: b.evaluate_into(&p[11])?,
             residual_tangent: b.tangent(&p[12], &tangent)?,
+            draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
             cache_len: programs.slots.len(),
             cache: b.cache(&programs.cache)?,
@@ -251,6 +255,30 @@ impl Bodies<'_> {
         })
     }
 
+    /// The drawn points' x, y, z into the slice `out` (3 per point, in drawing order),
+    /// after a length check so that the constant indices cannot panic.
+    fn draw_points(&self) -> mechanism_codegen::Result<TokenStream> {
+        let points = &self.model.drawing.points;
+        if points.is_empty() {
+            return Ok(quote!(let _ = (t, q, out);));
+        }
+        let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
+        let program = Program::new(&self.model.arena, &[&column])?;
+        let targets = [OutputTarget::Vector {
+            name: quote!(out),
+            zeroed: false,
+        }];
+        let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
+        let len = 3 * points.len();
+        Ok(quote! {
+            let _ = (t, q);
+            if out.len() < #len {
+                return;
+            }
+            #body
+        })
+    }
+
     /// A body returning the single entry of a 1 x 1 output.
     fn scalar(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
         let body = emit_body(program, &self.bindings(), &[OutputTarget::Return])?.tokens;
@@ -337,7 +365,7 @@ impl Bodies<'_> {
         let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
         let targets = [place(quote!(stiffness)), place(quote!(damping))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
-        let (n, krate) = (tangent.stiffness.rows, self.krate);
+        let (n, krate) = (tangent.stiffness.rows(), self.krate);
         let cache = self.cache_read(program);
         Ok(quote! {
             #cache

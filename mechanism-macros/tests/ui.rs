@@ -12,6 +12,7 @@ fn ui() {
         "syntax",
         "files",
         "bodies",
+        "drawing",
     ] {
         t.compile_fail(format!("tests/ui/{category}/*.rs"));
     }

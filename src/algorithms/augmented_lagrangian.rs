@@ -45,7 +45,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::linalg::{Envelope, NotPositiveDefinite, RowBasis, RowSpans};
+use crate::linalg::{Envelope, NotPositiveDefinite, RowBasis, RowSpans, inf_norm, max_nan};
 
 /// Default penalty factor kappa: alpha = kappa max_i M_ii / max_i (A^T A)_ii.
 pub const DEFAULT_PENALTY: f64 = 1e6;
@@ -221,7 +221,7 @@ impl AugmentedLagrangian {
         let ms = mass.as_slice();
         let mut mass_scale = 0.0f64;
         for i in 0..n {
-            mass_scale = mass_scale.max(ms[i + i * n].abs());
+            mass_scale = max_nan(mass_scale, ms[i + i * n].abs());
             if let Some(j) = (0..i).find(|&j| ms[j + i * n] != 0.0) {
                 env.widen(i, j);
             }
@@ -229,7 +229,7 @@ impl AugmentedLagrangian {
         // max_i (A^T A)_ii = max_i sum_r A_ri^2.
         self.work.fill(0.0);
         self.spans.column_squares(a, &mut self.work);
-        let constraint_scale = self.work.iter().fold(0.0f64, |x, &v| x.max(v));
+        let constraint_scale = inf_norm(&self.work);
         if mass_scale == 0.0 {
             mass_scale = 1.0;
         }
@@ -291,10 +291,6 @@ impl AugmentedLagrangian {
             v.iter_mut().for_each(|x| *x /= s);
         }
     }
-}
-
-fn inf_norm(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |a, v| a.max(v.abs()))
 }
 
 #[cfg(test)]

@@ -1,13 +1,14 @@
 //! Prescribed motions written as expressions: `phi = 2*pi*t` becomes a driver constraint
 //! q_k - f(t) = 0, with f' and f'' derived symbolically by `mechanism-codegen`.
 
-use std::sync::Mutex;
+use std::collections::HashMap;
 
-use mechanism_codegen::{Arena, Differentiator, Matrix, Program, SymbolKind, Tape};
+use mechanism_codegen::{Arena, Differentiator, Matrix, Program, SymbolId, SymbolKind};
 
 use crate::algorithms::kinematics::Drive;
 use crate::error::Error;
 use crate::system::System;
+use crate::system::routine::{Routine, Source, Values};
 
 /// Why a drive specification was refused.
 #[derive(Debug, thiserror::Error)]
@@ -20,8 +21,8 @@ pub enum DriveError {
     Expression {
         /// The drive text.
         text: String,
-        /// The codegen error.
-        source: mechanism_codegen::Error,
+        /// The codegen error (boxed: it carries the names a message lists).
+        source: Box<mechanism_codegen::Error>,
     },
     /// The runtime refused the drive (an unknown coordinate, for one).
     #[error(transparent)]
@@ -47,7 +48,7 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
         })?;
     let wrap = |source| DriveError::Expression {
         text: text.to_string(),
-        source,
+        source: Box::new(source),
     };
     let mut arena = Arena::new();
     let t = arena.symbol_id("t", SymbolKind::Time);
@@ -63,22 +64,21 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
     let f1 = d.diff(&mut arena, f, t).map_err(wrap)?;
     let f2 = d.diff(&mut arena, f1, t).map_err(wrap)?;
     let program = Program::new(&arena, &[&Matrix::column(vec![f, f1, f2])]).map_err(wrap)?;
-    let mut inputs = vec![0.0; arena.symbols().len()];
-    for (s, v) in params.iter().zip(&values) {
-        inputs[s.0 as usize] = *v;
-    }
-    let state = Mutex::new((Tape::new(&program), inputs));
-    let t_index = t.0 as usize;
+    let sources: HashMap<SymbolId, Source> = params
+        .iter()
+        .enumerate()
+        .map(|(k, s)| (*s, Source::Parameter(k)))
+        .chain([(t, Source::Time)])
+        .collect();
+    let routine = Routine::new(&program, &sources, 3).map_err(wrap)?;
     Ok(Drive::new(coordinate, move |time| {
-        let mut guard = state.lock().unwrap_or_else(|p| p.into_inner());
-        let (tape, inputs) = &mut *guard;
-        inputs[t_index] = time;
-        let mut out = [0.0; 3];
-        // A non-finite f (e.g. ln of a negative) surfaces as NaN, which the solver reports
-        // as a non-finite state with its time.
-        if tape.eval(inputs, &mut out).is_err() {
-            out = [f64::NAN; 3];
-        }
-        out
+        let at = Values {
+            parameters: &values,
+            t: time,
+            ..Values::default()
+        };
+        // A non-finite f (e.g. ln of a negative) reaches the output as NaN or infinity,
+        // which the solver reports as a non-finite state with its time.
+        routine.run(&at, |out| [out[0], out[1], out[2]])
     }))
 }

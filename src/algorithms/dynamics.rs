@@ -34,8 +34,9 @@
 //! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::finite;
 use crate::error::Error;
-use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis};
+use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis, inf_norm, max_nan};
 use crate::system::{Evaluation, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
@@ -121,7 +122,9 @@ impl Dynamics {
     /// The first solve asks `system` for its null-space solver of static sizes
     /// ([`System::null_space_solver`]; one allocation), the later ones allocate nothing.
     ///
-    /// Errors: [`Error::NonFinite`] when the evaluation or the solution is not finite;
+    /// Errors: [`Error::NonFiniteTerm`] naming the first entry of M, C q', g, tau, Phi_q,
+    /// Phi_t, gamma (or Phi, with Baumgarte) that is NaN or infinite; [`Error::NonFinite`]
+    /// when the state or the solution is not finite;
     /// [`Error::UndeterminedMotion`] when M is not positive definite on the null space of
     /// Phi_q (see the module docs).
     pub fn solve(
@@ -169,9 +172,11 @@ impl Dynamics {
             }
         }
         if !(finite_matrix & all_finite(&self.sol)) {
-            return Err(self.non_finite(
-                "the equations of motion (M, C q', g, tau, Phi_q or gamma)",
-                t,
+            return Err(finite::evaluation_error(
+                e,
+                system.info(),
+                (t, q, qd),
+                "the right-hand side tau - C q' - g or gamma of the equations of motion",
             ));
         }
         let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
@@ -317,13 +322,6 @@ impl Dynamics {
         &self.sol[n..]
     }
 
-    fn non_finite(&self, what: &str, t: f64) -> Error {
-        Error::NonFinite {
-            what: what.to_string(),
-            t,
-        }
-    }
-
     /// q'' from the last [`Dynamics::solve`].
     pub fn accelerations(&self) -> &[f64] {
         &self.sol[..self.n]
@@ -356,7 +354,7 @@ impl Dynamics {
 
     /// |Phi|_inf at the last solve.
     pub fn constraint_error(&self) -> f64 {
-        self.eval.phi.iter().fold(0.0, |a, v| a.max(v.abs()))
+        inf_norm(self.eval.phi.as_slice())
     }
 
     /// |Phi_q q' + Phi_t|_inf at the last solve.
@@ -364,7 +362,7 @@ impl Dynamics {
         let e = &self.eval;
         (0..self.m).fold(0.0, |a, r| {
             let v: f64 = e.phi_t[r] + (0..self.n).map(|j| e.phi_q[(r, j)] * qd[j]).sum::<f64>();
-            a.max(v.abs())
+            max_nan(a, v.abs())
         })
     }
 }

@@ -38,10 +38,12 @@
 use nalgebra::DMatrix;
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::finite;
 use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
 use crate::error::Error;
+use crate::limits::check_output_memory;
 use crate::linalg::RowBasis;
 use crate::system::{Evaluation, System, SystemInfo};
 
@@ -112,6 +114,34 @@ impl InverseDynamics {
         let (n, m, k) = (info.n(), info.m(), self.fixed.len());
         let mut qd = vec![0.0; n];
         let mut fdd = vec![0.0; k];
+        self.prescribe(info, t, &mut qd, &mut fdd)?;
+        self.check_drives(system, t)?;
+        solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
+        solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
+        system.evaluate(t, &self.q, &qd, &mut self.eval);
+        self.assemble(info, (t, &qd), &fdd)?;
+        let qdd = self.accelerations(info, t)?;
+        self.multipliers(&qdd);
+        Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
+        Ok(InverseSample {
+            t,
+            q: self.q.clone(),
+            qd,
+            qdd,
+            driving: self.lambda[m..].iter().map(|l| -l).collect(),
+            lambda: self.lambda[..m].to_vec(),
+        })
+    }
+
+    /// The prescribed motion at t: q_k = f(t) into the positions, f'(t) into `qd` and
+    /// f''(t) into `fdd` (drive order).
+    fn prescribe(
+        &mut self,
+        info: &SystemInfo,
+        t: f64,
+        qd: &mut [f64],
+        fdd: &mut [f64],
+    ) -> Result<(), Error> {
         for (j, d) in self.drives.iter().enumerate() {
             let [f, fd, f2] = (d.f)(t);
             if !(f.is_finite() && fd.is_finite() && f2.is_finite()) {
@@ -124,38 +154,53 @@ impl InverseDynamics {
             qd[d.coordinate] = fd;
             fdd[j] = f2;
         }
-        self.check_drives(system, t)?;
-        solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
-        solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
-        system.evaluate(t, &self.q, &qd, &mut self.eval);
+        Ok(())
+    }
+
+    /// The driven system from the evaluation at the solved state: the rows [Phi_q; E], the
+    /// force side tau* - C q' - g (driven entries of tau zeroed) and [gamma; f''].
+    /// A non-finite term is [`Error::NonFiniteTerm`] naming the entry, at (t, q, q').
+    fn assemble(
+        &mut self,
+        info: &SystemInfo,
+        (t, qd): (f64, &[f64]),
+        fdd: &[f64],
+    ) -> Result<(), Error> {
         let e = &self.eval;
-        self.rows.fill(0.0);
-        self.rows.view_mut((0, 0), (m, n)).copy_from(&e.phi_q);
-        for (j, &c) in self.fixed.iter().enumerate() {
-            self.rows[(m + j, c)] = 1.0;
-        }
-        for i in 0..n {
+        let m = e.phi.len();
+        driven_rows(&mut self.rows, &e.phi_q, &self.fixed);
+        for (i, rhs) in self.rhs.iter_mut().enumerate() {
             let tau = if self.fixed.contains(&i) {
                 0.0
             } else {
                 e.forces[i]
             };
-            self.rhs[i] = tau - e.coriolis[i] - e.gravity[i];
+            *rhs = tau - e.coriolis[i] - e.gravity[i];
         }
         self.gamma[..m].copy_from_slice(e.gamma.as_slice());
-        self.gamma[m..].copy_from_slice(&fdd);
+        self.gamma[m..].copy_from_slice(fdd);
         if self.rhs.iter().chain(&self.gamma).any(|v| !v.is_finite())
             || e.mass.iter().any(|v| !v.is_finite())
         {
-            return Err(Error::NonFinite {
-                what: "the equations of motion along the prescribed motion".into(),
-                t,
-            });
+            return Err(finite::evaluation_error(
+                e,
+                info,
+                (t, &self.q, qd),
+                "the equations of motion along the prescribed motion",
+            ));
         }
-        if let Err(failure) = self
+        Ok(())
+    }
+
+    /// q'' of the driven system by the augmented Lagrangian route; a motion the system
+    /// leaves undetermined is [`Error::UndeterminedMotion`], naming the coordinates that
+    /// move freely (largest first).
+    fn accelerations(&mut self, info: &SystemInfo, t: f64) -> Result<Vec<f64>, Error> {
+        let n = info.n();
+        let solved = self
             .augmented
-            .solve(&e.mass, &self.rows, &self.rhs, &self.gamma)
-        {
+            .solve(&self.eval.mass, &self.rows, &self.rhs, &self.gamma);
+        if let Err(failure) = solved {
             let mut v = vec![0.0; n];
             self.augmented.undetermined_direction(failure, &mut v);
             let mut moving: Vec<usize> = (0..n).filter(|&i| v[i].abs() > 1e-6).collect();
@@ -169,24 +214,30 @@ impl InverseDynamics {
                 q: self.q.clone(),
             });
         }
+        Ok(self.augmented.solution().to_vec())
+    }
+
+    /// lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm), where
+    /// `rhs` holds Q = tau* - C q' - g.
+    fn multipliers(&mut self, qdd: &[f64]) {
         self.basis.factor(&self.rows);
-        // lambda from the force balance [Phi_q; E]^T lambda = Q - M q'' (minimum norm).
-        let qdd = self.augmented.solution().to_vec();
-        for i in 0..n {
-            let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * qdd[j]).sum();
-            self.rhs[i] -= mx;
+        let mass = &self.eval.mass;
+        for (i, rhs) in self.rhs.iter_mut().enumerate() {
+            let mx: f64 = (0..qdd.len()).map(|j| mass[(i, j)] * qdd[j]).sum();
+            *rhs -= mx;
         }
         self.basis
             .multipliers_for(&self.rows, &self.rhs, &mut self.lambda);
-        Error::check_finite(&qdd, "q''", &info.coordinates, t)?;
-        Ok(InverseSample {
-            t,
-            q: self.q.clone(),
-            qd,
-            qdd,
-            driving: self.lambda[m..].iter().map(|l| -l).collect(),
-            lambda: self.lambda[..m].to_vec(),
-        })
+    }
+}
+
+/// [Phi_q; E] into `rows`: the constraint rows, then the unit row of each driven coordinate.
+fn driven_rows(rows: &mut DMatrix<f64>, phi_q: &DMatrix<f64>, fixed: &[usize]) {
+    let (m, n) = phi_q.shape();
+    rows.fill(0.0);
+    rows.view_mut((0, 0), (m, n)).copy_from(phi_q);
+    for (j, &c) in fixed.iter().enumerate() {
+        rows[(m + j, c)] = 1.0;
     }
 }
 
@@ -201,11 +252,7 @@ impl InverseDynamics {
         let mut phi_t = vec![0.0; m];
         let mut phi_q = nalgebra::DMatrix::zeros(m, n);
         system.constraint_jacobian(t, &self.q, &mut phi_q, &mut phi_t);
-        self.rows.fill(0.0);
-        self.rows.view_mut((0, 0), (m, n)).copy_from(&phi_q);
-        for (j, &c) in self.fixed.iter().enumerate() {
-            self.rows[(m + j, c)] = 1.0;
-        }
+        driven_rows(&mut self.rows, &phi_q, &self.fixed);
         self.basis.factor(&self.rows);
         let conflicting: Vec<String> = (0..k)
             .filter(|&j| self.basis.is_redundant(m + j))
@@ -223,7 +270,13 @@ impl InverseDynamics {
     }
 }
 
-/// Inverse dynamics at each of `times` (in order). The error of the first failing sample is
+/// Bytes an [`InverseSample`] takes beyond its values: five vectors, each a 24-byte header
+/// and a heap block (about 16 bytes of allocator bookkeeping).
+const SAMPLE_OVERHEAD: usize = 5 * (24 + 16);
+
+/// Inverse dynamics at each of `times` (in order). More samples than
+/// [`crate::MAX_OUTPUT_BYTES`] can hold are refused before any work
+/// ([`Error::TooMuchOutput`]). The error of the first failing sample is
 /// returned, e.g. [`Error::SingularConfiguration`] where the prescribed motion drives the
 /// mechanism through a dead point it cannot pass.
 pub fn inverse_dynamics(
@@ -232,12 +285,16 @@ pub fn inverse_dynamics(
     times: &[f64],
     assembly: &AssemblyOptions,
 ) -> Result<InverseResult, Error> {
+    let info = system.info();
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
-    let samples = times
-        .iter()
-        .map(|&t| inv.solve_at(system, t))
-        .collect::<Result<Vec<_>, _>>()?;
+    // Reserved exactly: a growing vector would hold up to twice the room it needs.
+    let mut samples = Vec::with_capacity(times.len());
+    for &t in times {
+        samples.push(inv.solve_at(system, t)?);
+    }
     Ok(InverseResult {
         info: system.info().clone(),
         driven: coordinates,
@@ -285,15 +342,25 @@ impl InverseResult {
 
     /// The samples as rows in [`InverseResult::headers`] order.
     pub fn rows(&self) -> Vec<Vec<f64>> {
-        self.samples
-            .iter()
-            .map(|s| {
-                let mut r = vec![s.t];
-                for part in [&s.q, &s.qd, &s.qdd, &s.driving, &s.lambda] {
-                    r.extend_from_slice(part);
-                }
-                r
-            })
-            .collect()
+        self.samples.iter().map(InverseSample::row).collect()
+    }
+
+    /// [`InverseResult::rows`], consuming the samples one by one (so that the rows take the
+    /// memory the samples free, instead of doubling it).
+    pub fn into_rows(self) -> Vec<Vec<f64>> {
+        self.samples.into_iter().map(|s| s.row()).collect()
+    }
+}
+
+impl InverseSample {
+    /// The sample as one row in [`InverseResult::headers`] order.
+    pub fn row(&self) -> Vec<f64> {
+        let parts = [&self.q, &self.qd, &self.qdd, &self.driving, &self.lambda];
+        let mut r = Vec::with_capacity(1 + parts.iter().map(|p| p.len()).sum::<usize>());
+        r.push(self.t);
+        for part in parts {
+            r.extend_from_slice(part);
+        }
+        r
     }
 }

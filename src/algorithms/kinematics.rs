@@ -19,8 +19,9 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
+use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::error::Error;
-use crate::linalg::{least_squares, numerical_rank};
+use crate::linalg::{inf_norm, least_squares, numerical_rank};
 use crate::system::{Evaluation, Independent, System, SystemInfo};
 
 /// Tolerances of the position Newton iteration.
@@ -108,10 +109,6 @@ pub struct KinematicState {
     pub qdd: Vec<f64>,
 }
 
-fn inf_norm(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |a, v| a.max(v.abs()))
-}
-
 /// Checks driver/independent indices: in range and not repeated.
 pub(crate) fn check_fixed(info: &SystemInfo, fixed: &[usize]) -> Result<(), Error> {
     let n = info.n();
@@ -177,12 +174,10 @@ pub fn solve_positions(
     let mut residual = f64::INFINITY;
     for it in 0..=options.max_iterations {
         system.constraints(t, q, &mut phi);
+        // NaN-propagating: one NaN row must not read as a small residual.
         let r = inf_norm(&phi);
         if !r.is_finite() {
-            return Err(Error::NonFinite {
-                what: "constraint residual Phi during assembly".into(),
-                t,
-            });
+            check_rows("Phi", &phi, info, t, q)?;
         }
         residual = r;
         let scale = 1.0 + inf_norm(q);
@@ -193,6 +188,7 @@ pub fn solve_positions(
             break;
         }
         system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
+        check_jacobian(&phi_q, info, t, q)?;
         let a = columns(&phi_q, &dep);
         let rhs: Vec<f64> = phi.iter().map(|v| -v).collect();
         let dx = least_squares(&a, &rhs, 1e-14);
@@ -313,6 +309,8 @@ pub fn solve_velocities(
     let mut phi_q = DMatrix::zeros(m, n);
     let mut phi_t = vec![0.0; m];
     system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
+    check_jacobian(&phi_q, info, t, q)?;
+    check_rows("Phi_t", &phi_t, info, t, q)?;
     let rhs: Vec<f64> = (0..m)
         .map(|i| -phi_t[i] - fixed.iter().map(|&k| phi_q[(i, k)] * qd[k]).sum::<f64>())
         .collect();
@@ -333,6 +331,8 @@ pub fn solve_accelerations(
     let info = system.info();
     let mut e = Evaluation::zeros(info.n(), info.m());
     system.evaluate(t, q, qd, &mut e);
+    check_jacobian(&e.phi_q, info, t, q)?;
+    check_rows("gamma", e.gamma.as_slice(), info, t, q)?;
     let rhs: Vec<f64> = (0..info.m())
         .map(|i| e.gamma[i] - fixed.iter().map(|&k| e.phi_q[(i, k)] * qdd[k]).sum::<f64>())
         .collect();

@@ -14,6 +14,7 @@
 
 use nalgebra::DMatrix;
 
+use crate::algorithms::finite::check_jacobian;
 use crate::error::Error;
 use crate::linalg::RowBasis;
 use crate::system::System;
@@ -58,12 +59,7 @@ pub fn mobility(system: &dyn System, t: f64, q: &[f64]) -> Result<Mobility, Erro
     let mut phi_q = DMatrix::zeros(m, n);
     let mut phi_t = vec![0.0; m];
     system.constraint_jacobian(t, q, &mut phi_q, &mut phi_t);
-    if phi_q.iter().any(|v| !v.is_finite()) {
-        return Err(Error::NonFinite {
-            what: "constraint Jacobian Phi_q".into(),
-            t,
-        });
-    }
+    check_jacobian(&phi_q, info, t, q)?;
     let mut basis = RowBasis::new(m, n);
     let rank = basis.factor(&phi_q);
     Ok(Mobility {

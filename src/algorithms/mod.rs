@@ -9,7 +9,8 @@
 //! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s;
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
-//! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows.
+//! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
+//! - [`finite`]: which entry of the equations is NaN or infinite, named for the user.
 //!
 //! Invariant: no file-system or terminal I/O, and nothing allocates inside the functions
 //! an integrator step calls ([`dynamics::Dynamics::solve`], the projections).
@@ -18,6 +19,7 @@ pub(crate) mod augmented_lagrangian;
 #[cfg(feature = "interpreter")]
 pub(crate) mod drive;
 pub(crate) mod dynamics;
+pub(crate) mod finite;
 pub(crate) mod inverse;
 pub(crate) mod kinematics;
 pub(crate) mod linearize;

@@ -25,8 +25,9 @@
 
 use nalgebra::DMatrix;
 
+use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::error::Error;
-use crate::linalg::{Envelope, RowSpans};
+use crate::linalg::{Envelope, RowSpans, inf_norm, max_nan};
 use crate::system::{System, SystemInfo};
 
 /// Relative Levenberg–Marquardt shift of the Gram matrix (see the module docs).
@@ -90,7 +91,7 @@ impl Projector {
     fn factor_gram(&mut self, t: f64) -> Result<(), Error> {
         self.spans.scan(&self.phi_q);
         self.spans.gram(&self.phi_q, 0.0, &mut self.gram);
-        let scale = (0..self.m).fold(0.0f64, |a, i| a.max(self.gram.get(i, i)));
+        let scale = (0..self.m).fold(0.0f64, |a, i| max_nan(a, self.gram.get(i, i)));
         if !scale.is_finite() {
             return Err(Error::NonFinite {
                 what: "constraint Jacobian Phi_q in projection".into(),
@@ -132,12 +133,9 @@ impl Projector {
         let mut prev = f64::INFINITY;
         for it in 0..=self.max_iterations {
             system.constraints(t, q, &mut self.phi);
-            let r = self.phi.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let r = inf_norm(&self.phi);
             if !r.is_finite() {
-                return Err(Error::NonFinite {
-                    what: "constraint residual Phi in projection".into(),
-                    t,
-                });
+                check_rows("Phi", &self.phi, system.info(), t, q)?;
             }
             if r <= self.tolerance || (r >= 0.5 * prev && r <= self.accept) {
                 return Ok(r);
@@ -152,6 +150,7 @@ impl Projector {
             }
             prev = r;
             system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
+            check_jacobian(&self.phi_q, system.info(), t, q)?;
             self.factor_gram(t)?;
             self.z.copy_from_slice(&self.phi);
             self.correct(q);
@@ -171,6 +170,8 @@ impl Projector {
             return Ok(());
         }
         system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
+        check_jacobian(&self.phi_q, system.info(), t, q)?;
+        check_rows("Phi_t", &self.phi_t, system.info(), t, q)?;
         self.factor_gram(t)?;
         for i in 0..self.m {
             self.z[i] =

@@ -1,15 +1,25 @@
 //! Command-line arguments of the `mechanism` binary (clap derive).
+//!
+//! Numeric options accept values that start with `-` (`--t-end -1`), so that the range
+//! checks of [`super::validate`] answer with the allowed range instead of clap's hint to
+//! write `-- -1`.
 
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
+
+/// What `--help` says after the options: the exit statuses.
+pub const EXIT_CODES: &str = "Exit status: 0 success; 1 invalid input or a failed run (one \
+line on stderr; once simulate or inverse has claimed its output folder, its summary.json says \
+status failed, where and why); 2 a usage error: an unknown option, a missing argument, a value \
+that is not a number (one line on stderr).";
 
 /// Declared closed-loop mechanisms: derived equations, forward and inverse dynamics, plots.
 ///
 /// With no command, runs `simulate spatial_crank_slider`: the seed paper's spatial
 /// crank-slider for 10 s under tau = 0.005 sin(2 pi t), writing out/spatial_crank_slider/.
 #[derive(Debug, Parser)]
-#[command(name = "mechanism", version, about, long_about = None)]
+#[command(name = "mechanism", version, about, long_about = None, after_help = EXIT_CODES)]
 pub struct Cli {
     /// What to do (default: simulate the seed paper's spatial crank-slider).
     #[command(subcommand)]
@@ -20,8 +30,10 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// List the built-in mechanisms with their coordinates n, constraint rows m and degrees of freedom.
+    #[command(after_help = EXIT_CODES)]
     List,
     /// Print the derived M, C, g, Phi, Phi_q, gamma and tau of a mechanism.
+    #[command(after_help = EXIT_CODES)]
     Equations {
         /// A built-in mechanism name (see `mechanism list`) or a path to a .mech file.
         mechanism: String,
@@ -30,8 +42,10 @@ pub enum Command {
         latex: bool,
     },
     /// Forward dynamics: assemble from the independent coordinates, then integrate.
+    #[command(after_help = EXIT_CODES)]
     Simulate(SimulateArgs),
     /// Inverse dynamics: the driving force needed for a prescribed motion, and the joint reactions.
+    #[command(after_help = EXIT_CODES)]
     Inverse(InverseArgs),
 }
 
@@ -40,11 +54,21 @@ pub enum Command {
 pub struct CommonArgs {
     /// A built-in mechanism name (see `mechanism list`) or a path to a .mech file.
     pub mechanism: String,
-    /// End time of the run, in seconds.
-    #[arg(long, default_value_t = 10.0, value_name = "S")]
+    /// End time of the run, in seconds: > 0, at most 1e9.
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        value_name = "S",
+        allow_hyphen_values = true
+    )]
     pub t_end: f64,
-    /// Output samples per simulated second.
-    #[arg(long, default_value_t = 100.0, value_name = "K")]
+    /// Output samples per simulated second: > 0.
+    #[arg(
+        long,
+        default_value_t = 100.0,
+        value_name = "K",
+        allow_hyphen_values = true
+    )]
     pub samples_per_second: f64,
     /// Override a parameter's declared default, e.g. `--set l2=0.35` (repeatable).
     #[arg(long = "set", value_name = "PARAM=VALUE")]
@@ -56,6 +80,32 @@ pub struct CommonArgs {
     /// Output folder (default: `out/<mechanism>`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Do not write animation.html and the strobe figure mechanism.png/svg (written when the
+    /// mechanism declares a `draw` section).
+    #[arg(long)]
+    pub no_animation: bool,
+    /// Plane of the strobe figure: auto (a planar drawing face on, a spatial one oblique),
+    /// xy, xz, yz or oblique.
+    #[arg(long, value_enum, default_value_t = ViewArg::Auto)]
+    pub view: ViewArg,
+    /// Instants superimposed in the strobe figure, evenly spaced over the run (1 to 100).
+    #[arg(long, default_value_t = 12, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub strobe: u32,
+}
+
+/// View planes of the strobe figure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ViewArg {
+    /// The plane normal to the axis of least motion.
+    Auto,
+    /// x right, y up.
+    Xy,
+    /// x right, z up.
+    Xz,
+    /// y right, z up.
+    Yz,
+    /// Oblique, from azimuth -50 deg and elevation 25 deg, z up.
+    Oblique,
 }
 
 /// `mechanism simulate` options.
@@ -67,14 +117,25 @@ pub struct SimulateArgs {
     /// Time integrator.
     #[arg(long, value_enum, default_value_t = IntegratorArg::Dop853)]
     pub integrator: IntegratorArg,
-    /// Relative error tolerance of the adaptive integrators.
-    #[arg(long, default_value_t = 1e-10, value_name = "R")]
+    /// Relative error tolerance of the adaptive integrators: at least 1e-15, below 1.
+    #[arg(
+        long,
+        default_value_t = 1e-10,
+        value_name = "R",
+        allow_hyphen_values = true
+    )]
     pub rtol: f64,
-    /// Absolute error tolerance of the adaptive integrators.
-    #[arg(long, default_value_t = 1e-10, value_name = "A")]
+    /// Absolute error tolerance of the adaptive integrators: > 0, finite.
+    #[arg(
+        long,
+        default_value_t = 1e-10,
+        value_name = "A",
+        allow_hyphen_values = true
+    )]
     pub atol: f64,
-    /// Step size in seconds (rk4 and hht; the initial step of the adaptive ones).
-    #[arg(long, value_name = "H")]
+    /// Step size in seconds (rk4 and hht; the initial step of the adaptive ones): > 0, at
+    /// most --t-end.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub step: Option<f64>,
     /// How the constraints are kept: projection onto Phi = 0 and Phi_q q' = -Phi_t after each
     /// step (default), Baumgarte feedback, or none.

@@ -1,17 +1,24 @@
 //! `mechanism inverse`: the driving force for a prescribed motion, and the joint reactions.
+//! Writes inverse.csv, the figures and summary.json (see [`RunDir`] for the folder).
 
 use super::CliError;
 use super::args::InverseArgs;
+use super::drawing::write_drawing;
 use super::load::{apply_sets, load};
-use super::simulate::{check_span, out_dir};
+use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::Unit;
 use mechanism::output::plot::{figure_stem, plot_coordinate};
-use mechanism::output::{Figure, InverseTable, plot_driving_torque, write_inverse_csv};
+use mechanism::output::{
+    Figure, InverseSummary, InverseTable, OutputError, SUMMARY_FILE, plot_driving_torque,
+    write_inverse_csv, write_inverse_summary,
+};
 use mechanism::parse_drive;
 use mechanism::{inverse_dynamics, sample_times};
 
-/// Runs `inverse` with `a`.
+/// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
+/// run; a failure at any stage leaves a `summary.json` saying where and why.
 pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
     if !a.common.init.is_empty() {
@@ -19,17 +26,39 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
             "--init does not apply to inverse: the drives prescribe the motion".into(),
         ));
     }
-    let mut loaded = load(&a.common.mechanism)?;
-    apply_sets(loaded.system.as_mut(), &a.common.set)?;
+    let run = |out: &mut RunDir, known: &mut Known| inverse(a, out, known);
+    owning_folder(&a.common, run, |known, failure, out| {
+        let mut summary = InverseSummary::not_started(
+            &known.mechanism,
+            known.parameters,
+            &a.drive,
+            failure.stage,
+            &failure.error,
+        );
+        summary.outcome.files = out.names();
+        write_inverse_summary(&out.file(SUMMARY_FILE), &summary)
+    })
+}
+
+/// The run itself: load, solve along the drives, write.
+fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), Failure> {
+    let mut loaded = load(&a.common.mechanism).at("setup")?;
+    *known = Known::of(loaded.system.as_ref());
+    apply_sets(loaded.system.as_mut(), &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();
+    *known = Known::of(system);
     let drives = a
         .drive
         .iter()
         .map(|d| parse_drive(system, d).map_err(|e| CliError::Argument(format!("--drive: {e}"))))
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, _>>()
+        .at("setup")?;
+    let info = system.info();
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_csv_size(&a.common, "inverse.csv", columns).at("setup")?;
     let times = sample_times(0.0, a.common.t_end, a.common.samples_per_second);
-    let result = inverse_dynamics(system, drives, &times, &AssemblyOptions::default())?;
-    let info = &result.info;
+    let result = inverse_dynamics(system, drives, &times, &AssemblyOptions::default())
+        .at("inverse dynamics")?;
     let table = InverseTable {
         coordinates: info.coordinates.clone(),
         driven: result
@@ -38,17 +67,49 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
             .map(|&k| info.coordinates[k].clone())
             .collect(),
         constraints: info.m(),
-        rows: result.rows(),
+        rows: result.into_rows(),
     };
-    let dir = out_dir(&a.common, &loaded.key);
-    write_inverse_csv(&dir.join("inverse.csv"), &table)?;
-    let mut files = vec![dir.join("inverse.csv")];
-    let t: Vec<f64> = result.samples.iter().map(|s| s.t).collect();
-    for (i, name) in info.coordinates.iter().enumerate() {
-        let q: Vec<f64> = result.samples.iter().map(|s| s.q[i]).collect();
-        let qd: Vec<f64> = result.samples.iter().map(|s| s.qd[i]).collect();
-        let stem = dir.join(figure_stem(&loaded.key, Figure::Coordinate(name)));
-        files.extend(plot_coordinate(
+    let parameters = std::mem::take(&mut known.parameters);
+    let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
+    let written = write_data(&table, out, &loaded.key).and_then(|()| {
+        let n = info.n();
+        let rows = &table.rows;
+        let drawing = write_drawing(system, &a.common, out.dir(), rows.len(), |i| {
+            (rows[i][0], &rows[i][1..1 + n])
+        })?;
+        out.wrote_figures(drawing);
+        Ok(())
+    });
+    if let Err(e) = &written {
+        summary.outcome.failed_in("output", e);
+    }
+    summary.outcome.files = out.names();
+    write_inverse_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
+    for (name, peak) in &summary.max_abs_driving_force.0 {
+        println!(
+            "{name}: max |tau| = {peak:.6e} over {} samples",
+            summary.samples
+        );
+    }
+    println!("wrote {}", out.displayed().join(", "));
+    loaded.source.clear();
+    written.map_err(|e| Failure {
+        stage: "output",
+        error: Box::new(e.into()),
+        summarized: true,
+    })
+}
+
+/// inverse.csv, one figure per coordinate and the driving-torque figure.
+fn write_data(table: &InverseTable, out: &mut RunDir, key: &str) -> Result<(), OutputError> {
+    let csv = out.file("inverse.csv");
+    write_inverse_csv(&csv, table)?;
+    out.wrote_data(csv);
+    let t = table.times();
+    for (i, name) in table.coordinates.iter().enumerate() {
+        let (q, qd) = (table.positions(i), table.rates(i));
+        let stem = out.file(&figure_stem(key, Figure::Coordinate(name)));
+        out.wrote_figures(plot_coordinate(
             &stem,
             name,
             Unit::guess(name),
@@ -57,23 +118,7 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
             &qd,
         )?);
     }
-    let stem = dir.join(figure_stem(&loaded.key, Figure::DrivingTorque));
-    files.extend(plot_driving_torque(&stem, &table, Unit::guess)?);
-    let peak = |k: usize| {
-        result
-            .samples
-            .iter()
-            .fold(0.0_f64, |a, s| a.max(s.driving[k].abs()))
-    };
-    for (k, name) in table.driven.iter().enumerate() {
-        println!(
-            "tau_{name}: max |tau| = {:.6e} over {} samples",
-            peak(k),
-            result.samples.len()
-        );
-    }
-    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
-    println!("wrote {}", names.join(", "));
-    loaded.source.clear();
+    let stem = out.file(&figure_stem(key, Figure::DrivingTorque));
+    out.wrote_figures(plot_driving_torque(&stem, table, Unit::guess)?);
     Ok(())
 }

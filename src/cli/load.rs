@@ -14,7 +14,7 @@ use mechanism::{Independent, System};
 pub struct Loaded {
     /// The system (compiled in, or interpreted from a file).
     pub system: Box<dyn System>,
-    /// Short name: the built-in name or the file stem (used for `out/<key>`).
+    /// Short name: the built-in name or the file stem as a folder name (`out/<key>`).
     pub key: String,
     /// The declaration text.
     pub source: String,
@@ -28,17 +28,14 @@ pub struct Loaded {
 /// with `file:line:column`.
 pub fn load(spec: &str) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
-    if spec.ends_with(".mech") || path.is_file() {
+    if is_file_spec(spec) {
         let source = std::fs::read_to_string(path)
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
         let system = Interpreted::from_source(&source)
             .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
-        let key = path
-            .file_stem()
-            .map_or_else(|| "mechanism".into(), |s| s.to_string_lossy().into_owned());
         return Ok(Loaded {
             system: Box::new(system),
-            key,
+            key: file_key(path),
             source,
         });
     }
@@ -52,6 +49,48 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
             "unknown mechanism `{spec}`; available: {} (or a path to a .mech file)",
             builtin_names().join(", ")
         ))),
+    }
+}
+
+/// True when `spec` names a `.mech` file rather than a built-in mechanism.
+fn is_file_spec(spec: &str) -> bool {
+    spec.ends_with(".mech") || Path::new(spec).is_file()
+}
+
+/// The short name of the mechanism `spec` names, known without loading it (for
+/// `out/<key>`): the built-in name, or the file's stem made safe as a folder name
+/// ([`folder_name`]); `None` for a name that is neither.
+pub fn key_of(spec: &str) -> Option<String> {
+    if is_file_spec(spec) {
+        Some(file_key(Path::new(spec)))
+    } else {
+        builtin_source(spec).map(|_| spec.to_string())
+    }
+}
+
+/// The key of a `.mech` file: its stem as a folder name.
+fn file_key(path: &Path) -> String {
+    folder_name(&path.file_stem().unwrap_or_default().to_string_lossy())
+}
+
+/// `name` as a single folder name that stays inside `out/`: letters, digits, `_` and `-`
+/// are kept, anything else (`.`, `/`, spaces) becomes `_`; an empty name is `mechanism`.
+/// So `...mech` gives `__`, never `..`.
+pub fn folder_name(name: &str) -> String {
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if safe.is_empty() {
+        "mechanism".into()
+    } else {
+        safe
     }
 }
 
@@ -75,6 +114,16 @@ pub fn constant(text: &str) -> Result<f64, String> {
         .map_err(|e| format!("`{text}` is not a constant: {e}"))
 }
 
+/// [`constant`], which must be finite: `--set` and `--init` values are.
+fn finite_constant(text: &str) -> Result<f64, String> {
+    let v = constant(text)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("the value must be finite, got `{text}` = {v}"))
+    }
+}
+
 /// Applies every `--set NAME=VALUE`.
 pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliError> {
     for s in sets {
@@ -87,12 +136,8 @@ pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliErr
                 info.parameters.join(", ")
             ))
         })?;
-        let v = constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
-        if !v.is_finite() {
-            return Err(CliError::Argument(format!(
-                "--set {name}: the value must be finite"
-            )));
-        }
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
         system.set_parameter(index, v);
     }
     Ok(())
@@ -124,7 +169,8 @@ pub fn initial_values(
                 info.coordinates.join(", ")
             ))
         })?;
-        let v = constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
         match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
             (Some(ind), false) => ind.position = v,
             (Some(ind), true) => ind.velocity = v,

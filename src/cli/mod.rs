@@ -1,10 +1,13 @@
 //! The `mechanism` command-line tool: argument parsing, loading a mechanism by name or
 //! file, and the `list`, `equations`, `simulate` and `inverse` commands.
 //!
-//! Every user mistake ends in a one-line message on stderr and exit status 1; clap's own
-//! usage errors exit with 2.
+//! Exit status ([`args::EXIT_CODES`], printed by `--help`): 0 success; 1 a failed run or
+//! invalid input; 2 a usage error (an unknown option, a missing argument, a value that is
+//! not a number). Every error is one line on stderr: clap's usage errors are cut to their
+//! message and a pointer to `--help` ([`usage_error`]).
 
 pub mod args;
+mod drawing;
 mod equations;
 mod inverse;
 mod load;
@@ -14,11 +17,13 @@ mod progress;
 #[path = "progress_off.rs"]
 mod progress;
 mod report;
+mod run_dir;
 mod simulate;
+mod validate;
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 
 pub use self::args::{Cli, Command};
 
@@ -51,16 +56,17 @@ pub enum CliError {
 
 /// Runs the command line in `args` (the program name first) and returns the exit status.
 pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
-    let cli = match Cli::try_parse_from(args) {
+    let args: Vec<std::ffi::OsString> = args.into_iter().collect();
+    let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,
-        Err(e) => {
-            // --help and --version print and succeed; real usage errors exit with 2.
+        // --help and --version print and succeed.
+        Err(e) if !e.use_stderr() => {
             let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("{}", usage_error(&e, &args));
+            return ExitCode::from(2);
         }
     };
     match run(cli) {
@@ -70,6 +76,32 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> Exi
             ExitCode::from(1)
         }
     }
+}
+
+/// A clap usage error for the command line `args` as one line:
+/// `error: <message> (see <command> --help)`. The message is clap's first paragraph (a
+/// list such as the missing arguments or the possible values joined onto it); its tip,
+/// usage and "for more information" paragraphs are dropped. The command is `mechanism`
+/// and the subcommand given, if any (`mechanism simulate`).
+pub fn usage_error(e: &clap::Error, args: &[std::ffi::OsString]) -> String {
+    let text = e.render().to_string();
+    let first = text.split("\n\n").next().unwrap_or_default();
+    let message: Vec<&str> = first
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let message = message.join(" ");
+    let message = message.strip_prefix("error: ").unwrap_or(&message);
+    let subcommand = args
+        .get(1)
+        .and_then(|a| a.to_str())
+        .filter(|a| Cli::command().get_subcommands().any(|c| c.get_name() == *a));
+    let command = match subcommand {
+        Some(sub) => format!("mechanism {sub}"),
+        None => "mechanism".to_string(),
+    };
+    format!("error: {message} (see {command} --help)")
 }
 
 /// Runs a parsed command line.

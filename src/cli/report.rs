@@ -143,7 +143,7 @@ fn run_lines(s: &mut String, summary: &Summary) {
             times.join(", ")
         );
     }
-    if let Some(e) = &summary.error {
-        let _ = writeln!(*s, "stopped at t = {} s: {e}", summary.t_last);
+    if let Some(e) = &summary.outcome.error {
+        let _ = writeln!(*s, "stopped at t = {} s: {e}", summary.outcome.t_last);
     }
 }

@@ -1,23 +1,24 @@
 //! `mechanism simulate` (and the default command): assemble, integrate, write
 //! trajectory.csv, summary.json and the figures, print a summary.
 
-use std::path::{Path, PathBuf};
-
 use super::CliError;
-use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg};
+use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
+use super::drawing::write_drawing;
 use super::load::{apply_sets, initial_values, load};
 use super::progress::Progress;
 use super::report::summary_text;
+use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::validate::{check_csv_size, check_integrator, check_span};
 use mechanism::Stabilization;
 use mechanism::System;
 use mechanism::Trajectory;
 use mechanism::integrators::{IntegratorOptions, Method};
-use mechanism::output::csv::format_f64;
 use mechanism::output::{
-    RunSettings, Summary, plot_trajectory, write_summary, write_trajectory_csv,
+    OutputError, RunSettings, SUMMARY_FILE, Summary, plot_trajectory, write_summary,
+    write_trajectory_csv,
 };
 use mechanism::{AssemblyOptions, assemble_from};
-use mechanism::{InitialState, SimulationOptions, Simulator};
+use mechanism::{Error, InitialState, SimulationOptions, Simulator};
 
 /// Default fixed step for rk4 and hht when `--step` is not given (s).
 const DEFAULT_STEP: f64 = 1e-3;
@@ -34,6 +35,9 @@ pub fn default_args() -> SimulateArgs {
             set: vec![],
             init: vec![],
             out: None,
+            no_animation: false,
+            view: ViewArg::Auto,
+            strobe: 12,
         },
         integrator: IntegratorArg::Dop853,
         rtol: 1e-10,
@@ -43,44 +47,17 @@ pub fn default_args() -> SimulateArgs {
     }
 }
 
-/// Checks the time span and sampling arguments shared by simulate and inverse.
-pub fn check_span(c: &CommonArgs) -> Result<(), CliError> {
-    if !(c.t_end.is_finite() && c.t_end > 0.0) {
-        return Err(CliError::Argument(format!(
-            "--t-end must be a positive number of seconds, got {}",
-            c.t_end
-        )));
-    }
-    if !(c.samples_per_second.is_finite() && c.samples_per_second > 0.0) {
-        return Err(CliError::Argument(format!(
-            "--samples-per-second must be positive, got {}",
-            c.samples_per_second
-        )));
-    }
-    let samples = c.t_end * c.samples_per_second;
-    if samples > mechanism::MAX_OUTPUT_SAMPLES as f64 {
-        return Err(CliError::Argument(format!(
-            "--t-end {} at --samples-per-second {} asks for {samples:e} samples; at most {} are recorded",
-            format_f64(c.t_end),
-            format_f64(c.samples_per_second),
-            mechanism::MAX_OUTPUT_SAMPLES
-        )));
-    }
-    Ok(())
+/// How the run integrates, from the flags.
+struct Settings {
+    integrator: IntegratorOptions,
+    stabilization: Stabilization,
+    /// What summary.json records of them.
+    run: RunSettings,
 }
 
-/// The integrator options the flags ask for.
-fn integrator(a: &SimulateArgs) -> Result<(IntegratorOptions, String), CliError> {
-    if let Some(h) = a.step.filter(|h| !(h.is_finite() && *h > 0.0)) {
-        return Err(CliError::Argument(format!(
-            "--step must be a positive number of seconds, got {h}"
-        )));
-    }
-    if !(a.rtol > 0.0 && a.atol > 0.0) {
-        return Err(CliError::Argument(
-            "--rtol and --atol must be positive".into(),
-        ));
-    }
+/// The integrator and stabilisation the flags ask for.
+fn settings(a: &SimulateArgs) -> Result<Settings, CliError> {
+    check_integrator(a)?;
     let h = a.step.unwrap_or(DEFAULT_STEP);
     let (method, name) = match a.integrator {
         IntegratorArg::Rk4 => (Method::Rk4 { h }, "rk4"),
@@ -89,22 +66,35 @@ fn integrator(a: &SimulateArgs) -> Result<(IntegratorOptions, String), CliError>
         IntegratorArg::Hht => (Method::Hht { h, alpha: -0.05 }, "hht"),
     };
     let adaptive = matches!(a.integrator, IntegratorArg::Dopri5 | IntegratorArg::Dop853);
-    let options = IntegratorOptions {
+    let integrator = IntegratorOptions {
         method,
         rtol: a.rtol,
         atol: a.atol,
         h_initial: if adaptive { a.step } else { None },
         ..IntegratorOptions::default()
     };
-    Ok((options, name.to_string()))
-}
-
-/// The output folder: `--out`, or `out/<key>`.
-pub fn out_dir(common: &CommonArgs, key: &str) -> PathBuf {
-    common
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(key))
+    let (stabilization, stab_name) = match a.stabilization {
+        StabilizationArg::Projection => (Stabilization::Projection, "projection"),
+        StabilizationArg::Baumgarte => (
+            Stabilization::Baumgarte {
+                alpha: BAUMGARTE_GAIN,
+                beta: BAUMGARTE_GAIN,
+            },
+            "baumgarte",
+        ),
+        StabilizationArg::None => (Stabilization::None, "none"),
+    };
+    let run = RunSettings {
+        integrator: name.to_string(),
+        rtol: adaptive.then_some(a.rtol),
+        atol: adaptive.then_some(a.atol),
+        stabilization: stab_name.to_string(),
+    };
+    Ok(Settings {
+        integrator,
+        stabilization,
+        run,
+    })
 }
 
 /// Per-row constraint residuals |Phi_i| at every sample (for the constraint-error figure).
@@ -121,32 +111,48 @@ fn residuals(system: &dyn System, trajectory: &Trajectory) -> Vec<Vec<f64>> {
     rows
 }
 
-/// Runs `simulate` with `a`.
+/// Runs `simulate` with `a`: the options are checked, the output folder claimed
+/// ([`RunDir`]), then the run; a failure at any stage leaves a `summary.json` saying where
+/// and why.
 pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
-    let mut loaded = load(&a.common.mechanism)?;
-    apply_sets(loaded.system.as_mut(), &a.common.set)?;
+    let settings = settings(a)?;
+    let run = |out: &mut RunDir, known: &mut Known| simulate(a, &settings, out, known);
+    owning_folder(&a.common, run, |known, failure, out| {
+        let mut summary = Summary::not_started(
+            &known.mechanism,
+            known.parameters,
+            &settings.run,
+            failure.stage,
+            &failure.error,
+        );
+        summary.outcome.files = out.names();
+        write_summary(&out.file(SUMMARY_FILE), &summary)
+    })
+}
+
+/// The run itself: load, assemble, integrate, write.
+fn simulate(
+    a: &SimulateArgs,
+    settings: &Settings,
+    out: &mut RunDir,
+    known: &mut Known,
+) -> Result<(), Failure> {
+    let mut loaded = load(&a.common.mechanism).at("setup")?;
+    *known = Known::of(loaded.system.as_ref());
+    apply_sets(loaded.system.as_mut(), &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();
-    let (independent, guess) = initial_values(system, &a.common)?;
+    *known = Known::of(system);
+    let columns = 1 + 3 * system.info().n() + system.info().m() + 5;
+    check_csv_size(&a.common, "trajectory.csv", columns).at("setup")?;
+    let (independent, guess) = initial_values(system, &a.common).at("setup")?;
     let assembly = AssemblyOptions::default();
-    let start = assemble_from(system, 0.0, &independent, &guess, &assembly)?;
-    let (integrator_options, integrator_name) = integrator(a)?;
-    let (stabilization, stab_name) = match a.stabilization {
-        StabilizationArg::Projection => (Stabilization::Projection, "projection"),
-        StabilizationArg::Baumgarte => (
-            Stabilization::Baumgarte {
-                alpha: BAUMGARTE_GAIN,
-                beta: BAUMGARTE_GAIN,
-            },
-            "baumgarte",
-        ),
-        StabilizationArg::None => (Stabilization::None, "none"),
-    };
+    let start = assemble_from(system, 0.0, &independent, &guess, &assembly).at("assembly")?;
     let options = SimulationOptions {
         t_end: a.common.t_end,
         output_rate: a.common.samples_per_second,
-        integrator: integrator_options,
-        stabilization,
+        integrator: settings.integrator,
+        stabilization: settings.stabilization,
         initial: InitialState::Consistent {
             q: start.q.clone(),
             qd: start.qd.clone(),
@@ -154,7 +160,7 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
         assembly,
         ..SimulationOptions::default()
     };
-    let mut sim = Simulator::new(system, &options)?;
+    let mut sim = Simulator::new(system, &options).at("setup")?;
     let mut progress = Progress::new(a.common.t_end);
     let failure = loop {
         match sim.step() {
@@ -165,40 +171,79 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     };
     progress.finish();
     let trajectory = sim.finish(None).trajectory;
+    let result = write_results(
+        system,
+        &trajectory,
+        failure,
+        &settings.run,
+        (out, &a.common),
+        &loaded.key,
+    );
+    loaded.source.clear();
+    result
+}
 
-    let dir = out_dir(&a.common, &loaded.key);
-    let mut files = Vec::new();
-    write_trajectory_csv(&dir.join("trajectory.csv"), &trajectory)?;
-    files.push(dir.join("trajectory.csv"));
+/// Writes trajectory.csv, the figures and summary.json (last, listing the others) of a run
+/// that stopped with `failure` (or completed), and prints the summary. A failure to write
+/// is recorded in the summary too, as far as it can still be written.
+fn write_results(
+    system: &dyn System,
+    trajectory: &Trajectory,
+    failure: Option<Error>,
+    settings: &RunSettings,
+    (out, common): (&mut RunDir, &CommonArgs),
+    key: &str,
+) -> Result<(), Failure> {
     let mut params = vec![0.0; system.info().parameters.len()];
     system.parameter_values(&mut params);
-    let adaptive = matches!(a.integrator, IntegratorArg::Dopri5 | IntegratorArg::Dop853);
-    let settings = RunSettings {
-        integrator: integrator_name,
-        rtol: adaptive.then_some(a.rtol),
-        atol: adaptive.then_some(a.atol),
-        stabilization: stab_name.to_string(),
+    let mut summary = Summary::new(trajectory, &params, settings).at("output")?;
+    let written = write_data(system, trajectory, out, common);
+    match (&failure, &written) {
+        (_, Err(e)) => summary.outcome.failed_in("output", e),
+        (Some(e), Ok(())) => summary.outcome.failed_in("integration", e),
+        (None, Ok(())) => {}
+    }
+    summary.outcome.files = out.names();
+    write_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
+    print!("{}", summary_text(key, system, &summary, &out.displayed()));
+    let summarized = |stage, error| Failure {
+        stage,
+        error,
+        summarized: true,
     };
-    let mut summary = Summary::new(&trajectory, &params, &settings)?;
-    if let Some(e) = &failure {
-        summary.failed(e);
-    }
-    write_summary(&dir.join("summary.json"), &summary)?;
-    files.push(dir.join("summary.json"));
-    if trajectory.len() >= 2 {
-        let res = residuals(system, &trajectory);
-        files.extend(plot_trajectory(&dir, &trajectory, None, Some(&res))?);
-    }
-    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
-    print!("{}", summary_text(&loaded.key, system, &summary, &names));
-    loaded.source.clear();
-    match failure {
+    match (failure, written) {
+        (_, Err(e)) => Err(summarized("output", Box::new(e.into()))),
         // The samples up to the failure are written; the run still failed.
-        Some(e) => Err(CliError::Stopped {
-            t: summary.t_last,
-            dir: dir.display().to_string(),
-            error: e,
-        }),
-        None => Ok(()),
+        (Some(e), Ok(())) => Err(summarized(
+            "integration",
+            Box::new(CliError::Stopped {
+                t: summary.outcome.t_last,
+                dir: out.dir().display().to_string(),
+                error: e,
+            }),
+        )),
+        (None, Ok(())) => Ok(()),
     }
+}
+
+/// trajectory.csv and, with two samples or more, the figures.
+fn write_data(
+    system: &dyn System,
+    trajectory: &Trajectory,
+    out: &mut RunDir,
+    common: &CommonArgs,
+) -> Result<(), OutputError> {
+    let csv = out.file("trajectory.csv");
+    write_trajectory_csv(&csv, trajectory)?;
+    out.wrote_data(csv);
+    if trajectory.len() >= 2 {
+        let res = residuals(system, trajectory);
+        out.wrote_figures(plot_trajectory(out.dir(), trajectory, None, Some(&res))?);
+    }
+    let drawing = write_drawing(system, common, out.dir(), trajectory.len(), |i| {
+        let s = trajectory.sample(i);
+        (s.t, s.q)
+    })?;
+    out.wrote_figures(drawing);
+    Ok(())
 }

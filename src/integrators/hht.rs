@@ -35,8 +35,9 @@
 //! Phi_q q' + Phi_t = 0 only to O(h^2),
 //! so the driver projects the recorded samples but never the internal Newmark state.
 
+use crate::algorithms::finite;
 use crate::error::Error;
-use crate::linalg::Lu;
+use crate::linalg::{Lu, inf_norm, max_nan};
 use crate::system::{Evaluation, System, SystemInfo, Tangent};
 
 /// HHT-alpha integrator state and preallocated Newton workspace.
@@ -179,13 +180,15 @@ impl Hht {
         let mut phi_max = 0.0f64;
         for k in 0..m {
             self.r[n + k] = self.eval.phi[k] * s;
-            phi_max = phi_max.max(self.eval.phi[k].abs());
+            phi_max = max_nan(phi_max, self.eval.phi[k].abs());
         }
         if self.r.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "HHT residual".into(),
-                t: t1,
-            });
+            return Err(finite::evaluation_error(
+                &self.eval,
+                system.info(),
+                (t1, &self.q1, &self.v1),
+                "the HHT residual (accelerations or multipliers of the Newton iterate)",
+            ));
         }
         Ok(phi_max)
     }
@@ -254,9 +257,9 @@ impl Hht {
         // of any independent row, keeps it regular; Newton still converges to the residual's
         // zero (only the iteration matrix changes), and the shift damps lambda's undetermined
         // part to zero.
-        let mass_scale = (0..n).fold(0.0f64, |x, i| x.max(a[(i, i)].abs()));
+        let mass_scale = (0..n).fold(0.0f64, |x, i| max_nan(x, a[(i, i)].abs()));
         let row_scale = (0..m).fold(0.0f64, |x, r| {
-            x.max((0..n).map(|j| e.phi_q[(r, j)].powi(2)).sum::<f64>())
+            max_nan(x, (0..n).map(|j| e.phi_q[(r, j)].powi(2)).sum::<f64>())
         });
         let eps = if mass_scale > 0.0 {
             1e-12 * row_scale / mass_scale
@@ -298,7 +301,7 @@ impl Hht {
         self.lam.copy_from_slice(&self.lam_n);
         self.predict(q, v, h);
         let mut phi = self.residual(system, t1, h)?;
-        let qscale = 1.0 + q.iter().fold(0.0f64, |x, y| x.max(y.abs()));
+        let qscale = 1.0 + inf_norm(q);
         let mut converged = false;
         let mut iterations = 0;
         // Up to 10 refreshes of the Newton matrix: where accelerations change fast the
@@ -315,7 +318,7 @@ impl Hht {
                 let mut da = 0.0f64;
                 for i in 0..n {
                     self.a[i] += self.r[i];
-                    da = da.max(self.r[i].abs());
+                    da = max_nan(da, self.r[i].abs());
                 }
                 for k in 0..m {
                     self.lam[k] += self.r[n + k];

@@ -70,7 +70,7 @@ pub(super) fn factor<const K: usize>(a: &mut [f64], n: usize, piv: &mut [usize])
     let anorm = a
         .chunks_exact(n.max(1))
         .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max);
+        .fold(0.0, super::max_nan);
     each!(up K > 0, n, |k| {
         if !eliminate(a, n, piv, k) {
             return None;

@@ -10,19 +10,23 @@
 //!   for banded chains;
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
-//! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop.
+//! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop;
+//! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
+//!   uses them, so a NaN entry is never read as a small residual).
 //!
 //! Invariant: everything used inside an integrator step works in storage allocated once.
 
 mod envelope;
 mod kernels;
 mod lu;
+mod norm;
 mod null_space;
 mod rows;
 mod svd;
 
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
+pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
 pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
 pub use svd::{least_squares, numerical_rank};

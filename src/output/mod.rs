@@ -8,15 +8,28 @@
 //!   constraint residuals and of the energy balance error ([`TrajectoryMaxima`]).
 //! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5 and the driving torque).
 //!
-//! Every function returns `Result<_, OutputError>`; none panics on bad data. CSV and JSON
-//! need the cargo feature `files`, the figures `plots` (both on by default).
+//! - [`remove_previous_results`]: before a run writes into a folder, the files the
+//!   previous run's `summary.json` lists are removed, so a failed run never leaves older
+//!   results looking current (the user's other files there stay).
+//!
+//! Every file is written under a temporary name and renamed when complete
+//! ([`write_atomically`]), so none is ever left half-written. Every function returns
+//! `Result<_, OutputError>`; none panics on bad data. CSV and JSON need the cargo feature
+//! `files`, the figures `plots` (both on by default).
 
 #[cfg(feature = "files")]
 pub mod animation;
+mod atomic;
 #[cfg(feature = "files")]
 pub mod csv;
+#[cfg(feature = "files")]
+mod inverse_summary;
+#[cfg(feature = "files")]
+mod outcome;
 #[cfg(feature = "plots")]
 pub mod plot;
+#[cfg(feature = "files")]
+mod previous;
 mod scene;
 #[cfg(feature = "files")]
 pub mod summary;
@@ -25,13 +38,20 @@ mod unit;
 
 #[cfg(feature = "files")]
 pub use self::animation::{MAX_FRAMES, animation_html, write_animation};
+pub use self::atomic::{temporary_path, write_atomically};
 #[cfg(feature = "files")]
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
+#[cfg(feature = "files")]
+pub use self::inverse_summary::{InverseSummary, write_inverse_summary};
+#[cfg(feature = "files")]
+pub use self::outcome::Outcome;
 #[cfg(feature = "plots")]
 pub use self::plot::{
     Figure, View, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
     plot_strobe, plot_trajectory, strobe_frames,
 };
+#[cfg(feature = "files")]
+pub use self::previous::{SUMMARY_FILE, remove_previous_results};
 pub use self::scene::{Scene, SceneCoordinate, ScenePoint};
 #[cfg(feature = "files")]
 pub use self::summary::{

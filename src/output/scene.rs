@@ -57,9 +57,23 @@ impl Scene {
     /// (every k-th, and the last). `None` when the system declares no drawing or the
     /// trajectory is empty.
     pub fn new(system: &dyn System, trajectory: &Trajectory, max_frames: usize) -> Option<Self> {
+        Self::from_samples(system, trajectory.len(), max_frames, |i| {
+            let s = trajectory.sample(i);
+            (s.t, s.q)
+        })
+    }
+
+    /// The drawing of `system` at `samples` states, `state(i)` giving (t, q) of the i-th, at
+    /// most `max_frames` of them (every k-th, and the last): for trajectories and for the
+    /// samples of an inverse-dynamics run alike. `None` without a drawing or samples.
+    pub fn from_samples<'a>(
+        system: &dyn System,
+        samples: usize,
+        max_frames: usize,
+        state: impl Fn(usize) -> (f64, &'a [f64]),
+    ) -> Option<Self> {
         let info = system.info();
         let drawing = &info.drawing;
-        let samples = trajectory.len();
         if drawing.is_empty() || samples == 0 {
             return None;
         }
@@ -72,13 +86,9 @@ impl Scene {
         let mut positions = vec![0.0; 3 * np * picked.len()];
         let mut times = Vec::with_capacity(picked.len());
         for (frame, &i) in picked.iter().enumerate() {
-            let s = trajectory.sample(i);
-            times.push(s.t);
-            system.draw_points(
-                s.t,
-                s.q,
-                &mut positions[3 * np * frame..3 * np * (frame + 1)],
-            );
+            let (t, q) = state(i);
+            times.push(t);
+            system.draw_points(t, q, &mut positions[3 * np * frame..3 * np * (frame + 1)]);
         }
         let coordinates = info
             .coordinates
@@ -87,7 +97,7 @@ impl Scene {
             .map(|(k, name)| SceneCoordinate {
                 name: name.clone(),
                 unit: Unit::guess(name).position().to_string(),
-                values: picked.iter().map(|&i| trajectory.sample(i).q[k]).collect(),
+                values: picked.iter().map(|&i| state(i).1[k]).collect(),
             })
             .collect();
         let t_end = times.last().copied().unwrap_or(0.0);
@@ -95,7 +105,7 @@ impl Scene {
             format!("{t_end} s, {} frames (every sample)", picked.len())
         } else {
             format!(
-                "{t_end} s, {} frames: every {every}th of {samples} samples, so the page stays small",
+                "{t_end} s, {} frames: one sample in {every} of {samples}, so the page stays small",
                 picked.len()
             )
         };

@@ -7,8 +7,10 @@ use std::path::Path;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
-use super::{OutputError, ensure_dir};
+use super::outcome::Outcome;
+use super::{OutputError, ensure_dir, write_atomically};
 use crate::algorithms::mobility::Mobility;
+use crate::linalg::max_nan;
 use crate::simulation::singular::SingularPassage;
 use crate::simulation::trajectory::Trajectory;
 use crate::system::SystemInfo;
@@ -74,15 +76,6 @@ pub struct TrajectoryMaxima {
     /// by the applied forces tau since t = 0. For an exact solution E is constant, so this
     /// measures the integration error of the energy (zero for an empty trajectory).
     pub energy_balance_error: f64,
-}
-
-/// Maximum that propagates NaN, so that a failed sample is not hidden.
-fn max_nan(acc: f64, x: f64) -> f64 {
-    if acc.is_nan() || x.is_nan() {
-        f64::NAN
-    } else {
-        acc.max(x)
-    }
 }
 
 impl TrajectoryMaxima {
@@ -215,12 +208,10 @@ pub struct Summary {
     pub mobility: MobilityReport,
     /// Singular configurations the motion passed through, in time order.
     pub singular_passages: Vec<PassageReport>,
-    /// `completed`, or `failed` when the run stopped before its end time.
-    pub status: String,
-    /// Time of the last sample written (s).
-    pub t_last: f64,
-    /// Why the run stopped early (`null` when completed).
-    pub error: Option<String>,
+    /// How the run ended and the files it wrote: `status`, `t_last`, `error`, `stage`,
+    /// `files` (see [`Outcome`]).
+    #[serde(flatten)]
+    pub outcome: Outcome,
 }
 
 impl Summary {
@@ -278,31 +269,73 @@ impl Summary {
                 .iter()
                 .map(|p| PassageReport::new(p, info))
                 .collect(),
-            status: "completed".into(),
-            t_last: trajectory.last().map_or(0.0, |s| s.t),
-            error: None,
+            outcome: Outcome::completed(trajectory.last().map_or(0.0, |s| s.t)),
         })
+    }
+
+    /// The summary of a run of `mechanism` that stopped before its first sample (status
+    /// `failed`, stopped by `error` in `stage`): no state, counters 0, and the maxima and
+    /// `t_last` NaN (`null` in JSON), since nothing was computed.
+    pub fn not_started(
+        mechanism: &str,
+        parameters: NamedValues,
+        settings: &RunSettings,
+        stage: &str,
+        error: &dyn std::fmt::Display,
+    ) -> Self {
+        let mut summary = Self {
+            mechanism: mechanism.to_string(),
+            parameters,
+            consistent_initial_state: InitialState::default(),
+            max_constraint_error: f64::NAN,
+            max_velocity_constraint_error: f64::NAN,
+            max_energy_balance_error: f64::NAN,
+            steps: 0,
+            rejected_steps: 0,
+            rhs_evaluations: 0,
+            wall_time_s: 0.0,
+            integrator: settings.integrator.clone(),
+            rtol: settings.rtol,
+            atol: settings.atol,
+            stabilization: settings.stabilization.clone(),
+            augmented_solves: 0,
+            mobility: MobilityReport::default(),
+            singular_passages: Vec::new(),
+            outcome: Outcome {
+                t_last: f64::NAN,
+                ..Outcome::default()
+            },
+        };
+        summary.outcome.failed_in(stage, error);
+        summary
     }
 
     /// Marks the run as stopped early by `error` (status `failed`).
     pub fn failed(&mut self, error: &dyn std::fmt::Display) {
-        self.status = "failed".into();
-        self.error = Some(error.to_string());
+        self.outcome.failed(error);
     }
 }
 
 /// Writes `summary` as pretty-printed JSON to `path`, creating its directory.
 /// Non-finite numbers are written as `null`.
 pub fn write_summary(path: &Path, summary: &Summary) -> Result<(), OutputError> {
+    write_json(path, summary)
+}
+
+/// Writes `value` as pretty-printed JSON to `path`, creating its directory; under a
+/// temporary name renamed when complete ([`super::write_atomically`]).
+pub(crate) fn write_json(path: &Path, value: &impl Serialize) -> Result<(), OutputError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         ensure_dir(dir)?;
     }
-    let mut text = serde_json::to_string_pretty(summary).map_err(|source| OutputError::Json {
+    let mut text = serde_json::to_string_pretty(value).map_err(|source| OutputError::Json {
         path: path.to_path_buf(),
         source,
     })?;
     text.push('\n');
-    let mut file = std::fs::File::create(path).map_err(|e| OutputError::io(path, e))?;
-    file.write_all(text.as_bytes())
-        .map_err(|e| OutputError::io(path, e))
+    write_atomically(path, |partial| {
+        let mut file = std::fs::File::create(partial).map_err(|e| OutputError::io(path, e))?;
+        file.write_all(text.as_bytes())
+            .map_err(|e| OutputError::io(path, e))
+    })
 }

@@ -31,20 +31,31 @@ impl InverseTable {
         h
     }
 
-    /// Column of time values.
-    pub fn times(&self) -> Vec<f64> {
+    /// Column `j` of the rows ([`InverseTable::headers`] order; NaN where a row is short).
+    pub fn column(&self, j: usize) -> Vec<f64> {
         self.rows
             .iter()
-            .map(|r| r.first().copied().unwrap_or(f64::NAN))
+            .map(|r| r.get(j).copied().unwrap_or(f64::NAN))
             .collect()
+    }
+
+    /// Column of time values.
+    pub fn times(&self) -> Vec<f64> {
+        self.column(0)
+    }
+
+    /// Column of q for coordinate number `i`.
+    pub fn positions(&self, i: usize) -> Vec<f64> {
+        self.column(1 + i)
+    }
+
+    /// Column of q' for coordinate number `i`.
+    pub fn rates(&self, i: usize) -> Vec<f64> {
+        self.column(1 + self.coordinates.len() + i)
     }
 
     /// Column of tau for driven coordinate number `k` (index into [`InverseTable::driven`]).
     pub fn torque(&self, k: usize) -> Vec<f64> {
-        let col = 1 + 3 * self.coordinates.len() + k;
-        self.rows
-            .iter()
-            .map(|r| r.get(col).copied().unwrap_or(f64::NAN))
-            .collect()
+        self.column(1 + 3 * self.coordinates.len() + k)
     }
 }

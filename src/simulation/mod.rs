@@ -5,10 +5,12 @@
 //! What enters: a [`crate::System`] and [`SimulationOptions`]. What leaves: a
 //! [`Trajectory`] (one row per output sample: t, q, q', q'', lambda, |Phi|,
 //! |Phi_q q' + Phi_t|, T, Pi, W) with its run counters, mobility and singular passages, and
-//! the events. Invariant: the step loop ([`Simulator::step`]) allocates nothing; every
+//! the events. A run that cannot succeed stops early ([`fail_fast`]: a fixed step too small, a
+//! collapsed step size, a diverging state). Invariant: the step loop ([`Simulator::step`]) allocates nothing; every
 //! buffer is made in [`Simulator::new`].
 
 pub(crate) mod events;
+pub(crate) mod fail_fast;
 pub(crate) mod options;
 pub(crate) mod simulator;
 pub(crate) mod singular;

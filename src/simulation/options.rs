@@ -8,8 +8,6 @@ use crate::integrators::IntegratorOptions;
 use crate::simulation::events::Event;
 use crate::system::Independent;
 
-/// Most output samples one run records (each is a row of 3n + m + 6 numbers).
-pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
 /// Output samples whose storage is reserved before the first step.
 pub(crate) const RESERVED_SAMPLES: usize = 1_000_000;
 

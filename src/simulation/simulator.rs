@@ -22,10 +22,10 @@ use crate::error::Error;
 use crate::integrators::{
     Dense, Dop853, Dopri5, Hht, Method, OdeRhs, Rk4, StepController, Tolerance, initial_step,
 };
+use crate::limits::{MAX_OUTPUT_SAMPLES, check_output_memory};
 use crate::simulation::events::{EventAction, EventHit, EventLog};
-use crate::simulation::options::{
-    InitialState, MAX_OUTPUT_SAMPLES, RESERVED_SAMPLES, SimulationOptions,
-};
+use crate::simulation::fail_fast::FailFast;
+use crate::simulation::options::{InitialState, RESERVED_SAMPLES, SimulationOptions};
 use crate::simulation::singular::SingularWatch;
 use crate::simulation::stepper::{Rhs, StateBuffers, StepControl, Stepper};
 use crate::simulation::trajectory::Trajectory;
@@ -92,18 +92,29 @@ pub struct Simulator<'a> {
     events: EventLog,
     /// Taken out while it searches a step (it calls back into the dense output).
     watch: Option<SingularWatch>,
+    /// Step-size collapse and divergence tests.
+    fail_fast: FailFast,
     started: Instant,
 }
 
 impl<'a> Simulator<'a> {
     /// Checks the inputs, builds the consistent initial state, records the first sample and
     /// allocates every buffer the step loop needs.
+    ///
+    /// Refused before any work: invalid options, more than [`MAX_OUTPUT_SAMPLES`] samples
+    /// or more than [`crate::MAX_OUTPUT_BYTES`] of them ([`Error::TooMuchOutput`]), a fixed
+    /// step that needs more than `max_steps` steps ([`Error::FixedStepTooSmall`]).
     pub fn new(system: &'a dyn System, options: &'a SimulationOptions) -> Result<Self, Error> {
         let started = Instant::now();
         let info = system.info();
         let (n, t0) = (info.n(), options.t_start);
         check_options(system, options)?;
         let outputs = output_count(options)?;
+        check_output_memory(outputs + 1, Trajectory::stride_of(info), 0)?;
+        let io = &options.integrator;
+        if let Method::Rk4 { h } | Method::Hht { h, .. } = io.method {
+            FailFast::check_fixed_step(h, options.t_end - t0, io.max_steps)?;
+        }
         let (q, qd) = initial_state(system, options)?;
         let mut dynamics = Dynamics::new(info);
         dynamics.condition_limit = options.condition_limit;
@@ -132,6 +143,12 @@ impl<'a> Simulator<'a> {
             }
         }
         let watch = Some(SingularWatch::new(system, t0, &y[..n]));
+        let fail_fast = FailFast::new(
+            &y[..n],
+            &y[n..2 * n],
+            options.t_end - t0,
+            options.integrator.max_steps,
+        );
         // Reserve the whole output up front (the step loop then never grows it) unless it is
         // very long; beyond that the buffer grows as it fills.
         let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
@@ -152,6 +169,7 @@ impl<'a> Simulator<'a> {
             trajectory,
             events: EventLog::new(options.events.len()),
             watch,
+            fail_fast,
             started,
         };
         sim.record(t0)?;
@@ -306,6 +324,11 @@ impl<'a> Simulator<'a> {
         }
         self.watch_singular(h)?;
         self.accept(t_new)?;
+        if !self.clock.finished {
+            let steps = self.trajectory.stats.steps;
+            self.fail_fast
+                .after_step(steps, t_new, self.options.t_end)?;
+        }
         Ok(!self.clock.finished)
     }
 
@@ -393,12 +416,13 @@ impl<'a> Simulator<'a> {
         }
     }
 
-    /// The end state of the step must be finite: q, q' and the work W.
+    /// The end state of the step must be finite and within the divergence bounds: q, q'
+    /// ([`Error::Diverged`]) and the work W.
     fn check_new_state(&self, t_new: f64) -> Result<(), Error> {
         let n = self.n;
         let names = &self.system.info().coordinates;
-        Error::check_finite(&self.state.y_new[..n], "position", names, t_new)?;
-        Error::check_finite(&self.state.y_new[n..2 * n], "rate", names, t_new)?;
+        let (q, qd) = self.state.y_new.split_at(n);
+        self.fail_fast.check_state(q, &qd[..n], names, t_new)?;
         if !self.state.y_new[2 * n].is_finite() {
             return Err(Error::NonFinite {
                 what: "work W of the applied forces".into(),
@@ -610,7 +634,7 @@ impl<'a> Simulator<'a> {
     }
 }
 
-/// Parameters finite; t_end > t_start, output_rate > 0, rtol > 0, atol >= 0.
+/// Parameters finite; t_end > t_start, output_rate > 0, rtol > 0 and atol >= 0 finite.
 fn check_options(system: &dyn System, options: &SimulationOptions) -> Result<(), Error> {
     let info = system.info();
     let mut params = vec![0.0; info.parameters.len()];
@@ -634,11 +658,11 @@ fn check_options(system: &dyn System, options: &SimulationOptions) -> Result<(),
             "positive, in samples per second",
         );
     }
-    if !(io.rtol > 0.0) {
-        return bad("rtol", io.rtol, "positive");
+    if !(io.rtol > 0.0 && io.rtol.is_finite()) {
+        return bad("rtol", io.rtol, "positive and finite");
     }
-    if !(io.atol >= 0.0) {
-        return bad("atol", io.atol, "zero or positive");
+    if !(io.atol >= 0.0 && io.atol.is_finite()) {
+        return bad("atol", io.atol, "zero or positive, and finite");
     }
     Ok(())
 }

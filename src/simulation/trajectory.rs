@@ -73,7 +73,8 @@ impl Trajectory {
         }
     }
 
-    fn stride_of(info: &SystemInfo) -> usize {
+    /// Values per row for a system with the sizes of `info`: 1 + 3n + m + 5.
+    pub(crate) fn stride_of(info: &SystemInfo) -> usize {
         1 + 3 * info.n() + info.m() + 5
     }
 

@@ -1,59 +1,40 @@
 //! The interpreter route: a mechanism read at run time (a `.mech` file that was not compiled
-//! in), derived by `mechanism-codegen` and evaluated through its [`Tape`].
+//! in), derived by `mechanism-codegen` and evaluated through its [`Tape`](mechanism_codegen::Tape).
 //!
 //! It computes exactly what the code emitted by `mechanism!` computes (the same derived
 //! equations, the same CSE'd program), only interpreted: the runtime gets a [`System`] for
 //! any declaration without a rebuild, and the tests get a second route to check the
-//! emitted code against.
+//! emitted code against. Everything that can be wrong with the programs is checked when the
+//! `Interpreted` is built; an evaluation then cannot fail, and like the emitted code it lets
+//! a non-finite value through to the outputs it reaches.
 
-use std::sync::Mutex;
+use std::collections::HashMap;
 
 use mechanism_codegen::{
-    Equations, EvaluationOutput, Model, Program, SymbolId, Tape, residual_tangent,
+    Equations, Error, EvaluationOutput, Id, Matrix, Model, Program, SymbolId, residual_tangent,
 };
 use nalgebra::DMatrix;
 
-use crate::system::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Tangent};
-
-/// Which evaluations a tape computes.
-struct Scratch {
-    tape: Tape,
-    inputs: Vec<f64>,
-    out: Vec<f64>,
-}
-
-impl Scratch {
-    fn new(program: &Program, symbols: usize) -> Self {
-        let tape = Tape::new(program);
-        let out = vec![0.0; tape.output_len()];
-        Self {
-            tape,
-            inputs: vec![0.0; symbols],
-            out,
-        }
-    }
-}
+use crate::system::routine::{Routine, Source, Values};
+use crate::system::{
+    ConstraintRow, Drawing, DrawnPoint, Evaluation, Independent, System, SystemInfo, Tangent,
+};
 
 /// A mechanism interpreted from its declaration.
+#[derive(Clone)]
 pub struct Interpreted {
     info: SystemInfo,
     parameters: Vec<f64>,
-    parameter_symbols: Vec<SymbolId>,
-    q_symbols: Vec<SymbolId>,
-    qd_symbols: Vec<SymbolId>,
-    qdd_symbols: Vec<SymbolId>,
-    lambda_symbols: Vec<SymbolId>,
-    time_symbol: Option<SymbolId>,
     /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi.
-    full: Mutex<Scratch>,
+    full: Routine,
     /// Phi.
-    phi: Mutex<Scratch>,
+    phi: Routine,
     /// Phi_q, Phi_t.
-    jacobian: Mutex<Scratch>,
+    jacobian: Routine,
     /// dF/dq, dF/dq' of the residual (exact Jacobians for implicit integrators).
-    tangent: Mutex<Scratch>,
-    programs: [Program; 4],
-    symbols: usize,
+    tangent: Routine,
+    /// The drawn points' positions (3 per point), when the declaration draws.
+    draw: Option<Routine>,
     equations_text: String,
 }
 
@@ -65,35 +46,12 @@ impl std::fmt::Debug for Interpreted {
     }
 }
 
-impl Clone for Interpreted {
-    fn clone(&self) -> Self {
-        let [a, b, c, d] = &self.programs;
-        Self {
-            info: self.info.clone(),
-            parameters: self.parameters.clone(),
-            parameter_symbols: self.parameter_symbols.clone(),
-            q_symbols: self.q_symbols.clone(),
-            qd_symbols: self.qd_symbols.clone(),
-            qdd_symbols: self.qdd_symbols.clone(),
-            lambda_symbols: self.lambda_symbols.clone(),
-            time_symbol: self.time_symbol,
-            full: Mutex::new(Scratch::new(a, self.symbols)),
-            phi: Mutex::new(Scratch::new(b, self.symbols)),
-            jacobian: Mutex::new(Scratch::new(c, self.symbols)),
-            tangent: Mutex::new(Scratch::new(d, self.symbols)),
-            programs: self.programs.clone(),
-            symbols: self.symbols,
-            equations_text: self.equations_text.clone(),
-        }
-    }
-}
-
 impl Interpreted {
     /// Parses, checks and derives the declaration `text` (the `.mech` grammar).
     ///
     /// # Errors
     /// The codegen error (parse errors carry line and column).
-    pub fn from_source(text: &str) -> Result<Self, mechanism_codegen::Error> {
+    pub fn from_source(text: &str) -> Result<Self, Error> {
         let model = mechanism_codegen::parse_model_str(text)?;
         Self::from_model(model)
     }
@@ -102,69 +60,51 @@ impl Interpreted {
     ///
     /// # Errors
     /// A derivation or compilation error from codegen.
-    pub fn from_model(mut model: Model) -> Result<Self, mechanism_codegen::Error> {
+    pub fn from_model(mut model: Model) -> Result<Self, Error> {
         let eqs = mechanism_codegen::derive(&mut model)?;
         Self::from_equations(model, eqs)
     }
 
-    /// Compiles already derived equations.
+    /// Compiles already derived equations into the four evaluations (everything; Phi;
+    /// Phi_q and Phi_t; the residual's tangent), checking each once.
     ///
     /// # Errors
-    /// A compilation error from codegen.
-    pub fn from_equations(
-        mut model: Model,
-        eqs: Equations,
-    ) -> Result<Self, mechanism_codegen::Error> {
+    /// A compilation error from codegen; [`Error::NotASymbol`] for a hand-built model whose
+    /// parameter or coordinate entry is not a symbol, [`Error::MissingValue`] for equations
+    /// that read a symbol the model does not declare, [`Error::OutputCount`] for equations
+    /// whose sizes are not n and m.
+    pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, Error> {
         let tangent = residual_tangent(&mut model, &eqs)?;
+        let sources = sources(&model, &tangent.lambda)?;
         let arena = &model.arena;
-        // A hand-built Model may put any expression where a symbol belongs: say so.
-        let sym = |id, what: &str| {
-            arena
-                .as_symbol(id)
-                .ok_or_else(|| mechanism_codegen::Error::NotASymbol {
-                    role: what.to_string(),
-                })
-        };
+        let (n, m) = (model.coordinates.len(), eqs.m);
         let outputs = eqs.evaluation_outputs();
         let full = Program::new(arena, &outputs.iter().collect::<Vec<_>>())?;
+        let full_len = EvaluationOutput::ORDER
+            .iter()
+            .map(|o| o.shape(n, m))
+            .map(|(rows, cols)| rows * cols)
+            .sum();
         let phi = Program::new(arena, &[&eqs.phi])?;
-        let jac = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
+        let jacobian = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
         let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
-        let symbols = arena.symbols().len();
-        let info = system_info(&model, eqs.m);
-        let equations_text = mechanism_codegen::equations_text(&model, &eqs);
+        let points = &model.drawing.points;
+        let draw = if points.is_empty() {
+            None
+        } else {
+            let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
+            let program = Program::new(arena, &[&column])?;
+            Some(Routine::new(&program, &sources, 3 * points.len())?)
+        };
         Ok(Self {
+            draw,
+            full: Routine::new(&full, &sources, full_len)?,
+            phi: Routine::new(&phi, &sources, m)?,
+            jacobian: Routine::new(&jacobian, &sources, m * n + m)?,
+            tangent: Routine::new(&tan, &sources, 2 * n * n)?,
             parameters: model.parameters.iter().map(|p| p.default).collect(),
-            parameter_symbols: model
-                .parameters
-                .iter()
-                .map(|p| sym(p.symbol, &format!("parameter `{}`", p.name)))
-                .collect::<Result<_, _>>()?,
-            q_symbols: model
-                .coordinates
-                .iter()
-                .map(|c| sym(c.q, &format!("coordinate `{}`", c.name)))
-                .collect::<Result<_, _>>()?,
-            qd_symbols: model
-                .coordinates
-                .iter()
-                .map(|c| sym(c.qd, &format!("the rate of `{}`", c.name)))
-                .collect::<Result<_, _>>()?,
-            qdd_symbols: model
-                .coordinates
-                .iter()
-                .map(|c| sym(c.qdd, &format!("the acceleration of `{}`", c.name)))
-                .collect::<Result<_, _>>()?,
-            lambda_symbols: tangent.lambda.clone(),
-            time_symbol: arena.as_symbol(model.time),
-            full: Mutex::new(Scratch::new(&full, symbols)),
-            phi: Mutex::new(Scratch::new(&phi, symbols)),
-            jacobian: Mutex::new(Scratch::new(&jac, symbols)),
-            tangent: Mutex::new(Scratch::new(&tan, symbols)),
-            programs: [full, phi, jac, tan],
-            symbols,
-            info,
-            equations_text,
+            info: system_info(&model, m),
+            equations_text: mechanism_codegen::equations_text(&model, &eqs),
         })
     }
 
@@ -173,41 +113,44 @@ impl Interpreted {
         &self.equations_text
     }
 
-    fn load(&self, s: &mut Scratch, t: f64, q: &[f64], qd: Option<&[f64]>) {
-        for (sym, v) in self.parameter_symbols.iter().zip(&self.parameters) {
-            s.inputs[sym.0 as usize] = *v;
-        }
-        for (sym, v) in self.q_symbols.iter().zip(q) {
-            s.inputs[sym.0 as usize] = *v;
-        }
-        if let Some(qd) = qd {
-            for (sym, v) in self.qd_symbols.iter().zip(qd) {
-                s.inputs[sym.0 as usize] = *v;
-            }
-        }
-        if let Some(ts) = self.time_symbol {
-            s.inputs[ts.0 as usize] = t;
+    /// The values of an evaluation at (t, q) with the current parameters.
+    fn at<'a>(&'a self, t: f64, q: &'a [f64]) -> Values<'a> {
+        Values {
+            parameters: &self.parameters,
+            t,
+            q,
+            ..Values::default()
         }
     }
+}
 
-    /// Runs one tape; a failed evaluation (non-finite value) fills the outputs with NaN so
-    /// the solver's finiteness checks report it with t and q.
-    fn run(
-        &self,
-        cell: &Mutex<Scratch>,
-        t: f64,
-        q: &[f64],
-        qd: Option<&[f64]>,
-        sink: impl FnOnce(&[f64]),
-    ) {
-        let mut guard = cell.lock().unwrap_or_else(|p| p.into_inner());
-        let s = &mut *guard;
-        self.load(s, t, q, qd);
-        if s.tape.eval(&s.inputs, &mut s.out).is_err() {
-            s.out.iter_mut().for_each(|x| *x = f64::NAN);
-        }
-        sink(&s.out);
+/// The source of each symbol an evaluation may read: parameters, coordinates with their
+/// rates and accelerations, the multipliers of the tangent, and time.
+fn sources(model: &Model, lambda: &[SymbolId]) -> Result<HashMap<SymbolId, Source>, Error> {
+    let arena = &model.arena;
+    // A hand-built Model may put any expression where a symbol belongs: say so.
+    let symbol = |id: Id, what: String| arena.as_symbol(id).ok_or(Error::NotASymbol { role: what });
+    let mut sources = HashMap::new();
+    for (k, p) in model.parameters.iter().enumerate() {
+        let s = symbol(p.symbol, format!("parameter `{}`", p.name))?;
+        sources.insert(s, Source::Parameter(k));
     }
+    for (k, c) in model.coordinates.iter().enumerate() {
+        let name = &c.name;
+        let q = symbol(c.q, format!("coordinate `{name}`"))?;
+        let qd = symbol(c.qd, format!("the rate of `{name}`"))?;
+        let qdd = symbol(c.qdd, format!("the acceleration of `{name}`"))?;
+        sources.insert(q, Source::Position(k));
+        sources.insert(qd, Source::Rate(k));
+        sources.insert(qdd, Source::Acceleration(k));
+    }
+    for (k, s) in lambda.iter().enumerate() {
+        sources.insert(*s, Source::Multiplier(k));
+    }
+    if let Some(t) = arena.as_symbol(model.time) {
+        sources.insert(t, Source::Time);
+    }
+    Ok(sources)
 }
 
 /// Copies a row-major block of `rows x cols` values into `dst`.
@@ -242,7 +185,11 @@ impl System for Interpreted {
 
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
         let (n, m) = (self.info.n(), self.info.m());
-        self.run(&self.full, t, q, Some(qd), |v| {
+        let values = Values {
+            qd,
+            ..self.at(t, q)
+        };
+        self.full.run(&values, |v| {
             let mut k = 0;
             for o in EvaluationOutput::ORDER {
                 let (rows, cols) = o.shape(n, m);
@@ -264,13 +211,23 @@ impl System for Interpreted {
         });
     }
 
+    fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
+        if let Some(draw) = &self.draw {
+            draw.run(&self.at(t, q), |v| {
+                if let Some(dst) = out.get_mut(..v.len()) {
+                    dst.copy_from_slice(v);
+                }
+            });
+        }
+    }
+
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
-        self.run(&self.phi, t, q, None, |v| phi.copy_from_slice(v));
+        self.phi.run(&self.at(t, q), |v| phi.copy_from_slice(v));
     }
 
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
         let (n, m) = (self.info.n(), self.info.m());
-        self.run(&self.jacobian, t, q, None, |v| {
+        self.jacobian.run(&self.at(t, q), |v| {
             copy_block(v, m, n, phi_q);
             phi_t.copy_from_slice(&v[m * n..m * n + m]);
         });
@@ -286,22 +243,21 @@ impl System for Interpreted {
         out: &mut Tangent,
     ) -> Option<()> {
         let n = self.info.n();
-        let mut guard = self.tangent.lock().unwrap_or_else(|p| p.into_inner());
-        let s = &mut *guard;
-        self.load(s, t, q, Some(qd));
-        for (sym, v) in self
-            .qdd_symbols
-            .iter()
-            .zip(qdd)
-            .chain(self.lambda_symbols.iter().zip(lambda))
-        {
-            s.inputs[sym.0 as usize] = *v;
-        }
-        // On a non-finite tangent the caller falls back to finite differences.
-        s.tape.eval(&s.inputs, &mut s.out).ok()?;
-        copy_block(&s.out, n, n, &mut out.stiffness);
-        copy_block(&s.out[n * n..], n, n, &mut out.damping);
-        Some(())
+        let values = Values {
+            qd,
+            qdd,
+            lambda,
+            ..self.at(t, q)
+        };
+        self.tangent.run(&values, |v| {
+            // On a non-finite tangent the caller falls back to finite differences.
+            if !v.iter().all(|x| x.is_finite()) {
+                return None;
+            }
+            copy_block(v, n, n, &mut out.stiffness);
+            copy_block(&v[n * n..], n, n, &mut out.damping);
+            Some(())
+        })
     }
 }
 
@@ -338,6 +294,18 @@ fn system_info(model: &Model, m: usize) -> SystemInfo {
                 }
             })
             .collect(),
-        drawing: Default::default(),
+        drawing: Drawing {
+            points: model
+                .drawing
+                .points
+                .iter()
+                .map(|p| DrawnPoint {
+                    name: p.name.clone(),
+                    ground: p.ground,
+                })
+                .collect(),
+            lines: model.drawing.lines.clone(),
+            traces: model.drawing.traces.clone(),
+        },
     }
 }

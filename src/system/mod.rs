@@ -25,6 +25,10 @@ mod info;
 #[cfg(feature = "interpreter")]
 mod interpreted;
 mod mechanism;
+#[cfg(feature = "interpreter")]
+mod registers;
+#[cfg(feature = "interpreter")]
+pub(crate) mod routine;
 
 #[cfg(feature = "std")]
 pub use compiled::Compiled;

@@ -10,8 +10,12 @@
 //! ```
 //!
 //! and reads [`allocations`] before and after the code that must not allocate.
+//!
+//! [`a02`] is the exact branch of the IFToMM A02 chain; [`rounding`] the first-order
+//! rounding-error bound that compares two evaluation orders of one expression.
 
 pub mod a02;
+pub mod rounding;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -101,7 +101,7 @@ impl Interpreted {
     }
 
     fn matrix(&self, s: &State, m: &Matrix) -> DMatrix<f64> {
-        DMatrix::from_fn(m.rows, m.cols, |i, j| self.value(s, m.get(i, j)))
+        DMatrix::from_fn(m.rows(), m.cols(), |i, j| self.value(s, m.get(i, j)))
     }
 }
 

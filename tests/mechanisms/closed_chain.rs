@@ -43,7 +43,7 @@ fn file_equals_the_programmatic_chain() {
                 .map(|_| 9.81)
         };
         let value = |id: Id| eval(arena, id, &env).unwrap();
-        let entries = |m: &Matrix| -> Vec<f64> { m.data.iter().map(|&x| value(x)).collect() };
+        let entries = |m: &Matrix| -> Vec<f64> { m.data().iter().map(|&x| value(x)).collect() };
         let (qs, qds) = (
             SVector::<f64, 4>::from_column_slice(&q),
             SVector::<f64, 4>::from_column_slice(&qd),

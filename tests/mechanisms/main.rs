@@ -7,4 +7,5 @@ mod bodies_inline;
 mod bodies_joints;
 mod bodies_snapshots;
 mod closed_chain;
+mod drawing;
 mod snapshots;

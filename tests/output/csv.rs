@@ -212,10 +212,12 @@ fn inverse_header_and_values() {
     for (got, want) in rows.iter().zip(&table.rows) {
         assert!(same_bits(got, want), "{got:?} != {want:?}");
     }
-    assert!(same_bits(
-        &table.torque(1),
-        &table.rows.iter().map(|r| r[14]).collect::<Vec<_>>()
-    ));
+    let column = |j: usize| table.rows.iter().map(|r| r[j]).collect::<Vec<_>>();
+    assert!(same_bits(&table.torque(1), &column(14)));
+    // The figures' series: beta is column 2, its rate column 6.
+    assert!(same_bits(&table.positions(1), &column(2)));
+    assert!(same_bits(&table.rates(1), &column(6)));
+    assert!(same_bits(&table.times(), &column(0)));
 }
 
 #[test]

@@ -5,6 +5,7 @@ mod scene_support;
 mod support;
 
 mod animation;
+mod atomic;
 mod browser;
 mod csv;
 mod plot;

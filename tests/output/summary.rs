@@ -1,7 +1,11 @@
 //! `summary.json`: every key, with values computed from the trajectory and the run settings.
 
 use crate::support::{DRIFT, MAX_PHI, MAX_VEL, PARAMETERS, info, temp_dir, trajectory};
-use mechanism::output::{OutputError, RunSettings, Summary, TrajectoryMaxima, write_summary};
+use mechanism::output::summary::NamedValues;
+use mechanism::output::{
+    InverseSummary, InverseTable, OutputError, RunSettings, Summary, TrajectoryMaxima,
+    write_summary,
+};
 use mechanism::{SolverStats, Trajectory};
 use serde_json::Value;
 
@@ -119,6 +123,8 @@ fn summary_json_has_every_key_with_its_value() {
         "status",
         "t_last",
         "error",
+        "stage",
+        "files",
     ];
     let object = json.as_object().expect("an object");
     assert_eq!(
@@ -190,6 +196,62 @@ fn summary_json_has_every_key_with_its_value() {
     assert!(json["error"].is_null());
     assert_eq!(json["t_last"].as_f64(), Some(tr.last().unwrap().t));
     assert_eq!(json["singular_passages"].as_array().map(Vec::len), Some(0));
+    // The stage of a failure, and the files the CLI fills in.
+    assert!(json["stage"].is_null());
+    assert_eq!(json["files"], serde_json::json!([]));
+}
+
+#[test]
+fn a_run_without_samples_says_where_and_why_it_stopped() {
+    let parameters = NamedValues(vec![("g".into(), 9.81)]);
+    let summary = Summary::not_started(
+        "Seed",
+        parameters,
+        &settings(),
+        "assembly",
+        &"the constraints cannot be satisfied",
+    );
+    let json = serde_json::to_value(&summary).expect("serialise");
+    assert_eq!(json["status"], "failed");
+    assert_eq!(json["stage"], "assembly");
+    assert_eq!(json["error"], "the constraints cannot be satisfied");
+    assert_eq!(json["parameters"]["g"].as_f64(), Some(9.81));
+    // Nothing was computed: no time, no maxima (null, not a reassuring 0).
+    for key in ["t_last", "max_constraint_error", "max_energy_balance_error"] {
+        assert!(json[key].is_null(), "{key}: {}", json[key]);
+    }
+    assert_eq!(json["steps"], 0);
+}
+
+#[test]
+fn the_inverse_summary_holds_the_peak_driving_forces() {
+    let table = InverseTable {
+        coordinates: vec!["phi".into()],
+        driven: vec!["phi".into()],
+        constraints: 0,
+        rows: vec![
+            vec![0.0, 0.0, 1.0, 0.0, -3.0],
+            vec![0.5, 0.5, 1.0, 0.0, 2.0],
+        ],
+    };
+    let drives = ["phi = t".to_string()];
+    let summary = InverseSummary::new("Crank", NamedValues::default(), &drives, &table);
+    let json = serde_json::to_value(&summary).expect("serialise");
+    assert_eq!(json["command"], "inverse");
+    assert_eq!(json["drives"], serde_json::json!(["phi = t"]));
+    assert_eq!(json["samples"], 2);
+    assert_eq!(json["max_abs_driving_force"]["tau_phi"].as_f64(), Some(3.0));
+    assert_eq!(
+        (json["status"].as_str(), json["t_last"].as_f64()),
+        (Some("completed"), Some(0.5))
+    );
+    let mut failed = summary.clone();
+    failed.outcome.failed_in("output", &"disk full");
+    let json = serde_json::to_value(&failed).expect("serialise");
+    assert_eq!(
+        (json["status"].as_str(), json["stage"].as_str()),
+        (Some("failed"), Some("output"))
+    );
 }
 
 /// The mobility, the multipliers note, the singular passages and a failure, as a run of the

@@ -1,9 +1,12 @@
 //! The step loop allocates nothing: a counting global allocator (counting only on this
 //! test's thread, while armed) sees zero allocations over hundreds of steps after warm-up,
-//! for every integrator and stabilisation.
+//! for every integrator and stabilisation, on the compiled and the interpreted routes.
 
 use crate::common::{CrankSlider, FourBar};
-use mechanism::{IntegratorOptions, Method, SimulationOptions, Simulator, Stabilization, System};
+use mechanism::builtin::builtin_source;
+use mechanism::{
+    IntegratorOptions, Interpreted, Method, SimulationOptions, Simulator, Stabilization, System,
+};
 
 fn allocations_in_steps(
     system: &dyn System,
@@ -68,9 +71,22 @@ fn step_loop_allocates_nothing() {
     // Redundant rows (20 rows of rank 17): the augmented Lagrangian route, its banded
     // factorisation, the minimum-norm multipliers of every sample and the rank watch.
     let redundant = mechanism::builtin::builtin("planar_four_bar_bodies").unwrap();
+    // The interpreted route runs its tapes in a register file of the thread: grown during
+    // warm-up, then reused by every evaluation, the tangent of HHT among them.
+    let interpreted: &dyn System =
+        &Interpreted::from_source(builtin_source("spatial_crank_slider").unwrap()).unwrap();
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
+            (interpreted, Method::Dopri5, Stabilization::Projection),
+            (
+                interpreted,
+                Method::Hht {
+                    h: 1e-3,
+                    alpha: -0.05,
+                },
+                Stabilization::Projection,
+            ),
             (
                 redundant.as_ref(),
                 Method::Dop853,

@@ -42,11 +42,12 @@ pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Res
     })
 }
 
-/// The values of all entries of `m`, row-major (entry (i, j) at `i * m.cols + j`), sharing
+/// The values of all entries of `m`, row-major (entry (i, j) at `i * m.cols() + j`), sharing
 /// the evaluation of common subexpressions between entries.
 ///
 /// # Errors
-/// As [`eval`]; also [`Error::MalformedMatrix`] when `m.data.len() != m.rows * m.cols`.
+/// As [`eval`]; also [`Error::MalformedMatrix`] for a matrix built inside this crate whose
+/// entries do not fill rows x cols (the public constructors refuse one).
 pub fn eval_matrix(
     arena: &Arena,
     m: &Matrix,

@@ -21,9 +21,15 @@ use crate::number::Number;
 
 /// Index of a node in an [`Arena`]. Children always have smaller ids than their parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Id(pub u32);
+pub struct Id(pub(crate) u32);
 
 impl Id {
+    /// The id of the node at `index`. Nothing checks it here: an arena that holds no such
+    /// node refuses it ([`Error::InvalidId`]).
+    pub const fn new(index: u32) -> Id {
+        Id(index)
+    }
+
     /// The index as usize.
     pub fn index(self) -> usize {
         self.0 as usize
@@ -32,7 +38,21 @@ impl Id {
 
 /// Index of a symbol in an [`Arena`]'s symbol table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct SymbolId(pub u32);
+pub struct SymbolId(pub(crate) u32);
+
+impl SymbolId {
+    /// The id of the symbol at `index` of a symbol table. Nothing checks it here: an arena
+    /// without that symbol refuses it ([`Error::UnknownSymbolId`]).
+    pub const fn new(index: u32) -> SymbolId {
+        SymbolId(index)
+    }
+
+    /// The index as usize: where the symbol's value goes in a slice of inputs indexed by
+    /// symbol (see [`crate::Tape`]).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
 
 /// Unary functions of the language (`sqrt(x)` is stored as `x^(1/2)`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -8,18 +8,49 @@ use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::error::{Error, Result};
 
-/// A dense symbolic matrix, row-major.
+/// A dense symbolic matrix, row-major. Built through its constructors, it always has
+/// rows x cols entries.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Matrix {
     /// Number of rows.
-    pub rows: usize,
+    pub(crate) rows: usize,
     /// Number of columns.
-    pub cols: usize,
+    pub(crate) cols: usize,
     /// Entries, row-major: entry (i, j) is `data[i * cols + j]`.
-    pub data: Vec<Id>,
+    pub(crate) data: Vec<Id>,
 }
 
 impl Matrix {
+    /// The rows x cols matrix with the row-major entries `data`.
+    ///
+    /// # Errors
+    /// [`Error::MalformedMatrix`] when `data` does not have rows x cols entries.
+    pub fn new(rows: usize, cols: usize, data: Vec<Id>) -> Result<Self> {
+        if rows.checked_mul(cols) != Some(data.len()) {
+            return Err(Error::MalformedMatrix {
+                rows,
+                cols,
+                len: data.len(),
+            });
+        }
+        Ok(Self { rows, cols, data })
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// The entries, row-major: entry (i, j) is `data()[i * cols() + j]`.
+    pub fn data(&self) -> &[Id] {
+        &self.data
+    }
+
     /// The rows x cols zero matrix.
     pub fn zeros(arena: &mut Arena, rows: usize, cols: usize) -> Self {
         let z = arena.int(0);

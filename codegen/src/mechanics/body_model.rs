@@ -8,21 +8,24 @@ use crate::algebra::eval::eval;
 use crate::algebra::expr::{Arena, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
+use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
 use crate::mechanics::model::{Constraint, Model};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
+use crate::syntax::ast::Ast;
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
 use crate::syntax::declaration::components;
-use crate::syntax::vector::{Op, VectorAst};
 
 /// The naming context: named world vectors, axis frames and body frames.
 #[derive(Default)]
 struct Scope {
     vectors: HashMap<String, Vec3>,
+    /// The keys of `vectors` in declaration order.
+    order: Vec<String>,
     axes: HashMap<String, AxisFrame>,
 }
 
@@ -30,10 +33,24 @@ impl VectorNames for Scope {
     fn vector(&self, name: &str) -> Option<[crate::algebra::expr::Id; 3]> {
         self.vectors.get(name).copied()
     }
+
+    fn names(&self) -> Vec<&str> {
+        self.order.iter().map(String::as_str).collect()
+    }
 }
 
-fn declaration(message: String, location: Location) -> Error {
-    Error::Declaration { message, location }
+fn declaration(kind: DeclarationError, location: Location) -> Error {
+    Error::declaration(kind, location)
+}
+
+/// "the {block} `{name}` needs {entry}".
+fn missing(block: &str, name: &str, entry: Needed, at: Location) -> Error {
+    let kind = DeclarationError::MissingEntry {
+        block: block.to_string(),
+        name: name.to_string(),
+        entry,
+    };
+    declaration(kind, at)
 }
 
 /// The parameter defaults of `model`, for choosing axis perpendiculars.
@@ -57,16 +74,12 @@ fn axis_frame(
     let mut vals = [0.0; 3];
     for (v, &e) in vals.iter_mut().zip(a0) {
         *v = eval(arena, e, &env).map_err(|e| {
-            declaration(
-                format!(
-                    "an axis must be a constant direction in its body (parameters allowed): {e}"
-                ),
-                at,
-            )
+            let kind = DeclarationError::AxisNotConstant { error: Box::new(e) };
+            declaration(kind, at)
         })?;
     }
     if vals.iter().all(|v| *v == 0.0) {
-        return Err(declaration("an axis cannot be the zero vector".into(), at));
+        return Err(declaration(DeclarationError::ZeroAxis, at));
     }
     let k = least_aligned(vals);
     let [p1, p2] = perpendiculars(arena, a0, k);
@@ -80,24 +93,35 @@ fn axis_frame(
     })
 }
 
+/// The factors of an orientation product as written: `F_1 * F_2 * ...` (parenthesised
+/// products flattened); a chain with a division keeps everything up to its last divisor as
+/// one factor, since only a pure product is a sequence of rotations.
+fn product_factors(ast: &Ast, out: &mut Vec<Ast>) {
+    let Ast::Product(items) = ast else {
+        out.push(ast.clone());
+        return;
+    };
+    let rest = match items.iter().rposition(|i| i.0) {
+        Some(last_divisor) => {
+            out.push(Ast::Product(items[..=last_divisor].to_vec()));
+            &items[last_divisor + 1..]
+        }
+        None => &items[..],
+    };
+    for (_, f, _) in rest {
+        product_factors(f, out);
+    }
+}
+
 /// The orientation of a body: the top-level product's factors, elementary where written
 /// `rot_x/y/z(angle)`, explicit 3x3 otherwise.
-fn orientation(arena: &mut Arena, ast: &VectorAst, scope: &Scope) -> Result<Orientation> {
+fn orientation(arena: &mut Arena, ast: &Ast, scope: &Scope) -> Result<Orientation> {
     let mut factors = Vec::new();
-    let mut stack = vec![ast];
     let mut flat = Vec::new();
-    while let Some(a) = stack.pop() {
-        match a {
-            VectorAst::Binary(Op::Mul, l, r, _) => {
-                stack.push(r);
-                stack.push(l);
-            }
-            other => flat.push(other),
-        }
-    }
-    for f in flat {
+    product_factors(ast, &mut flat);
+    for f in &flat {
         match f {
-            VectorAst::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
+            Ast::Call(name, args, at) if name.starts_with("rot_") && args.len() == 1 => {
                 let axis = match name.as_str() {
                     "rot_x" => Axis::X,
                     "rot_y" => Axis::Y,
@@ -106,19 +130,15 @@ fn orientation(arena: &mut Arena, ast: &VectorAst, scope: &Scope) -> Result<Orie
                 let v = vector_value(arena, &args[0], scope)?;
                 factors.push(RotationFactor::Elementary(
                     axis,
-                    scalar(&v, "a rotation angle", *at)?,
+                    scalar(&v, Quantity::RotationAngle, *at)?,
                 ));
             }
             other => {
                 let m = vector_value(arena, other, scope)?;
                 if (m.rows, m.cols) != (3, 3) {
-                    return Err(declaration(
-                        format!(
-                            "an orientation factor must be 3x3; this is {}x{}",
-                            m.rows, m.cols
-                        ),
-                        other.location(),
-                    ));
+                    let (rows, cols) = (m.rows, m.cols);
+                    let kind = DeclarationError::OrientationFactor { rows, cols };
+                    return Err(declaration(kind, other.location()));
                 }
                 factors.push(RotationFactor::Explicit(m));
             }
@@ -131,21 +151,23 @@ fn take<'e>(entries: &'e [Entry], key: &str, owner: &str) -> Result<Option<&'e E
     let mut found = entries.iter().filter(|e| e.key == key);
     let first = found.next();
     if let Some(second) = found.next() {
-        return Err(declaration(
-            format!("`{key}` is given twice in `{owner}`"),
-            second.at,
-        ));
+        let kind = DeclarationError::GivenTwice {
+            key: key.to_string(),
+            owner: owner.to_string(),
+        };
+        return Err(declaration(kind, second.at));
     }
     Ok(first)
 }
 
 fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
     if scope.vectors.insert(name.to_string(), v).is_some() {
-        return Err(declaration(
-            format!("the name `{name}` is declared twice among bodies, points and axes"),
-            at,
-        ));
+        let kind = DeclarationError::VectorNameTwice {
+            name: name.to_string(),
+        };
+        return Err(declaration(kind, at));
     }
+    scope.order.push(name.to_string());
     Ok(())
 }
 
@@ -168,32 +190,37 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         .chain(model.coordinates.iter().map(|c| c.name.as_str()))
     {
         if let Some(at) = named_at(bodies, name) {
-            return Err(declaration(
-                format!(
-                    "`{name}` is already a parameter or coordinate; a body, point or axis needs its own name"
-                ),
-                at,
-            ));
+            let kind = DeclarationError::NameTaken {
+                name: name.to_string(),
+            };
+            return Err(declaration(kind, at));
         }
     }
+    let mut moving: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| model.arena.as_symbol(c.q))
+        .collect();
+    moving.extend(model.arena.as_symbol(model.time));
+    let mut drawing = None;
     for item in &bodies.items {
         let arena = &mut model.arena;
         match item {
             BodyItem::Gravity(v, at) => {
                 if system.gravity.is_some() {
-                    return Err(declaration("`gravity` is given twice".into(), *at));
+                    return Err(declaration(DeclarationError::GravityTwice, *at));
                 }
                 let m = vector_value(arena, v, &scope)?;
-                system.gravity = Some(vec3(&m, "the gravity vector", *at)?);
+                system.gravity = Some(vec3(&m, Quantity::Gravity, *at)?);
             }
             BodyItem::Point(name, at, v) => {
                 let m = vector_value(arena, v, &scope)?;
-                let p = vec3(&m, &format!("the point `{name}`"), *at)?;
+                let p = vec3(&m, Quantity::Point(name.clone()), *at)?;
                 define(&mut scope, name, *at, p)?;
             }
             BodyItem::Axis(name, at, v) => {
                 let m = vector_value(arena, v, &scope)?;
-                let a = vec3(&m, &format!("the axis `{name}`"), *at)?;
+                let a = vec3(&m, Quantity::Axis(name.clone()), *at)?;
                 let id = Matrix::identity(arena, 3);
                 let frame = axis_frame(arena, &a, &id, &known, *at)?;
                 define(&mut scope, name, *at, frame.direction)?;
@@ -206,13 +233,12 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
             BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
                 let spring = matches!(item, BodyItem::Spring { .. });
                 let what = if spring { "spring" } else { "damper" };
-                let between = take(entries, "between", name)?.ok_or_else(|| {
-                    declaration(format!("the {what} `{name}` needs `between = P, Q;`"), *at)
-                })?;
+                let between = take(entries, "between", name)?
+                    .ok_or_else(|| missing(what, name, Needed::Between, *at))?;
                 let mut ends = Vec::new();
                 for v in &between.value {
                     let m = vector_value(arena, v, &scope)?;
-                    ends.push(vec3(&m, &format!("an end of `{name}`"), v.location())?);
+                    ends.push(vec3(&m, Quantity::End(name.clone()), v.location())?);
                 }
                 let ends = [ends[0], ends[1]];
                 let value = |arena: &mut Arena,
@@ -222,15 +248,14 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                     match take(entries, key, name)? {
                         Some(e) => {
                             let m = vector_value(arena, &e.value[0], scope)?;
-                            Ok(Some(scalar(&m, &format!("`{key}`"), e.at)?))
+                            Ok(Some(scalar(&m, Quantity::Entry(key.to_string()), e.at)?))
                         }
                         None => Ok(None),
                     }
                 };
                 if spring {
-                    let stiffness = value(arena, "stiffness", &scope)?.ok_or_else(|| {
-                        declaration(format!("the spring `{name}` needs `stiffness = k;`"), *at)
-                    })?;
+                    let stiffness = value(arena, "stiffness", &scope)?
+                        .ok_or_else(|| missing("spring", name, Needed::Stiffness, *at))?;
                     let free_length = match value(arena, "free_length", &scope)? {
                         Some(l) => l,
                         None => arena.int(0),
@@ -242,9 +267,8 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                         free_length,
                     });
                 } else {
-                    let coefficient = value(arena, "coefficient", &scope)?.ok_or_else(|| {
-                        declaration(format!("the damper `{name}` needs `coefficient = c;`"), *at)
-                    })?;
+                    let coefficient = value(arena, "coefficient", &scope)?
+                        .ok_or_else(|| missing("damper", name, Needed::Coefficient, *at))?;
                     system.dampers.push(Damper {
                         name: name.clone(),
                         ends,
@@ -253,8 +277,21 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 }
             }
             BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
+            BodyItem::Draw(d) => {
+                if drawing.is_some() {
+                    return Err(Error::declaration(DeclarationError::DrawTwice, d.at));
+                }
+                drawing = Some(build_drawing(
+                    arena,
+                    d,
+                    |n| scope.vectors.get(n).copied(),
+                    |n| scope.axes.contains_key(n),
+                    &moving,
+                )?);
+            }
         }
     }
+    model.drawing = drawing.unwrap_or_default();
     add_body_terms(model, &system)?;
     model.constraints.extend(rows);
     Ok(())
@@ -294,18 +331,14 @@ fn build_body(
     let mass = match take(entries, "mass", name)? {
         Some(e) => {
             let m = vector_value(arena, &e.value[0], scope)?;
-            scalar(&m, "the mass", e.at)?
+            scalar(&m, Quantity::Mass, e.at)?
         }
         None => arena.int(0),
     };
-    let pe = take(entries, "position", name)?.ok_or_else(|| {
-        declaration(
-            format!("the body `{name}` needs `position = [x, y, z];` (its centre of mass)"),
-            at,
-        )
-    })?;
+    let pe = take(entries, "position", name)?
+        .ok_or_else(|| missing("body", name, Needed::Position, at))?;
     let pm = vector_value(arena, &pe.value[0], scope)?;
-    let position = vec3(&pm, "the position", pe.at)?;
+    let position = vec3(&pm, Quantity::Position, pe.at)?;
     let orient = match take(entries, "orientation", name)? {
         Some(e) => Some(orientation(arena, &e.value[0], scope)?),
         None => None,
@@ -313,22 +346,16 @@ fn build_body(
     let inertia = match take(entries, "inertia", name)? {
         Some(e) => {
             if orient.is_none() {
-                return Err(declaration(
-                    format!(
-                        "the body `{name}` has an inertia but no `orientation`: give R (a point mass has only mass and position)"
-                    ),
-                    e.at,
-                ));
+                let kind = DeclarationError::InertiaWithoutOrientation {
+                    body: name.to_string(),
+                };
+                return Err(declaration(kind, e.at));
             }
             let m = vector_value(arena, &e.value[0], scope)?;
             if (m.rows, m.cols) != (3, 3) {
-                return Err(declaration(
-                    format!(
-                        "an inertia tensor is 3x3 (`diag(Ixx, Iyy, Izz)` or `[[..], [..], [..]]`); this is {}x{}",
-                        m.rows, m.cols
-                    ),
-                    e.at,
-                ));
+                let (rows, cols) = (m.rows, m.cols);
+                let kind = DeclarationError::InertiaNot3x3 { rows, cols };
+                return Err(declaration(kind, e.at));
             }
             Some(m)
         }
@@ -345,16 +372,20 @@ fn build_body(
     {
         let pname = e.name.clone().unwrap_or_default();
         if orient.is_none() {
-            return Err(declaration(
-                format!(
-                    "the {} `{pname}` is on the point mass `{name}`: give the body an `orientation` (its points are in body axes)",
-                    e.key
-                ),
-                e.at,
-            ));
+            let kind = DeclarationError::OnPointMass {
+                key: e.key.clone(),
+                name: pname,
+                body: name.to_string(),
+            };
+            return Err(declaration(kind, e.at));
         }
         let m = vector_value(arena, &e.value[0], scope)?;
-        let p = vec3(&m, &format!("the {} `{pname}`", e.key), e.at)?;
+        let what = if e.key == "point" {
+            Quantity::Point(pname.clone())
+        } else {
+            Quantity::Axis(pname.clone())
+        };
+        let p = vec3(&m, what, e.at)?;
         if e.key == "point" {
             let rp = r.mul(arena, &Matrix::column(p.to_vec()))?;
             let world = [0, 1, 2].map(|i| arena.add2(position[i], rp.data[i]));
@@ -385,13 +416,9 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
                 Some(r) => {
                     let r = vector_value(arena, r, scope)?;
                     if (l.rows, l.cols) != (r.rows, r.cols) {
-                        return Err(declaration(
-                            format!(
-                                "the two sides of a joint row differ in shape: {}x{} and {}x{}",
-                                l.rows, l.cols, r.rows, r.cols
-                            ),
-                            *at,
-                        ));
+                        let (left, right) = ((l.rows, l.cols), (r.rows, r.cols));
+                        let kind = DeclarationError::JointRowShapes { left, right };
+                        return Err(declaration(kind, *at));
                     }
                     l.sub(arena, &r)?
                 }
@@ -406,24 +433,22 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
         Joint::Helper(h, args, at) => {
             let v = |arena: &mut Arena, i: usize| -> Result<Vec3> {
                 let m = vector_value(arena, &args[i], scope)?;
-                vec3(
-                    &m,
-                    &format!("argument {} of `{h}`", i + 1),
-                    args[i].location(),
-                )
+                let what = Quantity::HelperArgument {
+                    helper: h.clone(),
+                    index: i + 1,
+                };
+                vec3(&m, what, args[i].location())
             };
             let frame = |i: usize| -> Result<AxisFrame> {
                 match &args[i] {
-                    VectorAst::Name(n, _) if scope.axes.contains_key(n) => {
-                        Ok(scope.axes[n].clone())
+                    Ast::Name(n, _) if scope.axes.contains_key(n) => Ok(scope.axes[n].clone()),
+                    other => {
+                        let kind = DeclarationError::NotAnAxis {
+                            helper: h.clone(),
+                            index: i + 1,
+                        };
+                        Err(declaration(kind, other.location()))
                     }
-                    other => Err(declaration(
-                        format!(
-                            "argument {} of `{h}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)",
-                            i + 1
-                        ),
-                        other.location(),
-                    )),
                 }
             };
             let (p, q) = (v(arena, 0)?, v(arena, 1)?);
@@ -431,7 +456,7 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
                 "spherical" => (spherical(arena, &p, &q), &["x", "y", "z"]),
                 "distance" => {
                     let m = vector_value(arena, &args[2], scope)?;
-                    let l = scalar(&m, "the distance", args[2].location())?;
+                    let l = scalar(&m, Quantity::Distance, args[2].location())?;
                     (distance(arena, &p, &q, l), &[""])
                 }
                 "revolute" => {
@@ -450,7 +475,7 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
                     )
                 }
             };
-            let written: Vec<String> = args.iter().map(VectorAst::text).collect();
+            let written: Vec<String> = args.iter().map(Ast::text).collect();
             let joint = format!("{h}({})", written.join(", "));
             let components = components.iter().map(|c| c.to_string()).collect();
             (rows, components, joint, *at)

@@ -6,11 +6,11 @@ use proc_macro2::Span;
 
 use crate::algebra::eval::eval;
 use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
-use crate::error::{Error, Location, Result};
+use crate::error::{Constant, DeclarationError, Error, Location, Result};
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 use crate::mechanics::resolve::{ArenaResolver, resolve};
+use crate::syntax::ast::Ast;
 use crate::syntax::declaration::{Declaration, Item};
-use crate::syntax::expression::Ast;
 
 /// Locations of the parts of a declaration that [`Model`] does not record, and the spans of
 /// all tokens, so later stages (derivation, the macro) can point at the user's text.
@@ -63,12 +63,20 @@ fn resolve_at(arena: &mut Arena, ast: &Ast) -> Result<Id> {
 }
 
 /// The value of a constant expression, with parameters at the values known so far.
-fn constant(arena: &mut Arena, ast: &Ast, known: &[(SymbolId, f64)], what: &str) -> Result<f64> {
+fn constant(
+    arena: &mut Arena,
+    ast: &Ast,
+    known: &[(SymbolId, f64)],
+    what: Constant,
+) -> Result<f64> {
     let id = resolve_at(arena, ast)?;
     let env = |s: SymbolId| known.iter().find(|k| k.0 == s).map(|k| k.1);
-    eval(arena, id, &env).map_err(|e| Error::Declaration {
-        message: format!("{what} cannot be evaluated: {e}"),
-        location: ast.location(),
+    eval(arena, id, &env).map_err(|e| {
+        let kind = DeclarationError::NotEvaluable {
+            what,
+            error: Box::new(e),
+        };
+        Error::declaration(kind, ast.location())
     })
 }
 
@@ -128,6 +136,7 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         potential,
         constraints,
         forces,
+        drawing: Default::default(),
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })
@@ -146,12 +155,7 @@ fn build_parameters(
     let mut known: Defaults = Vec::with_capacity(items.len());
     let mut parameters = Vec::with_capacity(items.len());
     for (p, &s) in items.iter().zip(syms) {
-        let default = constant(
-            arena,
-            &p.value,
-            &known,
-            &format!("the default of `{}`", p.name),
-        )?;
+        let default = constant(arena, &p.value, &known, Constant::Default(p.name.clone()))?;
         known.push((s, default));
         parameters.push(Parameter {
             name: p.name.clone(),
@@ -172,12 +176,7 @@ fn build_coordinates(
 ) -> Result<Vec<Coordinate>> {
     let mut coordinates = Vec::with_capacity(items.len());
     for (c, ids) in items.iter().zip(ids) {
-        let guess = constant(
-            arena,
-            &c.value,
-            known,
-            &format!("the initial guess of `{}`", c.name),
-        )?;
+        let guess = constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?;
         let [q, qd, qdd] = *ids;
         coordinates.push(Coordinate {
             name: c.name.clone(),
@@ -205,11 +204,11 @@ fn build_independent(
             continue;
         };
         let what = if i.rate {
-            format!("the initial rate of `{}`", i.name)
+            Constant::Rate(i.name.clone())
         } else {
-            format!("the initial value of `{}`", i.name)
+            Constant::Position(i.name.clone())
         };
-        let v = constant(arena, &i.value, known, &what)?;
+        let v = constant(arena, &i.value, known, what)?;
         let spec = match independent.iter_mut().position(|s| s.coordinate == k) {
             Some(at) => &mut independent[at],
             None => {

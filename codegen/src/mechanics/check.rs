@@ -4,10 +4,14 @@
 use std::collections::HashMap;
 
 use crate::algebra::expr::{Id, SymbolId};
-use crate::error::{Error, Location};
+use crate::error::{
+    ConstantPlace, CoordinatePlace, DeclarationError, Error, Location, NameKind, SymbolRole,
+};
 use crate::mechanics::model::Model;
+use crate::mechanics::resolve::unknown_symbol;
+use crate::syntax::ast::Ast;
 use crate::syntax::declaration::{Declaration, Item};
-use crate::syntax::expression::{Ast, closest};
+use crate::syntax::spelling::closest;
 
 /// What a declared name is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,13 +73,11 @@ impl<'d> Scope<'d> {
         }
     }
 
-    fn suggest(&self, name: &str) -> Option<String> {
-        closest(name, self.names.iter().copied().chain(["t", "pi"]))
+    /// The error for an unknown `name` at `at`, with the declared names, `t` and `pi`.
+    fn unknown(&self, name: &str, at: Location) -> Error {
+        let known: Vec<&str> = self.names.iter().copied().chain(["t", "pi"]).collect();
+        unknown_symbol(name, at, &known)
     }
-}
-
-fn declaration_error(message: String, location: Location) -> Error {
-    Error::Declaration { message, location }
 }
 
 /// Runs every rule on `d`; an empty list means the declaration is valid.
@@ -97,24 +99,25 @@ pub(crate) fn check(d: &Declaration) -> Vec<Error> {
 /// The kinetic energy is required: without T there is no mass matrix.
 fn check_kinetic_present(d: &Declaration, errors: &mut Vec<Error>) {
     if d.kinetic.is_none() && !d.bodies.declares_energy() {
-        errors.push(declaration_error(
-            format!("`{}` declares no kinetic energy: add `kinetic = ...;`, T as a function of the coordinates and their rates der(q)", d.name),
-            d.name_at,
-        ));
+        let kind = DeclarationError::NoKinetic {
+            mechanism: d.name.clone(),
+        };
+        errors.push(Error::declaration(kind, d.name_at));
     }
 }
 
 /// At least one coordinate: the equations of motion are written in them.
 fn check_coordinates_present(d: &Declaration, errors: &mut Vec<Error>) {
     match &d.coordinates {
-        None => errors.push(declaration_error(
-            format!("`{}` declares no coordinates: add `coordinates {{ phi = 0.0; }}` with each generalised coordinate and its initial guess", d.name),
-            d.name_at,
-        )),
-        Some(s) if s.body.is_empty() => errors.push(declaration_error(
-            "`coordinates` is empty: a mechanism needs at least one generalised coordinate (`name = initial guess;`)".into(),
-            s.at,
-        )),
+        None => {
+            let kind = DeclarationError::NoCoordinates {
+                mechanism: d.name.clone(),
+            };
+            errors.push(Error::declaration(kind, d.name_at));
+        }
+        Some(s) if s.body.is_empty() => {
+            errors.push(Error::declaration(DeclarationError::EmptyCoordinates, s.at));
+        }
         Some(_) => {}
     }
 }
@@ -125,31 +128,35 @@ fn check_duplicate_names(d: &Declaration, errors: &mut Vec<Error>) {
         .parameters
         .iter()
         .flat_map(|s| &s.body)
-        .map(|i| (i, "parameter"));
+        .map(|i| (i, NameKind::Parameter));
     let coords = d
         .coordinates
         .iter()
         .flat_map(|s| &s.body)
-        .map(|i| (i, "coordinate"));
-    let mut seen: HashMap<&str, (&Item, &str)> = HashMap::new();
-    for (item, what) in params.chain(coords) {
+        .map(|i| (i, NameKind::Coordinate));
+    let mut seen: HashMap<&str, (&Item, NameKind)> = HashMap::new();
+    for (item, kind) in params.chain(coords) {
         match seen.get(item.name.as_str()) {
-            Some((first, first_what)) => errors.push(declaration_error(
-                if *first_what == what {
-                    format!(
-                        "the {what} `{}` is declared twice (first at {})",
-                        item.name, first.at
-                    )
+            Some(&(first, first_kind)) => {
+                let name = item.name.clone();
+                let error = if first_kind == kind {
+                    DeclarationError::DeclaredTwice {
+                        name,
+                        kind,
+                        first: first.at,
+                    }
                 } else {
-                    format!(
-                        "`{}` is declared both as a {first_what} (at {}) and as a {what}",
-                        item.name, first.at
-                    )
-                },
-                item.at,
-            )),
+                    DeclarationError::DeclaredAsBoth {
+                        name,
+                        first_kind,
+                        first: first.at,
+                        kind,
+                    }
+                };
+                errors.push(Error::declaration(error, item.at));
+            }
             None => {
-                seen.insert(item.name.as_str(), (item, what));
+                seen.insert(item.name.as_str(), (item, kind));
             }
         }
     }
@@ -161,25 +168,20 @@ fn check_reserved_names(d: &Declaration, errors: &mut Vec<Error>) {
         .parameters
         .iter()
         .flat_map(|s| &s.body)
-        .map(|i| (i, "parameter"));
+        .map(|i| (i, NameKind::Parameter));
     let coords = d
         .coordinates
         .iter()
         .flat_map(|s| &s.body)
-        .map(|i| (i, "coordinate"));
-    for (item, what) in params.chain(coords) {
-        let builtin = match item.name.as_str() {
-            "t" => "time",
-            "pi" => "the constant 3.14159...",
-            _ => continue,
-        };
-        errors.push(declaration_error(
-            format!(
-                "a {what} cannot be called `{}`: that name is {builtin}; pick another name",
-                item.name
-            ),
-            item.at,
-        ));
+        .map(|i| (i, NameKind::Coordinate));
+    for (item, kind) in params.chain(coords) {
+        if item.name == "t" || item.name == "pi" {
+            let error = DeclarationError::ReservedName {
+                name: item.name.clone(),
+                kind,
+            };
+            errors.push(Error::declaration(error, item.at));
+        }
     }
 }
 
@@ -213,13 +215,23 @@ fn check_expressions(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>
     }
 }
 
-/// "a parameter default must be a constant", ... : what a constant place is called.
-fn constant_place(ctx: Context) -> Option<&'static str> {
+/// Whether `ctx` allows only constants, and which place it is.
+fn constant_place(ctx: Context) -> Option<ConstantPlace> {
     match ctx {
-        Context::Default(_) => Some("a parameter default must be a constant"),
-        Context::Initial => Some("an initial value must be a constant"),
+        Context::Default(_) => Some(ConstantPlace::Default),
+        Context::Initial => Some(ConstantPlace::Initial),
         _ => None,
     }
+}
+
+/// "{place}; `{written}` is {role}".
+fn not_constant(place: ConstantPlace, written: &str, role: SymbolRole, at: Location) -> Error {
+    let kind = DeclarationError::NotConstant {
+        place,
+        written: written.to_string(),
+        role,
+    };
+    Error::declaration(kind, at)
 }
 
 fn check_expression(ast: &Ast, ctx: Context, scope: &Scope<'_>, errors: &mut Vec<Error>) {
@@ -232,10 +244,10 @@ fn check_expression(ast: &Ast, ctx: Context, scope: &Scope<'_>, errors: &mut Vec
             }
             Ast::Number(..) => {}
             Ast::Neg(x, _) => stack.push(x),
-            Ast::Sum(ts) => stack.extend(ts.iter().map(|t| &t.1)),
-            Ast::Product(fs) => stack.extend(fs.iter().map(|f| &f.1)),
+            Ast::Sum(items) | Ast::Product(items) => stack.extend(items.iter().map(|i| &i.1)),
             Ast::Pow(b, e, _) => stack.extend([&**b, &**e]),
-            Ast::Call(_, args, _) => stack.extend(args),
+            Ast::Call(_, args, _) | Ast::Brackets(args, _) => stack.extend(args),
+            Ast::Member(x, _, _) => stack.push(x),
         }
     }
 }
@@ -247,23 +259,27 @@ fn check_name(name: &str, at: Location, ctx: Context, scope: &Scope<'_>, errors:
     }
     if name == "t" {
         if let Some(place) = constant_place(ctx) {
-            errors.push(declaration_error(format!("{place}; `t` is time"), at));
+            errors.push(not_constant(place, name, SymbolRole::Time, at));
         }
         return;
     }
-    match (scope.kinds.get(name), ctx) {
-        (None, _) => errors.push(Error::UnknownSymbol { name: name.into(), location: at, suggestion: scope.suggest(name) }),
-        (Some(Kind::Coordinate(_)), _) if constant_place(ctx).is_some() => {
-            let place = constant_place(ctx).unwrap_or_default();
-            errors.push(declaration_error(format!("{place}; `{name}` is a coordinate"), at));
+    match (scope.kinds.get(name), ctx, constant_place(ctx)) {
+        (None, _, _) => errors.push(scope.unknown(name, at)),
+        (Some(Kind::Coordinate(_)), _, Some(place)) => {
+            errors.push(not_constant(place, name, SymbolRole::Coordinate, at));
         }
-        (Some(Kind::Parameter(j)), Context::Default(k)) if *j == k => {
-            errors.push(declaration_error(format!("the default of `{name}` refers to `{name}` itself"), at));
+        (Some(Kind::Parameter(j)), Context::Default(k), _) if *j == k => {
+            let kind = DeclarationError::DefaultRefersToItself {
+                name: name.to_string(),
+            };
+            errors.push(Error::declaration(kind, at));
         }
-        (Some(Kind::Parameter(j)), Context::Default(k)) if *j > k => errors.push(declaration_error(
-            format!("a parameter default may use only parameters declared before it; `{name}` is declared later"),
-            at,
-        )),
+        (Some(Kind::Parameter(j)), Context::Default(k), _) if *j > k => {
+            let kind = DeclarationError::DefaultUsesLater {
+                name: name.to_string(),
+            };
+            errors.push(Error::declaration(kind, at));
+        }
         _ => {}
     }
 }
@@ -278,64 +294,42 @@ fn check_rate(
     errors: &mut Vec<Error>,
 ) {
     let [Ast::Name(x, xat)] = args else {
-        let shown = args.first().map(Ast::text).unwrap_or_default();
-        errors.push(declaration_error(
-            format!("{f}() takes the name of a coordinate, like {f}(phi); found `{shown}`"),
-            at,
-        ));
+        let kind = DeclarationError::RateOfExpression {
+            function: f.to_string(),
+            found: args.first().map(Ast::text).unwrap_or_default(),
+        };
+        errors.push(Error::declaration(kind, at));
         return;
     };
-    match scope.kinds.get(x.as_str()) {
-        Some(Kind::Coordinate(_)) => {}
-        Some(Kind::Parameter(_)) => {
-            errors.push(declaration_error(
-                format!("der() takes a coordinate; `{x}` is a parameter"),
-                *xat,
-            ));
-            return;
-        }
-        None if x == "t" => {
-            errors.push(declaration_error(
-                "der() takes a coordinate; `t` is time".into(),
-                *xat,
-            ));
-            return;
-        }
+    let role = match scope.kinds.get(x.as_str()) {
+        Some(Kind::Coordinate(_)) => None,
+        Some(Kind::Parameter(_)) => Some(SymbolRole::Parameter),
+        None if x == "t" => Some(SymbolRole::Time),
         None => {
-            errors.push(Error::UnknownSymbol {
-                name: x.clone(),
-                location: *xat,
-                suggestion: scope.suggest(x),
-            });
+            errors.push(scope.unknown(x, *xat));
             return;
         }
+    };
+    if let Some(role) = role {
+        let kind = DeclarationError::RateOfNonCoordinate {
+            name: x.clone(),
+            role,
+        };
+        errors.push(Error::declaration(kind, *xat));
+        return;
     }
     let written = format!("{f}({x})");
-    if f == "der2" {
-        errors.push(declaration_error(
-            format!("accelerations cannot appear in a declaration; `{written}` is one (energies and forces use q, der(q) and t)"),
-            at,
-        ));
-        return;
-    }
-    let message = match ctx {
-        Context::Default(_) | Context::Initial => {
-            format!(
-                "{}; `{written}` is a rate",
-                constant_place(ctx).unwrap_or_default()
-            )
+    let kind = match (f, ctx, constant_place(ctx)) {
+        ("der2", _, _) => DeclarationError::Acceleration { written },
+        (_, _, Some(place)) => {
+            errors.push(not_constant(place, &written, SymbolRole::Rate, at));
+            return;
         }
-        Context::Potential => {
-            format!(
-                "the potential energy may depend on the coordinates and t only; `{written}` appears in it"
-            )
-        }
-        Context::Constraint(i) => format!(
-            "constraints must be holonomic: {written} appears in constraint {i} (write position-level constraints Phi(q, t) = 0)"
-        ),
-        Context::Kinetic | Context::Force => return,
+        (_, Context::Potential, _) => DeclarationError::RateInPotential { written },
+        (_, Context::Constraint(row), _) => DeclarationError::RateInConstraint { written, row },
+        _ => return,
     };
-    errors.push(declaration_error(message, at));
+    errors.push(Error::declaration(kind, at));
 }
 
 /// Forces act along declared coordinates, at most one entry per coordinate.
@@ -343,38 +337,33 @@ fn check_forces(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
     let mut seen: HashMap<&str, Location> = HashMap::new();
     for f in d.forces.iter().flat_map(|s| &s.body) {
         if !matches!(scope.kinds.get(f.name.as_str()), Some(Kind::Coordinate(_))) {
-            errors.push(declaration_error(
-                not_a_coordinate("a force acts along a coordinate", &f.name, scope),
-                f.at,
-            ));
+            let kind = not_a_coordinate(CoordinatePlace::Force, &f.name, scope);
+            errors.push(Error::declaration(kind, f.at));
             continue;
         }
         if let Some(first) = seen.insert(&f.name, f.at) {
-            errors.push(declaration_error(
-                format!(
-                    "two forces on `{}` (the first at {first}); write them as one sum",
-                    f.name
-                ),
-                f.at,
-            ));
+            let kind = DeclarationError::TwoForces {
+                name: f.name.clone(),
+                first,
+            };
+            errors.push(Error::declaration(kind, f.at));
         }
     }
 }
 
-/// "..., but `psi` is not one (the coordinates are ...; did you mean ...?)".
-fn not_a_coordinate(what: &str, name: &str, scope: &Scope<'_>) -> String {
-    let hint = match closest(name, scope.coordinates.iter().copied()) {
-        Some(s) => format!("; did you mean `{s}`?"),
-        None => String::new(),
+/// "{place}, but `name` is a parameter (the coordinates are ...); did you mean ...?".
+fn not_a_coordinate(place: CoordinatePlace, name: &str, scope: &Scope<'_>) -> DeclarationError {
+    let role = match scope.kinds.get(name) {
+        Some(Kind::Parameter(_)) => SymbolRole::Parameter,
+        _ => SymbolRole::Undeclared,
     };
-    let kind = match scope.kinds.get(name) {
-        Some(Kind::Parameter(_)) => "a parameter",
-        _ => "not declared",
-    };
-    format!(
-        "{what}, but `{name}` is {kind} (the coordinates are {}){hint}",
-        scope.coordinates.join(", ")
-    )
+    DeclarationError::NotACoordinate {
+        place,
+        name: name.to_string(),
+        role,
+        coordinates: scope.coordinates.iter().map(|c| c.to_string()).collect(),
+        suggestion: closest(name, scope.coordinates.iter().copied()),
+    }
 }
 
 /// Independent entries name declared coordinates, each value at most once.
@@ -382,26 +371,17 @@ fn check_independent(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>
     let mut seen: HashMap<(&str, bool), Location> = HashMap::new();
     for i in d.independent.iter().flat_map(|s| &s.body) {
         if !matches!(scope.kinds.get(i.name.as_str()), Some(Kind::Coordinate(_))) {
-            errors.push(declaration_error(
-                not_a_coordinate(
-                    "`independent` sets initial values of coordinates",
-                    &i.name,
-                    scope,
-                ),
-                i.at,
-            ));
+            let kind = not_a_coordinate(CoordinatePlace::Independent, &i.name, scope);
+            errors.push(Error::declaration(kind, i.at));
             continue;
         }
         if let Some(first) = seen.insert((&i.name, i.rate), i.at) {
-            let written = if i.rate {
-                format!("der({})", i.name)
-            } else {
-                i.name.clone()
+            let kind = DeclarationError::SetTwice {
+                name: i.name.clone(),
+                rate: i.rate,
+                first,
             };
-            errors.push(declaration_error(
-                format!("`{written}` is set twice in `independent` (first at {first})"),
-                i.at,
-            ));
+            errors.push(Error::declaration(kind, i.at));
         }
     }
 }
@@ -416,43 +396,29 @@ fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec
     if n == 0 || m > n {
         return;
     }
-    let dof = n - m;
     let mut given: Vec<&str> = Vec::new();
     for i in d.independent.iter().flat_map(|s| &s.body) {
         if scope.coordinates.contains(&i.name.as_str()) && !given.contains(&i.name.as_str()) {
             given.push(&i.name);
         }
     }
-    if given.len() >= dof {
+    if given.len() >= n - m {
         return;
     }
-    let missing = dof - given.len();
-    let candidates: Vec<&str> = scope
+    let candidates = scope
         .coordinates
         .iter()
-        .copied()
         .filter(|c| !given.contains(c))
+        .map(|c| c.to_string())
         .collect();
-    let plural = |k: usize, one: &str, many: &str| {
-        if k == 1 {
-            one.to_string()
-        } else {
-            many.to_string()
-        }
+    let kind = DeclarationError::TooFewIndependent {
+        n,
+        m,
+        given: given.iter().map(|g| g.to_string()).collect(),
+        candidates,
     };
-    let message = format!(
-        "the mechanism has n - m = {n} - {m} = {dof} {} but `independent` sets {} ({}); set {missing} more of {} as `name = value;` (with `der(name) = value;` for its rate), so the other coordinates can be found from the constraints",
-        plural(dof, "degree of freedom", "degrees of freedom"),
-        given.len(),
-        if given.is_empty() {
-            "none".to_string()
-        } else {
-            given.join(", ")
-        },
-        candidates.join(", "),
-    );
     let at = d.independent.as_ref().map_or(d.name_at, |s| s.at);
-    errors.push(declaration_error(message, at));
+    errors.push(Error::declaration(kind, at));
 }
 
 /// A rule broken by the built expressions (canonical forms decide what is constant), with

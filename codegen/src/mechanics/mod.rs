@@ -21,6 +21,7 @@ pub(crate) mod bodies;
 pub(crate) mod body_model;
 pub(crate) mod build;
 pub(crate) mod check;
+pub(crate) mod drawing;
 pub(crate) mod equations;
 pub(crate) mod joints;
 pub(crate) mod lagrange;

@@ -2,6 +2,7 @@
 
 use crate::algebra::expr::{Arena, Id};
 use crate::error::Location;
+use crate::mechanics::drawing::Drawing;
 
 /// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
 #[derive(Clone, Debug)]
@@ -104,4 +105,6 @@ pub struct Model {
     pub constraints: Vec<Constraint>,
     /// Generalised forces tau(t, q, q'), one per coordinate (0 where none is declared).
     pub forces: Vec<Id>,
+    /// The declared drawing (`draw { .. }`), empty when there is none.
+    pub drawing: Drawing,
 }

@@ -5,9 +5,11 @@
 //! constructor call each, so the node is the arena's canonical form of the whole chain.
 
 use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
-use crate::error::{Error, Location, Result};
-use crate::syntax::expression::{Ast, ExprParser, closest};
+use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result, SymbolRole};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Tok, tokens_from_str};
+use crate::syntax::spelling::{closest, ranked};
 
 /// How names resolve while building the node of a syntax tree.
 pub(crate) trait Resolver {
@@ -29,19 +31,7 @@ impl Resolver for ArenaResolver {
         match name {
             "pi" => Ok(arena.pi()),
             "t" => Ok(arena.symbol("t", SymbolKind::Time)),
-            _ => {
-                let names: Vec<&str> = arena
-                    .symbols()
-                    .iter()
-                    .filter(|s| !matches!(s.kind, SymbolKind::Velocity | SymbolKind::Acceleration))
-                    .map(|s| s.name.as_str())
-                    .collect();
-                Err(Error::UnknownSymbol {
-                    name: name.to_string(),
-                    location: at,
-                    suggestion: closest(name, names.iter().copied().chain(["t", "pi"])),
-                })
-            }
+            _ => Err(unknown_symbol(name, at, &arena_names(arena))),
         }
     }
 
@@ -49,42 +39,70 @@ impl Resolver for ArenaResolver {
         let Some(s) = arena.lookup(name) else {
             // Reports the unknown name (with its suggestion).
             self.name(arena, name, at)?;
-            return Err(der_error(name, "not a coordinate", at));
+            return Err(der_error(name, SymbolRole::NotACoordinate, at));
         };
         let info = arena.symbol_info(s);
         if info.kind != SymbolKind::Coordinate {
-            let what = kind_phrase(info.kind);
-            return Err(der_error(name, what, at));
+            return Err(der_error(name, role(info.kind), at));
         }
         let mut d = s;
         for _ in 0..order {
             match arena.symbol_info(d).derivative {
                 Some(next) => d = next,
-                None => return Err(der_error(name, "a coordinate without a declared rate", at)),
+                None => return Err(der_error(name, SymbolRole::CoordinateWithoutRate, at)),
             }
         }
         Ok(arena.symbol_node(d))
     }
 }
 
-/// "a parameter", "time", ... for messages.
-pub(crate) fn kind_phrase(kind: SymbolKind) -> &'static str {
+/// The names an expression may use in `arena`: its symbols but rates and accelerations
+/// (written `der(x)`, `der2(x)`), then `t` and `pi`.
+pub(crate) fn arena_names(arena: &Arena) -> Vec<&str> {
+    let symbols = arena
+        .symbols()
+        .iter()
+        .filter(|s| !matches!(s.kind, SymbolKind::Velocity | SymbolKind::Acceleration))
+        .map(|s| s.name.as_str());
+    let mut names: Vec<&str> = symbols.collect();
+    for builtin in ["t", "pi"] {
+        if !names.contains(&builtin) {
+            names.push(builtin);
+        }
+    }
+    names
+}
+
+/// The error for the unknown name `name` at `at`, among the names `known` (in the order to
+/// list them when equally close).
+pub(crate) fn unknown_symbol(name: &str, at: Location, known: &[&str]) -> Error {
+    Error::UnknownSymbol {
+        name: name.to_string(),
+        location: at,
+        suggestion: closest(name, known.iter().copied()),
+        known: ranked(name, known.iter().copied()),
+    }
+}
+
+/// What a symbol of kind `kind` is, for messages.
+fn role(kind: SymbolKind) -> SymbolRole {
     match kind {
-        SymbolKind::Coordinate => "a coordinate",
-        SymbolKind::Velocity => "a rate",
-        SymbolKind::Acceleration => "an acceleration",
-        SymbolKind::Parameter => "a parameter",
-        SymbolKind::Time => "time",
-        SymbolKind::Free => "not a coordinate",
+        SymbolKind::Coordinate => SymbolRole::Coordinate,
+        SymbolKind::Velocity => SymbolRole::Rate,
+        SymbolKind::Acceleration => SymbolRole::Acceleration,
+        SymbolKind::Parameter => SymbolRole::Parameter,
+        SymbolKind::Time => SymbolRole::Time,
+        SymbolKind::Free => SymbolRole::NotACoordinate,
     }
 }
 
 /// "der() takes a coordinate; `m1` is a parameter".
-pub(crate) fn der_error(name: &str, what: &str, at: Location) -> Error {
-    Error::Declaration {
-        message: format!("der() takes a coordinate; `{name}` is {what}"),
-        location: at,
-    }
+fn der_error(name: &str, role: SymbolRole, at: Location) -> Error {
+    let kind = DeclarationError::RateOfNonCoordinate {
+        name: name.to_string(),
+        role,
+    };
+    Error::declaration(kind, at)
 }
 
 /// Builds the canonical node of `ast` in `arena`, resolving names with `resolver`.
@@ -103,7 +121,7 @@ pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver)
         }
         Ast::Sum(ts) => {
             let mut terms = Vec::with_capacity(ts.len());
-            for (minus, t) in ts {
+            for (minus, t, _) in ts {
                 let v = resolve(arena, t, resolver)?;
                 terms.push(if *minus { arena.neg(v) } else { v });
             }
@@ -129,6 +147,10 @@ pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver)
             arena.pow(bv, ev).map_err(|_| zero_divisor(b, *at))
         }
         Ast::Call(name, args, at) => resolve_call(arena, name, args, *at, resolver),
+        // The scalar language has no vector forms (its parser refuses them).
+        Ast::Member(_, _, at) | Ast::Brackets(_, at) => {
+            Err(Error::parse(ParseError::VectorInScalar, *at))
+        }
     }
 }
 
@@ -150,17 +172,21 @@ fn resolve_call(
         let order = if name == "der" { 1 } else { 2 };
         return match args {
             [Ast::Name(x, xat)] => r.rate(arena, x, order, *xat),
-            [other] => Err(Error::Declaration {
-                message: format!(
-                    "{name}() takes the name of a coordinate, like {name}(phi); found `{}`",
-                    other.text()
-                ),
-                location: other.location(),
-            }),
-            _ => Err(Error::Parse {
-                message: format!("`{name}` takes 1 argument"),
-                location: at,
-            }),
+            [other] => {
+                let kind = DeclarationError::RateOfExpression {
+                    function: name.to_string(),
+                    found: other.text(),
+                };
+                Err(Error::declaration(kind, other.location()))
+            }
+            _ => {
+                let kind = ParseError::Arity {
+                    function: name.to_string(),
+                    expected: 1,
+                    found: args.len(),
+                };
+                Err(Error::parse(kind, at))
+            }
         };
     }
     let mut v = Vec::with_capacity(args.len());
@@ -172,10 +198,12 @@ fn resolve_call(
             divisor: args[0].text(),
             location: at,
         },
-        other => Error::Declaration {
-            message: other.to_string(),
-            location: at,
-        },
+        other => {
+            let kind = DeclarationError::ConstantOutOfDomain {
+                error: Box::new(other),
+            };
+            Error::declaration(kind, at)
+        }
     };
     match (name, v.as_slice()) {
         ("sqrt", [x]) => arena.sqrt(*x).map_err(domain),
@@ -220,9 +248,9 @@ fn resolve_call(
 pub fn parse_expr(arena: &mut Arena, text: &str) -> Result<Id> {
     let tokens = tokens_from_str(text)?;
     let mut cursor = Cursor::new(&tokens);
-    let ast = ExprParser::parse(&mut cursor)?;
+    let ast = parse(&mut cursor, Language::Scalar)?;
     if !cursor.at(&Tok::End) {
-        return Err(cursor.error_here("expected an operator or the end of the expression"));
+        return Err(cursor.expected(Expected::EndOfExpression));
     }
     resolve(arena, &ast, &mut ArenaResolver)
 }

@@ -7,51 +7,49 @@
 use crate::algebra::expr::{Arena, Func, Id};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, elementary_rotation};
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Location, Quantity, Result};
 use crate::mechanics::joints::cross;
-use crate::mechanics::resolve::{ArenaResolver, Resolver};
-use crate::syntax::vector::{HELPERS, Op, VectorAst};
+use crate::mechanics::resolve::{ArenaResolver, Resolver, arena_names, unknown_symbol};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::HELPERS;
+
+/// A binary operation on matrix values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Op {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Pow,
+}
 
 /// How names of points, axes and bodies resolve while evaluating a vector expression.
 pub(crate) trait VectorNames {
     /// The world vector called `name`, if there is one.
     fn vector(&self, name: &str) -> Option<[Id; 3]>;
-}
-
-fn shape_error(message: String, at: Location) -> Error {
-    Error::Declaration {
-        message,
-        location: at,
-    }
+    /// The names of the world vectors, in declaration order (for unknown-name errors).
+    fn names(&self) -> Vec<&str>;
 }
 
 /// The 1x1 value's entry, or an error naming `what`.
-pub(crate) fn scalar(m: &Matrix, what: &str, at: Location) -> Result<Id> {
+pub(crate) fn scalar(m: &Matrix, what: Quantity, at: Location) -> Result<Id> {
     if (m.rows, m.cols) == (1, 1) {
         Ok(m.data[0])
     } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a scalar; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
+        let (rows, cols) = (m.rows, m.cols);
+        let kind = DeclarationError::NotScalar { what, rows, cols };
+        Err(Error::declaration(kind, at))
     }
 }
 
 /// The 3x1 value's entries, or an error naming `what`.
-pub(crate) fn vec3(m: &Matrix, what: &str, at: Location) -> Result<[Id; 3]> {
+pub(crate) fn vec3(m: &Matrix, what: Quantity, at: Location) -> Result<[Id; 3]> {
     if (m.rows, m.cols) == (3, 1) {
         Ok([m.data[0], m.data[1], m.data[2]])
     } else {
-        Err(shape_error(
-            format!(
-                "{what} must be a 3-vector `[x, y, z]`; this is a {}x{} value",
-                m.rows, m.cols
-            ),
-            at,
-        ))
+        let (rows, cols) = (m.rows, m.cols);
+        let kind = DeclarationError::NotVector3 { what, rows, cols };
+        Err(Error::declaration(kind, at))
     }
 }
 
@@ -62,40 +60,46 @@ fn one(id: Id) -> Matrix {
 /// Lowers `ast` into `arena` as a matrix value.
 pub(crate) fn vector_value(
     arena: &mut Arena,
-    ast: &VectorAst,
+    ast: &Ast,
     names: &dyn VectorNames,
 ) -> Result<Matrix> {
     match ast {
-        VectorAst::Number(n, _) => Ok(one(arena.number(*n))),
-        VectorAst::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
-        VectorAst::Name(n, at) => match names.vector(n) {
+        Ast::Number(n, _) => Ok(one(arena.number(*n))),
+        Ast::Name(n, _) if n == "pi" => Ok(one(arena.pi())),
+        Ast::Name(n, at) => match names.vector(n) {
             Some(v) => Ok(Matrix::column(v.to_vec())),
-            None => Ok(one(ArenaResolver.name(arena, n, *at)?)),
+            None => match ArenaResolver.name(arena, n, *at) {
+                Ok(id) => Ok(one(id)),
+                // Points, axes and bodies are names here too.
+                Err(Error::UnknownSymbol { .. }) => {
+                    let mut known = names.names();
+                    known.extend(arena_names(arena));
+                    Err(unknown_symbol(n, *at, &known))
+                }
+                Err(e) => Err(e),
+            },
         },
-        VectorAst::Neg(a, _) => {
+        Ast::Neg(a, _) => {
             let v = vector_value(arena, a, names)?;
             let m1 = arena.int(-1);
             v.scale(arena, m1)
         }
-        VectorAst::Member(a, k, at) => {
+        Ast::Member(a, k, at) => {
             let v = vector_value(arena, a, names)?;
-            let v = vec3(&v, "the value before `.x`, `.y` or `.z`", *at)?;
+            let v = vec3(&v, Quantity::MemberBase, *at)?;
             Ok(one(v[*k]))
         }
-        VectorAst::Brackets(items, at) => {
+        Ast::Brackets(items, at) => {
             let mut rows = Vec::new();
             for it in items {
                 rows.push(vector_value(arena, it, names)?);
             }
-            if items.iter().all(|i| matches!(i, VectorAst::Brackets(..))) && items.len() > 1 {
+            if items.iter().all(|i| matches!(i, Ast::Brackets(..))) && items.len() > 1 {
                 let cols = rows[0].rows;
                 let mut data = Vec::new();
                 for r in &rows {
                     if r.cols != 1 || r.rows != cols {
-                        return Err(shape_error(
-                            "the rows of a matrix `[[..], [..]]` must have equal lengths".into(),
-                            *at,
-                        ));
+                        return Err(Error::declaration(DeclarationError::RaggedMatrix, *at));
                     }
                     data.extend(&r.data);
                 }
@@ -107,35 +111,50 @@ pub(crate) fn vector_value(
             }
             let mut data = Vec::new();
             for (r, it) in rows.iter().zip(items) {
-                data.push(scalar(r, "an entry of a vector `[..]`", it.location())?);
+                data.push(scalar(r, Quantity::VectorEntry, it.location())?);
             }
             Ok(Matrix::column(data))
         }
-        VectorAst::Binary(op, a, b, at) => {
+        Ast::Sum(terms) => fold(arena, terms, [Op::Add, Op::Sub], names),
+        Ast::Product(factors) => fold(arena, factors, [Op::Mul, Op::Div], names),
+        Ast::Pow(a, b, at) => {
             let (x, y) = (
                 vector_value(arena, a, names)?,
                 vector_value(arena, b, names)?,
             );
-            binary(arena, *op, &x, &y, *at)
+            binary(arena, Op::Pow, &x, &y, *at)
         }
-        VectorAst::Call(f, args, at) => call(arena, f, args, *at, names),
+        Ast::Call(f, args, at) => call(arena, f, args, *at, names),
     }
 }
 
-fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
-    let mismatch = |what: &str| {
-        shape_error(
-            format!(
-                "{what}: the left side is {}x{}, the right side {}x{}",
-                x.rows, x.cols, y.rows, y.cols
-            ),
-            at,
-        )
+/// A left-associative chain `a op b op c ..`, evaluated left to right (`ops[1]` for an
+/// operand flagged inverse, `ops[0]` otherwise).
+fn fold(
+    arena: &mut Arena,
+    items: &[(bool, Ast, Location)],
+    ops: [Op; 2],
+    names: &dyn VectorNames,
+) -> Result<Matrix> {
+    let Some(((_, first, _), rest)) = items.split_first() else {
+        // The parser never builds an empty chain; its value would be the identity.
+        return Ok(one(arena.int(i64::from(ops[0] == Op::Mul))));
     };
+    let mut acc = vector_value(arena, first, names)?;
+    for (inverse, item, at) in rest {
+        let y = vector_value(arena, item, names)?;
+        acc = binary(arena, ops[usize::from(*inverse)], &acc, &y, *at)?;
+    }
+    Ok(acc)
+}
+
+fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Result<Matrix> {
+    let (left, right) = ((x.rows, x.cols), (y.rows, y.cols));
     match op {
         Op::Add | Op::Sub => {
-            if (x.rows, x.cols) != (y.rows, y.cols) {
-                return Err(mismatch("a sum needs values of one shape"));
+            if left != right {
+                let kind = DeclarationError::SumShapes { left, right };
+                return Err(Error::declaration(kind, at));
             }
             if op == Op::Add {
                 x.add(arena, y)
@@ -151,13 +170,12 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             } else if x.cols == y.rows {
                 x.mul(arena, y)
             } else {
-                Err(mismatch(
-                    "a matrix product needs as many columns on the left as rows on the right",
-                ))
+                let kind = DeclarationError::ProductShapes { left, right };
+                Err(Error::declaration(kind, at))
             }
         }
         Op::Div => {
-            let d = scalar(y, "a divisor", at)?;
+            let d = scalar(y, Quantity::Divisor, at)?;
             let inv = arena.powi(d, -1).map_err(|_| Error::ZeroDivisor {
                 divisor: "0".into(),
                 location: at,
@@ -165,8 +183,8 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
             x.scale(arena, inv)
         }
         Op::Pow => {
-            let b = scalar(x, "the base of `^`", at)?;
-            let e = scalar(y, "an exponent", at)?;
+            let b = scalar(x, Quantity::PowerBase, at)?;
+            let e = scalar(y, Quantity::Exponent, at)?;
             Ok(one(arena.pow(b, e).map_err(|_| Error::ZeroDivisor {
                 divisor: "0".into(),
                 location: at,
@@ -179,17 +197,15 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
 fn call(
     arena: &mut Arena,
     f: &str,
-    args: &[VectorAst],
+    args: &[Ast],
     at: Location,
     names: &dyn VectorNames,
 ) -> Result<Matrix> {
     if HELPERS.contains(&f) {
-        return Err(shape_error(
-            format!(
-                "`{f}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`"
-            ),
-            at,
-        ));
+        let kind = DeclarationError::JointInExpression {
+            helper: f.to_string(),
+        };
+        return Err(Error::declaration(kind, at));
     }
     let mut v = Vec::with_capacity(args.len());
     for a in args {
@@ -197,12 +213,15 @@ fn call(
     }
     let s = |i: usize, arena: &mut Arena| -> Result<Id> {
         let _ = arena;
-        scalar(&v[i], &format!("the argument of `{f}`"), args[i].location())
+        scalar(&v[i], Quantity::Argument(f.to_string()), args[i].location())
     };
-    let w = |i: usize| vec3(&v[i], &format!("the argument of `{f}`"), args[i].location());
-    let domain = |e: Error| Error::Declaration {
-        message: format!("`{f}`: {e}"),
-        location: at,
+    let w = |i: usize| vec3(&v[i], Quantity::Argument(f.to_string()), args[i].location());
+    let domain = |e: Error| {
+        let kind = DeclarationError::FunctionOutOfDomain {
+            function: f.to_string(),
+            error: Box::new(e),
+        };
+        Error::declaration(kind, at)
     };
     Ok(match f {
         "rot_x" | "rot_y" | "rot_z" => {

@@ -212,7 +212,8 @@ impl Style for Latex {
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::{parse_expr, to_latex, Arena, SymbolKind};
+/// use mechanism_codegen::{parse_expr, Arena, SymbolKind};
+/// use mechanism_codegen::internals::to_latex;
 /// let mut a = Arena::new();
 /// for s in ["m2", "l1"] {
 ///     a.symbol(s, SymbolKind::Parameter);
@@ -247,12 +248,14 @@ fn bmatrix(r: &mut Renderer<'_, Latex>, m: &Matrix) -> String {
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::{matrix_to_latex, Arena, Matrix, SymbolKind};
+/// use mechanism_codegen::{Arena, Matrix, SymbolKind};
+/// use mechanism_codegen::internals::matrix_to_latex;
 /// let mut a = Arena::new();
 /// let x = a.symbol("x", SymbolKind::Free);
 /// let z = a.int(0);
-/// let m = Matrix { rows: 2, cols: 2, data: vec![x, z, z, x] };
+/// let m = Matrix::new(2, 2, vec![x, z, z, x])?;
 /// assert_eq!(matrix_to_latex(&a, &m), "\\begin{bmatrix}\nx & 0 \\\\\n0 & x\n\\end{bmatrix}");
+/// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn matrix_to_latex(arena: &Arena, m: &Matrix) -> String {
     bmatrix(&mut Renderer::new(arena, Latex), m)

@@ -136,12 +136,14 @@ fn entry_name(name: &str, m: &Matrix, i: usize, j: usize) -> String {
 ///
 /// # Example
 /// ```
-/// use mechanism_codegen::{matrix_to_text, Arena, Matrix, SymbolKind};
+/// use mechanism_codegen::{Arena, Matrix, SymbolKind};
+/// use mechanism_codegen::internals::matrix_to_text;
 /// let mut a = Arena::new();
 /// let x = a.symbol("x", SymbolKind::Free);
 /// let z = a.int(0);
-/// let m = Matrix { rows: 2, cols: 2, data: vec![x, z, z, x] };
+/// let m = Matrix::new(2, 2, vec![x, z, z, x])?;
 /// assert_eq!(matrix_to_text(&a, "M", &m), "M[1,1] = x\nM[2,2] = x\n(all other entries 0)\n");
+/// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn matrix_to_text(arena: &Arena, name: &str, m: &Matrix) -> String {
     let mut r = Renderer::new(arena, Text);

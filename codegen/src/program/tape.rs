@@ -5,6 +5,11 @@
 //! SSA registers, so every operand is a plain slot index and the inner loop is one `match`
 //! per instruction with no allocation. This is what the runtime uses for a `.mech` file
 //! that was not compiled in.
+//!
+//! Two ways to run it: [`Tape::eval`] checks its inputs and outputs and keeps its own
+//! register file; [`Tape::run`] checks nothing and uses the caller's (the inputs already at
+//! their [`Tape::input_slots`]), for a caller that validated the inputs once and evaluates
+//! from many threads.
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::error::{Error, Result};
@@ -35,14 +40,17 @@ enum Op {
     MulAdd(u32, u32, u32, u32, bool, bool),
 }
 
-/// A compiled [`Program`]: `eval` writes every output entry (each output matrix row-major,
-/// the matrices one after another) without allocating.
+/// A compiled [`Program`]: `eval` and `run` write every output entry (each output matrix
+/// row-major, the matrices one after another) without allocating.
 #[derive(Clone, Debug)]
 pub struct Tape {
     ops: Vec<Op>,
+    /// The constants, in slots 0.. of the register file.
+    constants: Vec<f64>,
+    /// The register file of `eval`.
     regs: Vec<f64>,
-    /// (symbol index into the caller's input slice, register-file slot, name)
-    inputs: Vec<(usize, u32, String)>,
+    /// (symbol, register-file slot, name) of each input.
+    inputs: Vec<(SymbolId, u32, String)>,
     outputs: Vec<u32>,
     shapes: Vec<(usize, usize)>,
 }
@@ -145,14 +153,12 @@ impl Tape {
                 ),
             })
             .collect();
-        let mut regs = vec![0.0; base as usize + program.registers()];
-        for (k, b) in consts.iter().enumerate() {
-            regs[k] = f64::from_bits(*b);
-        }
+        let constants: Vec<f64> = consts.iter().map(|b| f64::from_bits(*b)).collect();
+        let regs = vec![0.0; base as usize + program.registers()];
         let inputs = syms
             .iter()
             .enumerate()
-            .map(|(k, (s, name))| (s.0 as usize, (nc + k) as u32, name.clone()))
+            .map(|(k, (s, name))| (*s, (nc + k) as u32, name.clone()))
             .collect();
         let outputs = program
             .outputs()
@@ -162,11 +168,23 @@ impl Tape {
         let shapes = program.outputs().iter().map(|o| (o.rows, o.cols)).collect();
         Tape {
             ops,
+            constants,
             regs,
             inputs,
             outputs,
             shapes,
         }
+    }
+
+    /// Length of the register file [`Tape::run`] works in.
+    pub fn register_len(&self) -> usize {
+        self.regs.len()
+    }
+
+    /// Each symbol the tape reads, with the register-file slot its value goes in before
+    /// [`Tape::run`], in the order of [`Program::symbols`].
+    pub fn input_slots(&self) -> impl Iterator<Item = (SymbolId, usize)> + '_ {
+        self.inputs.iter().map(|(s, slot, _)| (*s, *slot as usize))
     }
 
     /// Total number of output entries `eval` writes.
@@ -208,7 +226,7 @@ impl Tape {
             });
         }
         for (s, slot, name) in &self.inputs {
-            match inputs.get(*s) {
+            match inputs.get(s.index()) {
                 Some(&v) if v.is_finite() => self.regs[*slot as usize] = v,
                 Some(&v) => {
                     return Err(Error::NonFinite {
@@ -219,7 +237,34 @@ impl Tape {
                 None => return Err(Error::MissingValue { name: name.clone() }),
             }
         }
-        let r = &mut self.regs;
+        // `take` leaves an empty Vec behind: no allocation.
+        let mut regs = std::mem::take(&mut self.regs);
+        self.run(&mut regs, out);
+        self.regs = regs;
+        for (k, v) in out.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::NonFinite {
+                    operation: format!("output entry {k}"),
+                    arguments: format!("{v:?}"),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Evaluates all outputs into `out`, in the caller's register file `registers` whose
+    /// [`Tape::input_slots`] already hold the input values. Nothing is checked and nothing
+    /// allocated: a non-finite value propagates to the outputs it reaches, as in the emitted
+    /// code.
+    ///
+    /// `out` receives the first `out.len()` output entries: all of them when it has
+    /// [`Tape::output_len`].
+    ///
+    /// # Panics
+    /// When `registers` is shorter than [`Tape::register_len`] (a caller sizes it once).
+    pub fn run(&self, registers: &mut [f64], out: &mut [f64]) {
+        let r = registers;
+        r[..self.constants.len()].copy_from_slice(&self.constants);
         for op in &self.ops {
             match *op {
                 Op::Add(a, b, t) => r[t as usize] = r[a as usize] + r[b as usize],
@@ -250,16 +295,8 @@ impl Tape {
                 }
             }
         }
-        for (k, (o, &slot)) in out.iter_mut().zip(&self.outputs).enumerate() {
-            let v = r[slot as usize];
-            if !v.is_finite() {
-                return Err(Error::NonFinite {
-                    operation: format!("output entry {k}"),
-                    arguments: format!("{v:?}"),
-                });
-            }
-            *o = v;
+        for (o, &slot) in out.iter_mut().zip(&self.outputs) {
+            *o = r[slot as usize];
         }
-        Ok(())
     }
 }

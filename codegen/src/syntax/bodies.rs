@@ -12,6 +12,7 @@
 //!               | "damper" NAME "{" "between" "=" vexpr "," vexpr ";"
 //!                     "coefficient" "=" vexpr ";" "}"
 //!               | "joints" "{" (joint ";")* "}"
+//!               | "draw" "{" .. "}"                           lines through points (syntax::draw)
 //! body_item    := "mass" "=" vexpr                            m
 //!               | "position" "=" vexpr                        centre of mass r(q, t), world
 //!               | "orientation" "=" vexpr                     R = F_1 * F_2 * ... (body to world)
@@ -24,7 +25,7 @@
 //!               | "distance" "(" P "," Q "," L ")"            1 row: |P - Q|^2 - L^2
 //!               | vexpr ["=" vexpr]                           one row per entry (B = C: 3 rows)
 //! ```
-//! `vexpr` is the vector expression language of [`crate::syntax::vector`] (points, axes and bodies
+//! `vexpr` is the vector expression language of [`crate::syntax::expression`] (points, axes and bodies
 //! are names of 3-vectors; `B.z` is a component). A body without `orientation` is a point
 //! mass (it may not carry `inertia`, points or axes). In `revolute` and `prismatic`, `b`
 //! (and, for `prismatic`, `a`) must be a declared axis: its two perpendiculars are fixed to
@@ -36,13 +37,15 @@
 //! Everything is built in declaration order, so a body may use the points of bodies
 //! declared before it (`position = B + rot_z(beta) * [0, 0, l2/2];`).
 
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Expected, Location, ParseError, Result};
+use crate::syntax::ast::Ast;
+use crate::syntax::draw::{DrawSection, parse_draw};
+use crate::syntax::expression::{HELPERS, Language, parse};
 use crate::syntax::lex::{Cursor, Tok, block, name};
-use crate::syntax::vector::{VectorAst, VectorParser};
 
 /// The top-level keywords of the body sections.
 pub(crate) const BODY_SECTIONS: &[&str] = &[
-    "body", "gravity", "point", "axis", "spring", "damper", "joints",
+    "body", "gravity", "point", "axis", "spring", "damper", "joints", "draw",
 ];
 
 /// True when `keyword` starts a body section.
@@ -60,7 +63,7 @@ pub(crate) struct Entry {
     /// Where the key is.
     pub(crate) at: Location,
     /// The value (two for `between`).
-    pub(crate) value: Vec<VectorAst>,
+    pub(crate) value: Vec<Ast>,
 }
 
 /// One top-level body item, in declaration order.
@@ -71,9 +74,9 @@ pub(crate) enum BodyItem {
         at: Location,
         entries: Vec<Entry>,
     },
-    Gravity(VectorAst, Location),
-    Point(String, Location, VectorAst),
-    Axis(String, Location, VectorAst),
+    Gravity(Ast, Location),
+    Point(String, Location, Ast),
+    Axis(String, Location, Ast),
     Spring {
         name: String,
         at: Location,
@@ -85,13 +88,14 @@ pub(crate) enum BodyItem {
         entries: Vec<Entry>,
     },
     Joint(Joint),
+    Draw(DrawSection),
 }
 
 /// A constraint statement of `joints`.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Joint {
-    Helper(String, Vec<VectorAst>, Location),
-    Row(VectorAst, Option<VectorAst>, Location),
+    Helper(String, Vec<Ast>, Location),
+    Row(Ast, Option<Ast>, Location),
 }
 
 /// All body sections of a declaration.
@@ -118,6 +122,7 @@ impl Bodies {
             | BodyItem::Point(_, at, _)
             | BodyItem::Axis(_, at, _)
             | BodyItem::Joint(Joint::Helper(_, _, at) | Joint::Row(_, _, at)) => *at,
+            BodyItem::Draw(d) => d.at,
         })
     }
 
@@ -156,13 +161,6 @@ impl Bodies {
     }
 }
 
-const JOINT_HELPERS: &[(&str, usize)] = &[
-    ("spherical", 2),
-    ("revolute", 4),
-    ("prismatic", 4),
-    ("distance", 3),
-];
-
 /// Parses the body section starting with `keyword` (already consumed, at `at`).
 pub(crate) fn parse_body_section(
     c: &mut Cursor<'_>,
@@ -172,16 +170,18 @@ pub(crate) fn parse_body_section(
 ) -> Result<()> {
     match keyword {
         "gravity" => {
-            c.expect(&Tok::Punct('='), "`=` after `gravity`")?;
-            let v = VectorParser::parse(c)?;
-            c.expect(&Tok::Punct(';'), "`;` after the gravity vector")?;
+            let written = "gravity".to_string();
+            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+            let v = parse(c, Language::Vector)?;
+            c.expect(&Tok::Punct(';'), Expected::GravitySemicolon)?;
             bodies.items.push(BodyItem::Gravity(v, at));
         }
         "point" | "axis" => {
             let (name, nat) = name(c, keyword)?;
-            c.expect(&Tok::Punct('='), &format!("`=` after `{keyword} {name}`"))?;
-            let v = VectorParser::parse(c)?;
-            c.expect(&Tok::Punct(';'), "`;` or an operator")?;
+            let written = format!("{keyword} {name}");
+            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+            let v = parse(c, Language::Vector)?;
+            c.expect(&Tok::Punct(';'), Expected::Semicolon)?;
             bodies.items.push(if keyword == "point" {
                 BodyItem::Point(name, nat, v)
             } else {
@@ -209,6 +209,7 @@ pub(crate) fn parse_body_section(
                 },
             });
         }
+        "draw" => bodies.items.push(BodyItem::Draw(parse_draw(c, at)?)),
         _ => {
             let joints = block(c, joint)?;
             bodies.items.extend(joints.into_iter().map(BodyItem::Joint));
@@ -236,24 +237,24 @@ fn keys(block: &str) -> &'static [&'static str] {
 fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
     let (key, at) = name(c, block)?;
     if !keys(block).contains(&key.as_str()) {
-        return Err(Error::Parse {
-            message: format!(
-                "`{key}` is not an entry of a {block}; expected one of {}",
-                keys(block).join(", ")
-            ),
-            location: at,
-        });
+        let kind = ParseError::UnknownEntry {
+            key,
+            block: block.to_string(),
+            keys: keys(block),
+        };
+        return Err(Error::parse(kind, at));
     }
     let name = if key == "point" || key == "axis" {
         Some(name(c, &key)?.0)
     } else {
         None
     };
-    c.expect(&Tok::Punct('='), &format!("`=` after `{key}`"))?;
-    let mut value = vec![VectorParser::parse(c)?];
+    let written = key.clone();
+    c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+    let mut value = vec![parse(c, Language::Vector)?];
     if key == "between" {
-        c.expect(&Tok::Punct(','), "`,` between the two points")?;
-        value.push(VectorParser::parse(c)?);
+        c.expect(&Tok::Punct(','), Expected::BetweenComma)?;
+        value.push(parse(c, Language::Vector)?);
     }
     Ok(Entry {
         key,
@@ -265,15 +266,13 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
 
 fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
     let at = c.peek().location;
-    let lhs = VectorParser::parse(c)?;
+    let lhs = parse(c, Language::Vector)?;
     if c.eat(&Tok::Punct('=')) {
-        let rhs = VectorParser::parse(c)?;
+        let rhs = parse(c, Language::Vector)?;
         return Ok(Joint::Row(lhs, Some(rhs), at));
     }
     Ok(match lhs {
-        VectorAst::Call(f, args, at) if JOINT_HELPERS.iter().any(|h| h.0 == f) => {
-            Joint::Helper(f, args, at)
-        }
+        Ast::Call(f, args, at) if HELPERS.contains(&f.as_str()) => Joint::Helper(f, args, at),
         other => Joint::Row(other, None, at),
     })
 }

@@ -13,13 +13,15 @@
 //! row         := expr ["=" expr] | vector ["=" vector]
 //! vector      := "[" expr ("," expr)* "]"
 //! ```
-//! Sections come in any order, each at most once; the last `;` of a block may be left out,
-//! and a `;` after a block is allowed. A row `a = b` means a - b = 0; `[a1, a2, a3] =
-//! [b1, b2, b3]` is three rows a_i - b_i = 0.
+//! Sections come in any order, each at most once; every statement of a block ends with `;`
+//! (the last one too), and a `;` after a block is allowed. A row `a = b` means a - b = 0;
+//! `[a1, a2, a3] = [b1, b2, b3]` is three rows a_i - b_i = 0.
 
-use crate::error::{Error, Location, Result};
-use crate::syntax::expression::{Ast, ExprParser, closest};
+use crate::error::{Error, Expected, Location, ParseError, Result};
+use crate::syntax::ast::Ast;
+use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Delim, Tok, Tokens, block, name};
+use crate::syntax::spelling::closest;
 
 /// The section keywords, in the order the README documents them.
 pub(crate) const SECTIONS: &[&str] = &[
@@ -138,31 +140,24 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     while c.at_punct('#') {
         c.next();
         c.eat(&Tok::Punct('!'));
-        c.expect(&Tok::Open(Delim::Bracket), "`[` of an attribute")?;
+        c.expect(&Tok::Open(Delim::Bracket), Expected::AttributeOpen)?;
         match &c.peek().tok {
             Tok::Ident(s) if s == "doc" => {}
-            _ => {
-                return Err(c.error_here("only doc comments (`/// text`) may come before the struct line; expected `doc`"));
-            }
+            _ => return Err(c.error_here(ParseError::NotADocComment { found: c.found() })),
         }
         c.next();
-        c.expect(&Tok::Punct('='), "`=` in a doc attribute")?;
+        c.expect(&Tok::Punct('='), Expected::DocEquals)?;
         let t = c.next();
         let Tok::Literal(lit) = &t.tok else {
-            return Err(Error::Parse {
-                message: "expected the doc text".into(),
-                location: t.location,
-            });
+            return Err(Error::parse(ParseError::MissingDocText, t.location));
         };
-        let text = unquote(lit).ok_or_else(|| Error::Parse {
-            message: "expected a string as the doc text".into(),
-            location: t.location,
-        })?;
+        let text =
+            unquote(lit).ok_or_else(|| Error::parse(ParseError::DocNotAString, t.location))?;
         d.doc.extend(
             text.lines()
                 .map(|l| l.strip_prefix(' ').unwrap_or(l).to_string()),
         );
-        c.expect(&Tok::Close(Delim::Bracket), "`]` closing the doc attribute")?;
+        c.expect(&Tok::Close(Delim::Bracket), Expected::AttributeClose)?;
     }
     if let Tok::Ident(s) = &c.peek().tok
         && s == "pub"
@@ -174,11 +169,7 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         Tok::Ident(s) if s == "struct" => {
             c.next();
         }
-        _ => {
-            return Err(c.error_here(
-                "a declaration starts with `pub struct Name;` (after its doc comment)",
-            ));
-        }
+        _ => return Err(c.error_here(ParseError::NoStruct { found: c.found() })),
     }
     let t = c.next();
     match &t.tok {
@@ -186,14 +177,9 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             d.name = name.clone();
             d.name_at = t.location;
         }
-        _ => {
-            return Err(Error::Parse {
-                message: "expected the struct name after `struct`".into(),
-                location: t.location,
-            });
-        }
+        _ => return Err(Error::parse(ParseError::NoStructName, t.location)),
     }
-    c.expect(&Tok::Punct(';'), "`;` after the struct name")?;
+    c.expect(&Tok::Punct(';'), Expected::StructSemicolon)?;
     Ok(())
 }
 
@@ -233,10 +219,12 @@ fn unquote(lit: &str) -> Option<String> {
 }
 
 fn duplicate_section(name: &str, at: Location) -> Error {
-    Error::Parse {
-        message: format!("the section `{name}` appears twice; write all its entries in one block"),
-        location: at,
-    }
+    Error::parse(
+        ParseError::DuplicateSection {
+            section: name.to_string(),
+        },
+        at,
+    )
 }
 
 // One function: one match arm of a few lines per section keyword, so the grammar reads
@@ -244,7 +232,7 @@ fn duplicate_section(name: &str, at: Location) -> Error {
 fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     let t = c.peek();
     let Tok::Ident(keyword) = &t.tok else {
-        return Err(c.error_here(&format!("expected a section ({})", SECTIONS.join(", "))));
+        return Err(c.expected(Expected::Section { sections: SECTIONS }));
     };
     let at = t.location;
     c.next();
@@ -253,8 +241,8 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         "parameters" | "coordinates" => {
             let body = block(c, |c| {
                 let (name, at) = name(c, keyword)?;
-                c.expect(&Tok::Punct('='), &format!("`=` and a value after `{name}`"))?;
-                let value = ExprParser::parse(c)?;
+                c.expect(&Tok::Punct('='), Expected::Value { name: name.clone() })?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(Item { name, at, value })
             })?;
             let slot = if keyword == "parameters" {
@@ -273,13 +261,13 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                 let (name, at, rate) = if first == "der" && c.at(&Tok::Open(Delim::Paren)) {
                     c.next();
                     let (n, a) = name(c, "independent")?;
-                    c.expect(&Tok::Close(Delim::Paren), "`)` after the coordinate")?;
+                    c.expect(&Tok::Close(Delim::Paren), Expected::CoordinateClose)?;
                     (n, a, true)
                 } else {
                     (first, first_at, false)
                 };
-                c.expect(&Tok::Punct('='), "`=` and an initial value")?;
-                let value = ExprParser::parse(c)?;
+                c.expect(&Tok::Punct('='), Expected::InitialValue)?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(IndependentItem {
                     name,
                     rate,
@@ -293,12 +281,11 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             d.independent = Some(Section { at, body });
         }
         "kinetic" | "potential" => {
-            c.expect(&Tok::Punct('='), &format!("`=` after `{keyword}`"))?;
-            let body = ExprParser::parse(c)?;
-            c.expect(
-                &Tok::Punct(';'),
-                &format!("`;` or an operator after the {keyword} energy"),
-            )?;
+            let written = keyword.to_string();
+            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+            let body = parse(c, Language::Scalar)?;
+            let energy = keyword.to_string();
+            c.expect(&Tok::Punct(';'), Expected::EnergySemicolon { energy })?;
             let slot = if keyword == "kinetic" {
                 &mut d.kinetic
             } else {
@@ -330,9 +317,9 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                 let (name, at) = name(c, "forces")?;
                 c.expect(
                     &Tok::Punct(':'),
-                    &format!("`:` after `{name}` (forces are written `coordinate: expression;`)"),
+                    Expected::ForceColon { name: name.clone() },
                 )?;
-                let value = ExprParser::parse(c)?;
+                let value = parse(c, Language::Scalar)?;
                 Ok(Force { name, at, value })
             })?;
             if d.forces.is_some() {
@@ -344,17 +331,12 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             crate::syntax::bodies::parse_body_section(c, kw, at, &mut d.bodies)?;
         }
         other => {
-            let hint = match closest(other, SECTIONS.iter().copied()) {
-                Some(s) => format!("; did you mean `{s}`?"),
-                None => String::new(),
+            let kind = ParseError::UnknownSection {
+                name: other.to_string(),
+                sections: SECTIONS,
+                suggestion: closest(other, SECTIONS.iter().copied()),
             };
-            return Err(Error::Parse {
-                message: format!(
-                    "`{other}` is not a section; expected one of {}{hint}",
-                    SECTIONS.join(", ")
-                ),
-                location: at,
-            });
+            return Err(Error::parse(kind, at));
         }
     }
     Ok(())
@@ -364,9 +346,9 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
 fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
     let at = c.peek().location;
     if !c.at(&Tok::Open(Delim::Bracket)) {
-        let lhs = ExprParser::parse(c)?;
+        let lhs = parse(c, Language::Scalar)?;
         let rhs = if c.eat(&Tok::Punct('=')) {
-            Some(ExprParser::parse(c)?)
+            Some(parse(c, Language::Scalar)?)
         } else {
             None
         };
@@ -393,20 +375,15 @@ fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
     }
     let eq = c.next().location;
     if !c.at(&Tok::Open(Delim::Bracket)) {
-        return Err(
-            c.error_here("a vector constraint `[a, b, c] = [..]` needs a vector on the right")
-        );
+        return Err(c.error_here(ParseError::ScalarRightOfVector { found: c.found() }));
     }
     let rhs = vector(c)?;
     if lhs.len() != rhs.len() {
-        return Err(Error::Parse {
-            message: format!(
-                "the two sides of a vector constraint differ in length: {} on the left, {} on the right",
-                lhs.len(),
-                rhs.len()
-            ),
-            location: eq,
-        });
+        let kind = ParseError::VectorLengths {
+            left: lhs.len(),
+            right: rhs.len(),
+        };
+        return Err(Error::parse(kind, eq));
     }
     Ok(lhs
         .into_iter()
@@ -427,14 +404,14 @@ fn vector(c: &mut Cursor<'_>) -> Result<Vec<(Ast, Location)>> {
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Bracket)) {
         let at = c.peek().location;
-        out.push((ExprParser::parse(c)?, at));
+        out.push((parse(c, Language::Scalar)?, at));
         if !c.eat(&Tok::Punct(',')) {
             break;
         }
     }
-    c.expect(&Tok::Close(Delim::Bracket), "`,` or `]` in a vector")?;
+    c.expect(&Tok::Close(Delim::Bracket), Expected::VectorSeparator)?;
     if out.is_empty() {
-        return Err(c.error_here("a vector constraint needs at least one entry"));
+        return Err(c.error_here(ParseError::EmptyVectorConstraint { found: c.found() }));
     }
     Ok(out)
 }

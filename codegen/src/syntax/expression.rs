@@ -1,27 +1,47 @@
-//! The expression language: a syntax tree, its recursive-descent parser over the flat token
-//! list of [`crate::syntax::lex`] (turned into arena nodes by `mechanics::resolve`).
+//! The one expression parser, for both expression languages: the scalar expressions of
+//! energies, constraints, forces and values, and the vector expressions of the body sections
+//! (`position = [x, y, z];`, `orientation = rot_z(phi) * rot_x(a);`, `B = C;`, `B.z = 0;`).
+//! Both produce an [`Ast`]; the [`Language`] says which forms and functions exist.
 //!
-//! Precedence, loosest first:
+//! ```text
+//! expr    := product (("+" | "-") product)*
+//! product := unary (("*" | "/") unary)*       vectors: the matrix product; a 1x1 factor scales
+//! unary   := ("-" | "+") unary | postfix ["^" unary]
+//! postfix := atom ("." ("x" | "y" | "z"))*    vector language only: a component of a 3-vector
+//! atom    := NUMBER | NAME | NAME "(" [expr ("," expr)*] ")" | "(" expr ")"
+//!          | "[" expr ("," expr)* "]"         vector language only: a column; "[[..], ..]" by rows
+//! ```
 //!
-//! | level | operators | associativity |
-//! |-------|-----------|---------------|
-//! | sum | `a + b`, `a - b` | left |
-//! | product | `a * b`, `a / b` | left |
-//! | unary | `-a`, `+a` | prefix |
-//! | power | `a ^ b` | right; tighter than unary minus: `-x^2 = -(x^2)`; `x^-1` allowed |
-//! | atom | numbers, names, `pi`, `t`, calls `f(..)`, `( .. )` | |
+//! It is precedence climbing over the binding powers of [`Infix`] (loosest first: `+ -`,
+//! `* /`, unary `-`, `^`, the only table of precedence): `^` is right-associative and
+//! tighter than unary minus (`-x^2 = -(x^2)`, `x^-1` allowed); a chain of sums or of
+//! products becomes one n-ary node, so that name resolution builds the arena's canonical form
+//! of the whole chain with one constructor call. Nesting deeper than [`MAX_DEPTH`] is an
+//! error, not a stack overflow.
 //!
 //! Integers are exact rationals (`1/2` stays exact); decimals and exponent forms (`0.04`,
-//! `1e-4`) are floats. A chain of sums or products is built with one n-ary constructor call,
-//! so the result is the arena's canonical form of the whole chain.
+//! `1e-4`) are floats. Names in the vector language are points, axes and bodies (3-vectors)
+//! as well as symbols; its extra functions are `rot_x`, `rot_y`, `rot_z` (3x3),
+//! `diag(a, b, c)` (3x3), `dot(u, v)`, `cross(u, v)`, `norm(u)` and the joint helpers.
 
-use crate::error::{Error, Location, Result};
+use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result};
 use crate::number::Number;
 use crate::syntax::MAX_DEPTH;
+use crate::syntax::ast::Ast;
 use crate::syntax::lex::{Cursor, Delim, Tok};
 
-/// Functions of the language and their arities, for calls and error messages.
-pub(crate) const FUNCTIONS: &[(&str, usize)] = &[
+/// Which expression language is parsed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Language {
+    /// Scalar expressions: energies, constraint rows, forces, values.
+    Scalar,
+    /// Vector and matrix expressions of the body sections: `[..]`, `.x`, the vector
+    /// functions; no `der` (body quantities are position-level).
+    Vector,
+}
+
+/// Functions of both languages and their arities, for calls and error messages.
+const FUNCTIONS: &[(&str, usize)] = &[
     ("sin", 1),
     ("cos", 1),
     ("tan", 1),
@@ -35,272 +55,260 @@ pub(crate) const FUNCTIONS: &[(&str, usize)] = &[
     ("der2", 1),
 ];
 
-/// A syntax tree node of an expression, with the location of its first token.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Ast {
-    /// A numeric literal.
-    Number(Number, Location),
-    /// A name: a symbol, `t` or `pi`.
-    Name(String, Location),
-    /// `-a`.
-    Neg(Box<Ast>, Location),
-    /// `a ± b ± ...`; the flag is true for a subtracted term (never for the first).
-    Sum(Vec<(bool, Ast)>),
-    /// `a * b / c ...`; the flag is true for a divisor; the location is its operator's.
-    Product(Vec<(bool, Ast, Location)>),
-    /// `a ^ b`, with the location of `^`.
-    Pow(Box<Ast>, Box<Ast>, Location),
-    /// `f(a, ..)`, with the location of the name.
-    Call(String, Vec<Ast>, Location),
+/// Functions of the vector language only, with their arities (the joint helpers among them).
+const VECTOR_FUNCTIONS: &[(&str, usize)] = &[
+    ("rot_x", 1),
+    ("rot_y", 1),
+    ("rot_z", 1),
+    ("diag", 3),
+    ("dot", 2),
+    ("cross", 2),
+    ("norm", 1),
+    ("spherical", 2),
+    ("revolute", 4),
+    ("prismatic", 4),
+    ("distance", 3),
+];
+
+/// Joint helpers: parsed as calls, valid only as statements of `joints`.
+pub(crate) const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance"];
+
+/// The arity of the function `name` in `language`, if it has one.
+fn arity(language: Language, name: &str) -> Option<usize> {
+    let vector = match language {
+        Language::Scalar => &[][..],
+        Language::Vector => VECTOR_FUNCTIONS,
+    };
+    FUNCTIONS
+        .iter()
+        .chain(vector)
+        .find(|f| f.0 == name)
+        .map(|f| f.1)
 }
 
-impl Ast {
-    /// Where the expression starts.
-    pub(crate) fn location(&self) -> Location {
-        match self {
-            Ast::Number(_, l) | Ast::Name(_, l) | Ast::Neg(_, l) | Ast::Call(_, _, l) => *l,
-            Ast::Sum(ts) => ts.first().map(|t| t.1.location()).unwrap_or_default(),
-            Ast::Product(fs) => fs.first().map(|f| f.1.location()).unwrap_or_default(),
-            Ast::Pow(b, _, _) => b.location(),
+/// A binary operator with its binding power (higher binds tighter).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Infix {
+    /// `+` or `-` (true: `-`).
+    Sum(bool),
+    /// `*` or `/` (true: `/`).
+    Product(bool),
+    /// `^`.
+    Pow,
+}
+
+/// Binding power of a prefix `-` or `+`: between products and powers.
+const PREFIX: u8 = 3;
+
+impl Infix {
+    /// The operator at the cursor, if any.
+    fn at(c: &Cursor<'_>) -> Option<Infix> {
+        match c.peek().tok {
+            Tok::Punct('+') => Some(Infix::Sum(false)),
+            Tok::Punct('-') => Some(Infix::Sum(true)),
+            Tok::Punct('*') => Some(Infix::Product(false)),
+            Tok::Punct('/') => Some(Infix::Product(true)),
+            Tok::Punct('^') => Some(Infix::Pow),
+            _ => None,
         }
     }
 
-    /// The expression as text, for error messages (fully parenthesised where in doubt).
-    pub(crate) fn text(&self) -> String {
+    fn power(self) -> u8 {
         match self {
-            Ast::Number(n, _) => n.to_string(),
-            Ast::Name(s, _) => s.clone(),
-            Ast::Neg(x, _) => format!("-{}", x.text_atom()),
-            Ast::Sum(ts) => {
-                let mut s = String::new();
-                for (i, (minus, t)) in ts.iter().enumerate() {
-                    if i > 0 {
-                        s.push_str(if *minus { " - " } else { " + " });
-                    }
-                    s.push_str(&t.text());
-                }
-                s
-            }
-            Ast::Product(fs) => {
-                let mut s = String::new();
-                for (i, (div, f, _)) in fs.iter().enumerate() {
-                    if i > 0 {
-                        s.push(if *div { '/' } else { '*' });
-                    }
-                    s.push_str(&f.text_atom());
-                }
-                s
-            }
-            Ast::Pow(b, e, _) => format!("{}^{}", b.text_atom(), e.text_atom()),
-            Ast::Call(f, args, _) => {
-                let a: Vec<String> = args.iter().map(Ast::text).collect();
-                format!("{f}({})", a.join(", "))
-            }
-        }
-    }
-
-    fn text_atom(&self) -> String {
-        match self {
-            Ast::Sum(_) | Ast::Product(_) | Ast::Neg(..) | Ast::Pow(..) => {
-                format!("({})", self.text())
-            }
-            _ => self.text(),
+            Infix::Sum(_) => 1,
+            Infix::Product(_) => 2,
+            Infix::Pow => 4,
         }
     }
 }
 
-/// The recursive-descent expression parser.
-pub(crate) struct ExprParser<'c, 'a> {
-    cursor: &'c mut Cursor<'a>,
+/// Parses one expression of `language` at the cursor, stopping before a token that cannot
+/// continue it (`;`, `,`, `=`, `:`, a closing bracket), which the caller handles.
+pub(crate) fn parse(cursor: &mut Cursor<'_>, language: Language) -> Result<Ast> {
+    Parser {
+        c: cursor,
+        language,
+        depth: 0,
+    }
+    .expr(0)
+}
+
+struct Parser<'c, 'a> {
+    c: &'c mut Cursor<'a>,
+    language: Language,
     depth: usize,
 }
 
-impl<'c, 'a> ExprParser<'c, 'a> {
-    /// Parses one expression at the cursor (stopping before `;`, `,`, `=`, `:` or a closing
-    /// bracket, which the caller handles).
-    pub(crate) fn parse(cursor: &'c mut Cursor<'a>) -> Result<Ast> {
-        let mut p = ExprParser { cursor, depth: 0 };
-        p.sum()
-    }
-
-    fn enter(&mut self) -> Result<()> {
+impl Parser<'_, '_> {
+    /// An expression whose operators all bind at least as tightly as `min`.
+    fn expr(&mut self, min: u8) -> Result<Ast> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self
-                .cursor
-                .error_here("the expression is nested too deeply"));
+            return Err(self.c.error_here(ParseError::TooDeep {
+                found: self.c.found(),
+            }));
         }
-        Ok(())
-    }
-
-    fn sum(&mut self) -> Result<Ast> {
-        let mut terms = vec![(false, self.product()?)];
-        loop {
-            let minus = if self.cursor.at_punct('+') {
-                false
-            } else if self.cursor.at_punct('-') {
-                true
-            } else {
+        let mut lhs = self.prefix()?;
+        while let Some(op) = Infix::at(self.c) {
+            if op.power() < min {
                 break;
-            };
-            self.cursor.next();
-            terms.push((minus, self.product()?));
-        }
-        Ok(if terms.len() == 1 {
-            terms.swap_remove(0).1
-        } else {
-            Ast::Sum(terms)
-        })
-    }
-
-    fn product(&mut self) -> Result<Ast> {
-        let first = self.unary()?;
-        let at = first.location();
-        let mut factors = vec![(false, first, at)];
-        loop {
-            let div = if self.cursor.at_punct('*') {
-                false
-            } else if self.cursor.at_punct('/') {
-                true
-            } else {
-                break;
-            };
-            let op = self.cursor.next().location;
-            if !div && self.cursor.at_punct('*') {
-                return Err(self
-                    .cursor
-                    .error_here("powers are written `x^2` (not `x**2`)"));
             }
-            factors.push((div, self.unary()?, op));
+            lhs = match op {
+                // Right-associative: the exponent takes the following `^` too.
+                Infix::Pow => {
+                    let at = self.c.next().location;
+                    let exponent = self.expr(op.power())?;
+                    Ast::Pow(Box::new(lhs), Box::new(exponent), at)
+                }
+                Infix::Sum(_) => Ast::Sum(self.chain(lhs, op)?),
+                Infix::Product(_) => Ast::Product(self.chain(lhs, op)?),
+            };
         }
-        Ok(if factors.len() == 1 {
-            factors.swap_remove(0).1
-        } else {
-            Ast::Product(factors)
-        })
-    }
-
-    fn unary(&mut self) -> Result<Ast> {
-        self.enter()?;
-        let out = if self.cursor.at_punct('-') {
-            let at = self.cursor.next().location;
-            Ast::Neg(Box::new(self.unary()?), at)
-        } else if self.cursor.at_punct('+') {
-            self.cursor.next();
-            self.unary()?
-        } else {
-            self.power()?
-        };
         self.depth -= 1;
-        Ok(out)
+        Ok(lhs)
     }
 
-    fn power(&mut self) -> Result<Ast> {
-        let base = self.atom()?;
-        if !self.cursor.at_punct('^') {
-            return Ok(base);
+    /// `first op b op c ...` for the operators of `op`'s level (left-associative), each
+    /// operand with its inverse flag (`-`, `/`) and its operator's location.
+    fn chain(&mut self, first: Ast, op: Infix) -> Result<Vec<(bool, Ast, Location)>> {
+        let at = first.location();
+        let mut items = vec![(false, first, at)];
+        while let Some(next) = Infix::at(self.c) {
+            let inverse = match (op, next) {
+                (Infix::Sum(_), Infix::Sum(minus)) => minus,
+                (Infix::Product(_), Infix::Product(div)) => div,
+                _ => break,
+            };
+            let at = self.c.next().location;
+            if next == Infix::Product(false) && self.c.at_punct('*') {
+                return Err(self.c.error_here(ParseError::DoubleStar));
+            }
+            items.push((inverse, self.expr(op.power() + 1)?, at));
         }
-        let at = self.cursor.next().location;
-        let exp = self.exponent()?;
-        Ok(Ast::Pow(Box::new(base), Box::new(exp), at))
+        Ok(items)
     }
 
-    /// The right side of `^`: `-e`, `+e` or another power (right-associative).
-    fn exponent(&mut self) -> Result<Ast> {
-        self.enter()?;
-        let out = if self.cursor.at_punct('-') {
-            let at = self.cursor.next().location;
-            Ast::Neg(Box::new(self.exponent()?), at)
-        } else if self.cursor.at_punct('+') {
-            self.cursor.next();
-            self.exponent()?
-        } else {
-            self.power()?
-        };
-        self.depth -= 1;
-        Ok(out)
+    /// A prefix sign and its operand, or a postfix expression.
+    fn prefix(&mut self) -> Result<Ast> {
+        if self.c.at_punct('-') {
+            let at = self.c.next().location;
+            return Ok(Ast::Neg(Box::new(self.expr(PREFIX)?), at));
+        }
+        if self.c.at_punct('+') {
+            self.c.next();
+            return self.expr(PREFIX);
+        }
+        let mut a = self.atom()?;
+        while self.language == Language::Vector && self.c.at_punct('.') {
+            let at = self.c.next().location;
+            let k = match &self.c.peek().tok {
+                Tok::Ident(s) if s == "x" => 0,
+                Tok::Ident(s) if s == "y" => 1,
+                Tok::Ident(s) if s == "z" => 2,
+                _ => return Err(self.c.expected(Expected::Component)),
+            };
+            self.c.next();
+            a = Ast::Member(Box::new(a), k, at);
+        }
+        Ok(a)
     }
 
     fn atom(&mut self) -> Result<Ast> {
-        let t = self.cursor.peek();
+        let t = self.c.peek();
         match &t.tok {
             Tok::Literal(s) => {
-                let n = parse_number(s).map_err(|m| Error::Parse {
-                    message: m,
-                    location: t.location,
-                })?;
-                self.cursor.next();
+                let n = parse_number(s).map_err(|kind| Error::parse(kind, t.location))?;
+                self.c.next();
                 Ok(Ast::Number(n, t.location))
             }
             Tok::Ident(name) => {
-                self.cursor.next();
-                if self.cursor.at(&Tok::Open(Delim::Paren)) {
-                    self.call(name.clone(), t.location)
+                self.c.next();
+                if self.c.at(&Tok::Open(Delim::Paren)) {
+                    self.call(name, t.location)
                 } else {
                     Ok(Ast::Name(name.clone(), t.location))
                 }
             }
             Tok::Open(Delim::Paren) => {
-                self.enter()?;
-                self.cursor.next();
-                let inner = self.sum()?;
-                self.cursor
-                    .expect(&Tok::Close(Delim::Paren), "`)` or an operator")?;
-                self.depth -= 1;
+                self.c.next();
+                let inner = self.expr(0)?;
+                self.c
+                    .expect(&Tok::Close(Delim::Paren), Expected::CloseParen)?;
                 Ok(inner)
             }
-            Tok::Punct('^') => Err(self.cursor.error_here("`^` needs a base on its left")),
-            _ => Err(self.cursor.error_here("expected a number, a name or `(`")),
+            Tok::Open(Delim::Bracket) if self.language == Language::Vector => {
+                self.c.next();
+                let items = self.list(Delim::Bracket, Expected::VectorSeparator)?;
+                if items.is_empty() {
+                    return Err(Error::parse(ParseError::EmptyVector, t.location));
+                }
+                Ok(Ast::Brackets(items, t.location))
+            }
+            Tok::Punct('^') => Err(self.c.error_here(ParseError::CaretWithoutBase)),
+            _ => Err(self.c.expected(match self.language {
+                Language::Scalar => Expected::Operand,
+                Language::Vector => Expected::VectorOperand,
+            })),
         }
     }
 
-    fn call(&mut self, name: String, at: Location) -> Result<Ast> {
-        self.enter()?;
-        self.cursor.next(); // `(`
-        let mut args = Vec::new();
-        if !self.cursor.at(&Tok::Close(Delim::Paren)) {
+    /// `name(args)`, the cursor at `(`.
+    fn call(&mut self, name: &str, at: Location) -> Result<Ast> {
+        if self.language == Language::Vector && (name == "der" || name == "der2") {
+            return Err(Error::declaration(
+                DeclarationError::RateInBody {
+                    function: name.to_string(),
+                },
+                at,
+            ));
+        }
+        self.c.next();
+        let args = self.list(Delim::Paren, Expected::ArgumentSeparator)?;
+        match arity(self.language, name) {
+            None => Err(Error::UnknownFunction {
+                name: name.to_string(),
+                location: at,
+            }),
+            Some(arity) if arity != args.len() => Err(Error::parse(
+                ParseError::Arity {
+                    function: name.to_string(),
+                    expected: arity,
+                    found: args.len(),
+                },
+                at,
+            )),
+            Some(_) => Ok(Ast::Call(name.to_string(), args, at)),
+        }
+    }
+
+    /// `a, b, ...` up to the closing `close` (consumed; `expected` names it in the error).
+    fn list(&mut self, close: Delim, expected: Expected) -> Result<Vec<Ast>> {
+        let mut out = Vec::new();
+        if !self.c.at(&Tok::Close(close)) {
             loop {
-                args.push(self.sum()?);
-                if !self.cursor.eat(&Tok::Punct(',')) {
+                out.push(self.expr(0)?);
+                if !self.c.eat(&Tok::Punct(',')) {
                     break;
                 }
             }
         }
-        self.cursor.expect(
-            &Tok::Close(Delim::Paren),
-            "`,` or `)` after a function argument",
-        )?;
-        self.depth -= 1;
-        match FUNCTIONS.iter().find(|f| f.0 == name) {
-            None => Err(Error::UnknownFunction { name, location: at }),
-            Some(&(_, arity)) if arity != args.len() => Err(Error::Parse {
-                message: format!(
-                    "`{name}` takes {arity} argument{}, found {}",
-                    if arity == 1 { "" } else { "s" },
-                    args.len()
-                ),
-                location: at,
-            }),
-            Some(_) => Ok(Ast::Call(name, args, at)),
-        }
+        self.c.expect(&Tok::Close(close), expected)?;
+        Ok(out)
     }
 }
 
 /// A numeric literal: decimal integers are exact, decimals and exponent forms are floats.
-fn parse_number(text: &str) -> std::result::Result<Number, String> {
+fn parse_number(text: &str) -> std::result::Result<Number, ParseError> {
     // A negative literal only arises from tokens built by code, never from the lexer.
     if let Some(rest) = text.strip_prefix('-') {
         return parse_number(rest).map(|n| -n);
     }
+    let literal = || text.to_string();
     if text.starts_with(['"', '\'', 'b', 'c', 'r']) {
-        return Err(format!("expected a number, found the literal {text}"));
+        return Err(ParseError::NotANumber { literal: literal() });
     }
     let clean: String = text.chars().filter(|&c| c != '_').collect();
-    let bad = || {
-        format!(
-            "`{text}` is not a number of the language (write e.g. 2, 0.04 or 1e-4, without a type suffix)"
-        )
-    };
+    let bad = || ParseError::BadNumber { literal: literal() };
     if clean.starts_with("0x") || clean.starts_with("0o") || clean.starts_with("0b") {
         return Err(bad());
     }
@@ -321,47 +329,124 @@ fn parse_number(text: &str) -> std::result::Result<Number, String> {
         return Err(bad());
     }
     let x: f64 = clean.parse().map_err(|_| bad())?;
-    Number::float(x).ok_or_else(|| format!("`{text}` is too large for a 64-bit float"))
+    Number::float(x).ok_or_else(|| ParseError::NumberTooLarge { literal: literal() })
 }
 
-/// The candidate closest to `name` by edit distance, when it is a likely typo: at most 2
-/// edits, and at most half the longer name (so `x` does not suggest `y`). A candidate equal
-/// up to letter case wins.
-pub(crate) fn closest<'n>(
-    name: &str,
-    candidates: impl IntoIterator<Item = &'n str>,
-) -> Option<String> {
-    let mut best: Option<(usize, &str)> = None;
-    for c in candidates {
-        if c == name {
-            continue;
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::lex::tokens_from_str;
+
+    fn parsed(text: &str, language: Language) -> Result<(Ast, Tok)> {
+        let tokens = tokens_from_str(text)?;
+        let mut c = Cursor::new(&tokens);
+        let ast = parse(&mut c, language)?;
+        Ok((ast, c.peek().tok.clone()))
+    }
+
+    fn text(source: &str, language: Language) -> String {
+        parsed(source, language).unwrap().0.text()
+    }
+
+    fn error(source: &str, language: Language) -> String {
+        parsed(source, language).unwrap_err().to_string()
+    }
+
+    /// One precedence table for both languages: the printed form shows the tree.
+    #[test]
+    fn both_languages_bind_alike() {
+        for language in [Language::Scalar, Language::Vector] {
+            for (source, tree) in [
+                ("-x^2", "-x^2"),
+                ("(-x)^2", "(-x)^2"),
+                ("x^-y^2", "x^-y^2"),
+                ("x^(-y)^2", "x^(-y)^2"),
+                ("2^3^2", "2^3^2"),
+                ("(2^3)^2", "(2^3)^2"),
+                ("a - (b - c)", "a - (b - c)"),
+                ("a*(b*c)/d", "a*(b*c)/d"),
+                ("-a*b + c", "-a*b + c"),
+                ("a/(b + c)", "a/(b + c)"),
+            ] {
+                assert_eq!(text(source, language), tree, "{source} ({language:?})");
+            }
         }
-        let d = if c.eq_ignore_ascii_case(name) {
-            0
-        } else {
-            edit_distance(name, c)
+    }
+
+    /// A chain of one level is one n-ary node; parentheses keep their own node.
+    #[test]
+    fn chains_are_n_ary_and_parentheses_nest() {
+        let (ast, _) = parsed("a - b + c - d", Language::Scalar).unwrap();
+        let Ast::Sum(terms) = &ast else {
+            panic!("{ast:?}")
         };
-        let longer = name.chars().count().max(c.chars().count());
-        if d <= 2 && d <= longer / 2 && best.is_none_or(|b| d < b.0) {
-            best = Some((d, c));
-        }
+        let signs: Vec<bool> = terms.iter().map(|t| t.0).collect();
+        assert_eq!(signs, [false, true, false, true]);
+        let (ast, _) = parsed("(a*b)*c", Language::Scalar).unwrap();
+        let Ast::Product(factors) = &ast else {
+            panic!("{ast:?}")
+        };
+        assert_eq!(factors.len(), 2);
+        assert!(matches!(factors[0].1, Ast::Product(_)));
+        // The operator's location, for errors at the operator.
+        let (ast, _) = parsed("a / b", Language::Scalar).unwrap();
+        let Ast::Product(factors) = &ast else {
+            panic!("{ast:?}")
+        };
+        assert_eq!(factors[1].2.column, 3);
     }
-    best.map(|b| b.1.to_string())
-}
 
-/// Levenshtein distance in characters.
-pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.iter().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            cur[j + 1] = (prev[j] + usize::from(ca != cb))
-                .min(prev[j + 1] + 1)
-                .min(cur[j] + 1);
-        }
-        prev = cur;
+    /// The vector forms exist only in the vector language.
+    #[test]
+    fn vector_forms_only_in_the_vector_language() {
+        assert_eq!(
+            text("rot_z(b)*[0, 0, l/2] + P.x", Language::Vector),
+            "rot_z(b)*[0, 0, l/2] + P.x"
+        );
+        assert_eq!(
+            text("[[1, 0], [0, -(l - 1)]]", Language::Vector),
+            "[[1, 0], [0, -(l - 1)]]"
+        );
+        assert!(
+            error("[x, y]", Language::Scalar)
+                .contains("expected a number, a name or `(`, found `[`")
+        );
+        assert!(error("cross(u, v)", Language::Scalar).contains("unknown function `cross`"));
+        // The scalar parser stops before `.`, for the caller to report.
+        let (_, next) = parsed("P.x", Language::Scalar).unwrap();
+        assert_eq!(next, Tok::Punct('.'));
+        assert!(error("der(x)", Language::Vector).contains("position-level"));
+        assert!(error("[]", Language::Vector).contains("at least one entry"));
+        assert!(error("P.w", Language::Vector).contains("expected `x`, `y` or `z`"));
     }
-    prev[b.len()]
+
+    #[test]
+    fn errors_name_what_was_expected() {
+        for language in [Language::Scalar, Language::Vector] {
+            assert!(error("x**2", language).contains("powers are written `x^2`"));
+            assert!(error("^x", language).contains("`^` needs a base"));
+            assert!(error("atan2(x)", language).contains("`atan2` takes 2 arguments, found 1"));
+            assert!(error("sin(x y)", language).contains("`,` or `)` after a function argument"));
+            assert!(error("2f64", language).contains("without a type suffix"));
+        }
+    }
+
+    /// One depth limit for parentheses, signs and exponents, in both languages.
+    #[test]
+    fn nesting_is_limited_in_both_languages() {
+        for language in [Language::Scalar, Language::Vector] {
+            let deep = |open: &str, close: &str, k: usize| {
+                format!("{}x{}", open.repeat(k), close.repeat(k))
+            };
+            assert!(parsed(&deep("(", ")", MAX_DEPTH - 1), language).is_ok());
+            for text in [
+                deep("(", ")", MAX_DEPTH),
+                deep("-", "", MAX_DEPTH),
+                deep("x^", "", MAX_DEPTH),
+                deep("sin(", ")", MAX_DEPTH),
+            ] {
+                assert!(error(&text, language).contains("nested too deeply"));
+            }
+        }
+    }
 }

@@ -11,7 +11,7 @@ use std::str::FromStr;
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Expected, Location, ParseError, Result};
 
 /// A bracket kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -199,16 +199,16 @@ pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
             } else {
                 (lc.line, lc.column + 1)
             };
-            Err(Error::Parse {
-                message: format!(
-                    "the text cannot be read from here on ({e}): look for a bracket that is not closed or not opened, an unterminated string, or a character the language does not use"
-                ),
-                location: Location {
+            Err(Error::parse(
+                ParseError::Unreadable {
+                    reason: e.to_string(),
+                },
+                Location {
                     line,
                     column,
                     token: None,
                 },
-            })
+            ))
         }
     };
     proc_macro2::fallback::unforce();
@@ -264,21 +264,30 @@ impl<'a> Cursor<'a> {
         hit
     }
 
-    /// Consumes `tok` or fails with "expected {what}, found ...".
-    pub(crate) fn expect(&mut self, tok: &Tok, what: &str) -> Result<&'a Token> {
+    /// Consumes `tok` or fails with "expected {expected}, found ...".
+    pub(crate) fn expect(&mut self, tok: &Tok, expected: Expected) -> Result<&'a Token> {
         if self.at(tok) {
             return Ok(self.next());
         }
-        Err(self.error_here(&format!("expected {what}")))
+        Err(self.expected(expected))
     }
 
-    /// A parse error at the current token: "{message}, found {token}".
-    pub(crate) fn error_here(&self, message: &str) -> Error {
-        let t = self.peek();
-        Error::Parse {
-            message: format!("{message}, found {}", t.tok.describe()),
-            location: t.location,
-        }
+    /// How the current token reads in a message.
+    pub(crate) fn found(&self) -> String {
+        self.peek().tok.describe()
+    }
+
+    /// A parse error of `kind` at the current token.
+    pub(crate) fn error_here(&self, kind: ParseError) -> Error {
+        Error::parse(kind, self.peek().location)
+    }
+
+    /// "expected {expected}, found {the current token}", at the current token.
+    pub(crate) fn expected(&self, expected: Expected) -> Error {
+        self.error_here(ParseError::Expected {
+            expected,
+            found: self.found(),
+        })
     }
 }
 
@@ -290,21 +299,27 @@ pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Locatio
             c.next();
             Ok((s.clone(), t.location))
         }
-        _ => Err(c.error_here(&format!("expected a name in `{section}`"))),
+        _ => Err(c.expected(Expected::Name {
+            section: section.to_string(),
+        })),
     }
 }
 
-/// `{ item; item; ... }` with an optional last `;`.
+/// `{ item; item; ... }`: every item ends with `;`, the last one too (a missing `;` is
+/// reported at the token where it was expected, so a dropped statement cannot go unnoticed).
 pub(crate) fn block<T>(
     c: &mut Cursor<'_>,
     mut item: impl FnMut(&mut Cursor<'_>) -> Result<T>,
 ) -> Result<Vec<T>> {
-    c.expect(&Tok::Open(Delim::Brace), "`{` opening the section")?;
+    c.expect(&Tok::Open(Delim::Brace), Expected::OpenBrace)?;
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Brace)) {
         out.push(item(c)?);
-        if !c.eat(&Tok::Punct(';')) && !c.at(&Tok::Close(Delim::Brace)) {
-            return Err(c.error_here("expected `;` or an operator"));
+        if c.at(&Tok::Close(Delim::Brace)) {
+            return Err(c.expected(Expected::LastSemicolon));
+        }
+        if !c.eat(&Tok::Punct(';')) {
+            return Err(c.expected(Expected::Semicolon));
         }
     }
     c.next();

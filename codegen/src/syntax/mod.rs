@@ -2,23 +2,25 @@
 //!
 //! Enters: a `proc_macro2::TokenStream` (the `mechanism!` input) or the text of a `.mech`
 //! file. Leaves: a [`declaration::Declaration`] whose expressions are syntax trees
-//! ([`expression::Ast`] for scalars, [`vector::VectorAst`] for the vector expressions of the
-//! body sections), every node with its [`Location`](crate::Location). No symbol is resolved
+//! ([`ast::Ast`], scalar or, in the body sections, vector expressions), every node with its
+//! [`Location`](crate::Location). No symbol is resolved
 //! and no arena node is built here (that is the job of [`crate::mechanics`]): this stage
 //! imports nothing of the others, only the shared `error` and `number` leaves.
 //!
 //! The algorithm is recursive descent over one flat token list ([`lex`]): both routes use
 //! proc_macro2's tokenizer, so a macro and a file have one grammar. Expressions bind, loosest
 //! first, `+ -`, `* /`, unary `-`, `^` (right-associative, tighter than unary minus:
-//! `-x^2 = -(x^2)`); nesting deeper than [`MAX_DEPTH`] is an error, not a stack
-//! overflow, in both expression languages.
+//! `-x^2 = -(x^2)`), parsed by one precedence-climbing parser for both expression languages
+//! ([`expression`]); nesting deeper than [`MAX_DEPTH`] is an error, not a stack overflow.
 
-/// Deepest nesting either expression parser accepts (parentheses, unary signs and powers
-/// together); deeper input is a parse error instead of a stack overflow.
+/// Deepest nesting the expression parser accepts (parentheses, signs, exponents and the
+/// operands of a chain together); deeper input is a parse error instead of a stack overflow.
 pub(crate) const MAX_DEPTH: usize = 160;
 
+pub(crate) mod ast;
 pub(crate) mod bodies;
 pub(crate) mod declaration;
+pub(crate) mod draw;
 pub(crate) mod expression;
 pub(crate) mod lex;
-pub(crate) mod vector;
+pub(crate) mod spelling;

@@ -103,6 +103,23 @@ const ERRORS: &[(&str, &str)] = &[
         "gravity = [0, 0, -g]; gravity = [0, 0, g]; body b { mass = m; position = [x, y, 0]; }",
         "given twice",
     ),
+    (
+        "body b { mass = m; position = [x, y, 0] }",
+        "expected `;` after the last statement of the block, found `}`",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } joints { distance(b, O, l) }",
+        "expected `;` after the last statement of the block, found `}`",
+    ),
+    (
+        "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } spring s { between = b, O; stiffness = 1 }",
+        "expected `;` after the last statement of the block, found `}`",
+    ),
+    // Points, axes and bodies are among the known names, closest first.
+    (
+        "point O = [0, 0, 0]; body bob { mass = m; position = [x, y, 0]; } joints { distance(bob, Q, l); }",
+        "; known: O, m, l, g, x, y, t, pi, ...",
+    ),
 ];
 
 #[test]

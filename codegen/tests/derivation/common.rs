@@ -295,6 +295,7 @@ pub fn bare_model(
             })
             .collect(),
         forces: vec![zero; coords.len()],
+        drawing: Default::default(),
     }
 }
 

@@ -184,19 +184,19 @@ fn invalid_inputs_are_typed_errors() {
     let mut t = fx();
     let mut d = Differentiator::new();
     assert!(matches!(
-        d.diff(&mut t.a, Id(10_000), t.sx),
+        d.diff(&mut t.a, Id::new(10_000), t.sx),
         Err(Error::InvalidId { .. })
     ));
     assert!(matches!(
-        d.diff(&mut t.a, t.x, SymbolId(77)),
+        d.diff(&mut t.a, t.x, SymbolId::new(77)),
         Err(Error::UnknownSymbolId { .. })
     ));
     assert!(matches!(
-        d.time_derivative(&mut t.a, Id(10_000)),
+        d.time_derivative(&mut t.a, Id::new(10_000)),
         Err(Error::InvalidId { .. })
     ));
     assert!(matches!(
-        d.depends_on(&t.a, Id(10_000), t.sx),
+        d.depends_on(&t.a, Id::new(10_000), t.sx),
         Err(Error::InvalidId { .. })
     ));
     // d/dx (-2)^x needs ln(-2).
@@ -285,7 +285,7 @@ fn a_smaller_arena_resets_the_caches() {
     let mut small = fx();
     small.a.symbol("w", SymbolKind::Free); // node 2: sin(x) is node 3 here, sin(sin(x)) in `big`
     let s = small.a.sin(small.x);
-    assert_eq!(s, Id(3));
+    assert_eq!(s, Id::new(3));
     assert_eq!(
         d.diff(&mut small.a, s, small.sx).unwrap(),
         small.a.cos(small.x)

@@ -5,7 +5,8 @@ use std::cell::Cell;
 use std::collections::HashMap;
 
 use crate::eval_support::{ast, build, close, dag, direct, point, symbols};
-use mechanism_codegen::{Arena, Error, Func, Id, Matrix, SymbolKind, eval, eval_many, eval_matrix};
+use mechanism_codegen::internals::eval_many;
+use mechanism_codegen::{Arena, Error, Func, Id, Matrix, SymbolKind, eval, eval_matrix};
 use proptest::prelude::*;
 
 proptest! {
@@ -22,9 +23,9 @@ proptest! {
         if !want.v.is_finite() || !want.e.is_finite() {
             return Ok(());
         }
-        let env = |s: mechanism_codegen::SymbolId| x.get(s.0 as usize).copied();
+        let env = |s: mechanism_codegen::SymbolId| x.get(s.index()).copied();
         let got = eval(&a, id, &env);
-        let reference = dag(&a, id, &|s| x[s.0 as usize], &mut HashMap::new());
+        let reference = dag(&a, id, &|s| x[s.index()], &mut HashMap::new());
         prop_assume!(reference.e.is_finite());
         let got = got.map_err(|err| TestCaseError::fail(format!("eval failed: {err} on a finite case")))?;
         prop_assert!(
@@ -45,7 +46,7 @@ fn arena_xy() -> (Arena, Id, Id) {
 fn missing_symbol_is_named() {
     let (mut a, x, y) = arena_xy();
     let e = a.add2(x, y);
-    let err = eval(&a, e, &|s| (s.0 == 0).then_some(1.0)).unwrap_err();
+    let err = eval(&a, e, &|s| (s.index() == 0).then_some(1.0)).unwrap_err();
     assert_eq!(err, Error::MissingValue { name: "y".into() });
 }
 
@@ -53,7 +54,7 @@ fn missing_symbol_is_named() {
 fn runtime_division_by_zero_is_an_error() {
     let (mut a, x, y) = arena_xy();
     let d = a.div(y, x).unwrap();
-    let err = eval(&a, d, &|s| Some(if s.0 == 0 { 0.0 } else { 1.0 })).unwrap_err();
+    let err = eval(&a, d, &|s| Some(if s.index() == 0 { 0.0 } else { 1.0 })).unwrap_err();
     assert!(
         matches!(err, Error::NonFinite { ref operation, .. } if operation == "division by zero"),
         "{err}"
@@ -89,17 +90,15 @@ fn domain_errors_are_typed_not_nan() {
 #[test]
 fn invalid_ids_and_bad_matrices_are_errors() {
     let (a, x, _) = arena_xy();
-    let bad = Id(1_000_000);
+    let bad = Id::new(1_000_000);
     assert!(matches!(
         eval(&a, bad, &|_| Some(1.0)),
         Err(Error::InvalidId { .. })
     ));
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![x],
-    };
-    assert!(eval_matrix(&a, &m, &|_| Some(1.0)).is_err());
+    assert!(
+        Matrix::new(2, 2, vec![x]).is_err(),
+        "a malformed matrix cannot be built"
+    );
     assert_eq!(eval_many(&a, &[], &|_| Some(1.0)), Ok(vec![]));
 }
 
@@ -146,15 +145,11 @@ fn matrix_entries_share_one_walk() {
     let s = a.sin(x);
     let c = a.cos(x);
     let p = a.mul2(s, y);
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![s, c, p, x],
-    };
+    let m = Matrix::new(2, 2, vec![s, c, p, x]).unwrap();
     let calls = Cell::new(0);
     let env = |sym: mechanism_codegen::SymbolId| {
         calls.set(calls.get() + 1);
-        Some(if sym.0 == 0 { 0.4 } else { 3.0 })
+        Some(if sym.index() == 0 { 0.4 } else { 3.0 })
     };
     let v = eval_matrix(&a, &m, &env).unwrap();
     let (s, c) = mechanism_math::sin_cos(0.4);

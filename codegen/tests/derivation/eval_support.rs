@@ -13,7 +13,7 @@
 use mechanism_codegen::{Arena, Func, Id, SymbolKind};
 use proptest::prelude::*;
 
-pub use crate::rounding::*;
+pub use mechanism_test_support::rounding::*;
 
 /// Number of free symbols the generator uses (x0 .. x3).
 pub const NSYM: usize = 4;

@@ -17,10 +17,8 @@ use crate::common::{
     try_eval_equations,
 };
 use mechanism_codegen::fixtures::closed_chain_model;
-use mechanism_codegen::{
-    Equations, Model, SymbolId, christoffel_coriolis_forces, christoffel_coriolis_matrix, derive,
-    eval_matrix,
-};
+use mechanism_codegen::internals::{christoffel_coriolis_forces, christoffel_coriolis_matrix};
+use mechanism_codegen::{Equations, Model, SymbolId, derive, eval_matrix};
 use num_dual::Dual64;
 use proptest::prelude::*;
 
@@ -122,7 +120,7 @@ fn check_coriolis(
             .collect();
         let env = |s: SymbolId| seeds.iter().find(|e| e.0 == s).map(|e| e.1);
         eqs.mass
-            .data
+            .data()
             .iter()
             .map(|&e| eval_node(a, e, &env).unwrap().eps)
             .collect()

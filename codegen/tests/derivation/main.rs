@@ -4,7 +4,6 @@
 
 mod common;
 mod eval_support;
-mod rounding;
 
 mod cse_props;
 mod diff_props;

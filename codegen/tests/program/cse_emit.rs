@@ -38,11 +38,7 @@ fn matrix_and_vector_targets() {
     let c = s.a.cos(s.q);
     let lc = s.a.mul2(s.l, c);
     let zero = s.a.int(0);
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![lc, zero, zero, s.l],
-    };
+    let m = Matrix::new(2, 2, vec![lc, zero, zero, s.l]).unwrap();
     let v = Matrix::column(vec![c, zero]);
     let p = Program::new(&s.a, &[&m, &v]).unwrap();
     let zeroed = [
@@ -175,15 +171,7 @@ fn errors_are_typed() {
         emit_body(&p2, &s.b, &[OutputTarget::Return, OutputTarget::Return]),
         Err(Error::SeveralReturns)
     ));
-    let square = Program::new(
-        &s.a,
-        &[&Matrix {
-            rows: 2,
-            cols: 2,
-            data: vec![c; 4],
-        }],
-    )
-    .unwrap();
+    let square = Program::new(&s.a, &[&Matrix::new(2, 2, vec![c; 4]).unwrap()]).unwrap();
     let as_vector = OutputTarget::Vector {
         name: quote!(o),
         zeroed: false,

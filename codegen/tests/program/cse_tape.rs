@@ -16,11 +16,7 @@ fn outputs_are_written_matrix_after_matrix_row_major() {
     let s = a.sin(x);
     let xy = a.mul2(x, y);
     let one = a.int(1);
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![x, y, s, one],
-    };
+    let m = Matrix::new(2, 2, vec![x, y, s, one]).unwrap();
     let v = Matrix::column(vec![xy, s]);
     let p = Program::new(&a, &[&m, &v]).unwrap();
     let mut t = Tape::new(&p);
@@ -77,4 +73,33 @@ fn runtime_domain_errors_reach_the_outputs() {
     );
     t.eval(&[2.0, 1.0], &mut out).unwrap();
     assert_eq!(out, [0.5, 2.0_f64.ln()]);
+}
+
+/// `run` in the caller's register file gives what `eval` gives, bit for bit, and lets a
+/// non-finite value through to the outputs it reaches (as the emitted code does).
+#[test]
+fn run_in_a_caller_register_file_matches_eval() {
+    let (mut a, [x, y]) = setup();
+    let s = a.sin(x);
+    let xy = a.mul2(x, y);
+    let l = a.func(Func::Ln, y).unwrap();
+    let p = Program::new(&a, &[&Matrix::column(vec![s, xy, l])]).unwrap();
+    let mut t = Tape::new(&p);
+    let mut registers = vec![0.0; t.register_len()];
+    let slots: Vec<(usize, usize)> = t.input_slots().map(|(s, k)| (s.index(), k)).collect();
+    let load = |registers: &mut [f64], values: [f64; 2]| {
+        for &(sym, slot) in &slots {
+            registers[slot] = values[sym];
+        }
+    };
+    let (mut by_run, mut by_eval) = ([0.0; 3], [0.0; 3]);
+    load(&mut registers, [0.4, 2.5]);
+    t.run(&mut registers, &mut by_run);
+    t.eval(&[0.4, 2.5], &mut by_eval).unwrap();
+    assert_eq!(by_run.map(f64::to_bits), by_eval.map(f64::to_bits));
+    // ln of a negative: NaN in its output only, no error.
+    load(&mut registers, [0.4, -1.0]);
+    t.run(&mut registers, &mut by_run);
+    assert_eq!(by_run[..2], [sin_cos(0.4).0, -0.4]);
+    assert!(by_run[2].is_nan());
 }

@@ -1,4 +1,4 @@
-//! `Tape::eval` allocates nothing: a counting global allocator (this test binary only)
+//! `Tape::eval` and `Tape::run` allocate nothing: a counting global allocator (this test binary only)
 //! sees zero allocations across many evaluations of a realistic program.
 
 use mechanism_codegen::{Arena, Matrix, Program, SymbolKind, Tape};
@@ -30,12 +30,21 @@ fn tape_eval_does_not_allocate() {
     let mut inputs = vec![0.3; nsym];
     let mut out = vec![0.0; tape.output_len()];
     tape.eval(&inputs, &mut out).unwrap();
+    let mut registers = vec![0.0; tape.register_len()];
+    let slots: Vec<(usize, usize)> = tape.input_slots().map(|(s, k)| (s.index(), k)).collect();
     let before = mechanism_test_support::allocations();
     for k in 0..1000 {
         inputs[0] = 0.001 * k as f64;
         tape.eval(&inputs, &mut out).unwrap();
     }
+    for k in 0..1000 {
+        inputs[0] = 0.001 * k as f64;
+        for &(s, slot) in &slots {
+            registers[slot] = inputs[s];
+        }
+        tape.run(&mut registers, &mut out);
+    }
     let after = mechanism_test_support::allocations();
-    assert_eq!(after - before, 0, "Tape::eval allocated");
+    assert_eq!(after - before, 0, "Tape::eval or Tape::run allocated");
     assert!(out.iter().all(|v| v.is_finite()));
 }

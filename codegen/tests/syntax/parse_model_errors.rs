@@ -154,6 +154,54 @@ errors! {
         => "the kinetic energy does not depend on any rate der(q) (it is `m*x^2`)", line 5, at "kinetic";
     vector_length_mismatch: D { constraints: Some("[x, y] = [l, 0, 1];"), ..BASE }
         => "differ in length: 2 on the left, 3 on the right", line 7, at "=";
+    // A missing `;` after the last statement of a block, at the `}` where it was expected.
+    missing_semicolon_parameters: D { parameters: Some("m = 1.0; l = 0.5; g = 9.81"), ..BASE }
+        => "expected `;` after the last statement of the block, found `}`", line 2, at "}";
+    missing_semicolon_coordinates: D { coordinates: Some("x = 0.5; y = 0.0"), ..BASE }
+        => "expected `;` after the last statement", line 3, at "}";
+    missing_semicolon_independent: D { independent: Some("x = 0.5; der(x) = 0.0"), ..BASE }
+        => "expected `;` after the last statement", line 4, at "}";
+    missing_semicolon_constraints: D { constraints: Some("x^2 + y^2 - l^2"), ..BASE }
+        => "expected `;` after the last statement", line 7, at "}";
+    missing_semicolon_vector_constraint: D { constraints: Some("[x, y] = [l, 0]"), ..BASE }
+        => "expected `;` after the last statement", line 7, at "}";
+    missing_semicolon_forces: D { forces: Some("x: 1.0"), ..BASE }
+        => "expected `;` after the last statement", line 8, at "}";
+    missing_semicolon_between_statements: D { constraints: Some("x^2 + y^2 - l^2 x - y;"), ..BASE }
+        => "expected `;` or an operator, found `x`", line 7, at "x - y";
+    unknown_symbol_lists_known_names: D { potential: Some("m*g*w"), ..BASE }
+        => "unknown symbol `w` at line 6, column 17; known: m, l, g, x, y, t, pi", line 6, at "w";
+}
+
+/// The known names are listed closest first, at most eight of them.
+#[test]
+fn unknown_symbol_lists_the_closest_known_names_first() {
+    let d = D {
+        parameters: Some("m = 1.0; l = 0.5; g = 9.81; psi0 = 0.0; k1 = 1; k2 = 2; k3 = 3; k4 = 4;"),
+        coordinates: Some("x = 0.5; y = 0.0; phi = 0.0;"),
+        constraints: Some("x^2 + y^2 - l^2; phi - psi0;"),
+        independent: Some("x = 0.5; der(x) = 0.0;"),
+        potential: Some("m*g*y + phl"),
+        ..BASE
+    };
+    let errors = parse_declaration_str(&d.text()).unwrap_err();
+    let Error::UnknownSymbol {
+        suggestion, known, ..
+    } = &errors[0]
+    else {
+        panic!("{errors:?}")
+    };
+    assert_eq!(suggestion.as_deref(), Some("phi"));
+    assert_eq!(
+        known[..5],
+        ["phi", "l", "pi", "m", "g"],
+        "phi (1 edit), then l and pi (2), then the rest in declaration order"
+    );
+    assert_eq!(known.len(), 13, "every declared name, t and pi");
+    assert_eq!(
+        errors[0].message(),
+        "unknown symbol `phl`; did you mean `phi`? known: phi, l, pi, m, g, psi0, k1, k2, ..."
+    );
 }
 
 #[test]
@@ -305,5 +353,80 @@ fn token_route_errors_carry_the_offending_span() {
         location(&e.error),
         "the span is the token's"
     );
-    assert_eq!(e.message(), "unknown symbol `gg`; did you mean `g`?");
+    assert_eq!(
+        e.message(),
+        "unknown symbol `gg`; did you mean `g`? known: g, m, l, x, y, t, pi"
+    );
+}
+
+/// Errors are typed: the kind says which rule or which token, with its data.
+#[test]
+fn errors_carry_their_kind_and_data() {
+    use mechanism_codegen::error::{
+        CoordinatePlace, DeclarationError, Expected, NameKind, ParseError, SymbolRole,
+    };
+    let first = |d: D| parse_declaration_str(&d.text()).unwrap_err().remove(0);
+    let rule = |d: D| match first(d) {
+        Error::Declaration { kind, .. } => *kind,
+        other => panic!("{other:?}"),
+    };
+    let grammar = |d: D| match first(d) {
+        Error::Parse { kind, .. } => *kind,
+        other => panic!("{other:?}"),
+    };
+    let forces = Some("x: 1.0; x: 2.0;");
+    let kind = rule(D { forces, ..BASE });
+    assert!(
+        matches!(&kind, DeclarationError::TwoForces { name, first } if name == "x" && first.line == 8),
+        "{kind:?}"
+    );
+    let coordinates = Some("x = 0.5; y = 0.0; x = 1.0;");
+    let kind = rule(D {
+        coordinates,
+        ..BASE
+    });
+    assert!(
+        matches!(
+            kind,
+            DeclarationError::DeclaredTwice {
+                kind: NameKind::Coordinate,
+                ..
+            }
+        ),
+        "{kind:?}"
+    );
+    let kind = rule(D {
+        forces: Some("l: 1.0;"),
+        ..BASE
+    });
+    assert!(
+        matches!(
+            kind,
+            DeclarationError::NotACoordinate {
+                place: CoordinatePlace::Force,
+                role: SymbolRole::Parameter,
+                ..
+            }
+        ),
+        "{kind:?}"
+    );
+    let constraints = Some("x^2 + y^2 - l^2");
+    assert_eq!(
+        grammar(D {
+            constraints,
+            ..BASE
+        }),
+        ParseError::Expected {
+            expected: Expected::LastSemicolon,
+            found: "`}`".into()
+        }
+    );
+    let constraints = Some("[x, y] = [l, 0, 1];");
+    assert_eq!(
+        grammar(D {
+            constraints,
+            ..BASE
+        }),
+        ParseError::VectorLengths { left: 2, right: 3 }
+    );
 }

@@ -3,7 +3,8 @@
 use std::str::FromStr;
 
 use crate::parse_support::SEED;
-use mechanism_codegen::{Model, eval, parse_model, parse_model_str, to_text};
+use mechanism_codegen::internals::parse_model;
+use mechanism_codegen::{Model, eval, parse_model_str, to_text};
 
 fn check_seed(m: &Model) {
     assert_eq!(m.name, "SpatialCrankSlider");

@@ -1,8 +1,9 @@
 //! The derived equations as text: sections in order, one line per non-zero entry, and every
 //! printed entry reads back to the entry itself.
 
+use mechanism_codegen::internals::matrix_to_text;
 use mechanism_codegen::{
-    Arena, Matrix, SymbolKind, derive, equations_text, matrix_to_text, parse_expr, parse_model_str,
+    Arena, Matrix, SymbolKind, derive, equations_text, parse_expr, parse_model_str,
 };
 
 #[test]
@@ -111,11 +112,7 @@ fn matrix_text_layout() {
     let (mut a, [x, y, _]) = arena();
     let z = a.int(0);
     let xy = a.mul2(x, y);
-    let m = Matrix {
-        rows: 2,
-        cols: 3,
-        data: vec![z, xy, z, z, z, x],
-    };
+    let m = Matrix::new(2, 3, vec![z, xy, z, z, z, x]).unwrap();
     assert_eq!(
         matrix_to_text(&a, "A", &m),
         "A[1,2] = x*y\nA[2,3] = x\n(all other entries 0)\n"
@@ -124,23 +121,15 @@ fn matrix_text_layout() {
     assert_eq!(matrix_to_text(&a, "v", &v), "v[1] = x\nv[2] = y\n");
     let zeros = Matrix::zeros(&mut a, 2, 2);
     assert_eq!(matrix_to_text(&a, "Z", &zeros), "(all entries 0)\n");
-    let empty = Matrix {
-        rows: 0,
-        cols: 4,
-        data: vec![],
-    };
+    let empty = Matrix::new(0, 4, vec![]).unwrap();
     assert_eq!(matrix_to_text(&a, "E", &empty), "(empty: 0 x 4)\n");
 }
 
 #[test]
 fn printing_never_panics_on_a_foreign_id() {
     let (a, _) = arena();
-    let bad = mechanism_codegen::Id(10_000);
+    let bad = mechanism_codegen::Id::new(10_000);
     assert_eq!(mechanism_codegen::to_text(&a, bad), "<invalid id 10000>");
-    let m = Matrix {
-        rows: 2,
-        cols: 1,
-        data: vec![bad],
-    };
+    let m = Matrix::column(vec![bad]);
     assert!(matrix_to_text(&a, "m", &m).contains("<invalid id 10000>"));
 }

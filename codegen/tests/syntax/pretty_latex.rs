@@ -1,8 +1,8 @@
 //! LaTeX of expressions and matrices: one line per case, text => LaTeX.
 
+use mechanism_codegen::internals::{matrix_to_latex, to_latex};
 use mechanism_codegen::{
-    Arena, Matrix, SymbolKind, derive, equations_latex, matrix_to_latex, parse_expr,
-    parse_model_str, to_latex,
+    Arena, Matrix, SymbolKind, derive, equations_latex, parse_expr, parse_model_str,
 };
 
 fn arena() -> Arena {
@@ -64,11 +64,7 @@ fn matrix_is_a_bmatrix() {
     let mut a = arena();
     let e = parse_expr(&mut a, "der(phi)^2").unwrap();
     let z = a.int(0);
-    let m = Matrix {
-        rows: 2,
-        cols: 2,
-        data: vec![e, z, z, e],
-    };
+    let m = Matrix::new(2, 2, vec![e, z, z, e]).unwrap();
     assert_eq!(
         matrix_to_latex(&a, &m),
         "\\begin{bmatrix}\n\\dot{\\phi}^{2} & 0 \\\\\n0 & \\dot{\\phi}^{2}\n\\end{bmatrix}"

@@ -35,13 +35,17 @@ pub fn animation_html(scene: &Scene) -> Result<String, OutputError> {
         .replace("__DATA__", &data))
 }
 
-/// Writes [`animation_html`] of `scene` to `path`, creating its directory.
+/// Writes [`animation_html`] of `scene` to `path` (whole or not at all), creating its
+/// directory.
 pub fn write_animation(path: &Path, scene: &Scene) -> Result<(), OutputError> {
     let html = animation_html(scene)?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         super::ensure_dir(dir)?;
     }
-    std::fs::write(path, html).map_err(|e| OutputError::io(path, e))
+    // Under a temporary name, renamed when complete (see `output::atomic`).
+    super::write_atomically(path, |partial| {
+        std::fs::write(partial, &html).map_err(|e| OutputError::io(path, e))
+    })
 }
 
 /// `<`, `>`, `&` and `"` as entities.

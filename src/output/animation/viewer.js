@@ -116,6 +116,7 @@
       ctx.stroke();
     });
     ctx.font = "13px system-ui, sans-serif";
+    const labels = [];
     scene.points.forEach((p, i) => {
       const [px, py] = project(at(f, i));
       ctx.lineWidth = 2;
@@ -142,9 +143,12 @@
       ctx.arc(px, py, 5, 0, 2 * Math.PI);
       ctx.fill();
       ctx.stroke();
-      ctx.fillStyle = "#444";
-      ctx.fillText(p.name, px + 8, py - 8);
+      // Points that coincide (the two halves of a joint) share one label: "B1 = A2".
+      const same = labels.find((l) => Math.abs(l[0] - px) < 0.5 && Math.abs(l[1] - py) < 0.5);
+      if (same) same[2] += " = " + p.name; else labels.push([px, py, p.name]);
     });
+    ctx.fillStyle = "#444";
+    labels.forEach(([px, py, text]) => ctx.fillText(text, px + 8, py - 8));
   }
 
   // Coordinate plots: drawn once into an image, then the cursor on top at every frame.

@@ -12,7 +12,7 @@ use super::axes::{
     Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
 };
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
-use crate::output::{OutputError, ensure_dir};
+use crate::output::{OutputError, ensure_dir, write_atomically};
 
 pub(super) const FONT: &str = "sans-serif";
 const WIDTH: u32 = 1000;
@@ -228,13 +228,23 @@ pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, Outpu
     }
     register_font().map_err(plot_err(&png))?;
     let size = (WIDTH, spec.height);
-    draw_figure(
-        BitMapBackend::new(&png, size).into_drawing_area(),
-        spec,
-        true,
-    )
-    .map_err(plot_err(&png))?;
-    draw_figure(SVGBackend::new(&svg, size).into_drawing_area(), spec, false)
-        .map_err(plot_err(&svg))?;
+    // Each backend writes its file when the drawing is presented and is dropped before
+    // the rename: plotters picks the format from the temporary's extension.
+    write_atomically(&png, |partial| {
+        draw_figure(
+            BitMapBackend::new(partial, size).into_drawing_area(),
+            spec,
+            true,
+        )
+        .map_err(plot_err(&png))
+    })?;
+    write_atomically(&svg, |partial| {
+        draw_figure(
+            SVGBackend::new(partial, size).into_drawing_area(),
+            spec,
+            false,
+        )
+        .map_err(plot_err(&svg))
+    })?;
     Ok(vec![png, svg])
 }

@@ -8,13 +8,13 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::render::{FONT, PALETTE, register_font};
-use crate::output::{OutputError, Scene, ensure_dir};
+use crate::output::{OutputError, Scene, ensure_dir, write_atomically};
 
 /// The plane the strobe figure is drawn in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum View {
-    /// The coordinate plane normal to the axis along which the drawing moves least (a planar
-    /// mechanism is seen face on).
+    /// A planar drawing (thinner than 1 % of its size in one axis) face on; otherwise the
+    /// oblique view [`View::Oblique`] that shows all three axes.
     #[default]
     Auto,
     /// x right, y up.
@@ -23,19 +23,47 @@ pub enum View {
     Xz,
     /// y right, z up.
     Yz,
+    /// Seen from azimuth -50 deg (about z, from +x towards -y) and elevation 25 deg, z up:
+    /// what an engineer sketches of a spatial linkage.
+    Oblique,
+}
+
+/// A projection onto the figure: screen right and screen up as world directions, and
+/// their names for the axis labels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// World direction drawn to the right.
+    pub right: [f64; 3],
+    /// World direction drawn upwards.
+    pub up: [f64; 3],
+    /// Axis descriptions (`x`, `z`; `horizontal`, `vertical` for the oblique view).
+    pub names: (&'static str, &'static str),
 }
 
 impl View {
-    /// The (horizontal, vertical) axes (0 = x, 1 = y, 2 = z) for `scene`.
-    pub fn axes(self, scene: &Scene) -> (usize, usize) {
+    /// The projection for `scene`.
+    pub fn projection(self, scene: &Scene) -> Projection {
+        let plane = |right, up, names| Projection { right, up, names };
         match self {
-            View::Xy => (0, 1),
-            View::Xz => (0, 2),
-            View::Yz => (1, 2),
+            View::Xy => plane([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], ("x", "y")),
+            View::Xz => plane([1.0, 0.0, 0.0], [0.0, 0.0, 1.0], ("x", "z")),
+            View::Yz => plane([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], ("y", "z")),
+            View::Oblique => {
+                let (az, el) = ((-50.0_f64).to_radians(), 25.0_f64.to_radians());
+                plane(
+                    [-az.sin(), az.cos(), 0.0],
+                    [-az.cos() * el.sin(), -az.sin() * el.sin(), el.cos()],
+                    ("horizontal", "vertical"),
+                )
+            }
             View::Auto => {
                 let extent = extents(scene);
+                let size = extent.iter().fold(0.0_f64, |a, &e| a.max(e));
                 let thin = (0..3).fold(0, |a, k| if extent[k] < extent[a] { k } else { a });
-                [(1, 2), (0, 2), (0, 1)][thin]
+                if extent[thin] > 0.01 * size {
+                    return View::Oblique.projection(scene);
+                }
+                [View::Yz, View::Xz, View::Xy][thin].projection(scene)
             }
         }
     }
@@ -70,8 +98,6 @@ pub fn strobe_frames(scene: &Scene, instants: usize) -> Vec<usize> {
     }
 }
 
-const AXIS_NAMES: [&str; 3] = ["x", "y", "z"];
-
 /// Writes `<stem>.png` and `<stem>.svg`: the drawing at `instants` evenly spaced frames,
 /// superimposed, projected on `view`. Fails on an empty scene or non-finite positions.
 pub fn plot_strobe(
@@ -104,26 +130,21 @@ pub fn plot_strobe(
     register_font().map_err(plot_err(&png))?;
     let frame = Frame::new(scene, view);
     let size = (1000, frame.height);
-    draw(
-        BitMapBackend::new(&png, size).into_drawing_area(),
-        scene,
-        &frame,
-        instants,
-    )
-    .map_err(plot_err(&png))?;
-    draw(
-        SVGBackend::new(&svg, size).into_drawing_area(),
-        scene,
-        &frame,
-        instants,
-    )
-    .map_err(plot_err(&svg))?;
+    // Written under temporary names and renamed when complete (see `output::atomic`).
+    write_atomically(&png, |partial| {
+        let area = BitMapBackend::new(partial, size).into_drawing_area();
+        draw(area, scene, &frame, instants).map_err(plot_err(&png))
+    })?;
+    write_atomically(&svg, |partial| {
+        let area = SVGBackend::new(partial, size).into_drawing_area();
+        draw(area, scene, &frame, instants).map_err(plot_err(&svg))
+    })?;
     Ok(vec![png, svg])
 }
 
 /// The projection and the ranges of the figure: equal scales on both axes.
 struct Frame {
-    axes: (usize, usize),
+    projection: Projection,
     u: (f64, f64),
     v: (f64, f64),
     height: u32,
@@ -131,14 +152,20 @@ struct Frame {
 
 impl Frame {
     fn new(scene: &Scene, view: View) -> Self {
-        let axes = view.axes(scene);
+        let mut frame = Self {
+            projection: view.projection(scene),
+            u: (0.0, 0.0),
+            v: (0.0, 0.0),
+            height: 0,
+        };
         let (mut u, mut v) = (
             (f64::INFINITY, f64::NEG_INFINITY),
             (f64::INFINITY, f64::NEG_INFINITY),
         );
         for p in scene.positions.chunks_exact(3) {
-            u = (u.0.min(p[axes.0]), u.1.max(p[axes.0]));
-            v = (v.0.min(p[axes.1]), v.1.max(p[axes.1]));
+            let (pu, pv) = frame.project([p[0], p[1], p[2]]);
+            u = (u.0.min(pu), u.1.max(pu));
+            v = (v.0.min(pv), v.1.max(pv));
         }
         let span = (u.1 - u.0).max(v.1 - v.0).max(1e-9);
         // 8 % of the larger span around the drawing, so symbols at the edge stay inside.
@@ -151,16 +178,15 @@ impl Frame {
         let scale = (wu / plot_w).max(wv / plot_h);
         let (cu, cv) = (0.5 * (u.0 + u.1), 0.5 * (v.0 + v.1));
         let (hu, hv) = (0.5 * scale * plot_w, 0.5 * scale * plot_h);
-        Self {
-            axes,
-            u: (cu - hu, cu + hu),
-            v: (cv - hv, cv + hv),
-            height: plot_h as u32 + 130,
-        }
+        frame.u = (cu - hu, cu + hu);
+        frame.v = (cv - hv, cv + hv);
+        frame.height = plot_h as u32 + 130;
+        frame
     }
 
     fn project(&self, p: [f64; 3]) -> (f64, f64) {
-        (p[self.axes.0], p[self.axes.1])
+        let dot = |a: [f64; 3]| a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
+        (dot(self.projection.right), dot(self.projection.up))
     }
 }
 
@@ -193,8 +219,8 @@ fn draw<DB: DrawingBackend>(
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc(format!("{} (m)", AXIS_NAMES[frame.axes.0]))
-        .y_desc(format!("{} (m)", AXIS_NAMES[frame.axes.1]))
+        .x_desc(format!("{} (m)", frame.projection.names.0))
+        .y_desc(format!("{} (m)", frame.projection.names.1))
         .label_style((FONT, 18))
         .axis_desc_style((FONT, 20))
         .light_line_style(WHITE)
@@ -257,12 +283,25 @@ fn draw<DB: DrawingBackend>(
             ))
             .map_err(err)?;
     }
-    // Point names at the last instant.
+    // Point names at the last instant; points that coincide (the two halves of a joint)
+    // share one label, "B1 = A2".
+    let mut labels: Vec<((f64, f64), String)> = Vec::new();
+    for (i, p) in scene.points.iter().enumerate() {
+        let at = frame.project(scene.position(f, i));
+        let close = |q: &(f64, f64)| {
+            (q.0 - at.0).hypot(q.1 - at.1) <= 1e-9 * (1.0 + at.0.abs() + at.1.abs())
+        };
+        match labels.iter_mut().find(|(q, _)| close(q)) {
+            Some((_, text)) => *text = format!("{text} = {}", p.name),
+            None => labels.push((at, p.name.clone())),
+        }
+    }
     chart
-        .draw_series(scene.points.iter().enumerate().map(|(i, p)| {
-            let at = frame.project(scene.position(f, i));
-            EmptyElement::at(at) + Text::new(p.name.clone(), (8, -22), (FONT, 18))
-        }))
+        .draw_series(
+            labels
+                .into_iter()
+                .map(|(at, text)| EmptyElement::at(at) + Text::new(text, (8, -22), (FONT, 18))),
+        )
         .map_err(err)?;
     root.present().map_err(err)
 }

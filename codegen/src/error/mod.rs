@@ -1,6 +1,19 @@
-//! Typed errors of the computer-algebra crate.
+//! Typed errors of the computer-algebra crate: [`Error`], with the kinds of its two
+//! declaration variants, [`ParseError`] (the text does not follow the grammar: the `syntax`
+//! stage) and [`DeclarationError`] (a rule of the language is broken: the `mechanics`
+//! stage). Each variant carries what went wrong and where; its message quotes the user's
+//! names.
+
+mod declaration;
+mod parse;
 
 use thiserror::Error;
+
+pub use declaration::{
+    Constant, ConstantPlace, CoordinatePlace, DeclarationError, NameKind, Needed, Quantity,
+    SymbolRole,
+};
+pub use parse::{Expected, ParseError};
 
 /// Where in the source an error is: 1-based line and column, and the index of the token
 /// (for callers that parsed a token stream and keep the tokens' spans).
@@ -24,10 +37,10 @@ impl std::fmt::Display for Location {
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum Error {
     /// The text does not follow the grammar.
-    #[error("parse error at {location}: {message}")]
+    #[error("parse error at {location}: {kind}")]
     Parse {
-        /// What was expected or found.
-        message: String,
+        /// What was expected or found (boxed, as [`Error::Declaration`]'s kind).
+        kind: Box<ParseError>,
         /// Where.
         location: Location,
     },
@@ -41,8 +54,9 @@ pub enum Error {
         /// Where.
         location: Location,
     },
-    /// A name that is neither a coordinate, a parameter, nor `t` or `pi`.
-    #[error("unknown symbol `{name}` at {location}{}", did_you_mean(.suggestion))]
+    /// A name that is neither a coordinate, a parameter, nor `t` or `pi` (nor, in a body
+    /// section, a body, point or axis).
+    #[error("unknown symbol `{name}` at {location}{}", unknown_hint(.suggestion, .known))]
     UnknownSymbol {
         /// The name written.
         name: String,
@@ -50,6 +64,9 @@ pub enum Error {
         location: Location,
         /// The closest declared name, when one is near (a likely typo).
         suggestion: Option<String>,
+        /// The names that exist there, closest to `name` first (the message shows the
+        /// first few).
+        known: Vec<String>,
     },
     /// A division by (or a negative power of) an expression that simplifies to the constant 0.
     #[error("division by zero")]
@@ -104,10 +121,11 @@ pub enum Error {
     },
     /// A declaration breaks a rule of the language (a duplicate name, a rate in a constraint,
     /// `der` of a parameter, ...), at the place it was written.
-    #[error("{message} (at {location})")]
+    #[error("{kind} (at {location})")]
     Declaration {
-        /// What is wrong, in the user's terms.
-        message: String,
+        /// Which rule, and what it found (boxed: some rules carry lists of names, and an
+        /// error travels by value through every `Result` of the crate).
+        kind: Box<DeclarationError>,
         /// Where.
         location: Location,
     },
@@ -248,29 +266,59 @@ pub enum Error {
 /// Result with the crate's [`Error`](enum@Error).
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// `"; did you mean `x`?"` for an unknown-symbol message, or nothing.
-fn did_you_mean(suggestion: &Option<String>) -> String {
-    match suggestion {
+/// Known names an unknown-symbol message lists before `...`.
+const KNOWN_SHOWN: usize = 8;
+
+/// `"; did you mean `x`? known: x, y, ..."` for an unknown-symbol message (each part only
+/// when there is something to say).
+fn unknown_hint(suggestion: &Option<String>, known: &[String]) -> String {
+    let mut hint = match suggestion {
         Some(s) => format!("; did you mean `{s}`?"),
         None => String::new(),
+    };
+    if !known.is_empty() {
+        hint.push_str(if suggestion.is_some() {
+            " known: "
+        } else {
+            "; known: "
+        });
+        hint.push_str(&known[..known.len().min(KNOWN_SHOWN)].join(", "));
+        if known.len() > KNOWN_SHOWN {
+            hint.push_str(", ...");
+        }
     }
+    hint
 }
 
 impl Error {
+    /// A [`Error::Parse`] of `kind` at `location`.
+    pub(crate) fn parse(kind: ParseError, location: Location) -> Error {
+        Error::Parse {
+            kind: Box::new(kind),
+            location,
+        }
+    }
+
+    /// A [`Error::Declaration`] of `kind` at `location`.
+    pub(crate) fn declaration(kind: DeclarationError, location: Location) -> Error {
+        Error::Declaration {
+            kind: Box::new(kind),
+            location,
+        }
+    }
+
     /// The message without the "at line L, column C" part, for callers that show the
     /// place themselves (a span, or `file:line:column:`).
     pub fn message(&self) -> String {
         match self {
-            Error::Declaration { message, .. } => message.clone(),
-            Error::Parse { message, .. } => format!("parse error: {message}"),
+            Error::Declaration { kind, .. } => kind.to_string(),
+            Error::Parse { kind, .. } => format!("parse error: {kind}"),
             Error::UnknownSymbol {
                 name,
-                suggestion: Some(s),
+                suggestion,
+                known,
                 ..
-            } => {
-                format!("unknown symbol `{name}`; did you mean `{s}`?")
-            }
-            Error::UnknownSymbol { name, .. } => format!("unknown symbol `{name}`"),
+            } => format!("unknown symbol `{name}`{}", unknown_hint(suggestion, known)),
             Error::UnknownFunction { name, .. } => format!(
                 "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
             ),

@@ -3,7 +3,6 @@
 //! (`E(a + b) = E(a) + E(b) + |a + b|`, `E(a b) = |b| E(a) + |a| E(b) + |a b|`,
 //! `E(f(u)) = |f'(u)| E(u) + |f(u)|`, ...). Two evaluation orders of the same DAG differ by at
 //! most the sum of their errors. Shared by codegen's eval tests and `emit-check`.
-#![allow(dead_code)]
 
 use std::collections::HashMap;
 
@@ -18,10 +17,12 @@ pub struct Approx {
     pub e: f64,
 }
 
+/// The value `v` with the error bound `e` (in units of eps).
 pub fn ap(v: f64, e: f64) -> Approx {
     Approx { v, e }
 }
 
+/// f(u) with E = |f'(u)| E(u) + |f(u)|.
 pub fn func_approx(f: Func, u: Approx) -> Approx {
     let r = f.apply(u.v);
     let d = match f {
@@ -33,6 +34,8 @@ pub fn func_approx(f: Func, u: Approx) -> Approx {
     ap(r, d * u.e + r.abs() + 1e-300)
 }
 
+/// atan2(y, x) with E = (|x| E(y) + |y| E(x)) / (x^2 + y^2) + |atan2(y, x)|; infinite at the
+/// branch cut and at the origin, where it is ill-conditioned.
 pub fn atan2_approx(y: Approx, x: Approx) -> Approx {
     let r = y.v.atan2(x.v);
     let n2 = x.v * x.v + y.v * y.v;
@@ -46,6 +49,7 @@ pub fn atan2_approx(y: Approx, x: Approx) -> Approx {
     ap(r, e)
 }
 
+/// The product of `xs` with E = sum_i E(x_i) prod_{j != i} |x_j| + (k - 1) |prod|.
 pub fn mul_approx(xs: &[Approx]) -> Approx {
     let v: f64 = xs.iter().map(|x| x.v).product();
     let mut e = (xs.len() as f64 - 1.0) * v.abs();
@@ -61,6 +65,7 @@ pub fn mul_approx(xs: &[Approx]) -> Approx {
     ap(v, e)
 }
 
+/// The sum of `xs` with E = sum E(x_i) + (k - 1) sum |x_i|.
 pub fn add_approx(xs: &[Approx]) -> Approx {
     let v: f64 = xs.iter().map(|x| x.v).sum();
     let mag: f64 = xs.iter().map(|x| x.v.abs()).sum();
@@ -68,12 +73,15 @@ pub fn add_approx(xs: &[Approx]) -> Approx {
     ap(v, e)
 }
 
+/// x^k for an integer k with E = |k x^(k-1)| E(x) + (|k| + 1) |x^k|.
 pub fn powi_approx(x: Approx, k: i64) -> Approx {
     let r = x.v.powi(k as i32);
     let d = (k as f64 * x.v.powi(k as i32 - 1)).abs();
     ap(r, d * x.e + (k.unsigned_abs() as f64 + 1.0) * r.abs())
 }
 
+/// x^y (an integer power when the exponent `k` is a known integer) with
+/// E = |y x^(y-1)| E(x) + |ln|x| x^y| E(y) + 2 |x^y|.
 pub fn pow_approx(x: Approx, y: Approx, k: Option<Number>) -> Approx {
     if let Some(Number::Rational(k, 1)) = k {
         return powi_approx(x, k);

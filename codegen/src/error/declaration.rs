@@ -1,0 +1,570 @@
+//! The rules of the language a declaration can break (the `mechanics` stage: checks, model
+//! building, body sections): the kinds of [`Error::Declaration`](super::Error::Declaration).
+
+use super::parse::did_you_mean;
+use super::{Error, Location};
+
+/// Which rule a declaration breaks, with what it found. Names are as written.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+#[non_exhaustive]
+pub enum DeclarationError {
+    /// No kinetic energy and no bodies: there is no mass matrix.
+    #[error(
+        "`{mechanism}` declares no kinetic energy: add `kinetic = ...;`, T as a function of the coordinates and their rates der(q)"
+    )]
+    NoKinetic {
+        /// The struct name.
+        mechanism: String,
+    },
+    /// No `coordinates` section.
+    #[error(
+        "`{mechanism}` declares no coordinates: add `coordinates {{ phi = 0.0; }}` with each generalised coordinate and its initial guess"
+    )]
+    NoCoordinates {
+        /// The struct name.
+        mechanism: String,
+    },
+    /// `coordinates { }`.
+    #[error(
+        "`coordinates` is empty: a mechanism needs at least one generalised coordinate (`name = initial guess;`)"
+    )]
+    EmptyCoordinates,
+    /// A parameter or coordinate declared twice.
+    #[error("the {kind} `{name}` is declared twice (first at {first})")]
+    DeclaredTwice {
+        /// The name.
+        name: String,
+        /// Parameter or coordinate.
+        kind: NameKind,
+        /// Where it was declared first.
+        first: Location,
+    },
+    /// A name declared as a parameter and as a coordinate.
+    #[error("`{name}` is declared both as a {first_kind} (at {first}) and as a {kind}")]
+    DeclaredAsBoth {
+        /// The name.
+        name: String,
+        /// What it was declared as first.
+        first_kind: NameKind,
+        /// Where.
+        first: Location,
+        /// What it is declared as here.
+        kind: NameKind,
+    },
+    /// A parameter or coordinate called `t` or `pi`.
+    #[error(
+        "a {kind} cannot be called `{name}`: that name is {}; pick another name",
+        if .name == "t" { "time" } else { "the constant 3.14159..." }
+    )]
+    ReservedName {
+        /// `t` or `pi`.
+        name: String,
+        /// Parameter or coordinate.
+        kind: NameKind,
+    },
+    /// A default or initial value that uses something not constant.
+    #[error("{place}; `{written}` is {role}")]
+    NotConstant {
+        /// A parameter default or an initial value.
+        place: ConstantPlace,
+        /// The name, or `der(x)`, as written.
+        written: String,
+        /// What it is.
+        role: SymbolRole,
+    },
+    /// A parameter default that uses its own parameter.
+    #[error("the default of `{name}` refers to `{name}` itself")]
+    DefaultRefersToItself {
+        /// The parameter.
+        name: String,
+    },
+    /// A parameter default that uses a parameter declared after it.
+    #[error(
+        "a parameter default may use only parameters declared before it; `{name}` is declared later"
+    )]
+    DefaultUsesLater {
+        /// The later parameter.
+        name: String,
+    },
+    /// `der(x + y)`.
+    #[error("{function}() takes the name of a coordinate, like {function}(phi); found `{found}`")]
+    RateOfExpression {
+        /// `der` or `der2`.
+        function: String,
+        /// The argument as written.
+        found: String,
+    },
+    /// `der(m)` of a name that is not a coordinate with a rate.
+    #[error("der() takes a coordinate; `{name}` is {role}")]
+    RateOfNonCoordinate {
+        /// The name.
+        name: String,
+        /// What it is.
+        role: SymbolRole,
+    },
+    /// `der2(x)` in a declaration.
+    #[error(
+        "accelerations cannot appear in a declaration; `{written}` is one (energies and forces use q, der(q) and t)"
+    )]
+    Acceleration {
+        /// `der2(x)` as written.
+        written: String,
+    },
+    /// A rate in the potential energy.
+    #[error(
+        "the potential energy may depend on the coordinates and t only; `{written}` appears in it"
+    )]
+    RateInPotential {
+        /// `der(x)` as written.
+        written: String,
+    },
+    /// A rate in a constraint row.
+    #[error(
+        "constraints must be holonomic: {written} appears in constraint {row} (write position-level constraints Phi(q, t) = 0)"
+    )]
+    RateInConstraint {
+        /// `der(x)` as written.
+        written: String,
+        /// The row, 1-based.
+        row: usize,
+    },
+    /// `der(..)` in a body section.
+    #[error(
+        "`{function}(..)` cannot appear in a body, point, spring or joint: they are position-level (functions of q and t)"
+    )]
+    RateInBody {
+        /// `der` or `der2`.
+        function: String,
+    },
+    /// A force or an `independent` entry on something that is not a coordinate.
+    #[error(
+        "{place}, but `{name}` is {role} (the coordinates are {}){}",
+        .coordinates.join(", "),
+        did_you_mean(.suggestion)
+    )]
+    NotACoordinate {
+        /// Where the name stands.
+        place: CoordinatePlace,
+        /// The name written.
+        name: String,
+        /// What it is.
+        role: SymbolRole,
+        /// The coordinates.
+        coordinates: Vec<String>,
+        /// The closest coordinate, when one is near.
+        suggestion: Option<String>,
+    },
+    /// Two forces on one coordinate.
+    #[error("two forces on `{name}` (the first at {first}); write them as one sum")]
+    TwoForces {
+        /// The coordinate.
+        name: String,
+        /// Where the first is.
+        first: Location,
+    },
+    /// A value set twice in `independent`.
+    #[error("`{}` is set twice in `independent` (first at {first})", written(.name, *.rate))]
+    SetTwice {
+        /// The coordinate.
+        name: String,
+        /// True for `der(name)`.
+        rate: bool,
+        /// Where it was set first.
+        first: Location,
+    },
+    /// Fewer independent coordinates than degrees of freedom n - m.
+    #[error(
+        "the mechanism has n - m = {n} - {m} = {} {} but `independent` sets {} ({}); set {} more of {} as `name = value;` (with `der(name) = value;` for its rate), so the other coordinates can be found from the constraints",
+        .n - .m,
+        if .n - .m == 1 { "degree of freedom" } else { "degrees of freedom" },
+        .given.len(),
+        if .given.is_empty() { "none".to_string() } else { .given.join(", ") },
+        .n - .m - .given.len(),
+        .candidates.join(", ")
+    )]
+    TooFewIndependent {
+        /// Coordinates.
+        n: usize,
+        /// Constraint rows.
+        m: usize,
+        /// The coordinates `independent` sets.
+        given: Vec<String>,
+        /// The coordinates it could set.
+        candidates: Vec<String>,
+    },
+    /// A constraint row without q or t.
+    #[error(
+        "constraint {row} does not depend on the coordinates or t (it simplifies to `{simplified}`), so it constrains nothing: remove it or correct it"
+    )]
+    ConstraintWithoutMotion {
+        /// The row, 1-based.
+        row: usize,
+        /// Its simplified form, as text.
+        simplified: String,
+    },
+    /// A kinetic energy without rates.
+    #[error(
+        "the kinetic energy does not depend on any rate der(q) (it is `{kinetic}`): write T with the rates, e.g. `1/2*m*der(x)^2`"
+    )]
+    KineticWithoutRates {
+        /// T, as text.
+        kinetic: String,
+    },
+    /// A constant (a default, an initial value) whose evaluation failed.
+    #[error("{what} cannot be evaluated: {error}")]
+    NotEvaluable {
+        /// Which constant.
+        what: Constant,
+        /// Why.
+        error: Box<Error>,
+    },
+    /// A function at a constant argument outside its domain (`ln(0)`).
+    #[error("{error}")]
+    ConstantOutOfDomain {
+        /// The evaluation error.
+        error: Box<Error>,
+    },
+    /// The same in a body section, naming the function.
+    #[error("`{function}`: {error}")]
+    FunctionOutOfDomain {
+        /// The function.
+        function: String,
+        /// The evaluation error.
+        error: Box<Error>,
+    },
+    /// A value of a body section that must be 1x1.
+    #[error("{what} must be a scalar; this is a {rows}x{cols} value")]
+    NotScalar {
+        /// The value's role.
+        what: Quantity,
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        cols: usize,
+    },
+    /// A value of a body section that must be 3x1.
+    #[error("{what} must be a 3-vector `[x, y, z]`; this is a {rows}x{cols} value")]
+    NotVector3 {
+        /// The value's role.
+        what: Quantity,
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        cols: usize,
+    },
+    /// `[[a, b], [c]]`.
+    #[error("the rows of a matrix `[[..], [..]]` must have equal lengths")]
+    RaggedMatrix,
+    /// A sum of values of different shapes.
+    #[error(
+        "a sum needs values of one shape: the left side is {}x{}, the right side {}x{}",
+        .left.0, .left.1, .right.0, .right.1
+    )]
+    SumShapes {
+        /// (rows, cols) on the left.
+        left: (usize, usize),
+        /// (rows, cols) on the right.
+        right: (usize, usize),
+    },
+    /// A matrix product of values whose sizes do not fit.
+    #[error(
+        "a matrix product needs as many columns on the left as rows on the right: the left side is {}x{}, the right side {}x{}",
+        .left.0, .left.1, .right.0, .right.1
+    )]
+    ProductShapes {
+        /// (rows, cols) on the left.
+        left: (usize, usize),
+        /// (rows, cols) on the right.
+        right: (usize, usize),
+    },
+    /// The two sides of a joint row of different shapes.
+    #[error(
+        "the two sides of a joint row differ in shape: {}x{} and {}x{}",
+        .left.0, .left.1, .right.0, .right.1
+    )]
+    JointRowShapes {
+        /// (rows, cols) on the left.
+        left: (usize, usize),
+        /// (rows, cols) on the right.
+        right: (usize, usize),
+    },
+    /// A joint helper inside an expression.
+    #[error("`{helper}(..)` is a joint: write it as a statement of its own in `joints {{ .. }}`")]
+    JointInExpression {
+        /// The helper.
+        helper: String,
+    },
+    /// A helper argument that must name an axis.
+    #[error(
+        "argument {index} of `{helper}` must be the name of an axis (`axis b = [0, 0, 1];` in a body or at the top level)"
+    )]
+    NotAnAxis {
+        /// The helper.
+        helper: String,
+        /// The argument, 1-based.
+        index: usize,
+    },
+    /// An axis whose direction depends on more than parameters.
+    #[error("an axis must be a constant direction in its body (parameters allowed): {error}")]
+    AxisNotConstant {
+        /// The evaluation error.
+        error: Box<Error>,
+    },
+    /// An axis `[0, 0, 0]`.
+    #[error("an axis cannot be the zero vector")]
+    ZeroAxis,
+    /// An orientation factor that is not 3x3.
+    #[error("an orientation factor must be 3x3; this is {rows}x{cols}")]
+    OrientationFactor {
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        cols: usize,
+    },
+    /// An inertia that is not 3x3.
+    #[error(
+        "an inertia tensor is 3x3 (`diag(Ixx, Iyy, Izz)` or `[[..], [..], [..]]`); this is {rows}x{cols}"
+    )]
+    InertiaNot3x3 {
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        cols: usize,
+    },
+    /// An inertia on a body without orientation.
+    #[error(
+        "the body `{body}` has an inertia but no `orientation`: give R (a point mass has only mass and position)"
+    )]
+    InertiaWithoutOrientation {
+        /// The body.
+        body: String,
+    },
+    /// A point or axis on a body without orientation.
+    #[error(
+        "the {key} `{name}` is on the point mass `{body}`: give the body an `orientation` (its points are in body axes)"
+    )]
+    OnPointMass {
+        /// `point` or `axis`.
+        key: String,
+        /// Its name.
+        name: String,
+        /// The body.
+        body: String,
+    },
+    /// An entry given twice in one block.
+    #[error("`{key}` is given twice in `{owner}`")]
+    GivenTwice {
+        /// The key.
+        key: String,
+        /// The body, spring or damper.
+        owner: String,
+    },
+    /// `gravity` given twice.
+    #[error("`gravity` is given twice")]
+    GravityTwice,
+    /// `draw` given twice.
+    #[error("`draw` is given twice; write all its lines and traces in one block")]
+    DrawTwice,
+    /// `draw` names an axis where it joins points.
+    #[error("`{name}` is an axis (a direction), not a point: `draw` joins points")]
+    DrawnAxis {
+        /// The axis.
+        name: String,
+    },
+    /// `draw` names something that is not a point declared before it.
+    #[error(
+        "`draw` names `{name}`, which is not a point declared before it (declare it with `point {name} = [x, y, z];` or in a body)"
+    )]
+    UnknownDrawnPoint {
+        /// The name written.
+        name: String,
+    },
+    /// A body, point or axis name used twice.
+    #[error("the name `{name}` is declared twice among bodies, points and axes")]
+    VectorNameTwice {
+        /// The name.
+        name: String,
+    },
+    /// A body, point or axis named like a parameter or coordinate.
+    #[error(
+        "`{name}` is already a parameter or coordinate; a body, point or axis needs its own name"
+    )]
+    NameTaken {
+        /// The name.
+        name: String,
+    },
+    /// A body, spring or damper without a required entry.
+    #[error("the {block} `{name}` needs {entry}")]
+    MissingEntry {
+        /// `body`, `spring` or `damper`.
+        block: String,
+        /// Its name.
+        name: String,
+        /// The entry.
+        entry: Needed,
+    },
+}
+
+/// What a declared name is.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum NameKind {
+    /// In `parameters`.
+    #[error("parameter")]
+    Parameter,
+    /// In `coordinates`.
+    #[error("coordinate")]
+    Coordinate,
+}
+
+/// Where only a coordinate may be named.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum CoordinatePlace {
+    /// `forces { name: ..; }`.
+    #[error("a force acts along a coordinate")]
+    Force,
+    /// `independent { name = ..; }`.
+    #[error("`independent` sets initial values of coordinates")]
+    Independent,
+}
+
+/// Where only constants are allowed.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum ConstantPlace {
+    /// A parameter's default.
+    #[error("a parameter default must be a constant")]
+    Default,
+    /// An initial guess or initial value.
+    #[error("an initial value must be a constant")]
+    Initial,
+}
+
+/// What a name stands for, where it is not what a rule needs.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum SymbolRole {
+    /// A parameter.
+    #[error("a parameter")]
+    Parameter,
+    /// A coordinate.
+    #[error("a coordinate")]
+    Coordinate,
+    /// A coordinate whose rate is not declared.
+    #[error("a coordinate without a declared rate")]
+    CoordinateWithoutRate,
+    /// A rate der(x).
+    #[error("a rate")]
+    Rate,
+    /// An acceleration der2(x).
+    #[error("an acceleration")]
+    Acceleration,
+    /// Time `t`.
+    #[error("time")]
+    Time,
+    /// A free symbol of a hand-built arena.
+    #[error("not a coordinate")]
+    NotACoordinate,
+    /// A name that is not declared.
+    #[error("not declared")]
+    Undeclared,
+}
+
+/// A constant of the declaration that is evaluated when the model is built.
+#[derive(Clone, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum Constant {
+    /// A parameter's default.
+    #[error("the default of `{0}`")]
+    Default(String),
+    /// A coordinate's initial guess.
+    #[error("the initial guess of `{0}`")]
+    Guess(String),
+    /// An independent coordinate's initial value.
+    #[error("the initial value of `{0}`")]
+    Position(String),
+    /// An independent coordinate's initial rate.
+    #[error("the initial rate of `{0}`")]
+    Rate(String),
+}
+
+/// The role of a value in a body section, for shape errors.
+#[derive(Clone, Debug, thiserror::Error, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Quantity {
+    /// `a` in `a.x`.
+    #[error("the value before `.x`, `.y` or `.z`")]
+    MemberBase,
+    /// An entry of `[..]`.
+    #[error("an entry of a vector `[..]`")]
+    VectorEntry,
+    /// The right side of `/`.
+    #[error("a divisor")]
+    Divisor,
+    /// The left side of `^`.
+    #[error("the base of `^`")]
+    PowerBase,
+    /// The right side of `^`.
+    #[error("an exponent")]
+    Exponent,
+    /// An argument of a function.
+    #[error("the argument of `{0}`")]
+    Argument(String),
+    /// An argument of a joint helper (1-based).
+    #[error("argument {index} of `{helper}`")]
+    HelperArgument {
+        /// The helper.
+        helper: String,
+        /// The argument, 1-based.
+        index: usize,
+    },
+    /// The angle of `rot_x/y/z`.
+    #[error("a rotation angle")]
+    RotationAngle,
+    /// A body's mass.
+    #[error("the mass")]
+    Mass,
+    /// A body's position.
+    #[error("the position")]
+    Position,
+    /// The length of `distance`.
+    #[error("the distance")]
+    Distance,
+    /// `gravity`.
+    #[error("the gravity vector")]
+    Gravity,
+    /// A named point.
+    #[error("the point `{0}`")]
+    Point(String),
+    /// A named axis.
+    #[error("the axis `{0}`")]
+    Axis(String),
+    /// An end of a spring or damper.
+    #[error("an end of `{0}`")]
+    End(String),
+    /// A spring's or damper's scalar entry (`stiffness`, ...).
+    #[error("`{0}`")]
+    Entry(String),
+}
+
+/// An entry a block needs.
+#[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
+pub enum Needed {
+    /// A body's centre of mass.
+    #[error("`position = [x, y, z];` (its centre of mass)")]
+    Position,
+    /// A spring's or damper's ends.
+    #[error("`between = P, Q;`")]
+    Between,
+    /// A spring's stiffness.
+    #[error("`stiffness = k;`")]
+    Stiffness,
+    /// A damper's coefficient.
+    #[error("`coefficient = c;`")]
+    Coefficient,
+}
+
+/// `x` or `der(x)`.
+fn written(name: &str, rate: bool) -> String {
+    if rate {
+        format!("der({name})")
+    } else {
+        name.to_string()
+    }
+}

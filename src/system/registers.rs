@@ -1,0 +1,33 @@
+//! The register file in which interpreted tapes run ([`mechanism_codegen::Tape::run`]).
+//!
+//! A tape needs a scratch array for its registers and outputs, and the [`System`] methods
+//! that run one take `&self` and the caller's output buffers only. One register file per
+//! thread, grown to the largest tape the thread has run, serves every tape of that thread:
+//! an evaluation then neither allocates (after its first on the thread) nor locks, and
+//! threads sharing one system (parameter sweeps) do not wait on each other.
+//!
+//! [`System`]: crate::System
+
+use std::cell::RefCell;
+
+thread_local! {
+    static REGISTERS: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Calls `f` with this thread's register file, at least `registers` long, and an output
+/// array of exactly `outputs` entries beside it. Allocates only when the thread's file is
+/// too short (its first use, or a larger tape than any before).
+pub(crate) fn with_registers<R>(
+    registers: usize,
+    outputs: usize,
+    f: impl FnOnce(&mut [f64], &mut [f64]) -> R,
+) -> R {
+    REGISTERS.with_borrow_mut(|file| {
+        let len = registers + outputs;
+        if file.len() < len {
+            file.resize(len, 0.0);
+        }
+        let (regs, out) = file[..len].split_at_mut(registers);
+        f(regs, out)
+    })
+}

@@ -1,0 +1,112 @@
+//! One evaluation of the interpreted route: a codegen [`Tape`] and where each of its inputs
+//! comes from, checked once when it is built so that running it cannot fail.
+
+use std::collections::HashMap;
+
+use mechanism_codegen::{Error, Program, SymbolId, Tape};
+
+use crate::system::registers::with_registers;
+
+/// Where the value of a tape input comes from at an evaluation (an index into the slice
+/// of [`Values`] it names).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Source {
+    /// A parameter.
+    Parameter(usize),
+    /// A coordinate q_k.
+    Position(usize),
+    /// A rate q'_k.
+    Rate(usize),
+    /// An acceleration q''_k.
+    Acceleration(usize),
+    /// A multiplier lambda_k.
+    Multiplier(usize),
+    /// Time t.
+    Time,
+}
+
+/// The values one evaluation reads; a slice an evaluation does not have is empty.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Values<'a> {
+    pub(crate) parameters: &'a [f64],
+    pub(crate) t: f64,
+    pub(crate) q: &'a [f64],
+    pub(crate) qd: &'a [f64],
+    pub(crate) qdd: &'a [f64],
+    pub(crate) lambda: &'a [f64],
+}
+
+impl Values<'_> {
+    /// The value `source` names; NaN when the slice is too short, so that a caller's short
+    /// buffer shows as a non-finite result instead of a panic.
+    fn get(&self, source: Source) -> f64 {
+        let at = |values: &[f64], k: usize| values.get(k).copied().unwrap_or(f64::NAN);
+        match source {
+            Source::Parameter(k) => at(self.parameters, k),
+            Source::Position(k) => at(self.q, k),
+            Source::Rate(k) => at(self.qd, k),
+            Source::Acceleration(k) => at(self.qdd, k),
+            Source::Multiplier(k) => at(self.lambda, k),
+            Source::Time => self.t,
+        }
+    }
+}
+
+/// A tape with the register-file slot and the source of each of its inputs.
+#[derive(Clone, Debug)]
+pub(crate) struct Routine {
+    tape: Tape,
+    inputs: Vec<(usize, Source)>,
+}
+
+impl Routine {
+    /// Compiles `program`, whose every input must have a source, for `outputs` output
+    /// entries.
+    ///
+    /// # Errors
+    /// [`Error::MissingValue`] for an input symbol without a source (a hand-built model's
+    /// free symbol), [`Error::OutputCount`] when the program does not have `outputs` entries.
+    pub(crate) fn new(
+        program: &Program,
+        sources: &HashMap<SymbolId, Source>,
+        outputs: usize,
+    ) -> Result<Self, Error> {
+        let tape = Tape::new(program);
+        if tape.output_len() != outputs {
+            return Err(Error::OutputCount {
+                what: "output slots",
+                given: outputs,
+                outputs: tape.output_len(),
+            });
+        }
+        let names: HashMap<SymbolId, &str> = program
+            .symbols()
+            .iter()
+            .map(|(s, name)| (*s, name.as_str()))
+            .collect();
+        let inputs = tape
+            .input_slots()
+            .map(|(symbol, slot)| match sources.get(&symbol) {
+                Some(source) => Ok((slot, *source)),
+                None => Err(Error::MissingValue {
+                    name: names.get(&symbol).copied().unwrap_or("?").to_string(),
+                }),
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Self { tape, inputs })
+    }
+
+    /// Runs the tape at `values` and hands its outputs to `sink`. Neither fails nor (after
+    /// the thread's first evaluation) allocates: a non-finite value reaches the outputs it
+    /// affects, where the solvers' finiteness checks report it with t and q.
+    pub(crate) fn run<R>(&self, values: &Values<'_>, sink: impl FnOnce(&[f64]) -> R) -> R {
+        let (registers, outputs) = (self.tape.register_len(), self.tape.output_len());
+        with_registers(registers, outputs, |regs, out| {
+            for &(slot, source) in &self.inputs {
+                regs[slot] = values.get(source);
+            }
+            self.tape.run(regs, out);
+            sink(out)
+        })
+    }
+}
