@@ -10,7 +10,7 @@
 //!
 //! - the **null space** of Phi_q ([`crate::linalg::NullSpace`]: LU of Phi_q^T with row
 //!   pivoting splits the coordinates into dependent and independent ones, then the reduced
-//!   mass Z^T M Z is factored by Cholesky; static sizes for a compiled mechanism), first for
+//!   mass Z^T M Z is factored as L D L^T; static sizes for a compiled mechanism), first for
 //!   small systems (n + m <= 40), taken when its condition indicator is at most
 //!   `condition_limit` * 1e-3 (well clear of the limit, so no estimate is needed);
 //! - **LU** with partial pivoting of the whole matrix, for small systems whose null-space
@@ -145,10 +145,42 @@ impl Dynamics {
             }
         }
         system.evaluate(t, q, qd, &mut self.eval);
+        self.load_rhs(qd);
+        let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
+        self.skip_lu = self.skip_lu.saturating_sub(1);
+        // The inputs are checked for NaN and infinity only when the null-space route declines
+        // or its solution is not finite: that route reads every entry of Phi_q and the
+        // right-hand side and one of each symmetric pair of M (the derivation makes M
+        // symmetric), and declines on a non-finite pivot or indicator, so a non-finite input
+        // always reaches its solution (a test in `linalg::null_space` tries every entry).
+        if lu && self.solve_null_space() {
+            self.last_augmented = false;
+            let Some(i) = self.sol.iter().position(|v| !v.is_finite()) else {
+                return Ok(());
+            };
+            self.load_rhs(qd);
+            self.check_inputs(system, t, q, qd)?;
+            return Err(self.non_finite_solution(i, t));
+        }
+        self.check_inputs(system, t, q, qd)?;
+        self.last_augmented = !(lu && self.solve_lu());
+        if lu && self.last_augmented {
+            self.skip_lu = LU_RETRY_AFTER;
+        }
+        if self.last_augmented {
+            self.solve_augmented(t, q)?;
+        }
+        if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
+            return Err(self.non_finite_solution(i, t));
+        }
+        Ok(())
+    }
+
+    /// The right-hand side [Q; gamma] into `sol`: Q = tau - C q' - g, and gamma (less
+    /// 2 alpha Phi' + beta^2 Phi with Baumgarte).
+    fn load_rhs(&mut self, qd: &[f64]) {
+        let (n, m) = (self.n, self.m);
         let e = &self.eval;
-        // Passes that the compiler can vectorise (no early exit).
-        let all_finite = |v: &[f64]| v.iter().fold(true, |ok, x| ok & x.is_finite());
-        let finite_matrix = all_finite(e.mass.as_slice()) & all_finite(e.phi_q.as_slice());
         let (load, rest) = self.sol.split_at_mut(n);
         let (f, c, g) = (
             e.forces.as_slice(),
@@ -159,44 +191,49 @@ impl Dynamics {
             *s = f - c - g;
         }
         rest[..m].copy_from_slice(e.gamma.as_slice());
-        for r in 0..m {
-            if let Some((alpha, beta)) = self.baumgarte {
-                let mut g = e.gamma[r];
+        if let Some((alpha, beta)) = self.baumgarte {
+            for (r, g) in rest[..m].iter_mut().enumerate() {
                 let v = e.phi_t[r]
                     + qd.iter()
                         .enumerate()
                         .map(|(j, w)| e.phi_q[(r, j)] * w)
                         .sum::<f64>();
-                g -= 2.0 * alpha * v + beta * beta * e.phi[r];
-                self.sol[n + r] = g;
+                *g -= 2.0 * alpha * v + beta * beta * e.phi[r];
             }
         }
-        if !(finite_matrix & all_finite(&self.sol)) {
-            return Err(finite::evaluation_error(
-                e,
-                system.info(),
-                (t, q, qd),
-                "the right-hand side tau - C q' - g or gamma of the equations of motion",
-            ));
+    }
+
+    /// [`Error::NonFiniteTerm`] (or the state) when M, Phi_q or the right-hand side in `sol`
+    /// holds a NaN or an infinity.
+    fn check_inputs(
+        &self,
+        system: &dyn System,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(), Error> {
+        // Passes that the compiler can vectorise (no early exit).
+        let all_finite = |v: &[f64]| v.iter().fold(true, |ok, x| ok & x.is_finite());
+        let e = &self.eval;
+        if all_finite(e.mass.as_slice()) & all_finite(e.phi_q.as_slice()) & all_finite(&self.sol) {
+            return Ok(());
         }
-        let lu = n + m <= LU_MAX_ORDER && self.skip_lu == 0;
-        self.skip_lu = self.skip_lu.saturating_sub(1);
-        self.last_augmented = !(lu && (self.solve_null_space() || self.solve_lu()));
-        if lu && self.last_augmented {
-            self.skip_lu = LU_RETRY_AFTER;
-        }
-        if self.last_augmented {
-            self.solve_augmented(t, q)?;
-        }
-        if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
-            let what = if i < n {
-                format!("q'' of {}", self.names[i])
-            } else {
-                format!("lambda_{}", i - n + 1)
-            };
-            return Err(Error::NonFinite { what, t });
-        }
-        Ok(())
+        Err(finite::evaluation_error(
+            e,
+            system.info(),
+            (t, q, qd),
+            "the right-hand side tau - C q' - g or gamma of the equations of motion",
+        ))
+    }
+
+    /// [`Error::NonFinite`] naming entry `i` of the solution [q''; lambda].
+    fn non_finite_solution(&self, i: usize, t: f64) -> Error {
+        let what = if i < self.n {
+            format!("q'' of {}", self.names[i])
+        } else {
+            format!("lambda_{}", i - self.n + 1)
+        };
+        Error::NonFinite { what, t }
     }
 
     /// The null-space route: true (solved in place) when Phi_q has full row rank, Z^T M Z

@@ -16,7 +16,7 @@ pub(super) struct Parts<'a> {
     pub x: &'a mut [f64],
     /// W = M_dd X + M_di (m x d).
     pub w: &'a mut [f64],
-    /// Z^T M Z (d x d), its Cholesky factor in the lower triangle.
+    /// Z^T M Z (d x d), its L D L^T factors in the lower triangle (D on the diagonal).
     pub r: &'a mut [f64],
     /// n values in pivot order.
     pub u: &'a mut [f64],
@@ -24,7 +24,7 @@ pub(super) struct Parts<'a> {
     pub v: &'a mut [f64],
     /// d values.
     pub z: &'a mut [f64],
-    /// 1 / u_kk (m), then 1 / L_r,jj (d): the solves multiply instead of dividing.
+    /// 1 / u_kk (m), then 1 / D_jj (d): the solves multiply instead of dividing.
     pub inv: &'a mut [f64],
 }
 
@@ -78,8 +78,6 @@ pub(super) fn factor<const N: usize, const M: usize>(
         if best == 0.0 || !best.is_finite() {
             return None;
         }
-        // |u_kk| against the size of constraint row k: its distance from the rows before.
-        kappa_b = kappa_b.max(p.v[k] / best);
         if pi != k {
             for j in 0..m {
                 lu.swap(k + j * n, pi + j * n);
@@ -88,6 +86,9 @@ pub(super) fn factor<const N: usize, const M: usize>(
         }
         let inv = 1.0 / lu[k + k * n];
         p.inv[k] = inv;
+        // |u_kk| against the size of constraint row k: its distance from the rows before
+        // (|1 / u_kk| is at hand: no second division on the pivots' dependency chain).
+        kappa_b = kappa_b.max(p.v[k] * inv.abs());
         for i in k + 1..n {
             lu[i + k * n] *= inv;
         }
@@ -140,33 +141,36 @@ pub(super) fn factor<const N: usize, const M: usize>(
         }
     }
     let scale = (0..n).fold(0.0_f64, |s, i| s.max(pm[i * (n + 1)].abs())) * znorm;
-    let smallest = cholesky(r, d, &mut p.inv[m..n])?;
+    let smallest = ldlt(r, d, &mut p.inv[m..n])?;
     let kappa_r = if d == 0 { 1.0 } else { scale / smallest };
     Some(kappa_b.max(kappa_r))
 }
 
-/// Cholesky L L^T of the d x d lower triangle of `r` in place; returns the smallest pivot
-/// (L_jj^2), or `None` when one is not positive and finite (infinite for d = 0).
+/// L D L^T of the d x d lower triangle of `r` in place (L unit lower triangular below the
+/// diagonal, D on it; no square root on the path of every solve); `inv_diag` receives
+/// 1 / D_jj. Returns the smallest pivot D_jj, or `None` when one is not positive and finite
+/// (infinite for d = 0).
 #[inline(always)]
-fn cholesky(r: &mut [f64], d: usize, inv_diag: &mut [f64]) -> Option<f64> {
+fn ldlt(r: &mut [f64], d: usize, inv_diag: &mut [f64]) -> Option<f64> {
     let mut smallest = f64::INFINITY;
     for j in 0..d {
+        // Below the diagonal r[i + k d] holds L_ik, on it D_kk.
         let mut p = r[j + j * d];
         for k in 0..j {
-            p -= r[j + k * d] * r[j + k * d];
+            let ljk = r[j + k * d];
+            p -= ljk * ljk * r[k + k * d];
         }
         if !(p > 0.0 && p.is_finite()) {
             return None;
         }
         smallest = smallest.min(p);
-        let l = crate::math::sqrt(p);
-        r[j + j * d] = l;
-        let inv = 1.0 / l;
+        r[j + j * d] = p;
+        let inv = 1.0 / p;
         inv_diag[j] = inv;
         for i in j + 1..d {
             let mut s = r[i + j * d];
             for k in 0..j {
-                s -= r[i + k * d] * r[j + k * d];
+                s -= r[i + k * d] * r[j + k * d] * r[k + k * d];
             }
             r[i + j * d] = s * inv;
         }
@@ -223,7 +227,7 @@ pub(super) fn solve<const N: usize, const M: usize>(
         }
         z[c] = s;
     }
-    cholesky_solve(r, d, inv_r, z);
+    ldlt_solve(r, d, inv_r, z);
     // q'' in pivot order: [v + X z; z].
     for i in 0..m {
         let mut s = v[i];
@@ -261,21 +265,24 @@ pub(super) fn solve<const N: usize, const M: usize>(
     sol[n..].copy_from_slice(v);
 }
 
-/// b = (L L^T)^-1 b, L the lower triangle of the d x d `l`, `inv` its reciprocal diagonal.
+/// b = (L D L^T)^-1 b, L the unit lower triangle below the diagonal of the d x d `l`, `inv`
+/// the reciprocal of D.
 #[inline(always)]
-fn cholesky_solve(l: &[f64], d: usize, inv: &[f64], b: &mut [f64]) {
+fn ldlt_solve(l: &[f64], d: usize, inv: &[f64], b: &mut [f64]) {
     for j in 0..d {
-        b[j] *= inv[j];
         let bj = b[j];
         for i in j + 1..d {
             b[i] -= l[i + j * d] * bj;
         }
+    }
+    for j in 0..d {
+        b[j] *= inv[j];
     }
     for j in (0..d).rev() {
         let mut s = b[j];
         for i in j + 1..d {
             s -= l[i + j * d] * b[i];
         }
-        b[j] = s * inv[j];
+        b[j] = s;
     }
 }

@@ -25,7 +25,7 @@
 //! The dependent rows of the first block row then give the multipliers:
 //! B^T lambda = L1 U lambda = (Q - M q'')_dep.
 //!
-//! Cost: m^2 n for the factorisation, m d (m + d) for Z^T M Z, d^3 / 6 for its Cholesky,
+//! Cost: m^2 n for the factorisation, m d (m + d) for Z^T M Z, d^3 / 6 for its L D L^T,
 //! against (n + m)^3 / 3 for LU of the whole matrix: 4-6x fewer operations for the one-degree-
 //! of-freedom mechanisms (n = 3 or 4), about 1.5x fewer for a 32-bar chain.
 //!
@@ -34,7 +34,7 @@
 //! a pivot u_kk is the part of constraint row k independent of the rows before it (so the
 //! first term is large near redundant rows and singular positions, whatever the units of
 //! each row), s is the largest |M_ii| times the largest |Z_j|^2 and p_min the smallest
-//! pivot of the Cholesky of Z^T M Z (large when M is nearly singular on an allowed motion).
+//! pivot D_jj of the L D L^T factorisation of Z^T M Z (large when M is nearly singular on an allowed motion).
 //! The caller hands the solve to a route with a true condition estimate when it is large.
 
 use nalgebra::SMatrix;
@@ -306,5 +306,63 @@ mod tests {
         a.solve(&mut x);
         b.solve(&mut y);
         assert_eq!(x, y);
+    }
+
+    /// What `Dynamics::solve` relies on to check its inputs only on failure: a NaN or an
+    /// infinity in any entry of M (a symmetric pair), Phi_q or the right-hand side makes `factor` decline
+    /// (`None`, or an indicator that is not a finite number) or leaves a non-finite value
+    /// in the solution. Every entry of each input, for every d = n - m, singular M or not.
+    #[test]
+    fn a_non_finite_input_never_gives_a_finite_solution() {
+        for n in 1..=5 {
+            for m in 0..=n {
+                let mass = DMatrix::from_fn(n, n, |i, j| {
+                    (if i == j && (i != 0 || m == 0) {
+                        2.0
+                    } else {
+                        0.0
+                    }) + 0.1 / (1.0 + (i + j) as f64)
+                });
+                let j = DMatrix::from_fn(m, n, |r, c| {
+                    (((r * 5 + c * 3 + n) % 7) as f64 - 3.0) * 0.25 + if r == c { 1.0 } else { 0.0 }
+                });
+                let rhs: Vec<f64> = (0..n + m).map(|i| 1.0 - 0.3 * i as f64).collect();
+                let declines_or_not_finite =
+                    |mass: &DMatrix<f64>, j: &DMatrix<f64>, rhs: &[f64]| {
+                        let mut ns = NullSpace::new(n, m);
+                        match ns.factor(mass.as_slice(), j.as_slice()) {
+                            Some(kappa) if kappa.is_finite() => {
+                                let mut sol = rhs.to_vec();
+                                ns.solve(&mut sol);
+                                sol.iter().any(|v| !v.is_finite())
+                            }
+                            _ => true,
+                        }
+                    };
+                assert!(!declines_or_not_finite(&mass, &j, &rhs), "n {n} m {m}");
+                for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                    // M is symmetric (the derivation makes it so): a bad entry is a bad pair.
+                    for (a, b) in (0..n).flat_map(|a| (0..=a).map(move |b| (a, b))) {
+                        let mut mass = mass.clone();
+                        mass[(a, b)] = bad;
+                        mass[(b, a)] = bad;
+                        assert!(
+                            declines_or_not_finite(&mass, &j, &rhs),
+                            "n {n} m {m} M[{a}, {b}] {bad}"
+                        );
+                    }
+                    for k in 0..m * n {
+                        let mut j = j.clone();
+                        j.as_mut_slice()[k] = bad;
+                        assert!(declines_or_not_finite(&mass, &j, &rhs), "Phi_q[{k}] {bad}");
+                    }
+                    for k in 0..n + m {
+                        let mut rhs = rhs.clone();
+                        rhs[k] = bad;
+                        assert!(declines_or_not_finite(&mass, &j, &rhs), "rhs[{k}] {bad}");
+                    }
+                }
+            }
+        }
     }
 }
