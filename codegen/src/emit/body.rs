@@ -9,7 +9,9 @@
 //! code build without std, where the f64 methods do not exist. Symbols are read through caller-supplied
 //! tokens ([`EmitBindings`]: `self.l1`, `q[2]`, `qd[2]`, `t`), and each output matrix is
 //! written into a caller-named nalgebra matrix (`out_mass[(i, j)] = x12;`), a vector
-//! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]).
+//! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]). A
+//! written value is stored right after the instruction that computes it, so that it does not
+//! stay live to the end of the body.
 //!
 //! The code has no allocation, no indexing beyond the caller's static sizes, no panics, and
 //! is written to be clean under `clippy -D warnings` without any `#[allow]`:
@@ -31,7 +33,7 @@ use quote::{ToTokens, TokenStreamExt, quote};
 use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::error::{Error, Result};
 use crate::program::cse::Program;
-use crate::program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp};
+use crate::program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp, defines};
 use crate::program::liveness;
 
 /// How the emitted code reads each symbol, and how it names its registers.
@@ -159,7 +161,7 @@ pub struct EmittedBody {
 /// let code: String = body.tokens.to_string().split_whitespace().collect();
 /// assert_eq!(
 ///     code,
-///     "let(x0,x1):(f64,f64)=q[0].sin_cos();letx2:f64=self.l1*x1;letx3:f64=self.l1*x0;out[0]=x2;out[1]=x3;"
+///     "let(x0,x1):(f64,f64)=q[0].sin_cos();letx2:f64=self.l1*x1;out[0]=x2;letx3:f64=self.l1*x0;out[1]=x3;"
 /// );
 /// assert_eq!((body.counts.muls, body.counts.calls), (2, 1));
 /// ```
@@ -177,7 +179,7 @@ pub fn emit_body(
     let ret = returned_value(&p, &targets)?;
     check_restricted(&p, bindings, &targets)?;
     let e = Emitter { b: bindings };
-    let writes = e.writes(&p, &targets);
+    let mut writes = e.writes(&p, &targets);
     // Inline the last instruction into a returned tail when nothing else follows it.
     let n = p.instructions().len();
     let inline_last = match (ret, p.instructions().last()) {
@@ -185,8 +187,8 @@ pub fn emit_body(
         _ => false,
     };
     let end = if inline_last { n - 1 } else { n };
-    let mut tokens = e.statements(&p, ret, end);
-    tokens.extend(writes);
+    let mut tokens = std::mem::take(&mut writes.fixed);
+    tokens.extend(e.statements(&p, ret, end, &mut writes.after));
     if let Some(r) = ret {
         match (inline_last, p.instructions().last()) {
             (true, Some(last)) => tokens.extend(e.rhs(last)),
@@ -289,15 +291,33 @@ pub const BLOCK_LETS_ABOVE: usize = 2000;
 /// `let`s per block above [`BLOCK_LETS_ABOVE`].
 const BLOCK_LEN: usize = 1000;
 
+/// The output writes of a body (see [`Emitter::writes`]).
+#[derive(Default)]
+struct Writes {
+    /// Writes of constants and symbols: before the first instruction.
+    fixed: TokenStream,
+    /// Writes of each register, by register number: right after its instruction.
+    after: FxHashMap<u32, TokenStream>,
+}
+
+impl Writes {
+    fn is_empty(&self) -> bool {
+        self.fixed.is_empty() && self.after.is_empty()
+    }
+}
+
 struct Emitter<'a> {
     b: &'a EmitBindings,
 }
 
 impl Emitter<'_> {
-    /// The writes of the matrix and vector outputs: `name[(i, j)] = value;` or
-    /// `name[k] = value;`, skipping zeros of a zeroed target.
-    fn writes(&self, p: &Program, targets: &[&OutputTarget]) -> TokenStream {
-        let mut writes = TokenStream::new();
+    /// The writes of the matrix and vector outputs, `name[(i, j)] = value;` or
+    /// `name[k] = value;` (skipping zeros of a zeroed target): those of constants and symbols
+    /// first, each register's right after the instruction that defines it, so that an
+    /// output value is stored as soon as it is complete and does not stay live (in a
+    /// register or spilled) to the end of the body.
+    fn writes(&self, p: &Program, targets: &[&OutputTarget]) -> Writes {
+        let mut w = Writes::default();
         for (o, t) in p.outputs().iter().zip(targets) {
             let (name, zeroed, matrix) = match t {
                 OutputTarget::Matrix { name, zeroed } => (name, *zeroed, true),
@@ -315,18 +335,37 @@ impl Emitter<'_> {
                     Literal::usize_unsuffixed(k % cols),
                 );
                 let k = Literal::usize_unsuffixed(k);
-                writes.extend(if matrix {
+                let write = if matrix {
                     quote!(#name[(#i, #j)] = #value;)
                 } else {
                     quote!(#name[#k] = #value;)
-                });
+                };
+                match v {
+                    Operand::Reg(r) => w.after.entry(r.0).or_default().extend(write),
+                    _ => w.fixed.extend(write),
+                }
             }
         }
-        writes
+        w
     }
 
-    /// The `let` statements of the instructions `..end`, in blocks when there are many.
-    fn statements(&self, p: &Program, ret: Option<Operand>, end: usize) -> TokenStream {
+    /// The `let` statements of the instructions `..end`, each followed by the writes of the
+    /// registers it defines (taken from `after`), in blocks when there are many.
+    fn statements(
+        &self,
+        p: &Program,
+        ret: Option<Operand>,
+        end: usize,
+        after: &mut FxHashMap<u32, TokenStream>,
+    ) -> TokenStream {
+        let mut emit = |i: &Instr, tokens: &mut TokenStream| {
+            tokens.extend(self.instr(i));
+            for r in defines(i).into_iter().flatten() {
+                if let Some(w) = after.remove(&r.0) {
+                    tokens.extend(w);
+                }
+            }
+        };
         let mut tokens = TokenStream::new();
         if p.instructions().len() > BLOCK_LETS_ABOVE {
             // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
@@ -337,10 +376,10 @@ impl Emitter<'_> {
             let mut start = 0;
             while end - start > BLOCK_LEN {
                 let range = start..start + BLOCK_LEN;
-                let body: TokenStream = p.instructions()[range.clone()]
-                    .iter()
-                    .map(|i| self.instr(i))
-                    .collect();
+                let mut body = TokenStream::new();
+                for i in &p.instructions()[range.clone()] {
+                    emit(i, &mut body);
+                }
                 let out: Vec<TokenStream> = liveness::live_out(p, &last, range.clone())
                     .into_iter()
                     .map(|r| self.reg(r))
@@ -349,11 +388,11 @@ impl Emitter<'_> {
                 start = range.end;
             }
             for i in &p.instructions()[start..end] {
-                tokens.extend(self.instr(i));
+                emit(i, &mut tokens);
             }
         } else {
             for i in &p.instructions()[..end] {
-                tokens.extend(self.instr(i));
+                emit(i, &mut tokens);
             }
         }
         tokens

@@ -28,6 +28,7 @@ use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
 use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Reg, UnOp, defines};
+use crate::program::schedule::schedule;
 
 /// One output matrix of a [`Program`]: where each entry's value is, row-major.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +115,8 @@ impl Program {
         // Dead instructions first, so that a product counts only its live readers.
         let live = compact(&lower.b.instrs, outs, &symbols);
         let fused = fuse_multiply_add(&live.instrs, &live.outputs);
-        Ok(compact(&fused, live.outputs, &symbols))
+        let scheduled = schedule(&fused, &live.outputs);
+        Ok(compact(&scheduled, live.outputs, &symbols))
     }
 
     /// A program of the instructions `instrs` (in execution order, registers defined

@@ -7,11 +7,32 @@
 use crate::program::cse::Program;
 use crate::program::instructions::{Operand, Reg, defines as defs};
 
-/// `last[r]`: the index of the last instruction reading register r; n (the instruction
-/// count) when the outputs or the returned operand `ret` read it; `None` when nothing does.
+/// `last[r]`: the index of the last instruction reading register r, or of the instruction
+/// defining it when nothing else reads it but an output (the emitter writes an output right
+/// after its instruction); n (the instruction count) when the returned operand `ret` reads
+/// it; `None` when nothing does.
 pub(crate) fn last_reads(p: &Program, ret: Option<Operand>) -> Vec<Option<usize>> {
     let n = p.instructions().len();
     let mut last = vec![None; p.registers()];
+    for (k, i) in p.instructions().iter().enumerate() {
+        for r in defs(i).into_iter().flatten() {
+            last[r.0 as usize] = Some(k);
+        }
+    }
+    let mut written = vec![false; p.registers()];
+    for o in p.outputs() {
+        for &e in &o.entries {
+            if let Operand::Reg(r) = e {
+                written[r.0 as usize] = true;
+            }
+        }
+    }
+    // A register that is neither read nor written is dead: no last read.
+    for (r, l) in last.iter_mut().enumerate() {
+        if !written[r] {
+            *l = None;
+        }
+    }
     let mut read = |o: Operand, k: usize| {
         if let Operand::Reg(r) = o {
             last[r.0 as usize] = Some(k);
@@ -19,11 +40,6 @@ pub(crate) fn last_reads(p: &Program, ret: Option<Operand>) -> Vec<Option<usize>
     };
     for (k, i) in p.instructions().iter().enumerate() {
         i.for_each_operand(|o| read(o, k));
-    }
-    for o in p.outputs() {
-        for &e in &o.entries {
-            read(e, n);
-        }
     }
     if let Some(o) = ret {
         read(o, n);
@@ -89,10 +105,17 @@ mod tests {
                 handed += 1;
             }
         }
+        // Outputs are written right after their instruction, inside its block: none needs
+        // handing on unless an instruction after the block reads it.
         for o in p.outputs() {
             for e in &o.entries {
                 if let Operand::Reg(r) = e {
-                    assert!(visible[r.0 as usize], "output r{} not handed on", r.0);
+                    let def = p
+                        .instructions()
+                        .iter()
+                        .position(|i| defs(i).contains(&Some(*r)))
+                        .unwrap();
+                    assert!(last[r.0 as usize].is_some_and(|k| k >= def));
                 }
             }
         }

@@ -5,7 +5,8 @@
 //! one register per distinct subexpression (common-subexpression elimination is free on a
 //! hash-consed DAG: [`builder`] gives each needed node one register, value-numbers identical
 //! instructions and folds constants, [`cse`] collects the outputs and drops dead registers);
-//! the last use of each register ([`liveness`]); and a [`Tape`](crate::Tape), the program
+//! the instructions ordered depth first from the outputs ([`schedule`]), so that values die
+//! soon after they are made; the last use of each register ([`liveness`]); and a [`Tape`](crate::Tape), the program
 //! as register-file operations for repeated evaluation without allocation. [`hoist`] moves
 //! the values that depend on parameters only out of several programs into one cache
 //! program ([`hoist_parameters`](crate::hoist_parameters)).
@@ -16,4 +17,5 @@ pub(crate) mod fuse;
 pub(crate) mod hoist;
 pub(crate) mod instructions;
 pub(crate) mod liveness;
+pub(crate) mod schedule;
 pub(crate) mod tape;

@@ -54,7 +54,7 @@ fn matrix_and_vector_targets() {
     let body = emit_body(&p, &s.b, &zeroed).unwrap();
     assert_eq!(
         squash(&body.tokens),
-        "letx0:f64=q[0].cos();letx1:f64=self.l1*x0;out_m[(0,0)]=x1;out_m[(1,1)]=self.l1;out_v[0]=x0;"
+        "out_m[(1,1)]=self.l1;letx0:f64=q[0].cos();out_v[0]=x0;letx1:f64=self.l1*x0;out_m[(0,0)]=x1;"
     );
     assert_eq!(
         (body.counts.muls, body.counts.calls, body.registers),
@@ -110,7 +110,7 @@ fn skipped_outputs_drop_their_instructions() {
     .unwrap();
     assert_eq!(
         squash(&both.tokens),
-        "letx0:f64=q[0].cos();letx1:f64=q[0].exp();o[0]=x0;x1"
+        "letx0:f64=q[0].cos();o[0]=x0;letx1:f64=q[0].exp();x1"
     );
     assert_eq!(both.counts, p.op_counts());
 }
@@ -196,7 +196,7 @@ fn errors_are_typed() {
     let body = emit_body(&p, &ok, &[v]).unwrap();
     assert_eq!(
         squash(&body.tokens),
-        "letv_0:f64=q[0].cos();letv_1:f64=v_0*t;o[0]=v_1;o[1]=v_0;"
+        "letv_0:f64=q[0].cos();o[1]=v_0;letv_1:f64=v_0*t;o[0]=v_1;"
     );
 }
 

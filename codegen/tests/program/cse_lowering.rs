@@ -95,7 +95,7 @@ lowering! {
         let xy = s.a.mul2(s.x, s.y);
         let z2 = s.a.powi(s.z, 2).unwrap();
         s.a.div(xy, z2).unwrap()
-    } => "let x0: f64 = z * z; let x1: f64 = x * y; x1 / x0", [0, 2, 1, 0];
+    } => "let x0: f64 = x * y; let x1: f64 = z * z; x0 / x1", [0, 2, 1, 0];
     coefficient_applies_last: |s| {
         let h = s.a.rational(1, 2).unwrap();
         s.a.mul(&[h, s.x, s.y])
@@ -117,13 +117,13 @@ lowering! {
         let b = s.a.cos(s.x);
         let t = s.a.func(Func::Tan, s.x).unwrap();
         s.a.add(&[a, b, t])
-    } => "let (x0, x1): (f64, f64) = x.sin_cos(); let x2: f64 = x0 / x1; let x3: f64 = x0 + x1; x3 + x2", [2, 0, 1, 1];
+    } => "let (x0, x1): (f64, f64) = x.sin_cos(); let x2: f64 = x0 + x1; let x3: f64 = x0 / x1; x2 + x3", [2, 0, 1, 1];
     other_calls: |s| {
         let e = s.a.func(Func::Exp, s.x).unwrap();
         let l = s.a.func(Func::Ln, s.y).unwrap();
         let b = s.a.func(Func::Abs, s.z).unwrap();
         s.a.mul(&[e, l, b])
-    } => "let x0: f64 = x.exp(); let x1: f64 = y.ln(); let x2: f64 = z.abs(); let x3: f64 = x0 * x1; x3 * x2", [0, 2, 0, 3];
+    } => "let x0: f64 = x.exp(); let x1: f64 = y.ln(); let x2: f64 = x0 * x1; let x3: f64 = z.abs(); x2 * x3", [0, 2, 0, 3];
     shared_square_in_a_sum: |s| {
         let x2 = s.a.powi(s.x, 2).unwrap();
         let x3 = s.a.powi(s.x, 3).unwrap();
