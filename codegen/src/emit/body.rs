@@ -384,7 +384,12 @@ impl Emitter<'_> {
                     .into_iter()
                     .map(|r| self.reg(r))
                     .collect();
-                tokens.extend(quote!(let (#(#out,)*) = { #body (#(#out,)*) };));
+                // A block whose values are all written inside it hands nothing on.
+                tokens.extend(if out.is_empty() {
+                    quote!({ #body })
+                } else {
+                    quote!(let (#(#out,)*) = { #body (#(#out,)*) };)
+                });
                 start = range.end;
             }
             for i in &p.instructions()[start..end] {
