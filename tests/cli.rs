@@ -8,6 +8,8 @@ use assert_cmd::Command;
 
 #[path = "cli/conventions.rs"]
 mod conventions;
+#[path = "cli/declarations.rs"]
+mod declarations;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
 #[path = "cli/outputs.rs"]

@@ -151,6 +151,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         coordinates,
         independent,
         kinetic,
+        kinetic_location: Location::default(),
         potential,
         constraints,
         forces: vec![zero; n],

@@ -119,40 +119,40 @@ impl Number {
     }
 }
 
-impl std::ops::Add for Number {
-    type Output = Number;
-    /// a + b (exact when both are rational and the result fits).
-    fn add(self, o: Number) -> Number {
+impl Number {
+    /// a + b, exact when both are rational and the result fits; `None` when the sum of
+    /// floats overflows to infinity (never a silent value: the arena reports it).
+    pub fn checked_add(self, o: Number) -> Option<Number> {
         match (self, o) {
             (Number::Rational(a, b), Number::Rational(c, d)) => Self::from_i128(
                 a as i128 * d as i128 + c as i128 * b as i128,
                 b as i128 * d as i128,
-            )
-            .unwrap_or(Number::Float(0.0)),
-            _ => Number::float(self.to_f64() + o.to_f64()).unwrap_or(Number::Float(0.0)),
+            ),
+            _ => Number::float(self.to_f64() + o.to_f64()),
         }
     }
-}
 
-impl std::ops::Mul for Number {
-    type Output = Number;
-    /// a * b (exact when both are rational and the result fits).
-    fn mul(self, o: Number) -> Number {
+    /// a * b, exact when both are rational and the result fits; `None` when the product
+    /// of floats overflows to infinity.
+    pub fn checked_mul(self, o: Number) -> Option<Number> {
         match (self, o) {
             (Number::Rational(a, b), Number::Rational(c, d)) => {
                 Self::from_i128(a as i128 * c as i128, b as i128 * d as i128)
-                    .unwrap_or(Number::Float(0.0))
             }
-            _ => Number::float(self.to_f64() * o.to_f64()).unwrap_or(Number::Float(0.0)),
+            _ => Number::float(self.to_f64() * o.to_f64()),
         }
     }
 }
 
 impl std::ops::Neg for Number {
     type Output = Number;
-    /// -a.
+    /// -a (exact: negation cannot overflow; -0.0 stays 0.0).
     fn neg(self) -> Number {
-        self * Number::int(-1)
+        match self {
+            Number::Rational(n, d) => Self::from_i128(-(n as i128), d as i128)
+                .expect("the denominator of a Number is never 0"),
+            Number::Float(x) => Number::Float(if x == 0.0 { 0.0 } else { -x }),
+        }
     }
 }
 
@@ -199,5 +199,51 @@ impl fmt::Display for Number {
                 write!(f, "{s}")
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod overflow_tests {
+    use super::Number;
+
+    /// The checked operations agree with f64 arithmetic where it is finite, stay exact for
+    /// rationals, and refuse (None) exactly where the f64 result is infinite.
+    #[test]
+    fn checked_operations_refuse_exactly_the_infinite_results() {
+        let values = [
+            Number::int(0),
+            Number::int(-3),
+            Number::rational(7, 2).unwrap(),
+            Number::int(i64::MAX),
+            Number::Float(1.5),
+            Number::Float(-2.5e-300),
+            Number::Float(1e154),
+            Number::Float(1e200),
+            Number::Float(-1.7e308),
+            Number::Float(f64::MAX),
+        ];
+        for &a in &values {
+            for &b in &values {
+                let (s, p) = (a.to_f64() + b.to_f64(), a.to_f64() * b.to_f64());
+                match a.checked_add(b) {
+                    Some(r) => assert_eq!(r.to_f64(), s, "{a} + {b}"),
+                    None => assert!(s.is_infinite(), "{a} + {b} refused but is {s}"),
+                }
+                assert_eq!(a.checked_add(b).is_none(), s.is_infinite(), "{a} + {b}");
+                match a.checked_mul(b) {
+                    Some(r) => assert_eq!(r.to_f64(), p, "{a} * {b}"),
+                    None => assert!(p.is_infinite(), "{a} * {b} refused but is {p}"),
+                }
+                assert_eq!(a.checked_mul(b).is_none(), p.is_infinite(), "{a} * {b}");
+            }
+        }
+        // Rationals stay exact: 7/2 + (-3) = 1/2.
+        let half = Number::rational(7, 2).unwrap().checked_add(Number::int(-3));
+        assert_eq!(half, Number::rational(1, 2));
+        assert_eq!(
+            -Number::rational(1, 2).unwrap(),
+            Number::rational(-1, 2).unwrap()
+        );
+        assert_eq!(-Number::Float(0.0), Number::Float(0.0));
     }
 }

@@ -156,9 +156,11 @@ impl Programs {
     }
 }
 
-/// A codegen error as a compile error at the user's token (or the file literal).
+/// A codegen error as a compile error at the user's token (or the file literal). An error
+/// without a location of its own (one found while deriving) points at the mechanism's name.
 fn codegen_error(decl: &Declaration, e: &mechanism_codegen::Error) -> syn::Error {
-    decl.error_at(ast::location(e), &ast::message(e))
+    let at = ast::location(e).unwrap_or(decl.spans.name);
+    decl.error_at(Some(at), &ast::message(e))
 }
 
 /// Emits bodies for one model.

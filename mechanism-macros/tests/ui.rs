@@ -13,6 +13,7 @@ fn ui() {
         "files",
         "bodies",
         "drawing",
+        "physics",
     ] {
         t.compile_fail(format!("tests/ui/{category}/*.rs"));
     }

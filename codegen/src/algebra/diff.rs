@@ -312,7 +312,10 @@ impl Differentiator {
         if !self.deps.contains(e, sym) {
             // e u^(e-1) u'
             let em1 = match arena.as_number(e) {
-                Some(k) => arena.number(k + Number::int(-1)),
+                Some(k) => {
+                    let km1 = arena.fold_add(k, Number::int(-1));
+                    arena.number(km1)
+                }
                 None => {
                     let m1 = arena.int(-1);
                     arena.add2(e, m1)

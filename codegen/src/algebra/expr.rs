@@ -216,6 +216,26 @@ pub struct Arena {
     symbols: Vec<Symbol>,
     symbol_nodes: Vec<Id>,
     by_name: FxHashMap<String, SymbolId>,
+    /// The first folding of constants that overflowed (see [`Arena::take_overflow`]).
+    overflow: Option<Overflow>,
+}
+
+/// A sum or product of two constants beyond the range of f64 (about 1.8e308), met while
+/// folding constants: the folded value would be infinite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overflow {
+    /// The left operand.
+    pub lhs: Number,
+    /// `+` or `*`.
+    pub op: char,
+    /// The right operand.
+    pub rhs: Number,
+}
+
+impl std::fmt::Display for Overflow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} {} {}", self.lhs, self.op, self.rhs)
+    }
 }
 
 impl std::fmt::Debug for Arena {
@@ -331,6 +351,31 @@ impl Arena {
 
     // ----- constants -----
 
+    /// a + b of constants. An overflow is recorded for [`Arena::take_overflow`] and folds
+    /// to 0 meanwhile: whoever builds from a declaration must take it and report it.
+    pub(crate) fn fold_add(&mut self, a: Number, b: Number) -> Number {
+        a.checked_add(b)
+            .unwrap_or_else(|| self.overflowed(a, '+', b))
+    }
+
+    /// a * b of constants; an overflow as in [`Arena::fold_add`].
+    pub(crate) fn fold_mul(&mut self, a: Number, b: Number) -> Number {
+        a.checked_mul(b)
+            .unwrap_or_else(|| self.overflowed(a, '*', b))
+    }
+
+    fn overflowed(&mut self, lhs: Number, op: char, rhs: Number) -> Number {
+        self.overflow.get_or_insert(Overflow { lhs, op, rhs });
+        Number::int(0)
+    }
+
+    /// The first folding of constants that overflowed since the last call, if any (and
+    /// clears it). Expressions built while it was set contain a 0 in its place: they are
+    /// wrong, and the caller must report the overflow instead of using them.
+    pub fn take_overflow(&mut self) -> Option<Overflow> {
+        self.overflow.take()
+    }
+
     /// A numeric constant.
     pub fn number(&mut self, n: Number) -> Id {
         self.intern(Node::Num(n))
@@ -424,8 +469,14 @@ impl Arena {
     fn scale_term(&mut self, c: Number, t: Id) -> Id {
         let (k, rest) = self.split_coefficient(t);
         match rest {
-            None => self.number(k * c),
-            Some(r) => self.scale(k * c, r),
+            None => {
+                let kc = self.fold_mul(k, c);
+                self.number(kc)
+            }
+            Some(r) => {
+                let kc = self.fold_mul(k, c);
+                self.scale(kc, r)
+            }
         }
     }
 
@@ -443,7 +494,7 @@ impl Arena {
         for t in flat {
             let (c, rest) = self.split_coefficient(t);
             match rest {
-                None => constant = constant + c,
+                None => constant = self.fold_add(constant, c),
                 Some(r) => pairs.push((r, c)),
             }
         }
@@ -451,7 +502,16 @@ impl Arena {
         let mut merged: Vec<(Id, Number)> = Vec::with_capacity(pairs.len());
         for (r, c) in pairs {
             match merged.last_mut() {
-                Some((lr, lc)) if *lr == r => *lc = *lc + c,
+                Some((lr, lc)) if *lr == r => {
+                    *lc = lc.checked_add(c).unwrap_or_else(|| {
+                        self.overflow.get_or_insert(Overflow {
+                            lhs: *lc,
+                            op: '+',
+                            rhs: c,
+                        });
+                        Number::int(0)
+                    })
+                }
                 _ => merged.push((r, c)),
             }
         }
@@ -580,7 +640,8 @@ impl Arena {
         for f in flat {
             match self.node(f) {
                 Node::Num(n) => {
-                    coef = coef * *n;
+                    let n = *n;
+                    coef = self.fold_mul(coef, n);
                     if coef.is_zero() {
                         return self.int(0);
                     }
@@ -612,7 +673,8 @@ impl Arena {
             };
             match self.node(p) {
                 Node::Num(n) => {
-                    coef = coef * *n;
+                    let n = *n;
+                    coef = self.fold_mul(coef, n);
                     if coef.is_zero() {
                         return self.int(0);
                     }

@@ -403,6 +403,92 @@ pub enum DeclarationError {
         /// The entry.
         entry: Needed,
     },
+
+    // ----- numbers and physics of the declared quantities -----
+    /// Constants whose sum or product, folded while building an expression, is beyond the
+    /// range of f64 (about 1.8e308): the folded value would be infinite.
+    #[error(
+        "the constants in `{expression}` overflow: {operation} is beyond the largest f64 (about 1.8e308); rescale the quantity (other units) or write the constants so that their product or sum stays finite"
+    )]
+    ConstantOverflow {
+        /// The expression as written.
+        expression: String,
+        /// The folding that overflowed, e.g. `1e200 * 1e200`.
+        operation: String,
+    },
+    /// T is not at most quadratic in the rates: an entry of M = d2T/dq'^2 depends on a rate.
+    #[error(
+        "the kinetic energy is not a quadratic form in the rates: M[{row}, {column}] = d2T/d der({row}) d der({column}) depends on der({rate}); write T = 1/2 q'^T M(q) q' (plus terms linear in the rates or free of them)"
+    )]
+    KineticNotQuadratic {
+        /// The row's coordinate.
+        row: String,
+        /// The column's coordinate.
+        column: String,
+        /// The rate the entry depends on.
+        rate: String,
+    },
+    /// M = d2T/dq'^2 has a negative direction at the declared values: T can be negative.
+    #[error(
+        "the kinetic energy can be negative: at the declared parameter values and initial guesses (t = 0) the mass matrix M = d2T/dq'^2 has a negative direction along `{coordinate}` (pivot {pivot}, M[{coordinate}, {coordinate}] = {diagonal}); T must be >= 0 for every rate: check the signs, masses and inertias"
+    )]
+    KineticNotPositive {
+        /// The coordinate of the negative pivot.
+        coordinate: String,
+        /// The pivot of the L D L^T elimination.
+        pivot: f64,
+        /// M at that coordinate's diagonal.
+        diagonal: f64,
+    },
+    /// `der(y) = v;` in `independent` without `y = ...;`: y is not free, its rate follows
+    /// from the constraints.
+    #[error(
+        "`der({name})` is given in `independent`, but `{name}` is not an independent coordinate (those are: {}); its rate follows from the constraints: give `{name} = value;` too to make it independent, or remove `der({name})`",
+        if independent.is_empty() { "none".to_string() } else { independent.join(", ") }
+    )]
+    RateOfDependent {
+        /// The coordinate.
+        name: String,
+        /// The coordinates whose positions the section sets.
+        independent: Vec<String>,
+    },
+    /// A body's mass below zero at the declared values.
+    #[error(
+        "the mass of body `{body}` is {value} at the declared values: a mass cannot be negative"
+    )]
+    NegativeMass {
+        /// The body.
+        body: String,
+        /// Its value.
+        value: f64,
+    },
+    /// An inertia tensor whose (row, column) and (column, row) entries differ.
+    #[error(
+        "the inertia of body `{body}` is not symmetric: entry ({row}, {column}) is {upper} but ({column}, {row}) is {lower}; a products-of-inertia entry appears twice with the same value"
+    )]
+    InertiaNotSymmetric {
+        /// The body.
+        body: String,
+        /// 1-based row of the upper entry.
+        row: usize,
+        /// 1-based column of the upper entry.
+        column: usize,
+        /// The (row, column) value.
+        upper: f64,
+        /// The (column, row) value.
+        lower: f64,
+    },
+    /// Principal moments that no mass distribution has: one below zero, or the largest
+    /// above the sum of the other two.
+    #[error(
+        "the inertia of body `{body}` is not physically possible: its principal moments {moments:?} must be >= 0 with each at most the sum of the other two (I1 + I2 >= I3); check the entries and the axes they are about"
+    )]
+    InertiaNotPhysical {
+        /// The body.
+        body: String,
+        /// The principal moments, ascending.
+        moments: [f64; 3],
+    },
 }
 
 /// What a declared name is.
@@ -546,6 +632,9 @@ pub enum Quantity {
 /// An entry a block needs.
 #[derive(Clone, Copy, Debug, thiserror::Error, PartialEq, Eq)]
 pub enum Needed {
+    /// A body's mass.
+    #[error("`mass = m;` (kg; `mass = 0;` for a massless frame)")]
+    Mass,
     /// A body's centre of mass.
     #[error("`position = [x, y, z];` (its centre of mass)")]
     Position,

@@ -179,6 +179,30 @@ pub enum Error {
     /// A model with no coordinates.
     #[error("a mechanism needs at least one coordinate")]
     NoCoordinates,
+    /// The derivation would need matrices beyond its budget: Khang's dM/dq of n coordinates
+    /// (whose M depends on them) has n^3 entries.
+    #[error(
+        "the derivation needs dM/dq with n^3 = {entries} entries for the {coordinates} coordinates, beyond its budget of {limit} (4 bytes each); declare fewer coordinates (each body's or point's own) or raise the budget with the environment variable MECHANISM_MAX_ENTRIES={entries}"
+    )]
+    DerivationTooLarge {
+        /// n.
+        coordinates: usize,
+        /// n^3.
+        entries: usize,
+        /// The budget in entries.
+        limit: usize,
+    },
+    /// The derivation (a derivative's or a product's constant factor) overflowed the range
+    /// of f64; the declared expressions themselves were finite.
+    #[error(
+        "deriving the equations of `{mechanism}` multiplies or adds constants beyond the largest f64 (about 1.8e308): {operation}; rescale the declaration's constants (other units)"
+    )]
+    DerivationOverflow {
+        /// The struct name.
+        mechanism: String,
+        /// The folding that overflowed, e.g. `2 * 1e308`.
+        operation: String,
+    },
     /// The number of generalised forces differs from the number of coordinates.
     #[error("{forces} generalised forces given for {coordinates} coordinates")]
     ForceCount {

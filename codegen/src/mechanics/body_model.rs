@@ -10,6 +10,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
+use crate::mechanics::body_checks::{check_inertia, check_mass};
 use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
@@ -328,13 +329,13 @@ fn build_body(
     scope: &mut Scope,
     known: &[(SymbolId, f64)],
 ) -> Result<Body> {
-    let mass = match take(entries, "mass", name)? {
-        Some(e) => {
-            let m = vector_value(arena, &e.value[0], scope)?;
-            scalar(&m, Quantity::Mass, e.at)?
-        }
-        None => arena.int(0),
+    // A body without a mass would silently carry none: a massless frame says `mass = 0;`.
+    let me = take(entries, "mass", name)?.ok_or_else(|| missing("body", name, Needed::Mass, at))?;
+    let mass = {
+        let m = vector_value(arena, &me.value[0], scope)?;
+        scalar(&m, Quantity::Mass, me.at)?
     };
+    check_mass(arena, name, mass, known, me.at)?;
     let pe = take(entries, "position", name)?
         .ok_or_else(|| missing("body", name, Needed::Position, at))?;
     let pm = vector_value(arena, &pe.value[0], scope)?;
@@ -357,6 +358,7 @@ fn build_body(
                 let kind = DeclarationError::InertiaNot3x3 { rows, cols };
                 return Err(declaration(kind, e.at));
             }
+            check_inertia(arena, name, &m, known, e.at)?;
             Some(m)
         }
         None => None,

@@ -133,6 +133,7 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         coordinates,
         independent,
         kinetic,
+        kinetic_location: kinetic_at,
         potential,
         constraints,
         forces,
@@ -199,6 +200,7 @@ fn build_independent(
     known: &[(SymbolId, f64)],
 ) -> Result<Vec<IndependentSpec>> {
     let mut independent: Vec<IndependentSpec> = Vec::new();
+    let mut positioned: Vec<usize> = Vec::new();
     for i in d.independent.iter().flat_map(|s| &s.body) {
         let Some(k) = coordinates.iter().position(|c| c.name == i.name) else {
             continue;
@@ -226,6 +228,32 @@ fn build_independent(
             spec.velocity = v;
         } else {
             spec.position = v;
+            positioned.push(k);
+        }
+    }
+    // A rate makes sense only for a coordinate the section also sets: the others follow
+    // from the constraints, and listing a bare rate would silently make one more coordinate
+    // independent than the mechanism has freedoms.
+    for i in d
+        .independent
+        .iter()
+        .flat_map(|s| &s.body)
+        .filter(|i| i.rate)
+    {
+        if let Some(k) = coordinates.iter().position(|c| c.name == i.name)
+            && !positioned.contains(&k)
+        {
+            let free: Vec<String> = positioned
+                .iter()
+                .map(|&j| coordinates[j].name.clone())
+                .collect();
+            return Err(Error::declaration(
+                DeclarationError::RateOfDependent {
+                    name: i.name.clone(),
+                    independent: free,
+                },
+                i.at,
+            ));
         }
     }
     Ok(independent)

@@ -27,6 +27,7 @@ use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
+use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::model::Model;
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
@@ -152,6 +153,13 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
             mass.set(j, i, mij);
         }
     }
+    let view = ModelView {
+        coordinates: &model.coordinates,
+        parameters: &model.parameters,
+        time: model.time,
+        at: model.kinetic_location,
+    };
+    check_mass(arena, &mut d, &mass, &view)?;
 
     let coriolis_matrix = khang_coriolis_matrix(arena, &mut d, &mass, &s)?;
     let coriolis_forces = if is_quadratic_form(arena, &mut d, kinetic, &momenta, &mass, &s)? {
@@ -183,6 +191,12 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
         }
     }
     let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
+    if let Some(o) = arena.take_overflow() {
+        return Err(Error::DerivationOverflow {
+            mechanism: model.name.clone(),
+            operation: o.to_string(),
+        });
+    }
     Ok(Equations {
         n,
         m,
@@ -210,6 +224,22 @@ fn khang_coriolis_matrix(
     s: &Symbols,
 ) -> Result<Matrix> {
     let n = s.q.len();
+    // M free of q (Cartesian or natural coordinates): dM/dq = 0 and C = 0, without the
+    // n x n^2 Kronecker matrices.
+    let mut constant = true;
+    'entries: for i in 0..n {
+        for j in i..n {
+            let symbols = d.symbols_of(arena, mass.get(i, j))?;
+            if s.q.iter().any(|q| symbols.contains(q)) {
+                constant = false;
+                break 'entries;
+            }
+        }
+    }
+    if constant {
+        return Ok(Matrix::zeros(arena, n, n));
+    }
+    check_kronecker_size(n)?;
     let dm = mass.khang_derivative(arena, d, &s.q)?;
     let qd = Symbols::column(arena, &s.qd);
     let id = Matrix::identity(arena, n);
@@ -220,6 +250,31 @@ fn khang_coriolis_matrix(
     let half = arena.rational(1, 2)?;
     let second = second.transpose()?.scale(arena, half)?;
     first.sub(arena, &second)
+}
+
+/// Entries the derivation's Kronecker matrices (dM/dq, n x n^2) may hold: 2^27, about
+/// 134 million (n = 512), 512 MB of handles each and about 2 GB at the peak of the
+/// derivation. Raised by the environment variable
+/// `MECHANISM_MAX_ENTRIES` (read by the macro and the command-line tool alike).
+pub const MAX_KRONECKER_ENTRIES: usize = 1 << 27;
+
+/// [`Error::DerivationTooLarge`] when dM/dq of n coordinates has more than the allowed
+/// entries: without the check, 1000 coordinates asked for 10^9 entries (11 GB) and the
+/// operating system killed the compiler.
+fn check_kronecker_size(n: usize) -> Result<()> {
+    let limit = std::env::var("MECHANISM_MAX_ENTRIES")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .unwrap_or(MAX_KRONECKER_ENTRIES);
+    let entries = n.saturating_mul(n).saturating_mul(n);
+    if entries > limit {
+        return Err(Error::DerivationTooLarge {
+            coordinates: n,
+            entries,
+            limit,
+        });
+    }
+    Ok(())
 }
 
 /// True when T = 1/2 q'^T M(q) q' exactly: T and M free of t, M free of q', and T and

@@ -13,17 +13,20 @@
 //! with M = d2T/dq'dq', Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T and
 //! g = dPi/dq. The stages in order: [`check`] (one rule per function, every error kept),
 //! [`resolve`] and [`vectors`] (names of a syntax tree resolved into arena nodes),
-//! [`build`] (the model), [`body_model`] with [`bodies`] and [`joints`] (energies from
-//! rigid bodies, joint rows), [`lagrange`] (the equations), [`tangent`] (dF/dq and dF/dq'
-//! for implicit integrators).
+//! [`build`] (the model), [`body_model`] with [`bodies`], [`body_checks`] and [`joints`]
+//! (energies from rigid bodies and what their mass and inertia must satisfy, joint rows),
+//! [`lagrange`] (the equations, with [`kinetic_form`]: T a positive semi-definite quadratic
+//! form in the rates), [`tangent`] (dF/dq and dF/dq' for implicit integrators).
 
 pub(crate) mod bodies;
+pub(crate) mod body_checks;
 pub(crate) mod body_model;
 pub(crate) mod build;
 pub(crate) mod check;
 pub(crate) mod drawing;
 pub(crate) mod equations;
 pub(crate) mod joints;
+pub(crate) mod kinetic_form;
 pub(crate) mod lagrange;
 pub(crate) mod model;
 pub(crate) mod resolve;

@@ -99,6 +99,9 @@ pub struct Model {
     pub independent: Vec<IndependentSpec>,
     /// Kinetic energy T(q, q', t).
     pub kinetic: Id,
+    /// Where T is declared (`kinetic`, or the first body): the derivation's checks of T
+    /// report there.
+    pub kinetic_location: Location,
     /// Potential energy Pi(q, t).
     pub potential: Id,
     /// Constraint rows Phi(q, t).

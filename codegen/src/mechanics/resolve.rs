@@ -109,8 +109,25 @@ fn der_error(name: &str, role: SymbolRole, at: Location) -> Error {
 ///
 /// Errors: unknown names (from the resolver), `der` of something that is not a coordinate,
 /// division by (or a negative power of) the constant 0 ([`Error::ZeroDivisor`]), a function
-/// outside its domain at a constant argument (`ln(0)`).
+/// outside its domain at a constant argument (`ln(0)`), constants whose folded sum or
+/// product overflows ([`DeclarationError::ConstantOverflow`], at the innermost such
+/// expression).
 pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver) -> Result<Id> {
+    let id = resolve_node(arena, ast, resolver)?;
+    // The innermost expression whose constants overflowed reports it (children first).
+    match arena.take_overflow() {
+        None => Ok(id),
+        Some(o) => Err(Error::declaration(
+            DeclarationError::ConstantOverflow {
+                expression: ast.text(),
+                operation: o.to_string(),
+            },
+            ast.location(),
+        )),
+    }
+}
+
+fn resolve_node(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver) -> Result<Id> {
     match ast {
         Ast::Number(n, _) => Ok(arena.number(*n)),
         Ast::Name(name, _) if name == "pi" => Ok(arena.pi()),

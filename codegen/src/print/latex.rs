@@ -11,7 +11,7 @@ use crate::algebra::matrix::Matrix;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::number::Number;
-use crate::print::render::{Prec, Rendered, Renderer, Style};
+use crate::print::render::{Prec, Rendered, Renderer, Style, elided_note};
 
 /// The LaTeX spelling.
 pub(crate) struct Latex;
@@ -295,5 +295,8 @@ pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
     }
     out.push_str(&format!("\\[ T = {} \\]\n", r.render(eqs.kinetic).s));
     out.push_str(&format!("\\[ \\Pi = {} \\]\n", r.render(eqs.potential).s));
+    if r.elided {
+        out.push_str(&format!("% {}\n", elided_note()));
+    }
     out
 }

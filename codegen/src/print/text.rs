@@ -11,7 +11,7 @@ use crate::algebra::matrix::Matrix;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::number::Number;
-use crate::print::render::{Prec, Rendered, Renderer, Style};
+use crate::print::render::{Prec, Rendered, Renderer, Style, elided_note};
 
 /// The plain-text spelling.
 pub(crate) struct Text;
@@ -240,5 +240,8 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
         "\nPi, the potential energy:\n  Pi = {}\n",
         r.render(eqs.potential).s
     ));
+    if r.elided {
+        out.push_str(&format!("\nnote: {}\n", elided_note()));
+    }
     out
 }

@@ -115,6 +115,31 @@ const ERRORS: &[(&str, &str)] = &[
         "point O = [0, 0, 0]; body b { mass = m; position = [x, y, 0]; } spring s { between = b, O; stiffness = 1 }",
         "expected `;` after the last statement of the block, found `}`",
     ),
+    // What a body's mass and inertia must satisfy (issue 14: once silently accepted).
+    (
+        "body b { position = [x, y, 0]; }",
+        "needs `mass = m;` (kg; `mass = 0;` for a massless frame)",
+    ),
+    (
+        "body b { mass = -m; position = [x, y, 0]; }",
+        "the mass of body `b` is -1 at the declared values",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = [[1, 0.1, 0], [0.2, 2, 0], [0, 0, 3]]; }",
+        "not symmetric: entry (1, 2) is 0.1 but (2, 1) is 0.2",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(1, 1, 3); }",
+        "not physically possible: its principal moments [1.0, 1.0, 3.0]",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(-0.1, 1, 1); }",
+        "not physically possible",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(m*l^2, m*l^2, 3*m*l^2); }",
+        "not physically possible",
+    ),
     // Points, axes and bodies are among the known names, closest first.
     (
         "point O = [0, 0, 0]; body bob { mass = m; position = [x, y, 0]; } joints { distance(bob, Q, l); }",
@@ -130,6 +155,22 @@ fn body_section_errors() {
             e.to_string().contains(phrase),
             "`{body}`: expected `{phrase}` in `{e}`"
         );
+    }
+}
+
+/// The limiting bodies are possible: a thin rod (I1 = 0, I2 = I3), a flat plate
+/// (I1 + I2 = I3), a massless frame (`mass = 0`), a full symmetric tensor.
+#[test]
+fn limiting_bodies_are_accepted() {
+    for body in [
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(0, m*l^2/12, m*l^2/12); }",
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(m*l^2/12, m*l^2/12, m*l^2/6); }",
+        "body b { mass = m; position = [x, y, 0]; } body f { mass = 0; position = [x, 0, 0]; }",
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = [[1, 0.1, 0], [0.1, 2, 0], [0, 0, 3]]; }",
+    ] {
+        let mut model =
+            parse_model_str(&declaration(body)).unwrap_or_else(|e| panic!("`{body}` refused: {e}"));
+        derive(&mut model).unwrap_or_else(|e| panic!("`{body}`: {e}"));
     }
 }
 

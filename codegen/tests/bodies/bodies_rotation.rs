@@ -282,6 +282,7 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         coordinates,
         independent: vec![],
         kinetic: zero,
+        kinetic_location: Default::default(),
         potential: zero,
         constraints: vec![],
         forces: vec![zero, zero],

@@ -283,6 +283,7 @@ pub fn bare_model(
             .collect(),
         independent: vec![],
         kinetic,
+        kinetic_location: Location::default(),
         potential,
         constraints: constraints
             .into_iter()

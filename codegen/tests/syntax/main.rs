@@ -3,6 +3,7 @@
 
 mod parse_support;
 
+mod declared_physics;
 mod parse_expr_table;
 mod parse_model_errors;
 mod parse_model_library;

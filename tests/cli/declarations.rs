@@ -1,0 +1,102 @@
+//! Declarations whose numbers or physics cannot be right, given to the command-line tool as
+//! `.mech` files: one line naming the file, the line and column and the rule, exit status
+//! 1, and no output folder. Each used to be accepted (a silently wrong model, or a run that
+//! ended in a step-size underflow or a misleading diagnosis).
+
+use super::{assert_one_line_error, mechanism, out_dir};
+
+/// The library's Cartesian pendulum with `from` replaced by `to`, written to a file.
+fn pendulum_with(name: &str, from: &str, to: &str) -> std::path::PathBuf {
+    let text = include_str!("../../mechanisms/cartesian_pendulum.mech");
+    assert!(text.contains(from), "{from}");
+    let dir = out_dir(&format!("decl-{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.mech"));
+    std::fs::write(&path, text.replace(from, to)).unwrap();
+    path
+}
+
+#[test]
+fn bad_declarations_fail_with_their_location_and_exit_status_1() {
+    let t = "kinetic = 1/2*m*(der(x)^2 + der(y)^2);";
+    let cases = [
+        (
+            "quartic",
+            t,
+            "kinetic = 1/2*m*(der(x)^4 + der(y)^2);",
+            ":22:1: the kinetic energy is not a quadratic form in the rates",
+        ),
+        (
+            "negative",
+            t,
+            "kinetic = -3*der(x)^2 + 1/2*m*der(y)^2;",
+            ":22:1: the kinetic energy can be negative",
+        ),
+        (
+            "overflow",
+            t,
+            "kinetic = 1/2*m*1e200*1e200*(der(x)^2 + der(y)^2);",
+            ":22:11: the constants in `1/2*m*1e200*1e200*(der(x)^2 + der(y)^2)` overflow",
+        ),
+        (
+            "dependent_rate",
+            "independent { x = 0.479426; der(x) = 0.0; }",
+            "independent { x = 0.479426; der(y) = 1.0; }",
+            ":21:33: `der(y)` is given in `independent`, but `y` is not an independent coordinate",
+        ),
+    ];
+    for (name, from, to, needle) in cases {
+        let file = pendulum_with(name, from, to);
+        let out = out_dir(&format!("decl-{name}-out"));
+        let o = mechanism(&[
+            "simulate",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_one_line_error(&o, needle);
+        assert!(
+            !out.join("trajectory.csv").exists(),
+            "{name}: no trajectory"
+        );
+    }
+    // The derivation's own overflow: Pi = 1e308 y^2 is finite, its gradient is not.
+    let file = pendulum_with("gradient", "potential = m*g*y;", "potential = 1e308*y^2;");
+    let o = mechanism(&["equations", file.to_str().unwrap()]);
+    assert_one_line_error(
+        &o,
+        "deriving the equations of `CartesianPendulum` multiplies or adds constants beyond the largest f64",
+    );
+}
+
+/// The derivation's matrix budget: over it, one line naming the size, the budget and the
+/// variable that raises it; raised, the same file runs.
+#[test]
+fn the_derivation_budget_is_named_and_can_be_raised() {
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/mechanisms/planar_four_bar.mech"
+    );
+    let run = |budget: &str| {
+        let out = out_dir(&format!("budget-{budget}"));
+        assert_cmd::Command::cargo_bin("mechanism")
+            .unwrap()
+            .env("MECHANISM_MAX_ENTRIES", budget)
+            .args([
+                "simulate",
+                file,
+                "--t-end",
+                "0.1",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap()
+    };
+    let o = run("10");
+    assert_one_line_error(
+        &o,
+        "the derivation needs dM/dq with n^3 = 27 entries for the 3 coordinates, beyond its budget of 10 (4 bytes each); declare fewer coordinates (each body's or point's own) or raise the budget with the environment variable MECHANISM_MAX_ENTRIES=27",
+    );
+    assert_eq!(run("27").status.code(), Some(0));
+}
