@@ -207,26 +207,27 @@ fn a_rate_of_a_coordinate_the_section_does_not_free_is_an_error() {
     derived(&text).unwrap();
 }
 
-#[test]
-fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
-    // 520 coordinates whose M depends on them: dM/dq would have 520^3 = 140.6 million
-    // entries, beyond 2^27 (MECHANISM_MAX_ENTRIES is not set by the test run).
-    let n = 520;
+/// n coordinates q_i, all independent, with T = 1/2 sum `term(i)` q_i'^2.
+fn many_coordinates(n: usize, term: impl Fn(usize) -> String) -> String {
     let coordinates: String = (0..n).map(|i| format!("q{i} = 0.1; ")).collect();
     let independent: String = (0..n)
         .map(|i| format!("q{i} = 0.1; der(q{i}) = 0.0; "))
         .collect();
-    let kinetic: Vec<String> = (0..n)
-        .map(|i| format!("(1 + q{i}^2)*der(q{i})^2"))
-        .collect();
-    let text = format!(
+    let kinetic: Vec<String> = (0..n).map(|i| format!("{}*der(q{i})^2", term(i))).collect();
+    format!(
         "struct Big;\ncoordinates {{ {coordinates}}}\nindependent {{ {independent}}}\nkinetic = 1/2*({});\n",
         kinetic.join(" + ")
-    );
+    )
+}
+
+#[test]
+fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
     if std::env::var("MECHANISM_MAX_ENTRIES").is_ok() {
         return;
     }
-    match derived(&text) {
+    // 520 coordinates whose M depends on them: dM/dq would have 520^3 = 140.6 million
+    // entries, beyond 2^27.
+    match derived(&many_coordinates(520, |i| format!("(1 + q{i}^2)"))) {
         Err(Error::DerivationTooLarge {
             coordinates,
             entries,
@@ -244,17 +245,7 @@ fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
 #[test]
 fn a_mass_matrix_free_of_the_coordinates_needs_no_kronecker_matrices() {
     // The same size with a constant M derives (C = 0 without dM/dq).
-    let n = 520;
-    let coordinates: String = (0..n).map(|i| format!("q{i} = 0.1; ")).collect();
-    let independent: String = (0..n)
-        .map(|i| format!("q{i} = 0.1; der(q{i}) = 0.0; "))
-        .collect();
-    let kinetic: Vec<String> = (0..n).map(|i| format!("der(q{i})^2")).collect();
-    let text = format!(
-        "struct Big;\ncoordinates {{ {coordinates}}}\nindependent {{ {independent}}}\nkinetic = 1/2*({});\n",
-        kinetic.join(" + ")
-    );
-    derived(&text).unwrap();
+    derived(&many_coordinates(520, |_| "1".to_string())).unwrap();
 }
 
 /// Printed as a tree, a DAG of n levels that each use the level below twice has 2^n
