@@ -100,3 +100,45 @@ fn the_derivation_budget_is_named_and_can_be_raised() {
     );
     assert_eq!(run("27").status.code(), Some(0));
 }
+
+/// The size budget of the derivation's expressions: a body turned by 8 chained rotations
+/// needs far less than 2^24 but more than 2,000; under that budget, one line naming the size
+/// reached, the budget and the variable that raises it.
+#[test]
+fn the_expression_budget_is_named() {
+    let axes = ["z", "x", "y"];
+    let k = 8;
+    let coordinates: String = (0..k).map(|i| format!("a{i} = 0.{}; ", i + 1)).collect();
+    let independent: String = (0..k)
+        .map(|i| format!("a{i} = 0.{}; der(a{i}) = 1.0; ", i + 1))
+        .collect();
+    let orientation: Vec<String> = (0..k)
+        .map(|i| format!("rot_{}(a{i})", axes[i % 3]))
+        .collect();
+    let text = format!(
+        "struct Rot;\nparameters {{ m = 1.0; }}\ncoordinates {{ {coordinates}}}\nindependent {{ {independent}}}\nbody b {{ mass = m; position = [0, 0, 0]; orientation = {}; inertia = diag(1, 2, 2.5); }}\n",
+        orientation.join(" * ")
+    );
+    let dir = out_dir("size-budget");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("rot8.mech");
+    std::fs::write(&file, text).unwrap();
+    let run = |budget: Option<&str>| {
+        let mut c = assert_cmd::Command::cargo_bin("mechanism").unwrap();
+        c.env_remove("MECHANISM_MAX_SIZE");
+        if let Some(b) = budget {
+            c.env("MECHANISM_MAX_SIZE", b);
+        }
+        c.args(["equations", file.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
+    let o = run(Some("2000"));
+    assert_one_line_error(&o, "nodes and child references, beyond its budget of 2000");
+    assert!(
+        super::stderr(&o).contains("MECHANISM_MAX_SIZE="),
+        "{}",
+        super::stderr(&o)
+    );
+    assert_eq!(run(None).status.code(), Some(0));
+}

@@ -10,7 +10,7 @@
 //! The walk is iterative (the nodes to differentiate are collected, then processed in
 //! increasing id order, which is topological), so deep expressions cannot overflow the stack.
 
-use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind, size_budget};
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -189,10 +189,14 @@ impl Differentiator {
     ///
     /// # Errors
     /// [`Error::InvalidId`] or [`Error::UnknownSymbolId`] for an id or symbol not in `arena`;
-    /// [`Error::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined).
+    /// [`Error::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined);
+    /// [`Error::ExpressionsTooLarge`] once the arena is beyond its budget.
     pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
         Self::check(arena, id)?;
         Self::check_symbol(arena, sym)?;
+        // Every derivation goes through here: the budget stops a runaway one within one
+        // derivative's growth of the limit.
+        arena.check_size(size_budget())?;
         self.sync(arena);
         if !self.deps.contains(id, sym) {
             return Ok(arena.int(0));

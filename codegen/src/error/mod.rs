@@ -192,6 +192,18 @@ pub enum Error {
         /// The budget in entries.
         limit: usize,
     },
+    /// The expressions grew beyond the derivation's budget (see `MAX_SIZE`): the work stops
+    /// there, within seconds, instead of exhausting the memory.
+    #[error(
+        "the derivation's expressions reached {size} nodes and child references, beyond its budget of {budget} (about 190 bytes each at the peak of the derivation); simplify the declaration (fewer chained rotations, bodies declared with their own coordinates) or raise the budget with the environment variable MECHANISM_MAX_SIZE={suggest}",
+        suggest = size.saturating_mul(2)
+    )]
+    ExpressionsTooLarge {
+        /// The size reached.
+        size: usize,
+        /// The budget.
+        budget: usize,
+    },
     /// The derivation (a derivative's or a product's constant factor) overflowed the range
     /// of f64; the declared expressions themselves were finite.
     #[error(

@@ -22,7 +22,7 @@
 //! Identical instructions are value-numbered (one register), so partial products such as
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
 
-use crate::algebra::expr::{Arena, SymbolId};
+use crate::algebra::expr::{Arena, SymbolId, size_budget};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
@@ -75,6 +75,7 @@ impl Program {
     /// assert_eq!(program.output_op_counts(1).unwrap().total(), 2);
     /// ```
     pub fn new(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
+        arena.check_size(size_budget())?;
         let len = arena.len();
         for m in outputs {
             if m.rows.checked_mul(m.cols) != Some(m.data.len()) {

@@ -266,3 +266,24 @@ fn printing_shared_subexpressions_stays_within_the_text_budget() {
     assert!(text.contains("<...>"), "elided");
     assert!(text.len() <= 2 * (64 << 20) + 64, "{} bytes", text.len());
 }
+
+#[test]
+fn the_size_of_the_expressions_is_counted_and_checked() {
+    let mut a = mechanism_codegen::Arena::new();
+    let [x, ..] = a.coordinate("x");
+    let [y, ..] = a.coordinate("y");
+    let before = a.size();
+    let s = a.add(&[x, y]);
+    // One new node with two child references.
+    assert_eq!(a.size(), before + 3);
+    a.add(&[x, y]);
+    assert_eq!(a.size(), before + 3, "an existing node costs nothing");
+    let _ = s;
+    assert!(a.check_size(a.size()).is_ok());
+    match a.check_size(a.size() - 1) {
+        Err(Error::ExpressionsTooLarge { size, budget }) => {
+            assert_eq!((size, budget), (a.size(), a.size() - 1));
+        }
+        other => panic!("{other:?}"),
+    }
+}
