@@ -89,9 +89,9 @@ pub use number::Number;
 pub use pipeline::{SpannedError, parse_declaration, parse_declaration_str, parse_model_str};
 pub use print::latex::equations_latex;
 pub use print::text::{equations_text, to_text};
-pub use program::cse::{Output, Program};
+pub use program::cse::Program;
 pub use program::hoist::{Hoisted, hoist_parameters};
-pub use program::instructions::{OpCounts, Operand};
+pub use program::instructions::{OpCounts, Operand, Output};
 pub use program::tape::Tape;
 
 /// The parts of the stages that no dependent needs, reached only by codegen's own tests (the
@@ -100,10 +100,11 @@ pub use program::tape::Tape;
 #[doc(hidden)]
 pub mod internals {
     pub use crate::algebra::eval::eval_many;
+    pub use crate::algebra::expr::Vec3;
     pub use crate::algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
     pub use crate::emit::body::BLOCK_LETS_ABOVE;
     pub use crate::mechanics::bodies::{
-        Body, BodySystem, BodyTerms, Damper, Spring, Vec3, add_body_terms, body_terms,
+        Body, BodySystem, BodyTerms, Damper, Spring, add_body_terms, body_terms,
     };
     pub use crate::mechanics::joints::{
         AxisFrame, distance, parallel, prismatic, revolute, spherical,

@@ -205,6 +205,10 @@ impl Hasher for FxHasher {
     }
 }
 
+/// A 3-vector of expressions (world components unless said otherwise): a point, an axis
+/// or a velocity of the body sections.
+pub type Vec3 = [Id; 3];
+
 /// A HashMap with [`FxHasher`].
 pub type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 

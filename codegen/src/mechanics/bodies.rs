@@ -24,14 +24,11 @@
 //! what the declaration wrote by hand.
 
 use crate::algebra::diff::Differentiator;
-use crate::algebra::expr::{Arena, Id, SymbolId};
+use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::Orientation;
 use crate::error::{Error, Result};
 use crate::mechanics::model::Model;
-
-/// A 3-vector of expressions (world components unless said otherwise).
-pub type Vec3 = [Id; 3];
 
 /// A rigid body or a point mass.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -5,11 +5,11 @@
 use std::collections::HashMap;
 
 use crate::algebra::eval::eval;
-use crate::algebra::expr::{Arena, SymbolId};
+use crate::algebra::expr::{Arena, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
-use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, Vec3, add_body_terms};
+use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, add_body_terms};
 use crate::mechanics::body_checks::{check_inertia, check_mass};
 use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{

@@ -2,9 +2,9 @@
 //! (q, t) and the parameters, each marked ground when it depends on no coordinate and not
 //! on time, with the lines and traces by index.
 
+use crate::algebra::expr::Vec3;
 use crate::algebra::expr::{Arena, SymbolId};
 use crate::error::{DeclarationError, Error, Location, Result};
-use crate::mechanics::bodies::Vec3;
 use crate::syntax::draw::DrawSection;
 
 /// One drawn point.

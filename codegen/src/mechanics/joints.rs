@@ -14,8 +14,8 @@
 //! direction R a_0, perpendiculars R (a_0 x e_k) and R (a_0 x (a_0 x e_k)), e_k the unit
 //! vector along which a_0 is smallest (at the parameter defaults), so neither vanishes.
 
-use crate::algebra::expr::{Arena, Id};
-use crate::mechanics::bodies::{Vec3, dot, sub3};
+use crate::algebra::expr::{Arena, Id, Vec3};
+use crate::mechanics::bodies::{dot, sub3};
 
 /// A body-fixed direction and two body-fixed directions perpendicular to it and to each
 /// other (world components).

@@ -27,19 +27,8 @@ use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
 use crate::program::fuse::fuse_multiply_add;
-use crate::program::instructions::{Instr, OpCounts, Operand, Reg, UnOp, defines};
+use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
 use crate::program::schedule::schedule;
-
-/// One output matrix of a [`Program`]: where each entry's value is, row-major.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Output {
-    /// Rows.
-    pub rows: usize,
-    /// Columns.
-    pub cols: usize,
-    /// Entry (i, j) at `i * cols + j`.
-    pub entries: Vec<Operand>,
-}
 
 /// A straight-line SSA program computing several matrices at once, with common
 /// subexpressions shared between all of them (module docs list the lowering rules).

@@ -12,8 +12,7 @@
 //! fused instruction the results are those of the unfused code to the bit (negation is
 //! exact and `c - p` is `c + (-p)` in IEEE arithmetic).
 
-use crate::program::cse::Output;
-use crate::program::instructions::{BinOp, Instr, Operand};
+use crate::program::instructions::{BinOp, Instr, Operand, Output};
 
 /// `instrs` with every product that one addition or subtraction alone reads fused into it.
 pub(crate) fn fuse_multiply_add(instrs: &[Instr], outputs: &[Output]) -> Vec<Instr> {

@@ -13,8 +13,8 @@
 use crate::algebra::expr::{Arena, FxHashMap, SymbolId, SymbolKind};
 use crate::error::Result;
 use crate::program::builder::Builder;
-use crate::program::cse::{Output, Program};
-use crate::program::instructions::{Instr, Operand, Reg, UnOp};
+use crate::program::cse::Program;
+use crate::program::instructions::{Instr, Operand, Output, Reg, UnOp};
 
 /// The result of [`hoist_parameters`].
 #[derive(Clone, Debug, PartialEq)]

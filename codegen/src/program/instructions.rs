@@ -14,6 +14,17 @@ impl Reg {
     }
 }
 
+/// One output matrix of a [`Program`](crate::Program): where each entry's value is, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output {
+    /// Rows.
+    pub rows: usize,
+    /// Columns.
+    pub cols: usize,
+    /// Entry (i, j) at `i * cols + j`.
+    pub entries: Vec<Operand>,
+}
+
 /// An instruction operand: a register, an input symbol or a constant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Operand {

@@ -12,8 +12,7 @@
 //! between entries (the sines and cosines of the angles, common products) live long. The
 //! values computed are unchanged to the bit: the same instructions on the same operands.
 
-use crate::program::cse::Output;
-use crate::program::instructions::{Instr, Operand, defines};
+use crate::program::instructions::{Instr, Operand, Output, defines};
 
 /// `instrs` (in execution order) reordered depth first from the entries of `outputs`;
 /// instructions no output reads keep their relative order at the end (the dead-code pass
