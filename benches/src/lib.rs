@@ -78,41 +78,16 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
     if let Some(s) = arena.as_symbol(model.time) {
         b.bind(s, quote!(t));
     }
-    let (kinetic, potential) = (
-        Matrix::column(vec![eqs.kinetic]),
-        Matrix::column(vec![eqs.potential]),
-    );
-    let singles = [
-        &eqs.mass,
-        &eqs.coriolis_matrix,
-        &eqs.coriolis_forces,
-        &eqs.gravity,
-        &eqs.forces,
-        &eqs.phi,
-        &eqs.phi_q,
-        &eqs.phi_t,
-        &eqs.gamma,
-        &kinetic,
-        &potential,
-    ];
+    // The programs mechanism! builds: one per generated method, then the evaluation.
+    let singles = eqs.method_outputs();
     let place = || OutputTarget::Matrix {
         name: quote!(out),
         zeroed: true,
     };
-    let all = [
-        &eqs.mass,
-        &eqs.coriolis_forces,
-        &eqs.gravity,
-        &eqs.forces,
-        &eqs.phi,
-        &eqs.phi_q,
-        &eqs.phi_t,
-        &eqs.gamma,
-        &kinetic,
-        &potential,
-    ];
+    let all = eqs.evaluation_outputs();
+    let all: Vec<&Matrix> = all.iter().collect();
     let mut programs = Vec::with_capacity(singles.len() + 1);
-    for m in singles {
+    for m in &singles {
         programs.push(Program::new(arena, &[m])?);
     }
     programs.push(Program::new(arena, &all)?);

@@ -117,26 +117,10 @@ impl Programs {
         e: &Equations,
         tangent: &ResidualTangent,
     ) -> mechanism_codegen::Result<Programs> {
-        let (kinetic, potential) = (
-            Matrix::column(vec![e.kinetic]),
-            Matrix::column(vec![e.potential]),
-        );
-        let singles = [
-            &e.mass,
-            &e.coriolis_matrix,
-            &e.coriolis_forces,
-            &e.gravity,
-            &e.forces,
-            &e.phi,
-            &e.phi_q,
-            &e.phi_t,
-            &e.gamma,
-            &kinetic,
-            &potential,
-        ];
+        let singles = e.method_outputs();
         let arena = &model.arena;
         let mut programs = Vec::with_capacity(singles.len() + 2);
-        for m in singles {
+        for m in &singles {
             programs.push(Program::new(arena, &[m])?);
         }
         let outputs = e.evaluation_outputs();
