@@ -78,6 +78,8 @@ pub struct Dynamics {
     /// last solve took that route.
     force: Vec<f64>,
     last_augmented: bool,
+    /// False after a [`Dynamics::solve_accelerations`] that skipped the multipliers.
+    multipliers_current: bool,
     /// Solves left before the LU route is tried again.
     skip_lu: usize,
     /// Condition-estimate limit of the LU route (default [`DEFAULT_CONDITION_LIMIT`]).
@@ -110,6 +112,7 @@ impl Dynamics {
             direction: vec![0.0; n],
             force: vec![0.0; n],
             last_augmented: false,
+            multipliers_current: true,
             skip_lu: 0,
             condition_limit: DEFAULT_CONDITION_LIMIT,
             augmented_solves: 0,
@@ -134,7 +137,33 @@ impl Dynamics {
         q: &[f64],
         qd: &[f64],
     ) -> Result<(), Error> {
+        self.solve_for(system, t, q, qd, true)
+    }
+
+    /// [`Dynamics::solve`] for q'' only, as an integrator's stages need it: the null-space
+    /// route then skips the multipliers (their n m + m^2 operations, a quarter of its solve
+    /// for the seed), and [`Dynamics::multipliers`] must not be read until the next
+    /// [`Dynamics::solve`]. Same errors.
+    pub(crate) fn solve_accelerations(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(), Error> {
+        self.solve_for(system, t, q, qd, false)
+    }
+
+    fn solve_for(
+        &mut self,
+        system: &dyn System,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        multipliers: bool,
+    ) -> Result<(), Error> {
         let (n, m) = (self.n, self.m);
+        self.multipliers_current = true;
         self.evaluations += 1;
         if !self.specialised {
             self.specialised = true;
@@ -153,9 +182,12 @@ impl Dynamics {
         // right-hand side and one of each symmetric pair of M (the derivation makes M
         // symmetric), and declines on a non-finite pivot or indicator, so a non-finite input
         // always reaches its solution (a test in `linalg::null_space` tries every entry).
-        if lu && self.solve_null_space() {
+        if lu && self.solve_null_space(multipliers) {
             self.last_augmented = false;
-            let Some(i) = self.sol.iter().position(|v| !v.is_finite()) else {
+            self.multipliers_current = multipliers;
+            // q'' alone carries every input: M, Phi_q, Q and gamma all reach z or v.
+            let solved = if multipliers { n + m } else { n };
+            let Some(i) = self.sol[..solved].iter().position(|v| !v.is_finite()) else {
                 return Ok(());
             };
             self.load_rhs(qd);
@@ -239,14 +271,18 @@ impl Dynamics {
     /// The null-space route: true (solved in place) when Phi_q has full row rank, Z^T M Z
     /// is positive definite and the route's condition indicator is at most
     /// `condition_limit` * 1e-3; false (nothing solved) otherwise.
-    fn solve_null_space(&mut self) -> bool {
+    fn solve_null_space(&mut self, multipliers: bool) -> bool {
         let e = &self.eval;
         match self
             .null_space
             .factor(e.mass.as_slice(), e.phi_q.as_slice())
         {
             Some(kappa) if kappa <= self.condition_limit * 1e-3 => {
-                self.null_space.solve(&mut self.sol);
+                if multipliers {
+                    self.null_space.solve(&mut self.sol);
+                } else {
+                    self.null_space.solve_accelerations(&mut self.sol);
+                }
                 true
             }
             _ => false,
@@ -369,6 +405,10 @@ impl Dynamics {
     /// accurate to about kappa eps = 1e-10 relative and, with redundant rows, one choice among
     /// many: call [`Dynamics::min_norm_multipliers`] for the minimum-norm ones to round-off.
     pub fn multipliers(&self) -> &[f64] {
+        debug_assert!(
+            self.multipliers_current,
+            "multipliers read after solve_accelerations"
+        );
         &self.sol[self.n..]
     }
 

@@ -19,7 +19,7 @@ impl OdeRhs for Rhs<'_> {
         let n = self.n;
         let (q, rest) = y.split_at(n);
         let qd = &rest[..n];
-        self.dynamics.solve(self.system, t, q, qd)?;
+        self.dynamics.solve_accelerations(self.system, t, q, qd)?;
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(self.dynamics.accelerations());
         dy[2 * n] = self.dynamics.power(qd);

@@ -179,13 +179,15 @@ fn ldlt(r: &mut [f64], d: usize, inv_diag: &mut [f64]) -> Option<f64> {
 }
 
 /// Solves in place: `sol` holds [Q; gamma] and receives [q''; lambda] (see the module docs
-/// of [`super`]), from the factors of [`factor`].
+/// of [`super`]), from the factors of [`factor`]. Without `multipliers` the last m values
+/// are left as they were (gamma): the multipliers' n m + m^2 operations are skipped.
 #[inline(always)]
 pub(super) fn solve<const N: usize, const M: usize>(
     p: &mut Parts<'_>,
     n: usize,
     m: usize,
     sol: &mut [f64],
+    multipliers: bool,
 ) {
     let (n, m) = (size::<N>(n), size::<M>(m));
     let d = n - m;
@@ -237,6 +239,12 @@ pub(super) fn solve<const N: usize, const M: usize>(
         u[i] = s;
     }
     u[m..].copy_from_slice(z);
+    if !multipliers {
+        for k in 0..n {
+            sol[cols[k]] = u[k];
+        }
+        return;
+    }
     // Multipliers: B^T lambda = L1 U lambda = (P Q - M q'')_dep.
     for i in 0..m {
         let mut s = sol[cols[i]];

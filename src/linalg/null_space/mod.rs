@@ -61,6 +61,15 @@ pub trait NullSpaceSolve: Send + Sync + core::fmt::Debug {
     /// # Panics
     /// If `sol` is shorter than n + m.
     fn solve(&mut self, sol: &mut [f64]);
+    /// [`NullSpaceSolve::solve`] for q'' alone: the first n values of `sol` receive q'',
+    /// the last m are unspecified (an integrator's stages need no multipliers). The
+    /// default solves for both.
+    ///
+    /// # Panics
+    /// If `sol` is shorter than n + m.
+    fn solve_accelerations(&mut self, sol: &mut [f64]) {
+        self.solve(sol);
+    }
     /// A boxed copy.
     fn clone_box(&self) -> Box<dyn NullSpaceSolve>;
 }
@@ -134,7 +143,11 @@ impl NullSpaceSolve for NullSpace {
     }
     fn solve(&mut self, sol: &mut [f64]) {
         let (n, m) = (self.n, self.m);
-        kernel::solve::<0, 0>(&mut self.parts(), n, m, sol);
+        kernel::solve::<0, 0>(&mut self.parts(), n, m, sol, true);
+    }
+    fn solve_accelerations(&mut self, sol: &mut [f64]) {
+        let (n, m) = (self.n, self.m);
+        kernel::solve::<0, 0>(&mut self.parts(), n, m, sol, false);
     }
     fn clone_box(&self) -> Box<dyn NullSpaceSolve> {
         Box::new(self.clone())
@@ -200,7 +213,10 @@ impl<const N: usize, const M: usize> NullSpaceSolve for FixedNullSpace<N, M> {
         kernel::factor::<N, M>(&mut self.parts(), N, M, mass, phi_q)
     }
     fn solve(&mut self, sol: &mut [f64]) {
-        kernel::solve::<N, M>(&mut self.parts(), N, M, sol);
+        kernel::solve::<N, M>(&mut self.parts(), N, M, sol, true);
+    }
+    fn solve_accelerations(&mut self, sol: &mut [f64]) {
+        kernel::solve::<N, M>(&mut self.parts(), N, M, sol, false);
     }
     fn clone_box(&self) -> Box<dyn NullSpaceSolve> {
         Box::new(self.clone())
@@ -254,6 +270,10 @@ mod tests {
                     assert!((1.0..1e6).contains(&kappa), "kappa {kappa}");
                     let mut sol = rhs.clone();
                     ns.solve(&mut sol);
+                    // q'' alone, as the integrator's stages ask: the same values, bit for bit.
+                    let mut acc = rhs.clone();
+                    ns.solve_accelerations(&mut acc);
+                    assert_eq!(acc[..n], sol[..n], "n {n} m {m} singular {singular}");
                     let scale = want.amax().max(1.0);
                     for i in 0..n + m {
                         assert!(
