@@ -149,7 +149,9 @@ pub trait RungeKutta: Send {
     fn finish(&mut self, rhs: &mut dyn OdeRhs, t: f64, y_new: &[f64], h: f64) -> Result<(), Error>;
     /// f(t + h, y_new) after [`RungeKutta::finish`].
     fn f_new(&self) -> &[f64];
-    /// Starts the next step from the accepted, unmodified y_new: k1 = f_new (FSAL).
+    /// Starts the next step from f_new: k1 = f_new (FSAL), exact for an unmodified y_new
+    /// (after a small projection the simulation keeps it and corrects the position rows
+    /// through [`RungeKutta::k1_mut`]).
     fn reuse_f_new(&mut self);
     /// Builds the continuous extension of the last accepted step.
     fn prepare_dense(

@@ -27,7 +27,9 @@ use crate::simulation::events::{EventAction, EventHit, EventLog};
 use crate::simulation::fail_fast::FailFast;
 use crate::simulation::options::{InitialState, RESERVED_SAMPLES, SimulationOptions};
 use crate::simulation::singular::SingularWatch;
-use crate::simulation::stepper::{Rhs, StateBuffers, StepControl, Stepper};
+use crate::simulation::stepper::{
+    REUSE_AFTER_PROJECTION, Rhs, StateBuffers, StepControl, Stepper, projection_size,
+};
 use crate::simulation::trajectory::Trajectory;
 use crate::system::System;
 
@@ -458,21 +460,37 @@ impl<'a> Simulator<'a> {
         // relation between them; its positions already satisfy Phi = 0 to Newton tolerance.
         let projected = self.options.stabilization == Stabilization::Projection
             && matches!(self.stepper, Stepper::Explicit(_));
+        let mut moved = 0.0;
         if projected {
             let (q, rest) = self.state.y.split_at_mut(n);
+            let before = &mut self.state.scratch[..2 * n];
+            before[..n].copy_from_slice(q);
+            before[n..].copy_from_slice(&rest[..n]);
             self.projector
                 .project(self.system, t_new, q, &mut rest[..n])?;
+            let tol = Tolerance {
+                rtol: self.options.integrator.rtol,
+                atol: self.options.integrator.atol,
+            };
+            moved = projection_size(&self.state.y[..2 * n], before, tol);
         }
         if let Stepper::Explicit(rk) = &mut self.stepper {
-            if projected {
+            if moved <= REUSE_AFTER_PROJECTION {
+                // The step's last stage f(y_new) serves as the next step's first (FSAL).
+                // After a projection that moved y by at most the accepted local error, it
+                // differs from f(projected y) by at most L times that error; its position
+                // rows take the projected q' exactly.
+                rk.reuse_f_new();
+                if projected {
+                    rk.k1_mut()[..n].copy_from_slice(&self.state.y[n..2 * n]);
+                }
+            } else {
                 let mut rhs = Rhs {
                     system: self.system,
                     dynamics: &mut self.dynamics,
                     n,
                 };
                 rhs.rhs(t_new, &self.state.y, rk.k1_mut())?;
-            } else {
-                rk.reuse_f_new();
             }
         }
         let (q, qd) = self.state.y.split_at(n);

@@ -4,8 +4,26 @@
 
 use crate::algorithms::dynamics::Dynamics;
 use crate::error::Error;
-use crate::integrators::{Dense, Hht, OdeRhs, RungeKutta};
+use crate::integrators::{Dense, Hht, OdeRhs, RungeKutta, Tolerance};
 use crate::system::System;
+
+/// Largest projection, in units of the error tolerance (see [`projection_size`]), after
+/// which the next step still starts from the last stage's f(y_new) instead of a new
+/// right-hand side at the projected state. 1: the projection moved y by no more than a
+/// local error the step-size control accepts, so the reused derivative is off by at most
+/// L times that (L the Lipschitz constant of f), and the next step's result by h L times
+/// it, below its own truncation error wherever the step is accurate (h L < 1). On the
+/// seed this saves one right-hand side of the 13 per accepted DOP853 step, with the same
+/// steps and a change of the result at 10 s a thousand times below its error.
+pub(crate) const REUSE_AFTER_PROJECTION: f64 = 1.0;
+
+/// max_i |y_i - before_i| / (atol + rtol max(|y_i|, |before_i|)) over the positions and
+/// rates: how far the projection moved the state, in units of the error tolerance.
+pub(crate) fn projection_size(y: &[f64], before: &[f64], tol: Tolerance) -> f64 {
+    y.iter()
+        .zip(before)
+        .fold(0.0, |m, (a, b)| m.max((a - b).abs() / tol.scale(*a, *b)))
+}
 
 /// y' = [q', q'', tau . q'] through the augmented system.
 pub(crate) struct Rhs<'s> {
@@ -118,5 +136,35 @@ impl StateBuffers {
             y,
             dense_ready: false,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projection_size_is_in_units_of_the_tolerance() {
+        let tol = Tolerance {
+            rtol: 1e-6,
+            atol: 1e-9,
+        };
+        // Scales 1e-9 + 1e-6 * 2 and 1e-9 + 1e-6 * 2e-9: moves of 1.0005e-6 (0.5 scales)
+        // and 2e-9 (just under 2 scales, the larger).
+        let before = [2.0, 0.0];
+        let y = [2.0 - 1.0005e-6, 2e-9];
+        let want = 2e-9 / (1e-9 + 1e-6 * 2e-9);
+        let s = projection_size(&y, &before, tol);
+        assert!(
+            (s - want).abs() <= 4.0 * f64::EPSILON * want,
+            "{s} vs {want}"
+        );
+        assert!(projection_size(&before, &before, tol) == 0.0);
+        // atol = 0 and an exact zero: no movement, not 0 / 0.
+        let pure = Tolerance {
+            rtol: 1e-6,
+            atol: 0.0,
+        };
+        assert_eq!(projection_size(&[0.0, 1.0], &[0.0, 1.0], pure), 0.0);
     }
 }
