@@ -114,6 +114,9 @@ fn main() {
         .collect();
     let body = emit_body(&p, &b, &targets).expect("emit");
     writeln!(counts, "all {}", body.counts).unwrap();
+    // How many groups of sines and cosines `all` computes side by side (emit's lanes).
+    let lanes = body.tokens.to_string().matches("sin_cos_lanes").count();
+    writeln!(counts, "all-lanes {lanes}").unwrap();
     let separate: usize = (0..mats.len())
         .map(|k| p.output_op_counts(k).map_or(0, |c| c.total()))
         .sum();

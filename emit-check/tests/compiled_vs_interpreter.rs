@@ -134,6 +134,50 @@ fn matrix_functions_match_eval_and_the_combined_function() {
     );
 }
 
+/// `all`, whose sines and cosines the emitter groups into `sin_cos_lanes` calls, against
+/// the tape of the same program, bit for bit: the tape computes every sine and cosine one
+/// at a time with `sin_cos`, and the lanes must round each exactly as it does. (The fixed
+/// expressions' `powi` calls happen to agree too; the scalar test above allows for them.)
+#[test]
+fn the_combined_function_with_lanes_equals_the_tape() {
+    let lanes: usize = mechanism_emit_check::OP_COUNTS
+        .lines()
+        .find_map(|l| l.strip_prefix("all-lanes "))
+        .and_then(|n| n.parse().ok())
+        .expect("build.rs reports all-lanes");
+    assert!(
+        lanes > 0,
+        "`all` has no lanes call: the test would not exercise them"
+    );
+    let (mut a, ids) = random::generate();
+    let mats = random::matrices(&mut a, &ids);
+    let refs: Vec<&Matrix> = mats.iter().collect();
+    let program = Program::new(&a, &refs).unwrap();
+    let mut tape = Tape::new(&program);
+    let (mut compared, mut bitwise) = (0, 0);
+    for x in points() {
+        let (p, q, t) = (P { k: x[2] }, SVector::<f64, 2>::new(x[0], x[1]), x[3]);
+        let mut all = [SMatrix::<f64, 2, 3>::repeat(f64::NAN); MATRICES.len()];
+        p.all(&q, t, &mut all);
+        let mut out = vec![0.0; tape.output_len()];
+        if tape.eval(&x, &mut out).is_err() {
+            continue; // a non-finite value at this point
+        }
+        for (k, m) in all.iter().enumerate() {
+            for e in 0..6 {
+                let (got, want) = (m[(e / 3, e % 3)], out[6 * k + e]);
+                compared += 1;
+                bitwise += usize::from(got.to_bits() == want.to_bits());
+            }
+        }
+    }
+    assert!(
+        compared >= MATRICES.len() * 6 * POINTS / 2,
+        "{compared} compared"
+    );
+    assert_eq!(bitwise, compared, "entries bit for bit");
+}
+
 #[test]
 fn expression_text_reads_back_to_the_same_nodes() {
     let (mut a, ids) = random::generate();

@@ -5,7 +5,8 @@
 //! `sqrt`, `exp`, `ln`, `tan`, `atan2`, `powf` and `powi` exist only with std.
 //!
 //! - [`sin_cos`] is this crate's own inline routine (faithfully rounded, straight-line
-//!   arithmetic), the same in every build.
+//!   arithmetic), the same in every build; [`sin_cos_lanes`] computes several arguments
+//!   side by side in vector registers, each lane bit for bit [`sin_cos`].
 //! - With the `std` feature the others are the f64 methods, so results are bit for bit those
 //!   of hand-written `x.sqrt()` code.
 //! - Without it the crate is `#![no_std]` and they come from [`libm`] (a port of musl's
@@ -28,7 +29,7 @@ use platform as route;
 #[cfg(not(feature = "std"))]
 use portable as route;
 
-pub use sin_cos::sin_cos;
+pub use sin_cos::{sin_cos, sin_cos_lanes};
 
 /// sqrt x, correctly rounded (IEEE 754); NaN for x < 0.
 #[inline(always)]

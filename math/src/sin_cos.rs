@@ -86,25 +86,108 @@ const C: [f64; 6] = [
 /// ```
 #[inline(always)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    let t = x * FRAC_2_PI + SHIFT;
-    let k = t - SHIFT;
-    let q = t.to_bits();
-    let a = x - k * P1;
-    let s = a - k * P2;
-    let c = k * P3;
-    let hi = s - c;
-    let lo = (s - hi) - c;
+    let r = reduce(x);
     // |x| < BOUND and |hi| >= TINY, on the bits (sign shifted out): NaN and infinities fail
     // the first. Integer compares keep the floating-point units free for the arithmetic.
     // With k = 0 the reduction is exact (r = x), so small |x| (0 included: a parameter
     // such as the seed's alpha = 0 is evaluated on every call) stays on the fast path, except
     // -0.0, whose sign the subtraction of k P3 = -0.0 would lose.
     let fast = ((x.to_bits() << 1) < (BOUND.to_bits() << 1))
-        & (((hi.to_bits() << 1) >= (TINY.to_bits() << 1))
-            | ((k == 0.0) & (x.to_bits() != (-0.0_f64).to_bits())));
+        & (((r.hi.to_bits() << 1) >= (TINY.to_bits() << 1))
+            | ((r.k == 0.0) & (x.to_bits() != (-0.0_f64).to_bits())));
     if !fast {
         return libm_sin_cos(x);
     }
+    kernel(&r)
+}
+
+/// (sin x_i, cos x_i) for each of L arguments, each lane bit for bit [`sin_cos`]`(x_i)`:
+/// the same operations lane by lane, written over arrays so that the compiler computes
+/// the lanes together in vector registers (two per SSE2 instruction, four or eight with
+/// AVX). The generated code calls it for the angles whose arguments are at hand together
+/// (the coordinates' angles, at the top of an evaluation). Every lane runs the fast path's
+/// arithmetic; one rarely taken branch then recomputes the lanes off the fast path with
+/// the platform's functions, as [`sin_cos`] does for them.
+///
+/// # Example
+/// ```
+/// use mechanism_math::{sin_cos, sin_cos_lanes};
+/// let x = [0.5, -3.0, 1e7, -0.0];
+/// let (s, c) = sin_cos_lanes(x);
+/// for i in 0..4 {
+///     assert_eq!((s[i].to_bits(), c[i].to_bits()), (sin_cos(x[i]).0.to_bits(), sin_cos(x[i]).1.to_bits()));
+/// }
+/// ```
+#[inline(always)]
+pub fn sin_cos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
+    let r: [Reduced; L] = core::array::from_fn(|i| reduce(x[i]));
+    // The fast-path test of `sin_cos` with floating-point compares, which vectorise
+    // (64-bit integer compares do not before SSE4.2); the same for every input: |x| < BOUND
+    // fails for NaN and infinities as the bit compare does, hi is then finite, and x is
+    // -0.0 exactly when it equals 0 with its sign bit set.
+    let mut fast = [true; L];
+    for i in 0..L {
+        let negative_zero = (x[i] == 0.0) & x[i].is_sign_negative();
+        fast[i] =
+            (x[i].abs() < BOUND) & ((r[i].hi.abs() >= TINY) | ((r[i].k == 0.0) & !negative_zero));
+    }
+    let mut s = [0.0; L];
+    let mut c = [0.0; L];
+    for i in 0..L {
+        (s[i], c[i]) = kernel(&r[i]);
+    }
+    if !fast.iter().all(|f| *f) {
+        replace_slow_lanes(&x, &fast, &mut s, &mut c);
+    }
+    (s, c)
+}
+
+/// The lanes off the fast path by the platform's functions, out of line: the rare case of
+/// [`sin_cos_lanes`] (the fast lanes keep their values).
+#[cold]
+#[inline(never)]
+fn replace_slow_lanes<const L: usize>(
+    x: &[f64; L],
+    fast: &[bool; L],
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+) {
+    for i in 0..L {
+        if !fast[i] {
+            (s[i], c[i]) = libm_sin_cos(x[i]);
+        }
+    }
+}
+
+/// x = k pi/2 + (hi + lo), and the bits of x 2/pi + SHIFT (k mod 4 in the low bits).
+struct Reduced {
+    k: f64,
+    hi: f64,
+    lo: f64,
+    q: u64,
+}
+
+/// Step 1 of [`sin_cos`] (valid on its fast path).
+#[inline(always)]
+fn reduce(x: f64) -> Reduced {
+    let t = x * FRAC_2_PI + SHIFT;
+    let k = t - SHIFT;
+    let a = x - k * P1;
+    let s = a - k * P2;
+    let c = k * P3;
+    let hi = s - c;
+    Reduced {
+        k,
+        hi,
+        lo: (s - hi) - c,
+        q: t.to_bits(),
+    }
+}
+
+/// Steps 2 and 3 of [`sin_cos`]: the kernels on the reduced argument and the quadrant.
+#[inline(always)]
+fn kernel(r: &Reduced) -> (f64, f64) {
+    let (hi, lo, q) = (r.hi, r.lo, r.q);
     let z = hi * hi;
     let z2 = z * z;
     let ps = estrin(&S, z, z2);

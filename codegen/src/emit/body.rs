@@ -6,7 +6,10 @@
 //! [`EmitBindings::set_math`], every real function is a call into it instead of an f64
 //! method: `::mechanism::math::sin_cos(q[1])` (lone sines and cosines as `.0` and `.1`),
 //! `::mechanism::math::sqrt(x3)`, `::mechanism::math::powi(x3, 2)`; that is what makes the
-//! code build without std, where the f64 methods do not exist. Symbols are read through caller-supplied
+//! code build without std, where the f64 methods do not exist. In a body with many angles
+//! (see [`super::lanes`]) up to four sines and cosines whose arguments are at hand together
+//! become one `let ([x4, x8, ..], [x5, x9, ..]) = ::mechanism::math::sin_cos_lanes([q[1],
+//! q[2], ..]);`. Symbols are read through caller-supplied
 //! tokens ([`EmitBindings`]: `self.l1`, `q[2]`, `qd[2]`, `t`), and each output matrix is
 //! written into a caller-named nalgebra matrix (`out_mass[(i, j)] = x12;`), a vector
 //! (`out_g[i] = x9;`) or returned as the body's tail expression ([`OutputTarget`]). A
@@ -31,6 +34,7 @@ use proc_macro2::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenS
 use quote::{ToTokens, TokenStreamExt, quote};
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
+use crate::emit::lanes;
 use crate::error::{Error, Result};
 use crate::program::cse::Program;
 use crate::program::instructions::{BinOp, Instr, OpCounts, Operand, Reg, UnOp, defines};
@@ -358,28 +362,28 @@ impl Emitter<'_> {
         end: usize,
         after: &mut FxHashMap<u32, TokenStream>,
     ) -> TokenStream {
-        let mut emit = |i: &Instr, tokens: &mut TokenStream| {
-            tokens.extend(self.instr(i));
-            for r in defines(i).into_iter().flatten() {
-                if let Some(w) = after.remove(&r.0) {
-                    tokens.extend(w);
-                }
-            }
-        };
+        // Which registers are defined so far (values of earlier blocks included).
+        let mut defined = vec![false; p.registers()];
+        let group = self.b.math.is_some() && lanes::worthwhile(p.instructions());
         let mut tokens = TokenStream::new();
         if p.instructions().len() > BLOCK_LETS_ABOVE {
             // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
             // (a 32-bar chain) overflow its stack in a default debuginfo build. Blocks of
             // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
             // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
+            // Sines and cosines are grouped within a block only, so its live-out set holds.
             let last = liveness::last_reads(p, ret);
             let mut start = 0;
             while end - start > BLOCK_LEN {
                 let range = start..start + BLOCK_LEN;
                 let mut body = TokenStream::new();
-                for i in &p.instructions()[range.clone()] {
-                    emit(i, &mut body);
-                }
+                self.run(
+                    &p.instructions()[range.clone()],
+                    group,
+                    &mut defined,
+                    after,
+                    &mut body,
+                );
                 let out: Vec<TokenStream> = liveness::live_out(p, &last, range.clone())
                     .into_iter()
                     .map(|r| self.reg(r))
@@ -392,15 +396,79 @@ impl Emitter<'_> {
                 });
                 start = range.end;
             }
-            for i in &p.instructions()[start..end] {
-                emit(i, &mut tokens);
-            }
+            self.run(
+                &p.instructions()[start..end],
+                group,
+                &mut defined,
+                after,
+                &mut tokens,
+            );
         } else {
-            for i in &p.instructions()[..end] {
-                emit(i, &mut tokens);
-            }
+            self.run(
+                &p.instructions()[..end],
+                group,
+                &mut defined,
+                after,
+                &mut tokens,
+            );
         }
         tokens
+    }
+
+    /// The statements of `instrs` (see [`lanes::plan`]: with `group`, sines and cosines
+    /// whose arguments are at hand together become one lanes call), each followed by the
+    /// writes of the registers it defines.
+    fn run(
+        &self,
+        instrs: &[Instr],
+        group: bool,
+        defined: &mut [bool],
+        after: &mut FxHashMap<u32, TokenStream>,
+        tokens: &mut TokenStream,
+    ) {
+        let mut write = |i: &Instr, tokens: &mut TokenStream| {
+            for r in defines(i).into_iter().flatten() {
+                if let Some(w) = after.remove(&r.0) {
+                    tokens.extend(w);
+                }
+            }
+        };
+        for step in lanes::plan(instrs, defined, group) {
+            match step {
+                lanes::Step::Single(k) => {
+                    tokens.extend(self.instr(&instrs[k]));
+                    write(&instrs[k], tokens);
+                }
+                lanes::Step::Group(members) => {
+                    let group: Vec<&Instr> = members.iter().map(|&k| &instrs[k]).collect();
+                    tokens.extend(self.lanes(&group));
+                    for i in group {
+                        write(i, tokens);
+                    }
+                }
+            }
+        }
+    }
+
+    /// `let ([s0, s1, _, _], [c0, _, c2, _]) = math::sin_cos_lanes([a0, a1, a2, a0]);` for a
+    /// group of sine and cosine instructions (`_` for a half no instruction needs).
+    fn lanes(&self, group: &[&Instr]) -> TokenStream {
+        let mut ls: Vec<lanes::Lane> = group.iter().filter_map(|i| lanes::lane(i)).collect();
+        // Three lanes fill two vector registers as unevenly as four, with extra shuffles: a
+        // fourth lane repeats the first argument, and both its results are dropped.
+        if ls.len() == 3 {
+            ls.push(lanes::Lane {
+                arg: ls[0].arg,
+                sin: None,
+                cos: None,
+            });
+        }
+        let slot = |r: Option<Reg>| r.map_or_else(|| quote!(_), |r| self.reg(r));
+        let sins = ls.iter().map(|l| slot(l.sin));
+        let coss = ls.iter().map(|l| slot(l.cos));
+        let args = ls.iter().map(|l| self.operand(l.arg));
+        let m = self.b.math.clone().unwrap_or_default();
+        quote!(let ([#(#sins),*], [#(#coss),*]) = #m::sin_cos_lanes([#(#args),*]);)
     }
 
     fn reg(&self, r: Reg) -> TokenStream {

@@ -1,0 +1,211 @@
+//! Sines and cosines computed side by side: which instructions of a body the emitter
+//! writes as one `math::sin_cos_lanes([a, b, c, d])` call.
+//!
+//! `mechanism_math::sin_cos_lanes` computes each lane bit for bit as `sin_cos` does, two
+//! or more lanes per vector instruction, so grouping changes no value; in the small
+//! mechanisms, where evaluation is mostly the angles' sines and cosines, it shortens the
+//! body by a third. A group starts at a sine or cosine (a `SinCos` pair, or a lone `Sin` or
+//! `Cos`) and takes the next ones in the body whose argument is already at hand there (a
+//! symbol, a constant, or a register defined before that point), so moving them up is
+//! safe: nothing between reads them, and they read nothing defined in between. At most
+//! [`LANES`] to a group: more would outgrow the 16 vector registers of the x86-64
+//! baseline.
+//!
+//! Only bodies with at least [`GROUP_FROM`] sines and cosines are grouped. There the
+//! evaluation is bound by the number of instructions, and grouping made the 8-, 16- and
+//! 32-bar chains' `evaluate` 2-10 % faster. In the one-degree-of-freedom mechanisms (three
+//! or four angles) it is bound by the latency of one sine, which the lanes' shuffles
+//! lengthen: grouping made the seed 10 % slower in the portable build, and the four-bar 25 %
+//! slower where one angle sits at a multiple of pi/2 (that lane's fix-up adds a call).
+
+use crate::program::instructions::{Instr, Operand, Reg, UnOp, defines};
+
+/// Most lanes in one group.
+pub(crate) const LANES: usize = 4;
+
+/// Fewest sines and cosines in a body for grouping them (see the module docs).
+pub(crate) const GROUP_FROM: usize = 8;
+
+/// Whether the sines and cosines of `instrs` (a whole body) are worth grouping.
+pub(crate) fn worthwhile(instrs: &[Instr]) -> bool {
+    instrs.iter().filter(|i| lane(i).is_some()).count() >= GROUP_FROM
+}
+
+/// What a trigonometric instruction defines: its (sin, cos) registers, either may be absent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Lane {
+    /// The argument.
+    pub arg: Operand,
+    /// The register receiving sin arg, if the instruction needs it.
+    pub sin: Option<Reg>,
+    /// The register receiving cos arg, if the instruction needs it.
+    pub cos: Option<Reg>,
+}
+
+/// One statement of the body: an instruction, or a group of sines and cosines.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Step {
+    /// The instruction at this index, emitted alone.
+    Single(usize),
+    /// The instructions at these indices (two to [`LANES`]), as one lanes call.
+    Group(Vec<usize>),
+}
+
+/// The lane of a sine, cosine or (sine, cosine) instruction; `None` for other instructions.
+pub(crate) fn lane(i: &Instr) -> Option<Lane> {
+    match *i {
+        Instr::SinCos { sin, cos, arg } => Some(Lane {
+            arg,
+            sin: Some(sin),
+            cos: Some(cos),
+        }),
+        Instr::Unary {
+            dst,
+            op: UnOp::Sin,
+            arg,
+        } => Some(Lane {
+            arg,
+            sin: Some(dst),
+            cos: None,
+        }),
+        Instr::Unary {
+            dst,
+            op: UnOp::Cos,
+            arg,
+        } => Some(Lane {
+            arg,
+            sin: None,
+            cos: Some(dst),
+        }),
+        _ => None,
+    }
+}
+
+/// The statements of `instrs` in emission order (see the module docs). `defined[r]` tells
+/// whether register r is defined before the first of `instrs` (values of earlier blocks);
+/// it is updated as statements are planned. Without `group`, every instruction is a
+/// [`Step::Single`] in program order.
+pub(crate) fn plan(instrs: &[Instr], defined: &mut [bool], group: bool) -> Vec<Step> {
+    let at_hand = |o: Operand, defined: &[bool]| match o {
+        Operand::Reg(r) => defined.get(r.index()).copied().unwrap_or(false),
+        Operand::Sym(_) | Operand::Const(_) => true,
+    };
+    let define = |i: &Instr, defined: &mut [bool]| {
+        for r in defines(i).into_iter().flatten() {
+            if let Some(d) = defined.get_mut(r.index()) {
+                *d = true;
+            }
+        }
+    };
+    let mut done = vec![false; instrs.len()];
+    let mut steps = Vec::with_capacity(instrs.len());
+    for k in 0..instrs.len() {
+        if done[k] {
+            continue;
+        }
+        done[k] = true;
+        let mut members = vec![k];
+        if group && lane(&instrs[k]).is_some() {
+            for (j, i) in instrs.iter().enumerate().skip(k + 1) {
+                if members.len() == LANES {
+                    break;
+                }
+                if !done[j] && lane(i).is_some_and(|l| at_hand(l.arg, defined)) {
+                    done[j] = true;
+                    members.push(j);
+                }
+            }
+        }
+        for &m in &members {
+            define(&instrs[m], defined);
+        }
+        steps.push(if members.len() == 1 {
+            Step::Single(k)
+        } else {
+            Step::Group(members)
+        });
+    }
+    steps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::instructions::BinOp;
+
+    fn r(k: u32) -> Reg {
+        Reg(k)
+    }
+
+    /// Sines of symbols group from the first; a sine whose argument is defined later waits
+    /// for it; a product between them stays in place.
+    #[test]
+    fn groups_take_only_arguments_at_hand() {
+        let sym = |k: u32| Operand::Sym(crate::algebra::expr::SymbolId(k));
+        let instrs = [
+            Instr::SinCos {
+                sin: r(0),
+                cos: r(1),
+                arg: sym(0),
+            },
+            Instr::Binary {
+                dst: r(2),
+                op: BinOp::Mul,
+                lhs: Operand::Reg(r(0)),
+                rhs: sym(1),
+            },
+            // Reads r2, defined just above it: not at hand at instruction 0.
+            Instr::Unary {
+                dst: r(3),
+                op: UnOp::Sin,
+                arg: Operand::Reg(r(2)),
+            },
+            Instr::Unary {
+                dst: r(4),
+                op: UnOp::Cos,
+                arg: sym(2),
+            },
+            Instr::SinCos {
+                sin: r(5),
+                cos: r(6),
+                arg: Operand::Reg(r(2)),
+            },
+        ];
+        let mut defined = vec![false; 7];
+        let steps = plan(&instrs, &mut defined, true);
+        assert_eq!(
+            steps,
+            vec![
+                Step::Group(vec![0, 3]),
+                Step::Single(1),
+                Step::Group(vec![2, 4]),
+            ]
+        );
+        assert!(defined.iter().all(|d| *d));
+        let mut defined = vec![false; 7];
+        let single: Vec<Step> = (0..5).map(Step::Single).collect();
+        assert_eq!(plan(&instrs, &mut defined, false), single);
+    }
+
+    /// No group is longer than LANES, and every instruction is planned once.
+    #[test]
+    fn groups_hold_at_most_lanes() {
+        let instrs: Vec<Instr> = (0..10)
+            .map(|k| Instr::Unary {
+                dst: r(k),
+                op: UnOp::Sin,
+                arg: Operand::Const(k as f64),
+            })
+            .collect();
+        let mut defined = vec![false; 10];
+        let steps = plan(&instrs, &mut defined, true);
+        assert_eq!(
+            steps,
+            vec![
+                Step::Group(vec![0, 1, 2, 3]),
+                Step::Group(vec![4, 5, 6, 7]),
+                Step::Group(vec![8, 9]),
+            ]
+        );
+    }
+}
