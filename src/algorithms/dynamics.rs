@@ -141,8 +141,9 @@ impl Dynamics {
     }
 
     /// [`Dynamics::solve`] for q'' only, as an integrator's stages need it: the null-space
-    /// route then skips the multipliers (their n m + m^2 operations, a quarter of its solve
-    /// for the seed), and [`Dynamics::multipliers`] must not be read until the next
+    /// route then skips the multipliers (their n m + m^2 operations; in the seed's profile
+    /// the null-space solve fell from 14 % to 4 % of the simulation), and
+    /// [`Dynamics::multipliers`] must not be read until the next
     /// [`Dynamics::solve`]. Same errors.
     pub(crate) fn solve_accelerations(
         &mut self,
