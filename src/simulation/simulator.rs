@@ -475,7 +475,9 @@ impl<'a> Simulator<'a> {
             moved = projection_size(&self.state.y[..2 * n], before, tol);
         }
         if let Stepper::Explicit(rk) = &mut self.stepper {
-            if moved <= REUSE_AFTER_PROJECTION {
+            // Only an adaptive method has an accepted local error to measure the projection
+            // against: RK4 (fixed step, rtol and atol unused) always evaluates afresh.
+            if !projected || (rk.adaptive() && moved <= REUSE_AFTER_PROJECTION) {
                 // The step's last stage f(y_new) serves as the next step's first (FSAL).
                 // After a projection that moved y by at most the accepted local error, it
                 // differs from f(projected y) by at most L times that error; its position

@@ -8,8 +8,8 @@ use crate::integrators::{Dense, Hht, OdeRhs, RungeKutta, Tolerance};
 use crate::system::System;
 
 /// Largest projection, in units of the error tolerance (see [`projection_size`]), after
-/// which the next step still starts from the last stage's f(y_new) instead of a new
-/// right-hand side at the projected state. 1: the projection moved y by no more than a
+/// which the next step of an adaptive method still starts from the last stage's f(y_new)
+/// instead of a new right-hand side at the projected state. 1: the projection moved y by no more than a
 /// local error the step-size control accepts, so the reused derivative is off by at most
 /// L times that (L the Lipschitz constant of f), and the next step's result by h L times
 /// it, below its own truncation error wherever the step is accurate (h L < 1). On the

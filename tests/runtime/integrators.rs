@@ -209,3 +209,53 @@ fn predictive_controller_rejects_fewer_steps_at_the_same_tolerance() {
         "{e_pi:e} {e_pred:e}"
     );
 }
+
+/// DOP853 with projection costs 12 right-hand sides per accepted step and 11 per rejected
+/// one: after a projection within the error tolerance the step's last stage starts the
+/// next step (first same as last) instead of a 13th evaluation. Beyond the steps: per
+/// sample one solve and at most 3 stages of the dense output, and 3 at the start (the
+/// initial solve, k1 and the starting-step estimate). The seed at 1e-10 for 10 s takes
+/// about 1200 steps against 101 samples, so a 13th evaluation per step would exceed the
+/// bound by hundreds. The energy balance T + Pi - W of the same run shows the reused stage
+/// costs no accuracy (the same bound as `energy::seed_energy_balance_with_work`).
+#[test]
+fn dop853_with_projection_needs_twelve_right_hand_sides_per_step() {
+    let s = CrankSlider::seed();
+    let o = SimulationOptions {
+        t_end: 10.0,
+        output_rate: 10.0,
+        integrator: IntegratorOptions {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-10,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let tr = simulate(&s, &o).unwrap();
+    let st = &tr.stats;
+    let bound = 12 * st.steps + 11 * st.rejected_steps + 4 * tr.len() + 3;
+    assert!(
+        st.rhs_evaluations <= bound,
+        "{} right-hand sides for {} steps ({} rejected) and {} samples: bound {bound}",
+        st.rhs_evaluations,
+        st.steps,
+        st.rejected_steps,
+        tr.len()
+    );
+    assert!(
+        st.steps > 4 * tr.len(),
+        "too few steps for the bound to tell"
+    );
+    let s0 = tr.sample(0);
+    let e0 = s0.kinetic + s0.potential - s0.work;
+    let scale = tr
+        .samples()
+        .map(|x| x.kinetic.abs() + x.potential.abs())
+        .fold(0.0, f64::max);
+    let drift = tr
+        .samples()
+        .map(|x| (x.kinetic + x.potential - x.work - e0).abs())
+        .fold(0.0, f64::max);
+    assert!(drift / scale < 1e-8, "relative drift {:e}", drift / scale);
+}

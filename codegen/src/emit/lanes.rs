@@ -2,9 +2,8 @@
 //! writes as one `math::sin_cos_lanes([a, b, c, d])` call.
 //!
 //! `mechanism_math::sin_cos_lanes` computes each lane bit for bit as `sin_cos` does, two
-//! or more lanes per vector instruction, so grouping changes no value; in the small
-//! mechanisms, where evaluation is mostly the angles' sines and cosines, it shortens the
-//! body by a third. A group starts at a sine or cosine (a `SinCos` pair, or a lone `Sin` or
+//! or more lanes per vector instruction, so grouping changes no value and executes fewer
+//! instructions. A group starts at a sine or cosine (a `SinCos` pair, or a lone `Sin` or
 //! `Cos`) and takes the next ones in the body whose argument is already at hand there (a
 //! symbol, a constant, or a register defined before that point), so moving them up is
 //! safe: nothing between reads them, and they read nothing defined in between. At most
@@ -13,7 +12,8 @@
 //!
 //! Only bodies with at least [`GROUP_FROM`] sines and cosines are grouped. There the
 //! evaluation is bound by the number of instructions, and grouping made the 8-, 16- and
-//! 32-bar chains' `evaluate` 2-10 % faster. In the one-degree-of-freedom mechanisms (three
+//! 32-bar chains' `evaluate` faster in both builds (BENCHMARKS.md, its before/after
+//! table). In the one-degree-of-freedom mechanisms (three
 //! or four angles) it is bound by the latency of one sine, which the lanes' shuffles
 //! lengthen: grouping made the seed 10 % slower in the portable build, and the four-bar 25 %
 //! slower where one angle sits at a multiple of pi/2 (that lane's fix-up adds a call).
