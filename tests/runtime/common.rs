@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use mechanism::nalgebra::DMatrix;
-use mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo};
+use mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Trajectory};
 
 /// A generalised force on one coordinate as a function of (t, q, q').
 pub type Force = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
@@ -372,4 +372,20 @@ impl System for CrankSlider {
 /// Finite-difference check helper: max |a - b|.
 pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Energy balance of a run: max |T + Pi - W - (T + Pi - W)(0)| over the samples, absolute
+/// (J) and relative to max(|T| + |Pi|).
+pub fn drift(tr: &Trajectory) -> (f64, f64) {
+    let s0 = tr.sample(0);
+    let e0 = s0.kinetic + s0.potential - s0.work;
+    let scale = tr
+        .samples()
+        .map(|s| s.kinetic.abs() + s.potential.abs())
+        .fold(0.0, f64::max);
+    let d = tr
+        .samples()
+        .map(|s| (s.kinetic + s.potential - s.work - e0).abs())
+        .fold(0.0, f64::max);
+    (d, d / scale)
 }

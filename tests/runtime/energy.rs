@@ -1,21 +1,7 @@
 //! Energy balance: T + Pi conserved with tau = 0; T + Pi - W constant with tau != 0.
 
-use crate::common::{CrankSlider, FourBar};
-use mechanism::{IntegratorOptions, Method, SimulationOptions, Trajectory, simulate};
-
-fn drift(tr: &Trajectory) -> (f64, f64) {
-    let s0 = tr.sample(0);
-    let e0 = s0.kinetic + s0.potential - s0.work;
-    let scale = tr
-        .samples()
-        .map(|s| s.kinetic.abs() + s.potential.abs())
-        .fold(0.0, f64::max);
-    let d = tr
-        .samples()
-        .map(|s| (s.kinetic + s.potential - s.work - e0).abs())
-        .fold(0.0, f64::max);
-    (d, d / scale)
-}
+use crate::common::{CrankSlider, FourBar, drift};
+use mechanism::{IntegratorOptions, Method, SimulationOptions, simulate};
 
 /// Four-bar, tau = 0, DOP853 at rtol = 1e-12 with projection: |T + Pi - E0| relative to
 /// max(|T| + |Pi|) below 1e-9 over 10 s.
