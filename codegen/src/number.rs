@@ -22,6 +22,11 @@ fn gcd(mut a: i128, mut b: i128) -> i128 {
 }
 
 impl Number {
+    /// |self|.
+    pub fn abs(self) -> Self {
+        if self.is_negative() { -self } else { self }
+    }
+
     /// The integer n.
     pub fn int(n: i64) -> Self {
         Number::Rational(n, 1)

@@ -134,6 +134,18 @@ pub enum Node {
 }
 
 impl Node {
+    /// The node with each child c replaced by `f(c)`.
+    pub(crate) fn map_children(&self, mut f: impl FnMut(Id) -> Id) -> Node {
+        match self {
+            Node::Num(_) | Node::Pi | Node::Sym(_) => self.clone(),
+            Node::Add(v) => Node::Add(v.iter().map(|&c| f(c)).collect()),
+            Node::Mul(v) => Node::Mul(v.iter().map(|&c| f(c)).collect()),
+            Node::Pow(a, b) => Node::Pow(f(*a), f(*b)),
+            Node::Atan2(a, b) => Node::Atan2(f(*a), f(*b)),
+            Node::Func(g, a) => Node::Func(*g, f(*a)),
+        }
+    }
+
     /// Calls `f` on each direct child of the node.
     pub(crate) fn for_each_child(&self, mut f: impl FnMut(Id)) {
         match self {
@@ -332,6 +344,35 @@ impl Arena {
         id
     }
 
+    /// A new arena holding the nodes reachable from `roots` and every symbol, in the same
+    /// relative order (so sorted sums and products stay sorted), and the roots' ids there.
+    /// Work and memory are proportional to what `roots` reach, not to this arena.
+    pub(crate) fn reachable(&self, roots: &[Id]) -> (Arena, Vec<Id>) {
+        let mut keep = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if !std::mem::replace(&mut keep[id.index()], true) {
+                self.node(id).for_each_child(|c| stack.push(c));
+            }
+        }
+        for &s in &self.symbol_nodes {
+            keep[s.index()] = true;
+        }
+        let mut out = Arena {
+            symbols: self.symbols.clone(),
+            by_name: self.by_name.clone(),
+            ..Arena::default()
+        };
+        let mut map = vec![Id(u32::MAX); self.nodes.len()];
+        for (k, node) in self.nodes.iter().enumerate() {
+            if keep[k] {
+                map[k] = out.intern(node.map_children(|c| map[c.index()]));
+            }
+        }
+        out.symbol_nodes = self.symbol_nodes.iter().map(|s| map[s.index()]).collect();
+        (out, roots.iter().map(|r| map[r.index()]).collect())
+    }
+
     // ----- symbols -----
 
     /// The symbol called `name`, created with `kind` if new. An existing symbol keeps its kind.
@@ -510,6 +551,28 @@ impl Arena {
                 self.add(&terms)
             }
             _ => self.intern(Node::Mul(vec![cn, e].into())),
+        }
+    }
+
+    /// c * e as one product node even when e is a sum: not the canonical form (which
+    /// distributes c over e's terms, see [`Arena::mul`]), so only for expressions that are
+    /// lowered to programs and never combined again (`program::factor`).
+    pub(crate) fn scaled_sum(&mut self, c: Number, e: Id) -> Id {
+        if c.is_one() || !matches!(self.node(e), Node::Add(_)) {
+            return self.scale(c, e);
+        }
+        let cn = self.number(c);
+        self.intern(Node::Mul(vec![cn, e].into()))
+    }
+
+    /// The sum of `terms` as one node, in the given order, without merging or
+    /// re-canonicalising them (which would distribute the coefficient of a
+    /// [`Arena::scaled_sum`] term again): for lowering only, as that one.
+    pub(crate) fn sum_as_is(&mut self, terms: &[Id]) -> Id {
+        match terms {
+            [] => self.int(0),
+            [t] => *t,
+            _ => self.intern(Node::Add(terms.into())),
         }
     }
 

@@ -1,6 +1,8 @@
 //! Common-subexpression elimination: a straight-line SSA [`Program`] for several matrices.
 //!
-//! The arena is already hash-consed, so every distinct subexpression is one node; the
+//! The sums are first factored (`super::factor`: sum_j w_j sin a cos b_j ... becomes
+//! sin a (sum_j w_j cos b_j ...), on a copy of what the outputs reach). The arena is
+//! hash-consed, so every distinct subexpression is one node; the
 //! program gives each needed node one register (one `let`), in id (topological) order, and
 //! lowers the canonical n-ary forms into lean binary operations:
 //!
@@ -22,10 +24,11 @@
 //! Identical instructions are value-numbered (one register), so partial products such as
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
 
-use crate::algebra::expr::{Arena, SymbolId, size_budget};
+use crate::algebra::expr::{Arena, Id, SymbolId, size_budget};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
+use crate::program::factor::factor_sums;
 use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
 use crate::program::schedule::schedule;
@@ -78,7 +81,30 @@ impl Program {
                 return Err(Error::InvalidId { id: bad.0, len });
             }
         }
-        let mut lower = InstructionSelection::new(arena, outputs);
+        // Sums factored in a copy of what the outputs reach: the factored forms are for
+        // lowering only (see `factor`), and the caller's arena stays as the derivation left it.
+        let roots: Vec<Id> = outputs
+            .iter()
+            .flat_map(|m| m.data.iter().copied())
+            .collect();
+        let (mut local, roots) = arena.reachable(&roots);
+        let mut at = 0;
+        let copied: Vec<Matrix> = outputs
+            .iter()
+            .map(|m| {
+                at += m.data.len();
+                Matrix {
+                    rows: m.rows,
+                    cols: m.cols,
+                    data: roots[at - m.data.len()..at].to_vec(),
+                }
+            })
+            .collect();
+        let copied: Vec<&Matrix> = copied.iter().collect();
+        let factored = factor_sums(&mut local, &copied);
+        let outputs: Vec<&Matrix> = factored.iter().collect();
+        let arena = &local;
+        let mut lower = InstructionSelection::new(arena, &outputs);
         lower.run()?;
         let outs: Vec<Output> = outputs
             .iter()

@@ -1,7 +1,9 @@
 //! Program: symbolic matrices as one straight-line SSA program, and its interpreter.
 //!
 //! Enters: matrices of arena expressions (an [`Equations`](crate::Equations)' M, C q', g,
-//! ...). Leaves: a [`Program`](crate::Program), its instructions in topological order with
+//! ...). Leaves: a [`Program`](crate::Program). Its sums are first rewritten by their most
+//! frequent factors ([`factor`], a greedy Horner scheme in several variables); then its
+//! instructions come in topological order with
 //! one register per distinct subexpression (common-subexpression elimination is free on a
 //! hash-consed DAG: [`builder`] gives each needed node one register, value-numbers identical
 //! instructions and folds constants, [`cse`] collects the outputs and drops dead registers);
@@ -13,6 +15,7 @@
 
 pub(crate) mod builder;
 pub(crate) mod cse;
+pub(crate) mod factor;
 pub(crate) mod fuse;
 pub(crate) mod hoist;
 pub(crate) mod instructions;

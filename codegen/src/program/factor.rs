@@ -1,0 +1,509 @@
+//! Sums rewritten by their most frequent factor (a greedy multivariate Horner scheme) before
+//! they are lowered to instructions.
+//!
+//! The derivation leaves sums of products that share factors. In a closed chain,
+//! (C q')_i = sum_j qd_j^2 (w_ij sin th_i cos th_j - w_ij cos th_i sin th_j) costs about
+//! five operations per pair (i, j); expanded and factored by sin th_i and cos th_i it is
+//! sin th_i sum_j w_ij (cos th_j qd_j^2) - cos th_i sum_j w_ij (sin th_j qd_j^2), two
+//! multiply-adds per pair, and the products cos th_j qd_j^2 are shared by every row. The
+//! rewrite is the classical one of code optimisers for large polynomials (Horner schemes
+//! in several variables): expand a sum into monomials, take out the factor that most of
+//! them contain, and repeat on the quotient and on the rest.
+//!
+//! What it does not do: look inside a function or a power (`sin(u)`, `x^(1/2)`, `1/(a + b)`
+//! are factors as they stand), or expand a sum whose monomials would outnumber
+//! [`EXPANSION_LIMIT`], or once all expansions together have reached a budget proportional
+//! to the program's size (its terms are then factored as they stand). Values are unchanged up
+//! to rounding: the exact coefficients of the expansion are products of exact rationals.
+
+use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolKind};
+use crate::algebra::matrix::Matrix;
+use crate::number::Number;
+
+/// Most monomials one sum may expand into (a larger one keeps its terms as they are).
+pub(crate) const EXPANSION_LIMIT: usize = 2048;
+/// All expansions of one program together produce at most `TOTAL_FACTOR` monomials per
+/// unit of the graph's size ([`Arena::size`]) plus `TOTAL_BASE`: the rewrite's memory
+/// stays proportional to the program's.
+const TOTAL_FACTOR: usize = 4;
+const TOTAL_BASE: usize = 1 << 16;
+
+/// A product: its numeric coefficient and its other factors, sorted and canonical.
+#[derive(Clone, Debug)]
+struct Monomial {
+    coef: Number,
+    factors: Vec<Id>,
+}
+
+/// The matrices `outputs` with every sum rewritten (see the module docs), in `arena`.
+pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix> {
+    let budget = TOTAL_FACTOR * arena.size() + TOTAL_BASE;
+    let mut f = Factoring {
+        arena,
+        done: FxHashMap::default(),
+        invariant: FxHashMap::default(),
+        budget,
+    };
+    outputs
+        .iter()
+        .map(|m| Matrix {
+            rows: m.rows,
+            cols: m.cols,
+            data: m.data.iter().map(|&e| f.rewrite(e)).collect(),
+        })
+        .collect()
+}
+
+struct Factoring<'a> {
+    arena: &'a mut Arena,
+    /// Rewritten node by original node.
+    done: FxHashMap<Id, Id>,
+    /// Whether a node depends on parameters and constants only.
+    invariant: FxHashMap<Id, bool>,
+    /// Monomials all expansions together may still produce.
+    budget: usize,
+}
+
+impl Factoring<'_> {
+    /// `id` with its sums factored: a sum as a whole, a product factor by factor, anything
+    /// else as it stands.
+    fn rewrite(&mut self, id: Id) -> Id {
+        if let Some(&r) = self.done.get(&id) {
+            return r;
+        }
+        let r = match self.arena.node(id).clone() {
+            Node::Add(terms) => {
+                let monomials = match self.expand(id, EXPANSION_LIMIT.min(self.budget)) {
+                    Some(m) => m,
+                    None => terms.iter().map(|&t| self.as_monomial(t)).collect(),
+                };
+                self.horner(monomials)
+            }
+            Node::Mul(fs) => {
+                let parts: Vec<Id> = fs.iter().map(|&f| self.rewrite(f)).collect();
+                self.arena.mul(&parts)
+            }
+            _ => id,
+        };
+        self.done.insert(id, r);
+        r
+    }
+
+    /// A term kept whole: its coefficient, and its factors with their sums rewritten.
+    fn as_monomial(&mut self, t: Id) -> Monomial {
+        let (coef, rest) = self.arena.split_coefficient(t);
+        let factors = match rest {
+            None => vec![],
+            Some(r) => match self.arena.node(r).clone() {
+                Node::Mul(fs) => fs.iter().map(|&f| self.rewrite(f)).collect(),
+                _ => vec![self.rewrite(r)],
+            },
+        };
+        Monomial { coef, factors }
+    }
+
+    /// The monomials of `id` with products distributed over sums, like ones merged;
+    /// `None` when there would be more than `limit` (or an exact coefficient overflows).
+    fn expand(&mut self, id: Id, limit: usize) -> Option<Vec<Monomial>> {
+        let raw = self.distribute(id, limit)?;
+        self.budget = self.budget.saturating_sub(raw.len());
+        // Canonical products (x * x is x^2), then like monomials merged.
+        let mut merged: Vec<Monomial> = Vec::with_capacity(raw.len());
+        let mut index: FxHashMap<Vec<Id>, usize> = FxHashMap::default();
+        for m in raw {
+            let m = self.canonical(m);
+            match index.get(&m.factors) {
+                Some(&k) => merged[k].coef = merged[k].coef.checked_add(m.coef)?,
+                None => {
+                    index.insert(m.factors.clone(), merged.len());
+                    merged.push(m);
+                }
+            }
+        }
+        merged.retain(|m| !m.coef.is_zero());
+        Some(merged)
+    }
+
+    fn distribute(&mut self, id: Id, limit: usize) -> Option<Vec<Monomial>> {
+        match self.arena.node(id).clone() {
+            Node::Num(n) => Some(vec![Monomial {
+                coef: n,
+                factors: vec![],
+            }]),
+            Node::Add(terms) => {
+                let mut all = Vec::new();
+                for &t in terms.iter() {
+                    all.extend(self.distribute(t, limit)?);
+                    if all.len() > limit {
+                        return None;
+                    }
+                }
+                Some(all)
+            }
+            Node::Mul(fs) => {
+                let mut acc = vec![Monomial {
+                    coef: Number::int(1),
+                    factors: vec![],
+                }];
+                for &f in fs.iter() {
+                    let parts = self.distribute(f, limit)?;
+                    if acc.len() * parts.len() > limit {
+                        return None;
+                    }
+                    let mut next = Vec::with_capacity(acc.len() * parts.len());
+                    for a in &acc {
+                        for p in &parts {
+                            let mut factors = a.factors.clone();
+                            factors.extend_from_slice(&p.factors);
+                            next.push(Monomial {
+                                coef: a.coef.checked_mul(p.coef)?,
+                                factors,
+                            });
+                        }
+                    }
+                    acc = next;
+                }
+                Some(acc)
+            }
+            _ => Some(vec![Monomial {
+                coef: Number::int(1),
+                factors: vec![id],
+            }]),
+        }
+    }
+
+    /// The monomial as the arena writes the product of its factors (powers collected).
+    fn canonical(&mut self, m: Monomial) -> Monomial {
+        if m.factors.len() < 2 {
+            return m;
+        }
+        let p = self.arena.mul(&m.factors);
+        let (c, rest) = self.arena.split_coefficient(p);
+        let factors = match rest {
+            None => vec![],
+            Some(r) => match self.arena.node(r) {
+                Node::Mul(fs) => fs.to_vec(),
+                _ => vec![r],
+            },
+        };
+        match m.coef.checked_mul(c) {
+            Some(coef) => Monomial { coef, factors },
+            None => m,
+        }
+    }
+
+    /// The sum of `monomials`, the most frequent factor taken out while one is shared by
+    /// two or more: sum = f * (the quotients) + (the rest), the quotients factored again.
+    fn horner(&mut self, mut monomials: Vec<Monomial>) -> Id {
+        let mut terms: Vec<Id> = Vec::new();
+        while monomials.len() > 1 {
+            let Some(f) = self.most_frequent(&monomials) else {
+                break;
+            };
+            let (with, without): (Vec<Monomial>, Vec<Monomial>) =
+                monomials.into_iter().partition(|m| m.factors.contains(&f));
+            let quotients: Vec<Monomial> = with
+                .into_iter()
+                .map(|mut m| {
+                    let k = m.factors.iter().position(|&x| x == f);
+                    if let Some(k) = k {
+                        m.factors.remove(k);
+                    }
+                    m
+                })
+                .collect();
+            let inner = self.horner(quotients);
+            terms.push(self.arena.mul2(f, inner));
+            monomials = without;
+        }
+        let (rest, scaled) = self.common_coefficient(monomials);
+        if scaled {
+            // The canonical sum would distribute the coefficient again.
+            if !self.arena.is_zero(rest) {
+                terms.push(rest);
+            }
+            return self.arena.sum_as_is(&terms);
+        }
+        terms.push(rest);
+        self.arena.add(&terms)
+    }
+
+    /// The sum of `monomials` with no factor in common; when their coefficients are all
+    /// c or -c (|c| != 1), c is taken out: c (x y + z w) is one multiplication fewer than
+    /// c x y + c z w (a mass matrix entry of a chain, w (sin a sin b + cos a cos b)).
+    /// Returns the sum and whether it is such a scaled sum.
+    fn common_coefficient(&mut self, monomials: Vec<Monomial>) -> (Id, bool) {
+        let c = monomials.first().map(|m| m.coef.abs());
+        let shared = monomials.len() >= 2
+            && monomials.iter().all(|m| Some(m.coef.abs()) == c)
+            && c.is_some_and(|c| !c.is_one());
+        match c {
+            Some(c) if shared => {
+                let mut terms = Vec::with_capacity(monomials.len());
+                for m in &monomials {
+                    let unit = if m.coef.is_negative() { -1 } else { 1 };
+                    terms.push(self.product(&Monomial {
+                        coef: Number::int(unit),
+                        factors: m.factors.clone(),
+                    }));
+                }
+                let sum = self.arena.add(&terms);
+                (self.arena.scaled_sum(c, sum), true)
+            }
+            _ => {
+                let terms: Vec<Id> = monomials.iter().map(|m| self.product(m)).collect();
+                (self.arena.add(&terms), false)
+            }
+        }
+    }
+
+    fn product(&mut self, m: &Monomial) -> Id {
+        let mut parts = Vec::with_capacity(m.factors.len() + 1);
+        parts.push(self.arena.number(m.coef));
+        parts.extend_from_slice(&m.factors);
+        self.arena.mul(&parts)
+    }
+
+    /// The factor to take out of `monomials`: the one contained in the most of them, if two
+    /// or more contain it, preferring factors that are not parameter-only (ties: the
+    /// smallest id, so that the result does not depend on hash order). Parameter-only
+    /// values are computed once per parameter set (the cache), so a parameter-only factor
+    /// is taken out only of monomials that also have a varying factor, where it saves a
+    /// multiplication per call; among parameter-only monomials it would only split what the
+    /// cache folds into one constant.
+    fn most_frequent(&mut self, monomials: &[Monomial]) -> Option<Id> {
+        let mut varying: FxHashMap<Id, usize> = FxHashMap::default();
+        let mut invariant: FxHashMap<Id, usize> = FxHashMap::default();
+        for m in monomials {
+            let fixed: Vec<bool> = m.factors.iter().map(|&f| self.is_invariant(f)).collect();
+            let varies = fixed.iter().any(|i| !i);
+            for (k, &f) in m.factors.iter().enumerate() {
+                if m.factors[..k].contains(&f) {
+                    continue;
+                }
+                if !fixed[k] {
+                    *varying.entry(f).or_default() += 1;
+                } else if varies {
+                    *invariant.entry(f).or_default() += 1;
+                }
+            }
+        }
+        let best = |count: FxHashMap<Id, usize>| {
+            count
+                .into_iter()
+                .filter(|&(_, n)| n >= 2)
+                .max_by_key(|&(f, n)| (n, std::cmp::Reverse(f)))
+                .map(|(f, _)| f)
+        };
+        best(varying).or_else(|| best(invariant))
+    }
+
+    /// Whether `id` depends on parameters and constants only.
+    fn is_invariant(&mut self, id: Id) -> bool {
+        if let Some(&v) = self.invariant.get(&id) {
+            return v;
+        }
+        let v = match self.arena.node(id).clone() {
+            Node::Num(_) | Node::Pi => true,
+            Node::Sym(s) => self.arena.symbol_info(s).kind == SymbolKind::Parameter,
+            node => {
+                let mut children = Vec::new();
+                node.for_each_child(|c| children.push(c));
+                children.into_iter().all(|c| self.is_invariant(c))
+            }
+        };
+        self.invariant.insert(id, v);
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algebra::eval::eval;
+    use crate::algebra::expr::{Func, SymbolId};
+
+    /// The value of `id` with symbol k set to `x[k]`.
+    fn value(a: &Arena, id: Id, x: &[f64]) -> f64 {
+        let env = |s: SymbolId| x.get(s.index()).copied();
+        eval(a, id, &env).expect("finite")
+    }
+
+    fn factored(a: &mut Arena, e: Id) -> Id {
+        factor_sums(a, &[&Matrix::column(vec![e])])[0].data[0]
+    }
+
+    /// How many nodes of the DAG under `id` are `target` (each node once).
+    fn occurrences(a: &Arena, id: Id, target: Id) -> usize {
+        let mut seen = vec![false; a.len()];
+        let mut stack = vec![id];
+        let mut n = 0;
+        while let Some(i) = stack.pop() {
+            if std::mem::replace(&mut seen[i.index()], true) {
+                continue;
+            }
+            n += usize::from(i == target);
+            a.node(i).for_each_child(|c| stack.push(c));
+        }
+        n
+    }
+
+    /// A point with distinct, generic values for every symbol.
+    fn point(a: &Arena) -> Vec<f64> {
+        (0..a.symbols().len())
+            .map(|k| 0.3 + 0.71 * k as f64 - 0.05 * (k * k) as f64)
+            .collect()
+    }
+
+    /// Row 1 of a closed chain's C q' as the derivation writes it,
+    /// sum_j qd_j^2 (w_j sin th1 cos th_j - w_j cos th1 sin th_j), becomes
+    /// sin th1 (...) + cos th1 (...): each of sin th1 and cos th1 read once instead of once
+    /// per pair, and the value is unchanged up to rounding.
+    #[test]
+    fn a_chain_coriolis_row_is_factored_by_its_own_angle() {
+        let mut a = Arena::new();
+        let th: Vec<[Id; 3]> = (1..=5).map(|k| a.coordinate(&format!("th{k}"))).collect();
+        let (s1, c1) = (a.sin(th[0][0]), a.cos(th[0][0]));
+        let mut terms = vec![];
+        for (j, t) in th.iter().enumerate().skip(1) {
+            let (sj, cj) = (a.sin(t[0]), a.cos(t[0]));
+            let w = a.rational(2 * (5 - j as i64) + 1, 2).unwrap();
+            let x = a.mul(&[w, s1, cj]);
+            let y = a.mul(&[w, c1, sj]);
+            let pair = a.sub(x, y);
+            let qd2 = a.powi(t[1], 2).unwrap();
+            terms.push(a.mul(&[qd2, pair]));
+        }
+        let e = a.add(&terms);
+        assert_eq!(occurrences(&a, e, s1), 1);
+        let before = terms.len();
+        let f = factored(&mut a, e);
+        let Node::Add(top) = a.node(f).clone() else {
+            panic!("a sum of two products: {:?}", a.node(f))
+        };
+        assert_eq!(
+            top.len(),
+            2,
+            "sin th1 (...) + cos th1 (...), was {before} terms"
+        );
+        for (t, want) in top.iter().zip([s1, c1]) {
+            let Node::Mul(fs) = a.node(*t) else {
+                panic!("a product")
+            };
+            assert!(fs.contains(&want), "{:?}", a.node(*t));
+        }
+        let x = point(&a);
+        let (v0, v1) = (value(&a, e, &x), value(&a, f, &x));
+        // Eight pairs of terms of magnitude <= 10 (w <= 7/2, qd^2 <= 9): first-order
+        // rounding of either form stays below 64 eps of that.
+        assert!(
+            (v0 - v1).abs() <= 64.0 * f64::EPSILON * 10.0,
+            "{v0} vs {v1}"
+        );
+    }
+
+    /// 5/2 sin a sin b + 5/2 cos a cos b, a mass-matrix entry of a chain, is written as
+    /// 5/2 (sin a sin b + cos a cos b): one multiplication fewer.
+    #[test]
+    fn a_shared_coefficient_is_taken_out() {
+        let mut a = Arena::new();
+        let [p, ..] = a.coordinate("a");
+        let [q, ..] = a.coordinate("b");
+        let (sa, ca, sb, cb) = (a.sin(p), a.cos(p), a.sin(q), a.cos(q));
+        let k = a.rational(5, 2).unwrap();
+        let x = a.mul(&[k, sa, sb]);
+        let y = a.mul(&[k, ca, cb]);
+        let e = a.add2(x, y);
+        let f = factored(&mut a, e);
+        let Node::Mul(fs) = a.node(f).clone() else {
+            panic!("a product: {:?}", a.node(f))
+        };
+        assert_eq!(a.as_number(fs[0]), Number::rational(5, 2));
+        assert!(matches!(a.node(fs[1]), Node::Add(ts) if ts.len() == 2));
+        let x = point(&a);
+        assert!((value(&a, e, &x) - value(&a, f, &x)).abs() <= 4.0 * f64::EPSILON * 5.0);
+    }
+
+    /// Parameter-only factors stay with the coefficients where the cache folds them
+    /// (J qd^2 + m l^2 qd^2 = qd^2 (J + m l^2), not J qd^2 + m (l^2 qd^2)), and are taken
+    /// out of monomials that vary (l u^2 + l v^2 = l (u^2 + v^2)), never out of
+    /// parameter-only ones (J m + J l stays).
+    #[test]
+    fn parameter_factors_stay_with_the_coefficients() {
+        let mut a = Arena::new();
+        let [_, qd, _] = a.coordinate("q");
+        let [_, u, _] = a.coordinate("u");
+        let [_, v, _] = a.coordinate("v");
+        let [j, m, l] = ["J", "m", "l"].map(|n| a.symbol(n, SymbolKind::Parameter));
+        let qd2 = a.powi(qd, 2).unwrap();
+        let l2 = a.powi(l, 2).unwrap();
+        let t1 = a.mul(&[j, qd2]);
+        let t2 = a.mul(&[m, l2, qd2]);
+        let kinetic = a.add2(t1, t2);
+        let f = factored(&mut a, kinetic);
+        let Node::Mul(fs) = a.node(f).clone() else {
+            panic!("qd^2 (J + m l^2): {:?}", a.node(f))
+        };
+        assert!(fs.contains(&qd2) && fs.len() == 2);
+
+        let (u2, v2) = (a.powi(u, 2).unwrap(), a.powi(v, 2).unwrap());
+        let t1 = a.mul(&[l, u2]);
+        let t2 = a.mul(&[l, v2]);
+        let e = a.add2(t1, t2);
+        let f = factored(&mut a, e);
+        assert_eq!(occurrences(&a, f, l), 1);
+        assert!(matches!(a.node(f), Node::Mul(fs) if fs.contains(&l)));
+
+        let t1 = a.mul(&[j, m]);
+        let t2 = a.mul(&[j, l]);
+        let e = a.add2(t1, t2);
+        assert_eq!(factored(&mut a, e), e);
+    }
+
+    /// A product of two 50-term sums would expand into 2500 > EXPANSION_LIMIT monomials:
+    /// it stays a product, and its factors keep their own form.
+    #[test]
+    fn a_sum_beyond_the_expansion_limit_stays_as_it_is() {
+        let mut a = Arena::new();
+        let mut sums = vec![];
+        for name in ["x", "y"] {
+            let terms: Vec<Id> = (0..50)
+                .map(|k| {
+                    let [q, ..] = a.coordinate(&format!("{name}{k}"));
+                    a.func(Func::Sin, q).unwrap()
+                })
+                .collect();
+            sums.push(a.add(&terms));
+        }
+        const { assert!(50 * 50 > EXPANSION_LIMIT) };
+        let z = a.symbol("z", SymbolKind::Coordinate);
+        let p = a.mul(&[sums[0], sums[1]]);
+        let e = a.add2(p, z);
+        let f = factored(&mut a, e);
+        assert_eq!(f, e);
+    }
+
+    /// The copy of what the roots reach evaluates as the original, with the symbols in
+    /// place, and holds no unreachable node.
+    #[test]
+    fn the_reachable_copy_evaluates_as_the_original() {
+        let mut a = Arena::new();
+        let [q, qd, _] = a.coordinate("q");
+        let unused = a.symbol("unused", SymbolKind::Parameter);
+        let s = a.sin(q);
+        let _dead = a.mul(&[s, unused, qd]);
+        let e = a.mul(&[s, qd]);
+        let (b, roots) = a.reachable(&[e]);
+        let x = point(&a);
+        assert_eq!(
+            value(&a, e, &x).to_bits(),
+            value(&b, roots[0], &x).to_bits()
+        );
+        assert_eq!(b.symbols().len(), a.symbols().len());
+        assert_eq!(
+            b.len(),
+            a.symbols().len() + 2,
+            "the symbols, sin q and the product"
+        );
+    }
+}
