@@ -8,3 +8,4 @@ mod cse_emit;
 mod cse_lowering;
 mod cse_tape;
 mod cse_tape_alloc;
+mod factoring;
