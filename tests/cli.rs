@@ -16,9 +16,9 @@ mod fail_fast;
 mod outputs;
 
 /// Runs the binary with `args` in a scratch working folder (so the default `out/<key>`
-/// lands there, never in the repository).
+/// lands there, never among the repository's files).
 fn mechanism(args: &[&str]) -> Output {
-    let cwd = std::env::temp_dir().join(format!("mechanism-cli-cwd-{}", std::process::id()));
+    let cwd = scratch("cwd");
     std::fs::create_dir_all(&cwd).expect("scratch folder");
     mechanism_in(&cwd, args)
 }
@@ -33,10 +33,20 @@ fn mechanism_in(cwd: &Path, args: &[&str]) -> Output {
         .expect("runs")
 }
 
+/// A folder for one test's outputs, removed first (it does not exist on return).
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("mechanism-cli-{name}-{}", std::process::id()));
+    let d = scratch(name);
     let _ = std::fs::remove_dir_all(&d);
     d
+}
+
+/// `name` under cargo's scratch folder for integration tests (`target/tmp/cli`): a fixed
+/// name per test, so a run replaces the last run's files instead of adding to the system's
+/// temporary folder, and a failed test's outputs stay there to be read.
+fn scratch(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(name)
 }
 
 fn stderr(o: &Output) -> String {

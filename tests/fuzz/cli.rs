@@ -217,7 +217,7 @@ fn run(args: &[String], scratch: &PathBuf) -> Result<i32, String> {
 
 /// Runs `cases` generated command lines; the counts of exit statuses 0, 1 and 2.
 pub fn campaign(cases: u32) -> [usize; 3] {
-    let scratch = std::env::temp_dir().join(format!("mechanism-fuzz-cli-{}", std::process::id()));
+    let scratch = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-cli");
     let mut runner = TestRunner::new(Config {
         cases,
         failure_persistence: None,

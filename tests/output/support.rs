@@ -109,13 +109,16 @@ pub fn residuals() -> Vec<Vec<f64>> {
     vec![f1, f2, f3]
 }
 
-/// A fresh, empty directory under the system temp dir.
+/// A fresh, empty directory `target/tmp/output/<tag>-<n>` (cargo's scratch folder for
+/// integration tests; n counts the calls of this run): a run replaces the last run's
+/// folders instead of adding to the system's temporary folder.
 pub fn temp_dir(tag: &str) -> PathBuf {
     use std::sync::atomic::{AtomicUsize, Ordering};
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir =
-        std::env::temp_dir().join(format!("mechanism-output-{tag}-{}-{n}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("output")
+        .join(format!("{tag}-{n}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create temp dir");
     dir
