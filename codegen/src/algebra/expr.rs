@@ -300,12 +300,14 @@ impl Arena {
         self.nodes.len()
     }
 
-    /// The size of the graph: its nodes plus their child references (see [`MAX_SIZE`]).
+    /// The size of the graph: its nodes plus their child references (a derivation may reach
+    /// 2^24 by default, raised by the environment variable `MECHANISM_MAX_SIZE`).
     pub fn size(&self) -> usize {
         self.size
     }
 
-    /// [`Error::ExpressionsTooLarge`] when the graph is beyond `budget` (see [`MAX_SIZE`]).
+    /// [`Error::ExpressionsTooLarge`] when the graph is beyond `budget` (the derivations use
+    /// 2^24 by default).
     pub fn check_size(&self, budget: usize) -> Result<()> {
         if self.size > budget {
             return Err(Error::ExpressionsTooLarge {

@@ -1,4 +1,4 @@
-//! Typed errors of the computer-algebra crate: [`Error`], with the kinds of its two
+//! Typed errors of the computer-algebra crate: [`Error`](enum@Error), with the kinds of its two
 //! declaration variants, [`ParseError`] (the text does not follow the grammar: the `syntax`
 //! stage) and [`DeclarationError`] (a rule of the language is broken: the `mechanics`
 //! stage). Each variant carries what went wrong and where; its message quotes the user's
