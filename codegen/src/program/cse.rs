@@ -1,7 +1,8 @@
 //! Common-subexpression elimination: a straight-line SSA [`Program`] for several matrices.
 //!
 //! The sums are first factored (`super::factor`: sum_j w_j sin a cos b_j ... becomes
-//! sin a (sum_j w_j cos b_j ...), on a copy of what the outputs reach). The arena is
+//! sin a (sum_j w_j cos b_j ...), on a copy of what the outputs reach), and that form is
+//! kept when it needs fewer operations per call than the derived one. The arena is
 //! hash-consed, so every distinct subexpression is one node; the
 //! program gives each needed node one register (one `let`), in id (topological) order, and
 //! lowers the canonical n-ary forms into lean binary operations:
@@ -24,11 +25,11 @@
 //! Identical instructions are value-numbered (one register), so partial products such as
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
 
-use crate::algebra::expr::{Arena, Id, SymbolId, size_budget};
+use crate::algebra::expr::{Arena, SymbolId, SymbolKind, size_budget};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
-use crate::program::factor::factor_sums;
+use crate::program::factor::factored_copy;
 use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
 use crate::program::schedule::schedule;
@@ -81,30 +82,26 @@ impl Program {
                 return Err(Error::InvalidId { id: bad.0, len });
             }
         }
-        // Sums factored in a copy of what the outputs reach: the factored forms are for
-        // lowering only (see `factor`), and the caller's arena stays as the derivation left it.
-        let roots: Vec<Id> = outputs
-            .iter()
-            .flat_map(|m| m.data.iter().copied())
-            .collect();
-        let (mut local, roots) = arena.reachable(&roots);
-        let mut at = 0;
-        let copied: Vec<Matrix> = outputs
-            .iter()
-            .map(|m| {
-                at += m.data.len();
-                Matrix {
-                    rows: m.rows,
-                    cols: m.cols,
-                    data: roots[at - m.data.len()..at].to_vec(),
-                }
-            })
-            .collect();
-        let copied: Vec<&Matrix> = copied.iter().collect();
-        let factored = factor_sums(&mut local, &copied);
-        let outputs: Vec<&Matrix> = factored.iter().collect();
-        let arena = &local;
-        let mut lower = InstructionSelection::new(arena, &outputs);
+        // The factoring is greedy: where expanding a product of shared sums loses more
+        // sharing than the factors save (the rotation matrices of bodies), the program as
+        // derived is the leaner one. Both are lowered; the one with fewer operations per
+        // call (parameter-only ones go to the cache) is kept, the derived one on a tie.
+        let plain = Self::lowered(arena, outputs)?;
+        let (local, factored) = factored_copy(arena, outputs);
+        let factored: Vec<&Matrix> = factored.iter().collect();
+        let factored = Self::lowered(&local, &factored)?;
+        Ok(
+            if factored.ops_per_call(arena) < plain.ops_per_call(arena) {
+                factored
+            } else {
+                plain
+            },
+        )
+    }
+
+    /// The lowering of `outputs` (valid entries of `arena`) into a program.
+    pub(crate) fn lowered(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
+        let mut lower = InstructionSelection::new(arena, outputs);
         lower.run()?;
         let outs: Vec<Output> = outputs
             .iter()
@@ -193,6 +190,35 @@ impl Program {
         self.instrs
             .iter()
             .fold(OpCounts::default(), |acc, i| acc + i.op_counts())
+    }
+
+    /// The operations that depend on more than parameters and constants: what one call
+    /// costs once the parameter-only values are cached ([`crate::hoist_parameters`]).
+    pub(crate) fn ops_per_call(&self, arena: &Arena) -> usize {
+        let mut fixed = vec![false; self.registers as usize];
+        let mut n = 0;
+        for i in &self.instrs {
+            let mut all = true;
+            i.for_each_operand(|o| {
+                all &= match o {
+                    Operand::Const(_) => true,
+                    Operand::Sym(s) => arena
+                        .symbols()
+                        .get(s.index())
+                        .is_some_and(|x| x.kind == SymbolKind::Parameter),
+                    Operand::Reg(r) => fixed.get(r.index()).copied().unwrap_or(false),
+                }
+            });
+            for r in defines(i).into_iter().flatten() {
+                if let Some(f) = fixed.get_mut(r.index()) {
+                    *f = all;
+                }
+            }
+            if !all {
+                n += i.op_counts().total();
+            }
+        }
+        n
     }
 
     /// Operation counts of the instructions needed by output `k` alone (`None` when there

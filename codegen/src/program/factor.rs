@@ -15,6 +15,14 @@
 //! [`EXPANSION_LIMIT`], or once all expansions together have reached a budget proportional
 //! to the program's size (its terms are then factored as they stand). Values are unchanged up
 //! to rounding: the exact coefficients of the expansion are products of exact rationals.
+//!
+//! The choice of factor is greedy and sees one sum at a time, so expanding can lose sharing
+//! between sums (a product of sums that several entries share). [`crate::Program::new`]
+//! lowers both the derived and the factored form and keeps the one with fewer operations
+//! per call. Of the shipped mechanisms' combined programs, those of the Bricard linkage and
+//! of the two four-bars declared by bodies stay as derived; the single-routine programs
+//! choose alone (the A02 N four-bar's Phi_q stays as derived, its combined program is
+//! factored).
 
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolKind};
 use crate::algebra::matrix::Matrix;
@@ -33,6 +41,33 @@ const TOTAL_BASE: usize = 1 << 16;
 struct Monomial {
     coef: Number,
     factors: Vec<Id>,
+}
+
+/// A new arena holding what `outputs` reach (see [`Arena::reachable`]), and the outputs
+/// there with every sum rewritten: the factored forms are for lowering only, and the
+/// caller's arena stays as the derivation left it.
+pub(crate) fn factored_copy(arena: &Arena, outputs: &[&Matrix]) -> (Arena, Vec<Matrix>) {
+    let roots: Vec<Id> = outputs
+        .iter()
+        .flat_map(|m| m.data.iter().copied())
+        .collect();
+    let (mut local, roots) = arena.reachable(&roots);
+    let mut rest = &roots[..];
+    let copied: Vec<Matrix> = outputs
+        .iter()
+        .map(|m| {
+            let (data, tail) = rest.split_at(m.data.len());
+            rest = tail;
+            Matrix {
+                rows: m.rows,
+                cols: m.cols,
+                data: data.to_vec(),
+            }
+        })
+        .collect();
+    let copied: Vec<&Matrix> = copied.iter().collect();
+    let factored = factor_sums(&mut local, &copied);
+    (local, factored)
 }
 
 /// The matrices `outputs` with every sum rewritten (see the module docs), in `arena`.
@@ -320,6 +355,7 @@ impl Factoring<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Program;
     use crate::algebra::eval::eval;
     use crate::algebra::expr::{Func, SymbolId};
 
@@ -481,6 +517,27 @@ mod tests {
         let e = a.add2(p, z);
         let f = factored(&mut a, e);
         assert_eq!(f, e);
+    }
+
+    /// The greedy factoring can lose: in the A02 N four-bar's Phi_q (N = 40), expanding the
+    /// products of shared sums costs more than the factors save. `Program::new` lowers both
+    /// forms and keeps the derived one there.
+    #[test]
+    fn the_derived_form_is_kept_where_factoring_costs_more() {
+        let source = include_str!("../../../mechanisms/n_four_bar.mech");
+        let mut model = crate::parse_model_str(source).expect("parses");
+        let eqs = crate::derive(&mut model).expect("derived");
+        let a = &model.arena;
+        let plain = Program::lowered(a, &[&eqs.phi_q]).expect("program");
+        let (local, f) = factored_copy(a, &[&eqs.phi_q]);
+        let factored = Program::lowered(&local, &[&f[0]]).expect("program");
+        assert!(
+            factored.ops_per_call(a) > plain.ops_per_call(a),
+            "{} vs {}",
+            factored.ops_per_call(a),
+            plain.ops_per_call(a)
+        );
+        assert_eq!(Program::new(a, &[&eqs.phi_q]).expect("program"), plain);
     }
 
     /// The copy of what the roots reach evaluates as the original, with the symbols in
