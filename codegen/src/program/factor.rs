@@ -11,18 +11,17 @@
 //! them contain, and repeat on the quotient and on the rest.
 //!
 //! What it does not do: look inside a function or a power (`sin(u)`, `x^(1/2)`, `1/(a + b)`
-//! are factors as they stand), or expand a sum whose monomials would outnumber
+//! are factors as they stand), distribute a product over a sum that something else reads
+//! too (that sum is computed once anyway: in the bodies' rotation matrices such sums are read
+//! by many entries), or expand a sum whose monomials would outnumber
 //! [`EXPANSION_LIMIT`], or once all expansions together have reached a budget proportional
 //! to the program's size (its terms are then factored as they stand). Values are unchanged up
 //! to rounding: the exact coefficients of the expansion are products of exact rationals.
 //!
-//! The choice of factor is greedy and sees one sum at a time, so expanding can lose sharing
-//! between sums (a product of sums that several entries share). [`crate::Program::new`]
-//! lowers both the derived and the factored form and keeps the one with fewer operations
-//! per call. Of the shipped mechanisms' combined programs, those of the Bricard linkage and
-//! of the two four-bars declared by bodies stay as derived; the single-routine programs
-//! choose alone (the A02 N four-bar's Phi_q stays as derived, its combined program is
-//! factored).
+//! The choice of factor is greedy and sees one sum at a time, so the rewrite can still cost
+//! more than it saves. [`crate::Program::new`] lowers both the derived and the factored form
+//! and keeps the one with fewer operations per call (the A02 N four-bar's Phi_q stays as
+//! derived; its combined program and every shipped mechanism's are factored).
 
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolKind};
 use crate::algebra::matrix::Matrix;
@@ -73,7 +72,15 @@ pub(crate) fn factored_copy(arena: &Arena, outputs: &[&Matrix]) -> (Arena, Vec<M
 /// The matrices `outputs` with every sum rewritten (see the module docs), in `arena`.
 pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix> {
     let budget = TOTAL_FACTOR * arena.size() + TOTAL_BASE;
+    let mut readers = vec![0u32; arena.len()];
+    for node in arena.nodes() {
+        node.for_each_child(|c| readers[c.index()] += 1);
+    }
+    for e in outputs.iter().flat_map(|m| m.data.iter()) {
+        readers[e.index()] += 1;
+    }
     let mut f = Factoring {
+        readers,
         arena,
         done: FxHashMap::default(),
         invariant: FxHashMap::default(),
@@ -91,6 +98,8 @@ pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix>
 
 struct Factoring<'a> {
     arena: &'a mut Arena,
+    /// How many nodes and output entries read each node of the arena as given.
+    readers: Vec<u32>,
     /// Rewritten node by original node.
     done: FxHashMap<Id, Id>,
     /// Whether a node depends on parameters and constants only.
@@ -181,7 +190,16 @@ impl Factoring<'_> {
                     factors: vec![],
                 }];
                 for &f in fs.iter() {
-                    let parts = self.distribute(f, limit)?;
+                    // A sum that other expressions read too is computed once anyway:
+                    // distributing a product over it would compute its terms again.
+                    let parts = if self.is_shared_sum(f) {
+                        vec![Monomial {
+                            coef: Number::int(1),
+                            factors: vec![self.rewrite(f)],
+                        }]
+                    } else {
+                        self.distribute(f, limit)?
+                    };
                     if acc.len() * parts.len() > limit {
                         return None;
                     }
@@ -205,6 +223,12 @@ impl Factoring<'_> {
                 factors: vec![id],
             }]),
         }
+    }
+
+    /// Whether `id` is a sum read by more than one node or output entry.
+    fn is_shared_sum(&self, id: Id) -> bool {
+        matches!(self.arena.node(id), Node::Add(_))
+            && self.readers.get(id.index()).is_some_and(|&n| n >= 2)
     }
 
     /// The monomial as the arena writes the product of its factors (powers collected).
@@ -517,6 +541,29 @@ mod tests {
         let e = a.add2(p, z);
         let f = factored(&mut a, e);
         assert_eq!(f, e);
+    }
+
+    /// A product is not distributed over a sum that another expression reads too:
+    /// S (u + v) and S (u + w) with S = x + y + z keep S as a factor (expanded, u S would be
+    /// x u + y u + z u, the sum's work done again in every product).
+    #[test]
+    fn products_are_not_distributed_over_shared_sums() {
+        let mut a = Arena::new();
+        let [x, y, z, u, v, w] =
+            ["x", "y", "z", "u", "v", "w"].map(|n| a.symbol(n, SymbolKind::Coordinate));
+        let s = a.add(&[x, y, z]);
+        let t1 = a.add2(u, v);
+        let t2 = a.add2(u, w);
+        let p1 = a.mul2(s, t1);
+        let p2 = a.mul2(s, t2);
+        let e1 = a.add2(p1, x);
+        let e2 = a.add2(p2, y);
+        let out = factor_sums(&mut a, &[&Matrix::column(vec![e1, e2])]);
+        for (&f, &e) in out[0].data.iter().zip(&[e1, e2]) {
+            assert_eq!(occurrences(&a, f, s), 1, "{:?}", a.node(f));
+            let pt = point(&a);
+            assert!((value(&a, e, &pt) - value(&a, f, &pt)).abs() <= 1e-13);
+        }
     }
 
     /// The greedy factoring can lose: in the A02 N four-bar's Phi_q (N = 40), expanding the
