@@ -45,7 +45,10 @@ pub struct Program {
 }
 
 impl Program {
-    /// The CSE'd program computing every entry of every matrix in `outputs`.
+    /// The CSE'd program computing every entry of every matrix in `outputs`. Its sums are
+    /// lowered either as derived or factored by their most frequent factors (module
+    /// `factor`), whichever needs fewer operations per call once the parameter-only values
+    /// are cached; the value is the same up to rounding.
     ///
     /// # Errors
     /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::MalformedMatrix`]

@@ -16,7 +16,8 @@
 //! by many entries), or expand a sum whose monomials would outnumber
 //! [`EXPANSION_LIMIT`], or once all expansions together have reached a budget proportional
 //! to the program's size (its terms are then factored as they stand). Values are unchanged up
-//! to rounding: the exact coefficients of the expansion are products of exact rationals.
+//! to rounding: the coefficients of the expansion are exact products of rationals (of
+//! floats, for declarations with decimal constants, rounded once each).
 //!
 //! The choice of factor is greedy and sees one sum at a time, so the rewrite can still cost
 //! more than it saves. [`crate::Program::new`] lowers both the derived and the factored form
@@ -454,8 +455,10 @@ mod tests {
         }
         let x = point(&a);
         let (v0, v1) = (value(&a, e, &x), value(&a, f, &x));
-        // Eight pairs of terms of magnitude <= 10 (w <= 7/2, qd^2 <= 9): first-order
-        // rounding of either form stays below 64 eps of that.
+        // At this point the eight terms' magnitudes sum to about 54 (w <= 9/2, qd^2 <= 8).
+        // Each form rounds a term at most 10 times (3 products, 7 additions), so the two
+        // differ by at most 20 eps x 54 to first order; 640 eps is inside that worst case,
+        // and a wrong factor would be off by order 1.
         assert!(
             (v0 - v1).abs() <= 64.0 * f64::EPSILON * 10.0,
             "{v0} vs {v1}"
@@ -481,6 +484,7 @@ mod tests {
         assert_eq!(a.as_number(fs[0]), Number::rational(5, 2));
         assert!(matches!(a.node(fs[1]), Node::Add(ts) if ts.len() == 2));
         let x = point(&a);
+        // |5/2 sin a sin b| + |5/2 cos a cos b| <= 5; each form rounds at most 3 times.
         assert!((value(&a, e, &x) - value(&a, f, &x)).abs() <= 4.0 * f64::EPSILON * 5.0);
     }
 
