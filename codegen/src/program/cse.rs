@@ -90,7 +90,12 @@ impl Program {
         // derived is the leaner one. Both are lowered; the one with fewer operations per
         // call (parameter-only ones go to the cache) is kept, the derived one on a tie.
         let plain = Self::lowered(arena, outputs)?;
-        let (local, factored) = factored_copy(arena, outputs);
+        let (mut local, factored) = factored_copy(arena, outputs);
+        if local.take_overflow().is_some() {
+            // A constant of the rewrite overflowed (exponents near f64::MAX) and folded to 0
+            // there: that form is wrong, the derived one is not.
+            return Ok(plain);
+        }
         let factored: Vec<&Matrix> = factored.iter().collect();
         let factored = Self::lowered(&local, &factored)?;
         Ok(

@@ -591,6 +591,30 @@ mod tests {
         assert_eq!(Program::new(a, &[&eqs.phi_q]).expect("program"), plain);
     }
 
+    /// A constant that overflows while factoring never reaches a program: x^E (x^E + y) +
+    /// x^E (x^E + z) with E = 1e308 expands to 2 x^(2E) + ..., whose exponent overflows
+    /// and folds to 0 (x^0 = 1: wrong at x = 0). That form would be the shorter one;
+    /// `Program::new` keeps the derived program.
+    #[test]
+    fn an_overflow_while_factoring_keeps_the_derived_form() {
+        let mut a = Arena::new();
+        let [x, y, z] = ["x", "y", "z"].map(|n| a.symbol(n, SymbolKind::Coordinate));
+        let big = a.float(1e308).unwrap();
+        let p = a.pow(x, big).unwrap();
+        let s1 = a.add2(p, y);
+        let s2 = a.add2(p, z);
+        let t1 = a.mul2(p, s1);
+        let t2 = a.mul2(p, s2);
+        let e = a.add2(t1, t2);
+        let m = Matrix::column(vec![e]);
+        let (mut local, f) = factored_copy(&a, &[&m]);
+        assert!(local.take_overflow().is_some());
+        let factored = Program::lowered(&local, &[&f[0]]).expect("program");
+        let plain = Program::lowered(&a, &[&m]).expect("program");
+        assert!(factored.ops_per_call(&a) < plain.ops_per_call(&a));
+        assert_eq!(Program::new(&a, &[&m]).expect("program"), plain);
+    }
+
     /// The copy of what the roots reach evaluates as the original, with the symbols in
     /// place, and holds no unreachable node.
     #[test]
