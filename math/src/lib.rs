@@ -18,7 +18,10 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![warn(missing_docs)]
 
+mod real;
 mod sin_cos;
+#[cfg(target_arch = "x86_64")]
+mod x86;
 
 #[cfg(feature = "std")]
 mod platform;

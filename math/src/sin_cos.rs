@@ -8,6 +8,8 @@
 //! it: five independent (sin, cos) pairs take about 0.6x the time of libm's (x86-64 baseline,
 //! no FMA); one alone has about the same latency as libm's.
 
+use crate::real::Real;
+
 /// 2/pi.
 const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
 /// 1.5 * 2^52: for |y| < 2^51, `(y + SHIFT) - SHIFT` is y rounded to the nearest integer, and
@@ -18,9 +20,14 @@ const SHIFT: f64 = 6_755_399_441_055_744.0;
 const P1: f64 = f64::from_bits(0x3FF9_21FB_5440_0000);
 const P2: f64 = f64::from_bits(0x3DD0_B462_0000_0000);
 const P3: f64 = -4.978_996_250_514_799_4e-17;
-/// The fast path takes |x| < 2^20 (so |k| < 2^20)...
+/// pi/2 - P1 - P2 = R1 + R23 + e' with |e'| < 2^-142: R1 has 33 significant bits, so k R1
+/// is exact for |k| < 2^20.
+const R1: f64 = f64::from_bits(0xBC8C_B3B3_99D0_0000);
+const R23: f64 = f64::from_bits(0xBA6D_1FC8_F8CB_B5BF);
+/// The inline path takes |x| < 2^20 (so |k| < 2^20).
 const BOUND: f64 = 1_048_576.0;
-/// ... and |r| >= 2^-26, where the reduction's relative error is at most 2^-60.
+/// Below 2^-26, |r| is too small for the three-part reduction's 2^-86 (k != 0): the
+/// reduction then takes pi/2 in four parts, [`reduce_near_multiple`].
 const TINY: f64 = 1.490_116_119_384_765_6e-8;
 
 /// sin r = r + r z S(z), z = r^2: minimax coefficients for the relative error on
@@ -51,11 +58,19 @@ const C: [f64; 6] = [
 ///    a = x - k P1 and s = a - k P2 (multiples of 2^-53 smaller than 1). Then
 ///    hi = s - k P3, lo = (s - hi) - k P3 (a fast two-sum, as |s| >= |k P3|) represent r as a
 ///    double-double with |r - (hi + lo)| <= 2^-86 (the rounding of k P3 and the rest of
-///    pi/2): relative error <= 2^-60 for |r| >= 2^-26.
+///    pi/2): relative error <= 2^-60 for |r| >= 2^-26. Where |r| < 2^-26 and k != 0 (x
+///    within 2^-26 of a nonzero multiple of pi/2, such as a crank at exactly 90 degrees),
+///    the rest of pi/2 after P1 + P2 is taken in two more parts, R1 + R23, with an exact
+///    product and a two-sum: |r - (hi + lo)| < 2^-119, small against the smallest |r| of
+///    any double below 2^20 (about 2^-60.5, at k = 29). x 2/pi + SHIFT, a and s are
+///    [`crate::mul_add`]s (a and s are exact either way).
 /// 2. Kernels on |r| <= pi/4, z = hi^2, with the first-order terms of lo:
 ///    - sin r = hi + (hi z S(z) + lo (1 - z/2)),
 ///    - cos r = w + (((1 - w) - z/2) + (z^2 C(z) - hi lo)), w = 1 - z/2 (the rounding error
 ///      of w is added back),
+///
+///    the products hi z S(z), lo z/2 and z^2 C(z) fused with the sums that take them where
+///    the target has FMA,
 ///
 ///    S and C of degree 5 in z, by Estrin's scheme: (c0 + z c1) + z^2 ((c2 + z c3) +
 ///    z^2 (c4 + z c5)), which halves the dependency chain of Horner's, each step a
@@ -65,15 +80,15 @@ const C: [f64; 6] = [
 ///    (-cos r, sin r), chosen with bit masks (no branch).
 ///
 /// # Accuracy and range
-/// The fast path is taken for |x| < 2^20 (about 1.05e6) when 2^-26 <= |r| or k = 0 (then
-/// r = x exactly). Its largest error
-/// measured against a double-double reference (1e7 random x in each of [-10, 10],
-/// [-1000, 1000] and [-2^20, 2^20], and every multiple of pi/2 and pi/4 with its neighbours
-/// within 3 ulps) is 0.82 ulp: the result is one of the two doubles around the exact value,
-/// and differs from a correctly rounded one (and from glibc's) by at most 1 ulp. Everything
-/// else, |x| >= 2^20, x within 2^-26 of a nonzero multiple of pi/2, -0.0, infinities and
-/// NaN, is the platform's `sin` and `cos` (`f64::sin_cos` with std, libm's `sincos`
-/// without; one rarely taken branch): so sin(-0.0) = -0.0 and sin and cos
+/// The inline path is taken for |x| < 2^20 (about 1.05e6) except -0.0. Its largest error
+/// measured against a double-double reference (3e6 random x in each of [-10, 10],
+/// [-1000, 1000] and [-2^20, 2^20], every multiple of pi/2 and pi/4 up to 3000 with its
+/// neighbours within 3 ulps, and the doubles nearest every k pi/2 below 2^20 with their
+/// neighbours) is 0.80 ulp (0.78 where the target has FMA; 0.50 near the multiples of
+/// pi/2): the result is one of the two doubles around the exact value, and differs from a
+/// correctly rounded one (and from glibc's) by at most 1 ulp. Everything else, |x| >= 2^20,
+/// -0.0, infinities and NaN, is the platform's `sin` and `cos` (`f64::sin_cos` with std,
+/// libm's `sincos` without; one rarely taken branch): so sin(-0.0) = -0.0 and sin and cos
 /// of infinities and NaN are NaN.
 ///
 /// # Example
@@ -96,18 +111,33 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
         & (((r.hi.to_bits() << 1) >= (TINY.to_bits() << 1))
             | ((r.k == 0.0) & (x.to_bits() != (-0.0_f64).to_bits())));
     if !fast {
-        return libm_sin_cos(x);
+        return off_the_fast_path(x);
     }
     kernel(&r)
 }
 
+/// [`sin_cos`] where its fast path does not apply, out of line: x near a nonzero multiple
+/// of pi/2 by the four-part reduction, the rest (|x| >= 2^20, -0.0, infinities, NaN) by the
+/// platform's functions.
+#[cold]
+#[inline(never)]
+fn off_the_fast_path(x: f64) -> (f64, f64) {
+    let in_range = (x.to_bits() << 1) < (BOUND.to_bits() << 1);
+    if !in_range || x.to_bits() == (-0.0_f64).to_bits() {
+        return crate::route::sin_cos(x);
+    }
+    let mut r = reduce(x);
+    (r.hi, r.lo) = reduce_near_multiple(&r);
+    kernel(&r)
+}
+
 /// (sin x_i, cos x_i) for each of L arguments, each lane bit for bit [`sin_cos`]`(x_i)`:
-/// the same operations lane by lane, written over arrays so that the compiler computes
-/// the lanes together in vector registers (two per SSE2 instruction, four or eight with
-/// AVX). The generated code calls it for the angles whose arguments are at hand together
-/// (the coordinates' angles, at the top of an evaluation). Every lane runs the fast path's
-/// arithmetic; one rarely taken branch then recomputes the lanes off the fast path with
-/// the platform's functions, as [`sin_cos`] does for them.
+/// the same operations lane by lane, several lanes per vector instruction. On x86-64 the
+/// lanes go two to an SSE2 register, or (three or four of them) four to an AVX2 register
+/// where the build enables `avx2`; elsewhere each lane is a [`sin_cos`] call. The generated
+/// code calls it for the angles whose arguments are at hand together. One rarely taken
+/// branch computes the lanes off [`sin_cos`]'s inline path with the platform's functions,
+/// as [`sin_cos`] does.
 ///
 /// # Example
 /// ```
@@ -120,103 +150,208 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 /// ```
 #[inline(always)]
 pub fn sin_cos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
-    let r: [Reduced; L] = core::array::from_fn(|i| reduce(x[i]));
-    // The fast-path test of `sin_cos` with floating-point compares, which vectorise
-    // (64-bit integer compares do not before SSE4.2); the same for every input: |x| < BOUND
-    // fails for NaN and infinities as the bit compare does, hi is then finite, and x is
-    // -0.0 exactly when it equals 0 with its sign bit set.
-    let mut fast = [true; L];
-    for i in 0..L {
-        let negative_zero = (x[i] == 0.0) & x[i].is_sign_negative();
-        fast[i] =
-            (x[i].abs() < BOUND) & ((r[i].hi.abs() >= TINY) | ((r[i].k == 0.0) & !negative_zero));
-    }
+    const { assert!(L <= 64, "at most 64 lanes") };
     let mut s = [0.0; L];
     let mut c = [0.0; L];
-    for i in 0..L {
-        (s[i], c[i]) = kernel(&r[i]);
-    }
-    if !fast.iter().all(|f| *f) {
-        replace_slow_lanes(&x, &fast, &mut s, &mut c);
+    // Bit i set where lane i took the inline path.
+    let inline = lanes(&x, &mut s, &mut c);
+    if inline != u64::MAX >> (64 - L) {
+        replace_platform_lanes(&x, inline, &mut s, &mut c);
     }
     (s, c)
 }
 
-/// The lanes off the fast path by the platform's functions, out of line: the rare case of
-/// [`sin_cos_lanes`] (the fast lanes keep their values).
+/// The lanes of [`sin_cos_lanes`] in x86-64 vector registers: four to a register for three
+/// or more lanes where the build has AVX2, two otherwise. Returns the inline lanes' bits.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn lanes<const L: usize>(x: &[f64; L], s: &mut [f64; L], c: &mut [f64; L]) -> u64 {
+    #[cfg(target_feature = "avx2")]
+    if L >= 3 {
+        return in_vectors::<crate::x86::F64x4, L>(x, s, c);
+    }
+    in_vectors::<crate::x86::F64x2, L>(x, s, c)
+}
+
+/// `x` in vectors of W lanes (the last one padded with `x[0]`, its results dropped). The
+/// first four vectors are written out, so that their offsets are constants for the
+/// compiler (loops over them were not unrolled: the lanes were copied through the stack).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn in_vectors<V: crate::x86::Vector, const L: usize>(
+    x: &[f64; L],
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+) -> u64 {
+    let mut inline = in_vector::<V, L>(x, s, c, 0);
+    if V::W < L {
+        inline |= in_vector::<V, L>(x, s, c, V::W);
+    }
+    if 2 * V::W < L {
+        inline |= in_vector::<V, L>(x, s, c, 2 * V::W);
+    }
+    if 3 * V::W < L {
+        inline |= in_vector::<V, L>(x, s, c, 3 * V::W);
+    }
+    let mut i = 4 * V::W;
+    while i < L {
+        inline |= in_vector::<V, L>(x, s, c, i);
+        i += V::W;
+    }
+    inline
+}
+
+/// Lanes i to i + W - 1 of [`in_vectors`] in one vector; returns their inline bits (at
+/// their positions).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn in_vector<V: crate::x86::Vector, const L: usize>(
+    x: &[f64; L],
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+    i: usize,
+) -> u64 {
+    let mut a = [0.0; 4];
+    for (j, a) in a.iter_mut().enumerate().take(V::W) {
+        *a = if i + j < L { x[i + j] } else { x[0] };
+    }
+    let used = (1u64 << V::W.min(L - i)) - 1;
+    let v = V::from_lanes(&a);
+    let mut r = reduce(v);
+    let fast = V::ordinary(v, r.k, r.hi, BOUND, TINY) as u64 & used;
+    let mut inline = used;
+    if fast != used {
+        // Rare: the lanes near a nonzero multiple of pi/2 take the four-part reduction;
+        // those out of range (or -0.0) are left to the platform's functions.
+        let near = V::near_multiple(r.hi, r.k, TINY);
+        let (hi, lo) = reduce_near_multiple(&r);
+        r.hi = V::select(near, hi, r.hi);
+        r.lo = V::select(near, lo, r.lo);
+        inline = V::in_range(v, BOUND) as u64 & used;
+    }
+    let (vs, vc) = kernel(&r);
+    let (mut ls, mut lc) = ([0.0; 4], [0.0; 4]);
+    vs.to_lanes(&mut ls);
+    vc.to_lanes(&mut lc);
+    for j in 0..V::W {
+        if i + j < L {
+            s[i + j] = ls[j];
+            c[i + j] = lc[j];
+        }
+    }
+    inline << i
+}
+
+/// The lanes of [`sin_cos_lanes`] on targets other than x86-64: one [`sin_cos`] each.
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+fn lanes<const L: usize>(x: &[f64; L], s: &mut [f64; L], c: &mut [f64; L]) -> u64 {
+    for i in 0..L {
+        (s[i], c[i]) = sin_cos(x[i]);
+    }
+    u64::MAX >> (64 - L)
+}
+
+/// The lanes off the inline path (bit i of `inline` clear) by the platform's functions,
+/// out of line: the rare case of [`sin_cos_lanes`] (the other lanes keep their values).
 #[cold]
 #[inline(never)]
-fn replace_slow_lanes<const L: usize>(
+fn replace_platform_lanes<const L: usize>(
     x: &[f64; L],
-    fast: &[bool; L],
+    inline: u64,
     s: &mut [f64; L],
     c: &mut [f64; L],
 ) {
     for i in 0..L {
-        if !fast[i] {
-            (s[i], c[i]) = libm_sin_cos(x[i]);
+        if inline & (1 << i) == 0 {
+            (s[i], c[i]) = crate::route::sin_cos(x[i]);
         }
     }
 }
 
-/// x = k pi/2 + (hi + lo), and the bits of x 2/pi + SHIFT (k mod 4 in the low bits).
-struct Reduced {
-    k: f64,
-    hi: f64,
-    lo: f64,
-    q: u64,
+/// x = k pi/2 + (hi + lo), s = x - k (P1 + P2) exactly, and t = x 2/pi + SHIFT (k mod 4
+/// in the low bits of its bits).
+struct Reduced<R> {
+    k: R,
+    s: R,
+    hi: R,
+    lo: R,
+    t: R,
 }
 
-/// Step 1 of [`sin_cos`] (valid on its fast path).
+/// Step 1 of [`sin_cos`] (valid on its fast path), in every lane of `x`.
 #[inline(always)]
-fn reduce(x: f64) -> Reduced {
-    let t = x * FRAC_2_PI + SHIFT;
-    let k = t - SHIFT;
-    let a = x - k * P1;
-    let s = a - k * P2;
-    let c = k * P3;
-    let hi = s - c;
+fn reduce<R: Real>(x: R) -> Reduced<R> {
+    let t = x.mul_add(R::splat(FRAC_2_PI), R::splat(SHIFT));
+    let k = t.sub(R::splat(SHIFT));
+    // Exact products and differences: the same value fused or not, one rounding step
+    // shorter where fused.
+    let a = k.mul_add(R::splat(-P1), x);
+    let s = k.mul_add(R::splat(-P2), a);
+    let c = k.mul(R::splat(P3));
+    let hi = s.sub(c);
     Reduced {
         k,
+        s,
         hi,
-        lo: (s - hi) - c,
-        q: t.to_bits(),
+        lo: s.sub(hi).sub(c),
+        t,
     }
+}
+
+/// r = x - k pi/2 as (hi, lo) to within 2^-119 for |x| < 2^20, in every lane, from
+/// [`reduce`]'s exact s = x - k P1 - k P2: the rest of pi/2 is R1 + R23 (to 2^-142), k R1
+/// is exact and subtracted from s by a two-sum (exact), k R23 (below 2^-68, rounded to
+/// within 2^-121) from its error term, and a fast two-sum normalises. For the lanes within
+/// 2^-26 of a nonzero multiple of pi/2, where [`reduce`]'s 2^-86 is too large against
+/// |r| (at least 2^-60.5 for doubles below 2^20: relative error below 2^-58.5).
+#[inline(always)]
+fn reduce_near_multiple<R: Real>(r: &Reduced<R>) -> (R, R) {
+    let (h, e) = two_diff(r.s, r.k.mul(R::splat(R1)));
+    let e = e.sub(r.k.mul(R::splat(R23)));
+    let hi = h.add(e);
+    (hi, e.sub(hi.sub(h)))
+}
+
+/// a - b = d + e exactly, d = fl(a - b) (Knuth's two-sum, any magnitudes).
+#[inline(always)]
+fn two_diff<R: Real>(a: R, b: R) -> (R, R) {
+    let d = a.sub(b);
+    let av = d.add(b);
+    let bv = av.sub(d);
+    (d, a.sub(av).sub(b.sub(bv)))
 }
 
 /// Steps 2 and 3 of [`sin_cos`]: the kernels on the reduced argument and the quadrant.
 #[inline(always)]
-fn kernel(r: &Reduced) -> (f64, f64) {
-    let (hi, lo, q) = (r.hi, r.lo, r.q);
-    let z = hi * hi;
-    let z2 = z * z;
+fn kernel<R: Real>(r: &Reduced<R>) -> (R, R) {
+    let (hi, lo) = (r.hi, r.lo);
+    let z = hi.mul(hi);
+    let z2 = z.mul(z);
     let ps = estrin(&S, z, z2);
     let pc = estrin(&C, z, z2);
-    let hz = 0.5 * z;
-    let sin_r = hi + ((z * hi) * ps + (lo - lo * hz));
-    let w = 1.0 - hz;
-    let cos_r = w + (((1.0 - w) - hz) + (z2 * pc - hi * lo));
+    // -z/2 and -lo (exact) let the products fuse with the sums where the target has FMA;
+    // unfused, every value is the same as with the subtractions written out.
+    let nhz = R::splat(-0.5).mul(z);
+    let nlo = R::splat(-1.0).mul(lo);
+    let sin_r = hi.add(z.mul(hi).mul_add(ps, lo.mul_add(nhz, lo)));
+    let one = R::splat(1.0);
+    let w = one.add(nhz);
+    let cos_r = w.add(one.sub(w).add(nhz).add(z2.mul_add(pc, hi.mul(nlo))));
     // Quadrant: swap when k is odd, negate sin when k mod 4 is 2 or 3, cos when it is 1 or 2.
-    let swap = (q & 1).wrapping_neg();
-    let (sb, cb) = (sin_r.to_bits(), cos_r.to_bits());
-    let sin_bits = ((sb & !swap) | (cb & swap)) ^ ((q & 2) << 62);
-    let cos_bits = ((cb & !swap) | (sb & swap)) ^ ((q.wrapping_add(1) & 2) << 62);
-    (f64::from_bits(sin_bits), f64::from_bits(cos_bits))
+    let (odd, sin_sign, cos_sign) = R::quadrant(r.t);
+    (
+        R::select(odd, cos_r, sin_r).flip(sin_sign),
+        R::select(odd, sin_r, cos_r).flip(cos_sign),
+    )
 }
 
 /// p0 + z p1 + ... + z^5 p5 by Estrin's scheme, (p0 + z p1) + z^2 ((p2 + z p3) +
 /// z^2 (p4 + z p5)), each step a [`crate::mul_add`] (one rounding where the target has
 /// FMA, which shortens the dependency chain; exactly the unfused value elsewhere).
 #[inline(always)]
-fn estrin(p: &[f64; 6], z: f64, z2: f64) -> f64 {
-    use crate::mul_add;
-    let inner = mul_add(z2, mul_add(z, p[5], p[4]), mul_add(z, p[3], p[2]));
-    mul_add(z2, inner, mul_add(z, p[1], p[0]))
-}
-
-/// The rare cases, out of line so that the inlined fast path stays small.
-#[cold]
-#[inline(never)]
-fn libm_sin_cos(x: f64) -> (f64, f64) {
-    crate::route::sin_cos(x)
+fn estrin<R: Real>(p: &[f64; 6], z: R, z2: R) -> R {
+    let c = |i: usize| R::splat(p[i]);
+    let inner = z2.mul_add(z.mul_add(c(5), c(4)), z.mul_add(c(3), c(2)));
+    z2.mul_add(inner, z.mul_add(c(1), c(0)))
 }

@@ -22,11 +22,14 @@ fn check<const L: usize>(x: [f64; L]) {
     }
 }
 
-/// Inputs off the fast path, and the fast-path edges.
-const SPECIAL: [f64; 14] = [
+/// Inputs off the fast path (near multiples of pi/2, -0.0, out of range, not finite), and
+/// the fast path's edges.
+const SPECIAL: [f64; 15] = [
     0.0,
     -0.0,
     std::f64::consts::FRAC_PI_2,
+    // The double nearest 29 pi/2: the smallest |x - k pi/2| below 2^20.
+    45.553_093_477_052,
     -std::f64::consts::PI,
     1.4e-8,
     1.490_116_119_384_765_6e-8,

@@ -160,6 +160,21 @@ fn faithful_against_a_double_double_reference() {
     assert!(e < 1.0, "large multiples: {e} ulp at x = {x:e}");
 }
 
+/// The doubles nearest k pi/2 for every 5th k below 2^20 2/pi (and every k up to 30: the
+/// smallest |x - k pi/2| of any double below 2^20, about 2^-60.5, is at k = 29), with their
+/// neighbours: the inline path's five-part reduction, whose |r| is as small as doubles
+/// get, against the reference.
+#[test]
+fn faithful_near_every_multiple_of_pi_over_2() {
+    let ks = (1..=30).chain((35..=667_544).step_by(5));
+    let xs = ks.flat_map(|k: i64| {
+        let m = k as f64 * std::f64::consts::FRAC_PI_2;
+        [-1i64, 0, 1].map(|d| f64::from_bits((m.to_bits() as i64 + d) as u64))
+    });
+    let (e, x) = max_error(xs);
+    assert!(e < 1.0, "near multiples of pi/2: {e} ulp at x = {x:e}");
+}
+
 #[test]
 fn special_values() {
     let (s, c) = sin_cos(0.0);
