@@ -34,6 +34,18 @@ use portable as route;
 
 pub use sin_cos::{sin_cos, sin_cos_lanes};
 
+/// `*x`, read from memory on its own (a volatile read). The emitted code passes the
+/// coordinates, rates and parameters it hands to [`sin_cos_lanes`] through this: otherwise
+/// the compiler reads neighbouring coordinates with one wide load, and a wide load cannot
+/// take its value from a narrower store still pending (an integrator's stage that has just
+/// written the state, a loop stepping `q[0]`): it waits for the store to reach the cache,
+/// longer than the evaluation's own first instructions take.
+#[inline(always)]
+pub fn read(x: &f64) -> f64 {
+    // SAFETY: `x` is a valid, aligned reference to an initialised f64.
+    unsafe { core::ptr::read_volatile(x) }
+}
+
 /// sqrt x, correctly rounded (IEEE 754); NaN for x < 0.
 #[inline(always)]
 pub fn sqrt(x: f64) -> f64 {

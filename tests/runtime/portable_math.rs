@@ -12,7 +12,7 @@ pub mod runtime {
     /// What `mechanism::math` is without the `std` feature.
     pub mod math {
         pub use mechanism::math::portable::{atan2, exp, ln, powf, powi, sqrt, tan};
-        pub use mechanism::math::{mul_add, sin_cos};
+        pub use mechanism::math::{mul_add, read, sin_cos, sin_cos_lanes};
     }
 }
 

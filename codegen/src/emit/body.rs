@@ -364,7 +364,7 @@ impl Emitter<'_> {
     ) -> TokenStream {
         // Which registers are defined so far (values of earlier blocks included).
         let mut defined = vec![false; p.registers()];
-        let group = self.b.math.is_some() && lanes::worthwhile(p.instructions());
+        let group = self.b.math.is_some();
         let mut tokens = TokenStream::new();
         if p.instructions().len() > BLOCK_LETS_ABOVE {
             // rustc's debug info nests one lexical scope per `let`; tens of thousands of them
@@ -453,21 +453,20 @@ impl Emitter<'_> {
     /// `let ([s0, s1, _, _], [c0, _, c2, _]) = math::sin_cos_lanes([a0, a1, a2, a0]);` for a
     /// group of sine and cosine instructions (`_` for a half no instruction needs).
     fn lanes(&self, group: &[&Instr]) -> TokenStream {
-        let mut ls: Vec<lanes::Lane> = group.iter().filter_map(|i| lanes::lane(i)).collect();
-        // Three lanes fill two vector registers as unevenly as four, with extra shuffles: a
-        // fourth lane repeats the first argument, and both its results are dropped.
-        if ls.len() == 3 {
-            ls.push(lanes::Lane {
-                arg: ls[0].arg,
-                sin: None,
-                cos: None,
-            });
-        }
+        let ls: Vec<lanes::Lane> = group.iter().filter_map(|i| lanes::lane(i)).collect();
         let slot = |r: Option<Reg>| r.map_or_else(|| quote!(_), |r| self.reg(r));
         let sins = ls.iter().map(|l| slot(l.sin));
         let coss = ls.iter().map(|l| slot(l.cos));
-        let args = ls.iter().map(|l| self.operand(l.arg));
         let m = self.b.math.clone().unwrap_or_default();
+        // Inputs read one by one (`mechanism_math::read`): no wide load of neighbouring
+        // coordinates waiting on the caller's last store.
+        let args = ls.iter().map(|l| match l.arg {
+            Operand::Sym(_) => {
+                let place = self.operand(l.arg);
+                quote!(#m::read(&#place))
+            }
+            Operand::Reg(_) | Operand::Const(_) => self.operand(l.arg),
+        });
         quote!(let ([#(#sins),*], [#(#coss),*]) = #m::sin_cos_lanes([#(#args),*]);)
     }
 

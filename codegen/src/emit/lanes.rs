@@ -2,34 +2,24 @@
 //! writes as one `math::sin_cos_lanes([a, b, c, d])` call.
 //!
 //! `mechanism_math::sin_cos_lanes` computes each lane bit for bit as `sin_cos` does, two
-//! or more lanes per vector instruction, so grouping changes no value and executes fewer
+//! or four lanes per vector instruction, so grouping changes no value and executes fewer
 //! instructions. A group starts at a sine or cosine (a `SinCos` pair, or a lone `Sin` or
 //! `Cos`) and takes the next ones in the body whose argument is already at hand there (a
 //! symbol, a constant, or a register defined before that point), so moving them up is
-//! safe: nothing between reads them, and they read nothing defined in between. At most
-//! [`LANES`] to a group: more would outgrow the 16 vector registers of the x86-64
-//! baseline.
+//! safe: nothing between reads them, and they read nothing defined in between. An argument
+//! one arithmetic instruction away from operands at hand (the seed's Omega t) is computed
+//! first, that instruction moved up before the group. At most [`LANES`] to a group: more
+//! would outgrow the 16 vector registers of the x86-64 baseline.
 //!
-//! Only bodies with at least [`GROUP_FROM`] sines and cosines are grouped. There the
-//! evaluation is bound by the number of instructions, and grouping made the 8-, 16- and
-//! 32-bar chains' `evaluate` faster in both builds (BENCHMARKS.md, its before/after
-//! table). In the one-degree-of-freedom mechanisms (three
-//! or four angles) it is bound by the latency of one sine, which the lanes' shuffles
-//! lengthen: grouping made the seed 10 % slower in the portable build, and the four-bar 25 %
-//! slower where one angle sits at a multiple of pi/2 (that lane's fix-up adds a call).
+//! Every body is grouped. Measured in both builds (BENCHMARKS.md, the before/after
+//! tables), the groups made the chains' `evaluate` faster and, since `sin_cos_lanes` is
+//! written with the vector instructions themselves (the compiler's own vectorisation of it
+//! had split four lanes into pairs), the one-degree-of-freedom mechanisms' too.
 
 use crate::program::instructions::{Instr, Operand, Reg, UnOp, defines};
 
 /// Most lanes in one group.
 pub(crate) const LANES: usize = 4;
-
-/// Fewest sines and cosines in a body for grouping them (see the module docs).
-pub(crate) const GROUP_FROM: usize = 8;
-
-/// Whether the sines and cosines of `instrs` (a whole body) are worth grouping.
-pub(crate) fn worthwhile(instrs: &[Instr]) -> bool {
-    instrs.iter().filter(|i| lane(i).is_some()).count() >= GROUP_FROM
-}
 
 /// What a trigonometric instruction defines: its (sin, cos) registers, either may be absent.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,14 +96,26 @@ pub(crate) fn plan(instrs: &[Instr], defined: &mut [bool], group: bool) -> Vec<S
         done[k] = true;
         let mut members = vec![k];
         if group && lane(&instrs[k]).is_some() {
-            for (j, i) in instrs.iter().enumerate().skip(k + 1) {
+            for j in k + 1..instrs.len() {
                 if members.len() == LANES {
                     break;
                 }
-                if !done[j] && lane(i).is_some_and(|l| at_hand(l.arg, defined)) {
-                    done[j] = true;
-                    members.push(j);
+                let Some(l) = lane(&instrs[j]).filter(|_| !done[j]) else {
+                    continue;
+                };
+                if !at_hand(l.arg, defined) {
+                    // One arithmetic instruction of operands at hand (the seed's
+                    // Omega t) moves up, before the group.
+                    let Some(d) = movable_definition(instrs, k + 1..j, l.arg, &done, defined)
+                    else {
+                        continue;
+                    };
+                    done[d] = true;
+                    define(&instrs[d], defined);
+                    steps.push(Step::Single(d));
                 }
+                done[j] = true;
+                members.push(j);
             }
         }
         for &m in &members {
@@ -126,6 +128,32 @@ pub(crate) fn plan(instrs: &[Instr], defined: &mut [bool], group: bool) -> Vec<S
         });
     }
     steps
+}
+
+/// The index in `range` of the instruction defining register `arg`, if it is not planned
+/// yet, is no sine or cosine, and reads only operands at hand: it can move up to the
+/// start of `range`.
+fn movable_definition(
+    instrs: &[Instr],
+    range: core::ops::Range<usize>,
+    arg: Operand,
+    done: &[bool],
+    defined: &[bool],
+) -> Option<usize> {
+    let Operand::Reg(r) = arg else {
+        return None;
+    };
+    let d = range
+        .into_iter()
+        .find(|&d| defines(&instrs[d]).contains(&Some(r)))?;
+    let mut ready = !done[d] && lane(&instrs[d]).is_none();
+    instrs[d].for_each_operand(|o| {
+        ready &= match o {
+            Operand::Reg(r) => defined.get(r.index()).copied().unwrap_or(false),
+            Operand::Sym(_) | Operand::Const(_) => true,
+        }
+    });
+    ready.then_some(d)
 }
 
 #[cfg(test)]
@@ -185,6 +213,55 @@ mod tests {
         let mut defined = vec![false; 7];
         let single: Vec<Step> = (0..5).map(Step::Single).collect();
         assert_eq!(plan(&instrs, &mut defined, false), single);
+    }
+
+    /// The sine of a product of symbols (the seed's sin(Omega t)) joins the group, the
+    /// product moved up before it; the sine of a product that reads a register defined
+    /// later does not, and stays where it is.
+    #[test]
+    fn one_instruction_of_operands_at_hand_moves_up() {
+        let sym = |k: u32| Operand::Sym(crate::algebra::expr::SymbolId(k));
+        let instrs = [
+            Instr::SinCos {
+                sin: r(0),
+                cos: r(1),
+                arg: sym(0),
+            },
+            Instr::Binary {
+                dst: r(2),
+                op: BinOp::Mul,
+                lhs: sym(1),
+                rhs: sym(2),
+            },
+            Instr::Binary {
+                dst: r(3),
+                op: BinOp::Mul,
+                lhs: Operand::Reg(r(0)),
+                rhs: sym(2),
+            },
+            Instr::Unary {
+                dst: r(4),
+                op: UnOp::Sin,
+                arg: Operand::Reg(r(3)),
+            },
+            Instr::Unary {
+                dst: r(5),
+                op: UnOp::Sin,
+                arg: Operand::Reg(r(2)),
+            },
+        ];
+        let mut defined = vec![false; 6];
+        let steps = plan(&instrs, &mut defined, true);
+        assert_eq!(
+            steps,
+            vec![
+                Step::Single(1),
+                Step::Group(vec![0, 4]),
+                Step::Single(2),
+                Step::Single(3),
+            ]
+        );
+        assert!(defined.iter().all(|d| *d));
     }
 
     /// No group is longer than LANES, and every instruction is planned once.
