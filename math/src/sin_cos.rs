@@ -150,7 +150,7 @@ fn off_the_fast_path(x: f64) -> (f64, f64) {
 /// ```
 #[inline(always)]
 pub fn sin_cos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
-    const { assert!(L <= 64, "at most 64 lanes") };
+    const { assert!(0 < L && L <= 64, "one to 64 lanes") };
     let mut s = [0.0; L];
     let mut c = [0.0; L];
     // Bit i set where lane i took the inline path.
