@@ -165,39 +165,46 @@ mod tests {
         Reg(k)
     }
 
+    fn sym(k: u32) -> Operand {
+        Operand::Sym(crate::algebra::expr::SymbolId(k))
+    }
+
+    fn pair(sin: u32, cos: u32, arg: Operand) -> Instr {
+        Instr::SinCos {
+            sin: r(sin),
+            cos: r(cos),
+            arg,
+        }
+    }
+
+    fn unary(dst: u32, op: UnOp, arg: Operand) -> Instr {
+        Instr::Unary {
+            dst: r(dst),
+            op,
+            arg,
+        }
+    }
+
+    fn mul(dst: u32, lhs: Operand, rhs: Operand) -> Instr {
+        Instr::Binary {
+            dst: r(dst),
+            op: BinOp::Mul,
+            lhs,
+            rhs,
+        }
+    }
+
     /// Sines of symbols group from the first; a sine whose argument is defined later waits
     /// for it; a product between them stays in place.
     #[test]
     fn groups_take_only_arguments_at_hand() {
-        let sym = |k: u32| Operand::Sym(crate::algebra::expr::SymbolId(k));
         let instrs = [
-            Instr::SinCos {
-                sin: r(0),
-                cos: r(1),
-                arg: sym(0),
-            },
-            Instr::Binary {
-                dst: r(2),
-                op: BinOp::Mul,
-                lhs: Operand::Reg(r(0)),
-                rhs: sym(1),
-            },
+            pair(0, 1, sym(0)),
+            mul(2, Operand::Reg(r(0)), sym(1)),
             // Reads r2, defined just above it: not at hand at instruction 0.
-            Instr::Unary {
-                dst: r(3),
-                op: UnOp::Sin,
-                arg: Operand::Reg(r(2)),
-            },
-            Instr::Unary {
-                dst: r(4),
-                op: UnOp::Cos,
-                arg: sym(2),
-            },
-            Instr::SinCos {
-                sin: r(5),
-                cos: r(6),
-                arg: Operand::Reg(r(2)),
-            },
+            unary(3, UnOp::Sin, Operand::Reg(r(2))),
+            unary(4, UnOp::Cos, sym(2)),
+            pair(5, 6, Operand::Reg(r(2))),
         ];
         let mut defined = vec![false; 7];
         let steps = plan(&instrs, &mut defined, true);
@@ -220,35 +227,12 @@ mod tests {
     /// later does not, and stays where it is.
     #[test]
     fn one_instruction_of_operands_at_hand_moves_up() {
-        let sym = |k: u32| Operand::Sym(crate::algebra::expr::SymbolId(k));
         let instrs = [
-            Instr::SinCos {
-                sin: r(0),
-                cos: r(1),
-                arg: sym(0),
-            },
-            Instr::Binary {
-                dst: r(2),
-                op: BinOp::Mul,
-                lhs: sym(1),
-                rhs: sym(2),
-            },
-            Instr::Binary {
-                dst: r(3),
-                op: BinOp::Mul,
-                lhs: Operand::Reg(r(0)),
-                rhs: sym(2),
-            },
-            Instr::Unary {
-                dst: r(4),
-                op: UnOp::Sin,
-                arg: Operand::Reg(r(3)),
-            },
-            Instr::Unary {
-                dst: r(5),
-                op: UnOp::Sin,
-                arg: Operand::Reg(r(2)),
-            },
+            pair(0, 1, sym(0)),
+            mul(2, sym(1), sym(2)),
+            mul(3, Operand::Reg(r(0)), sym(2)),
+            unary(4, UnOp::Sin, Operand::Reg(r(3))),
+            unary(5, UnOp::Sin, Operand::Reg(r(2))),
         ];
         let mut defined = vec![false; 6];
         let steps = plan(&instrs, &mut defined, true);
@@ -268,11 +252,7 @@ mod tests {
     #[test]
     fn groups_hold_at_most_lanes() {
         let instrs: Vec<Instr> = (0..10)
-            .map(|k| Instr::Unary {
-                dst: r(k),
-                op: UnOp::Sin,
-                arg: Operand::Const(k as f64),
-            })
+            .map(|k| unary(k, UnOp::Sin, Operand::Const(k as f64)))
             .collect();
         let mut defined = vec![false; 10];
         let steps = plan(&instrs, &mut defined, true);
