@@ -348,7 +348,8 @@ impl Arena {
 
     /// A new arena holding the nodes reachable from `roots` and every symbol, in the same
     /// relative order (so sorted sums and products stay sorted), and the roots' ids there.
-    /// Work and memory are proportional to what `roots` reach, not to this arena.
+    /// The new arena is proportional to what `roots` reach; building it takes one pass of
+    /// marks over this arena's nodes.
     pub(crate) fn reachable(&self, roots: &[Id]) -> (Arena, Vec<Id>) {
         let mut keep = vec![false; self.nodes.len()];
         let mut stack: Vec<Id> = roots.to_vec();

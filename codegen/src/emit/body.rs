@@ -450,8 +450,9 @@ impl Emitter<'_> {
         }
     }
 
-    /// `let ([s0, s1, _, _], [c0, _, c2, _]) = math::sin_cos_lanes([a0, a1, a2, a0]);` for a
-    /// group of sine and cosine instructions (`_` for a half no instruction needs).
+    /// `let ([s0, s1, _], [c0, _, c2]) = math::sin_cos_lanes([math::read(&q[0]), v3, ..]);`
+    /// for a group of sine and cosine instructions (`_` for a half no instruction needs;
+    /// symbols read through `math::read`).
     fn lanes(&self, group: &[&Instr]) -> TokenStream {
         let ls: Vec<lanes::Lane> = group.iter().filter_map(|i| lanes::lane(i)).collect();
         let slot = |r: Option<Reg>| r.map_or_else(|| quote!(_), |r| self.reg(r));
@@ -462,8 +463,9 @@ impl Emitter<'_> {
         // coordinates waiting on the caller's last store.
         let args = ls.iter().map(|l| match l.arg {
             Operand::Sym(_) => {
+                // Parenthesised: a binding may be any expression, not only a place.
                 let place = self.operand(l.arg);
-                quote!(#m::read(&#place))
+                quote!(#m::read(&(#place)))
             }
             Operand::Reg(_) | Operand::Const(_) => self.operand(l.arg),
         });

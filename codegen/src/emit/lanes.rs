@@ -76,10 +76,6 @@ pub(crate) fn lane(i: &Instr) -> Option<Lane> {
 /// it is updated as statements are planned. Without `group`, every instruction is a
 /// [`Step::Single`] in program order.
 pub(crate) fn plan(instrs: &[Instr], defined: &mut [bool], group: bool) -> Vec<Step> {
-    let at_hand = |o: Operand, defined: &[bool]| match o {
-        Operand::Reg(r) => defined.get(r.index()).copied().unwrap_or(false),
-        Operand::Sym(_) | Operand::Const(_) => true,
-    };
     let define = |i: &Instr, defined: &mut [bool]| {
         for r in defines(i).into_iter().flatten() {
             if let Some(d) = defined.get_mut(r.index()) {
@@ -147,13 +143,17 @@ fn movable_definition(
         .into_iter()
         .find(|&d| defines(&instrs[d]).contains(&Some(r)))?;
     let mut ready = !done[d] && lane(&instrs[d]).is_none();
-    instrs[d].for_each_operand(|o| {
-        ready &= match o {
-            Operand::Reg(r) => defined.get(r.index()).copied().unwrap_or(false),
-            Operand::Sym(_) | Operand::Const(_) => true,
-        }
-    });
+    instrs[d].for_each_operand(|o| ready &= at_hand(o, defined));
     ready.then_some(d)
+}
+
+/// Whether operand `o` has its value at this point: a symbol, a constant, or a register
+/// that `defined` marks.
+fn at_hand(o: Operand, defined: &[bool]) -> bool {
+    match o {
+        Operand::Reg(r) => defined.get(r.index()).copied().unwrap_or(false),
+        Operand::Sym(_) | Operand::Const(_) => true,
+    }
 }
 
 #[cfg(test)]

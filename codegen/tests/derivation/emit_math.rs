@@ -39,7 +39,7 @@ fn with_a_math_module_every_function_is_a_call_into_it() {
     for call in [
         // The pair and the lone cosine, side by side (sin q[1] is not needed), the
         // coordinates read one by one.
-        "let([x0,_],[x1,x2])=::mechanism_math::sin_cos_lanes([::mechanism_math::read(&q[0]),::mechanism_math::read(&q[1])]);",
+        "let([x0,_],[x1,x2])=::mechanism_math::sin_cos_lanes([::mechanism_math::read(&(q[0])),::mechanism_math::read(&(q[1]))]);",
         "=::mechanism_math::sqrt(q[1]);",
         "=::mechanism_math::powi(q[1],11);",
         "=::mechanism_math::atan2(q[0],q[1]);",

@@ -47,10 +47,15 @@ const SPECIAL: [f64; 15] = [
 fn special_values_in_every_lane() {
     for &a in &SPECIAL {
         for &b in &SPECIAL {
+            check([a]);
             check([a, b]);
             check([a, 0.3, b]);
             check([0.3, a, -2.0, b]);
             check([b, 1.0, 2.0, a]);
+            // Past one AVX2 vector, and past the four vectors written out (nine lanes in
+            // SSE2 pairs): the padded last vector and the loop after them.
+            check([1.0, a, 2.0, 3.0, b]);
+            check([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, a, b]);
         }
     }
 }

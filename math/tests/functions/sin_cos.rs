@@ -162,7 +162,7 @@ fn faithful_against_a_double_double_reference() {
 
 /// The doubles nearest k pi/2 for every 5th k below 2^20 2/pi (and every k up to 30: the
 /// smallest |x - k pi/2| of any double below 2^20, about 2^-60.5, is at k = 29), with their
-/// neighbours: the inline path's five-part reduction, whose |r| is as small as doubles
+/// neighbours: the inline path's four-part reduction, whose |r| is as small as doubles
 /// get, against the reference.
 #[test]
 fn faithful_near_every_multiple_of_pi_over_2() {
