@@ -76,6 +76,10 @@ const C: [f64; 6] = [
 ///    z^2 (c4 + z c5)), which halves the dependency chain of Horner's, each step a
 ///    [`crate::mul_add`] (fused where the target has FMA, the plain product and sum
 ///    elsewhere: never a libm call).
+///
+///    After the four-part reduction (|r| < 2^-26) the series' first two terms are exact
+///    to far below an ulp, and the kernels are those: sin r = hi + (lo - hi z/6),
+///    cos r = 1 - z/2.
 /// 3. Quadrant k mod 4: (sin x, cos x) = (sin r, cos r), (cos r, -sin r), (-sin r, -cos r),
 ///    (-cos r, sin r), chosen with bit masks (no branch).
 ///
@@ -126,9 +130,10 @@ fn off_the_fast_path(x: f64) -> (f64, f64) {
     if !in_range || x.to_bits() == (-0.0_f64).to_bits() {
         return crate::route::sin_cos(x);
     }
-    let mut r = reduce(x);
-    (r.hi, r.lo) = reduce_near_multiple(&r);
-    kernel(&r)
+    let r = reduce(x);
+    let (hi, lo) = reduce_near_multiple(&r);
+    let (sin_r, cos_r) = reduced_sin_cos_near_zero(hi, lo);
+    turn(r.t, sin_r, cos_r)
 }
 
 /// (sin x_i, cos x_i) for each of L arguments, each lane bit for bit [`sin_cos`]`(x_i)`:
@@ -217,19 +222,22 @@ fn in_vector<V: crate::x86::Vector, const L: usize>(
     }
     let used = (1u64 << V::W.min(L - i)) - 1;
     let v = V::from_lanes(&a);
-    let mut r = reduce(v);
+    let r = reduce(v);
     let fast = V::ordinary(v, r.k, r.hi, BOUND, TINY) as u64 & used;
     let mut inline = used;
+    let (mut sin_r, mut cos_r) = reduced_sin_cos(r.hi, r.lo);
     if fast != used {
-        // Rare: the lanes near a nonzero multiple of pi/2 take the four-part reduction;
-        // those out of range (or -0.0) are left to the platform's functions.
+        // Rare: the lanes near a nonzero multiple of pi/2 take the four-part reduction and
+        // the short kernel, beside the other lanes' (not after: the kernel does not wait
+        // for them); those out of range (or -0.0) are left to the platform's functions.
         let near = V::near_multiple(r.hi, r.k, TINY);
         let (hi, lo) = reduce_near_multiple(&r);
-        r.hi = V::select(near, hi, r.hi);
-        r.lo = V::select(near, lo, r.lo);
+        let (s, c) = reduced_sin_cos_near_zero(hi, lo);
+        sin_r = V::select(near, s, sin_r);
+        cos_r = V::select(near, c, cos_r);
         inline = V::in_range(v, BOUND) as u64 & used;
     }
-    let (vs, vc) = kernel(&r);
+    let (vs, vc) = turn(r.t, sin_r, cos_r);
     let (mut ls, mut lc) = ([0.0; 4], [0.0; 4]);
     vs.to_lanes(&mut ls);
     vc.to_lanes(&mut lc);
@@ -325,7 +333,13 @@ fn two_diff<R: Real>(a: R, b: R) -> (R, R) {
 /// Steps 2 and 3 of [`sin_cos`]: the kernels on the reduced argument and the quadrant.
 #[inline(always)]
 fn kernel<R: Real>(r: &Reduced<R>) -> (R, R) {
-    let (hi, lo) = (r.hi, r.lo);
+    let (sin_r, cos_r) = reduced_sin_cos(r.hi, r.lo);
+    turn(r.t, sin_r, cos_r)
+}
+
+/// Step 2 of [`sin_cos`]: (sin r, cos r) for r = hi + lo, |r| <= pi/4.
+#[inline(always)]
+fn reduced_sin_cos<R: Real>(hi: R, lo: R) -> (R, R) {
     let z = hi.mul(hi);
     let z2 = z.mul(z);
     let ps = estrin(&S, z, z2);
@@ -338,8 +352,29 @@ fn kernel<R: Real>(r: &Reduced<R>) -> (R, R) {
     let one = R::splat(1.0);
     let w = one.add(nhz);
     let cos_r = w.add(one.sub(w).add(nhz).add(z2.mul_add(pc, hi.mul(nlo))));
-    // Quadrant: swap when k is odd, negate sin when k mod 4 is 2 or 3, cos when it is 1 or 2.
-    let (odd, sin_sign, cos_sign) = R::quadrant(r.t);
+    (sin_r, cos_r)
+}
+
+/// (sin r, cos r) for r = hi + lo, |r| < 2^-26 (x near a nonzero multiple of pi/2): the
+/// series to their second terms, sin r = hi + (lo - hi z/6) and cos r = 1 - z/2, z = hi^2.
+/// The next terms, r^5/120 and r^4/24, are below 2^-104 relative and absolute, far under
+/// half an ulp; so are the roundings of hi z/6 (below 2^-52 |hi|/6) and of z. Both results
+/// are rounded once from values within a hundredth of an ulp of exact. Four operations
+/// deep, against [`reduced_sin_cos`]'s dozen: in [`sin_cos_lanes`] they run beside the
+/// other lanes' kernels, which no longer wait for the four-part reduction (a crank at
+/// exactly 90 degrees had lengthened its vector's chain by that reduction).
+#[inline(always)]
+fn reduced_sin_cos_near_zero<R: Real>(hi: R, lo: R) -> (R, R) {
+    let z = hi.mul(hi);
+    let sin_r = hi.add(hi.mul(z).mul_add(R::splat(-1.0 / 6.0), lo));
+    (sin_r, z.mul_add(R::splat(-0.5), R::splat(1.0)))
+}
+
+/// Step 3 of [`sin_cos`]: (sin x, cos x) from (sin r, cos r) by the quadrant k mod 4 held in
+/// t's bits: swap when k is odd, negate sin when k mod 4 is 2 or 3, cos when it is 1 or 2.
+#[inline(always)]
+fn turn<R: Real>(t: R, sin_r: R, cos_r: R) -> (R, R) {
+    let (odd, sin_sign, cos_sign) = R::quadrant(t);
     (
         R::select(odd, cos_r, sin_r).flip(sin_sign),
         R::select(odd, sin_r, cos_r).flip(cos_sign),
