@@ -15,7 +15,8 @@ pub(crate) trait Real: Copy {
     fn mul(self, b: Self) -> Self;
     /// a b + c, rounded once exactly where [`crate::mul_add`] is (FMA targets).
     fn mul_add(self, b: Self, c: Self) -> Self;
-    /// The bits of `a` where `mask`'s bits are set, those of `b` elsewhere.
+    /// `a` in the lanes where `mask` is all ones, `b` where it is all zeros (every mask
+    /// here is one or the other in each lane: comparisons, and the quadrant's odd mask).
     fn select(mask: Self, a: Self, b: Self) -> Self;
     /// a with its sign bit flipped where `sign` is -0.0 (`sign` is 0.0 or -0.0: the bits of
     /// the two are xor-ed).

@@ -66,8 +66,9 @@ const C: [f64; 6] = [
 ///    [`crate::mul_add`]s (a and s are exact either way).
 /// 2. Kernels on |r| <= pi/4, z = hi^2, with the first-order terms of lo:
 ///    - sin r = hi + (hi z S(z) + lo (1 - z/2)),
-///    - cos r = w + (((1 - w) - z/2) + (z^2 C(z) - hi lo)), w = 1 - z/2 (the rounding error
-///      of w is added back),
+///    - cos r = w + (z^2 C(z) + (((1 - w) - z/2) - hi lo)), w = 1 - z/2 (the rounding error
+///      of w is added back; the small terms are summed before z^2 C(z) arrives, so the
+///      longest chain, the polynomial's, ends in one multiply-add and one sum),
 ///
 ///    the products hi z S(z), lo z/2 and z^2 C(z) fused with the sums that take them where
 ///    the target has FMA,
@@ -351,7 +352,7 @@ fn reduced_sin_cos<R: Real>(hi: R, lo: R) -> (R, R) {
     let sin_r = hi.add(z.mul(hi).mul_add(ps, lo.mul_add(nhz, lo)));
     let one = R::splat(1.0);
     let w = one.add(nhz);
-    let cos_r = w.add(one.sub(w).add(nhz).add(z2.mul_add(pc, hi.mul(nlo))));
+    let cos_r = w.add(z2.mul_add(pc, one.sub(w).add(nhz).add(hi.mul(nlo))));
     (sin_r, cos_r)
 }
 

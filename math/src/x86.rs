@@ -198,12 +198,9 @@ impl Real for F64x4 {
     #[inline(always)]
     fn select(mask: Self, a: Self, b: Self) -> Self {
         // SAFETY: see the module docs.
-        unsafe {
-            F64x4(_mm256_or_pd(
-                _mm256_and_pd(mask.0, a.0),
-                _mm256_andnot_pd(mask.0, b.0),
-            ))
-        }
+        // Every mask here is all ones or all zeros per lane, so blending on the sign bit is
+        // the same selection, one instruction instead of three (two steps).
+        unsafe { F64x4(_mm256_blendv_pd(b.0, a.0, mask.0)) }
     }
     #[inline(always)]
     fn flip(self, sign: Self) -> Self {
