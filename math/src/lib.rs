@@ -4,9 +4,10 @@
 //! build: `::mechanism::math::sqrt(x)` rather than `x.sqrt()`, because the f64 methods
 //! `sqrt`, `exp`, `ln`, `tan`, `atan2`, `powf` and `powi` exist only with std.
 //!
-//! - [`sin_cos`] is this crate's own inline routine (faithfully rounded, straight-line
-//!   arithmetic), the same in every build; [`sin_cos_lanes`] computes several arguments
-//!   side by side in vector registers, each lane bit for bit [`sin_cos`].
+//! - [`sin_cos`](fn@sin_cos) is this crate's own inline routine (faithfully rounded,
+//!   straight-line arithmetic), the same in every build; [`sin_cos_lanes`] computes several
+//!   arguments side by side in vector registers, each lane bit for bit
+//!   [`sin_cos`](fn@sin_cos).
 //! - With the `std` feature the others are the f64 methods, so results are bit for bit those
 //!   of hand-written `x.sqrt()` code.
 //! - Without it the crate is `#![no_std]` and they come from [`libm`] (a port of musl's

@@ -1,7 +1,7 @@
-//! The arithmetic that [`crate::sin_cos`]'s reduction and kernels are written in, over one
-//! `f64` or several lanes of a vector register at once ([`crate::lanes`]): each operation
-//! rounds the same way in every implementation, so a lane's result is bit for bit the
-//! scalar one.
+//! The arithmetic that [`crate::sin_cos`](fn@crate::sin_cos)'s reduction and kernels are
+//! written in, over one `f64` or several lanes of a vector register at once
+//! ([`crate::sin_cos_lanes`]): each operation rounds the same way in every implementation,
+//! so a lane's result is bit for bit the scalar one.
 
 /// A real number or a vector of them, with the operations `sin_cos` needs.
 pub(crate) trait Real: Copy {

@@ -122,8 +122,9 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 }
 
 /// [`sin_cos`] where its fast path does not apply, out of line: x near a nonzero multiple
-/// of pi/2 by the four-part reduction, the rest (|x| >= 2^20, -0.0, infinities, NaN) by the
-/// platform's functions.
+/// of pi/2 by the four-part reduction and [`reduced_sin_cos_near_zero`] (the same route
+/// as such a lane of [`sin_cos_lanes`], so the same bits), the rest (|x| >= 2^20, -0.0,
+/// infinities, NaN) by the platform's functions.
 #[cold]
 #[inline(never)]
 fn off_the_fast_path(x: f64) -> (f64, f64) {
@@ -229,8 +230,9 @@ fn in_vector<V: crate::x86::Vector, const L: usize>(
     let (mut sin_r, mut cos_r) = reduced_sin_cos(r.hi, r.lo);
     if fast != used {
         // Rare: the lanes near a nonzero multiple of pi/2 take the four-part reduction and
-        // the short kernel, beside the other lanes' (not after: the kernel does not wait
-        // for them); those out of range (or -0.0) are left to the platform's functions.
+        // the short kernels, computed beside the kernels above (which do not wait for
+        // them) and blended in; those out of range (or -0.0) are left to the platform's
+        // functions.
         let near = V::near_multiple(r.hi, r.k, TINY);
         let (hi, lo) = reduce_near_multiple(&r);
         let (s, c) = reduced_sin_cos_near_zero(hi, lo);

@@ -6,7 +6,7 @@
 //!
 //! Each operation is the lane-wise IEEE operation of the scalar code, fused exactly where
 //! [`crate::mul_add`] is (the `fma` target feature), so each lane is bit for bit the scalar
-//! [`crate::sin_cos`].
+//! [`crate::sin_cos`](fn@crate::sin_cos).
 //!
 //! Safety: the intrinsics are `unsafe` to call where the compiler cannot see that the CPU
 //! has their instruction set. SSE2 is part of x86-64 itself, and the AVX2 and FMA
