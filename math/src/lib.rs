@@ -19,6 +19,8 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![warn(missing_docs)]
 
+#[cfg(target_arch = "x86_64")]
+pub mod avx2;
 mod real;
 mod sin_cos;
 #[cfg(target_arch = "x86_64")]

@@ -157,11 +157,18 @@ fn off_the_fast_path(x: f64) -> (f64, f64) {
 /// ```
 #[inline(always)]
 pub fn sin_cos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
+    in_lanes::<L, { cfg!(target_feature = "avx2") }>(x)
+}
+
+/// [`sin_cos_lanes`], four lanes to an AVX2 register where `WIDE` (x86-64 only: the caller
+/// is compiled with `avx2` and runs on a CPU that has it), two to an SSE2 one otherwise.
+#[inline(always)]
+pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; L], [f64; L]) {
     const { assert!(0 < L && L <= 64, "one to 64 lanes") };
     let mut s = [0.0; L];
     let mut c = [0.0; L];
     // Bit i set where lane i took the inline path.
-    let inline = lanes(&x, &mut s, &mut c);
+    let inline = lanes::<L, WIDE>(&x, &mut s, &mut c);
     if inline != u64::MAX >> (64 - L) {
         replace_platform_lanes(&x, inline, &mut s, &mut c);
     }
@@ -169,12 +176,15 @@ pub fn sin_cos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
 }
 
 /// The lanes of [`sin_cos_lanes`] in x86-64 vector registers: four to a register for three
-/// or more lanes where the build has AVX2, two otherwise. Returns the inline lanes' bits.
+/// or more lanes where `WIDE` (AVX2), two otherwise. Returns the inline lanes' bits.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn lanes<const L: usize>(x: &[f64; L], s: &mut [f64; L], c: &mut [f64; L]) -> u64 {
-    #[cfg(target_feature = "avx2")]
-    if L >= 3 {
+fn lanes<const L: usize, const WIDE: bool>(
+    x: &[f64; L],
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+) -> u64 {
+    if WIDE && L >= 3 {
         return in_vectors::<crate::x86::F64x4, L>(x, s, c);
     }
     in_vectors::<crate::x86::F64x2, L>(x, s, c)
@@ -256,7 +266,11 @@ fn in_vector<V: crate::x86::Vector, const L: usize>(
 /// The lanes of [`sin_cos_lanes`] on targets other than x86-64: one [`sin_cos`] each.
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
-fn lanes<const L: usize>(x: &[f64; L], s: &mut [f64; L], c: &mut [f64; L]) -> u64 {
+fn lanes<const L: usize, const WIDE: bool>(
+    x: &[f64; L],
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+) -> u64 {
     for i in 0..L {
         (s[i], c[i]) = sin_cos(x[i]);
     }

@@ -1,6 +1,7 @@
 //! [`Real`] over the lanes of x86-64 vector registers, for [`crate::sin_cos_lanes`]: two
 //! lanes in an SSE2 register (every x86-64 CPU has SSE2), four in an AVX2 one where the
-//! build enables `avx2` (e.g. `-C target-cpu=native`). Written with `core::arch`'s
+//! build enables `avx2` (e.g. `-C target-cpu=native`) or the CPU has it
+//! ([`crate::avx2::sin_cos_lanes`]). Written with `core::arch`'s
 //! intrinsics rather than left to the auto-vectoriser, which split four lanes into pairs and
 //! moved them between registers (the four lanes took as long as four scalar calls).
 //!
@@ -9,9 +10,12 @@
 //! [`crate::sin_cos`](fn@crate::sin_cos).
 //!
 //! Safety: the intrinsics are `unsafe` to call where the compiler cannot see that the CPU
-//! has their instruction set. SSE2 is part of x86-64 itself, and the AVX2 and FMA
-//! intrinsics are compiled only where the build enables those features for all its code
-//! (`cfg(target_feature)`), so every call here runs on a CPU that has them.
+//! has their instruction set. SSE2 is part of x86-64 itself. The FMA intrinsics are
+//! compiled only where the build enables `fma` for all its code (`cfg(target_feature)`).
+//! [`F64x4`] is used only where the build enables `avx2` for all its code, or inside
+//! [`crate::avx2::sin_cos_lanes`], a function compiled with `avx2` that may be called only on
+//! a CPU that has it; its operations are `#[inline(always)]`, so their instructions are
+//! compiled into that function. Every call here thus runs on a CPU that has them.
 
 use core::arch::x86_64::*;
 
@@ -157,11 +161,9 @@ impl Vector for F64x2 {
 }
 
 /// Four lanes in an AVX2 register.
-#[cfg(target_feature = "avx2")]
 #[derive(Clone, Copy)]
 pub(crate) struct F64x4(__m256d);
 
-#[cfg(target_feature = "avx2")]
 impl Real for F64x4 {
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -225,7 +227,6 @@ impl Real for F64x4 {
     }
 }
 
-#[cfg(target_feature = "avx2")]
 impl Vector for F64x4 {
     const W: usize = 4;
     #[inline(always)]

@@ -1,7 +1,8 @@
 //! The expansion: the parameter struct and the mechanism struct (the parameters and their
 //! cached parameter-only values, read and written through `Deref`/`DerefMut`), their
-//! `Default`, the inherent constants and the `impl ::mechanism::Mechanism<N, M>`. `quote!`
-//! only; the bodies come from [`crate::generate`].
+//! `Default`, the inherent constants and the `impl ::mechanism::Mechanism<N, M>` (with, on
+//! x86-64 builds without AVX2, `evaluate_into`'s copy compiled with AVX2). `quote!` only;
+//! the bodies come from [`crate::generate`].
 
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
@@ -336,25 +337,11 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     let indices: Vec<usize> = (0..*p).collect();
     let methods = expand_equation_methods(decl, t, g);
     let drawing = drawing_constants(decl);
+    let evaluate_into_avx2 = expand_evaluate_into_avx2(decl, t, g);
+    let allows = method_allows();
     quote! {
-        #[allow(
-            non_snake_case,
-            unused_variables,
-            unused_mut,
-            clippy::approx_constant,
-            clippy::excessive_precision,
-            clippy::unreadable_literal,
-            clippy::too_many_lines,
-            clippy::many_single_char_names,
-            clippy::similar_names,
-            clippy::neg_multiply,
-            clippy::double_neg,
-            clippy::suboptimal_flops,
-            clippy::unnecessary_cast,
-            clippy::identity_op,
-            clippy::let_and_return,
-            clippy::redundant_locals
-        )]
+        #evaluate_into_avx2
+        #allows
         impl #krate::Mechanism<#n, #m> for #name {
             const NAME: &'static str = #name_str;
             const COORDINATES: [&'static str; #n] = [#(#coordinate_names),*];
@@ -385,6 +372,63 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
                 #name::refresh(self);
             }
             #methods
+        }
+    }
+}
+
+/// The lints allowed on the impls of generated methods: their bodies are straight-line SSA
+/// with many short names, long literals and unsimplified signs.
+fn method_allows() -> TokenStream {
+    quote! {
+        #[allow(
+            non_snake_case,
+            unused_variables,
+            unused_mut,
+            clippy::approx_constant,
+            clippy::excessive_precision,
+            clippy::unreadable_literal,
+            clippy::too_many_lines,
+            clippy::many_single_char_names,
+            clippy::similar_names,
+            clippy::neg_multiply,
+            clippy::double_neg,
+            clippy::suboptimal_flops,
+            clippy::unnecessary_cast,
+            clippy::identity_op,
+            clippy::let_and_return,
+            clippy::redundant_locals
+        )]
+    }
+}
+
+/// On x86-64 builds without AVX2 (the default target): `evaluate_into` compiled a second
+/// time with AVX2, which the trait's `evaluate_into` calls where the CPU has it (checked on
+/// each call, one cached read). The body is the same program calling `math::avx2`, so the
+/// results are the same bits; the AVX encoding takes three operands, which spares the
+/// register copies that bound the small models' evaluation, and the sines and cosines go four
+/// to a register.
+fn expand_evaluate_into_avx2(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
+    let krate = &decl.krate;
+    let Tables { name, n, m, .. } = t;
+    let sv = quote!(#krate::__private::SVector);
+    let body = &g.evaluate_into_avx2;
+    let allows = method_allows();
+    quote! {
+        #[cfg(all(target_arch = "x86_64", not(target_feature = "avx2")))]
+        #allows
+        impl #name {
+            /// `Mechanism::evaluate_into` compiled with AVX2: call only where the CPU has it.
+            #[doc(hidden)]
+            #[target_feature(enable = "avx2")]
+            fn __evaluate_into_avx2(
+                &self,
+                t: f64,
+                q: &#sv<f64, #n>,
+                qd: &#sv<f64, #n>,
+                out: &mut #krate::StaticEvaluation<#n, #m>,
+            ) {
+                #body
+            }
         }
     }
 }
@@ -482,6 +526,11 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
         qd: &#sv<f64, #n>,
         out: &mut #krate::StaticEvaluation<#n, #m>,
     ) {
+        #[cfg(all(target_arch = "x86_64", not(target_feature = "avx2")))]
+        if #krate::math::avx2::detected() {
+            // SAFETY: the CPU has AVX2, all that the copy needs beyond this build's features.
+            return unsafe { self.__evaluate_into_avx2(t, q, qd, out) };
+        }
         #evaluate_into
     }
     fn equations() -> &'static str {

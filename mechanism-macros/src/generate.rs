@@ -52,6 +52,8 @@ pub struct Generated {
     /// `evaluate_into(&self, t, q, qd, out)`: everything, sharing subexpressions, written
     /// into every entry of `out`.
     pub evaluate_into: TokenStream,
+    /// The same body calling `math::avx2` (for the copy compiled with AVX2).
+    pub evaluate_into_avx2: TokenStream,
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
     /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
@@ -90,7 +92,8 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             constraint_gamma: b.matrix(&p[8])?,
             kinetic_energy: b.scalar(&p[9])?,
             potential_energy: b.scalar(&p[10])?,
-            evaluate_into: b.evaluate_into(&p[11])?,
+            evaluate_into: b.evaluate_into(&p[11], false)?,
+            evaluate_into_avx2: b.evaluate_into(&p[11], true)?,
             residual_tangent: b.tangent(&p[12], &tangent)?,
             draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
@@ -277,8 +280,13 @@ impl Bodies<'_> {
 
     /// The combined evaluation into the caller's `out`: one program for all outputs. Every
     /// entry is written: small outputs entry by entry (zeros included), outputs with many
-    /// zeros by one `fill(0.0)` and their nonzero entries.
-    fn evaluate_into(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+    /// zeros by one `fill(0.0)` and their nonzero entries. With `avx2`, the functions are
+    /// called from `math::avx2` (the same bits, for a body compiled with AVX2).
+    fn evaluate_into(
+        &self,
+        program: &Program,
+        avx2: bool,
+    ) -> mechanism_codegen::Result<TokenStream> {
         let mut fills = TokenStream::new();
         let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
             .iter()
@@ -318,7 +326,12 @@ impl Bodies<'_> {
                 OutputTarget::Matrix { name, zeroed }
             })
             .collect();
-        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let mut bindings = self.bindings();
+        if avx2 {
+            let krate = self.krate;
+            bindings.set_math(quote!(#krate::math::avx2));
+        }
+        let body = emit_body(program, &bindings, &targets)?.tokens;
         let cache = self.cache_read(program);
         Ok(quote! {
             #cache

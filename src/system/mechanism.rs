@@ -148,7 +148,9 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// [`Mechanism::evaluate`] written into `out` (every entry overwritten): M, C q', g,
     /// tau, Phi, Phi_q, Phi_t, gamma, T and Pi at (t, q, q'), with nothing returned by
     /// value, for a caller that reuses one buffer. The emitted code writes the entries
-    /// directly; the default copies the result of `evaluate`.
+    /// directly (on x86-64 builds without AVX2, from a second copy compiled with AVX2
+    /// where the CPU has it, with the same bits); the default copies the result of
+    /// `evaluate`.
     fn evaluate_into(
         &self,
         t: f64,

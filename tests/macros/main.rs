@@ -4,6 +4,7 @@
 #[global_allocator]
 static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
 
+mod emitted_bits;
 mod emitted_vs_interpreter;
 mod file_paths;
 mod large_mechanism;

@@ -1,6 +1,8 @@
 //! `sin_cos_lanes` against `sin_cos`, lane by lane and bit for bit: every lane count the
 //! generated code uses, fast lanes mixed with lanes off the fast path (near multiples of
-//! pi/2, -0.0, beyond 2^20, infinities, NaN) in every position.
+//! pi/2, -0.0, beyond 2^20, infinities, NaN) in every position. On an x86-64 CPU with AVX2,
+//! `avx2::sin_cos_lanes` (four lanes to a register even where the build does not enable
+//! AVX2) too.
 
 use mechanism_math::{sin_cos, sin_cos_lanes};
 use proptest::prelude::*;
@@ -10,7 +12,16 @@ fn same(a: f64, b: f64) -> bool {
 }
 
 fn check<const L: usize>(x: [f64; L]) {
-    let (s, c) = sin_cos_lanes(x);
+    compare(x, sin_cos_lanes(x));
+    #[cfg(target_arch = "x86_64")]
+    if mechanism_math::avx2::detected() {
+        // SAFETY: the CPU has AVX2.
+        compare(x, unsafe { mechanism_math::avx2::sin_cos_lanes(x) });
+    }
+}
+
+/// Each lane of (s, c) against `sin_cos` of its argument.
+fn compare<const L: usize>(x: [f64; L], (s, c): ([f64; L], [f64; L])) {
     for i in 0..L {
         let (ws, wc) = sin_cos(x[i]);
         assert!(
