@@ -97,6 +97,12 @@ pub fn powi(x: f64, k: i32) -> f64 {
     route::powi(x, k)
 }
 
+/// Whether [`mul_add`] rounds once on this target (the `cfg` of its fused branches).
+pub(crate) const FUSED: bool = cfg!(any(
+    all(target_arch = "x86_64", target_feature = "fma"),
+    all(feature = "std", target_arch = "aarch64")
+));
+
 /// a b + c, rounded once where the target has a fused multiply-add instruction (x86-64
 /// built with the `fma` target feature, e.g. `-C target-cpu=native` on a CPU that has it,
 /// and aarch64), and as a b, then + c (two roundings) everywhere else. Rust never contracts

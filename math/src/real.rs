@@ -5,6 +5,9 @@
 
 /// A real number or a vector of them, with the operations `sin_cos` needs.
 pub(crate) trait Real: Copy {
+    /// Whether [`Real::mul_add`] rounds once (fused), as [`crate::mul_add`] does on this
+    /// target.
+    const FUSED: bool;
     /// v in every lane.
     fn splat(v: f64) -> Self;
     /// a + b.
@@ -28,6 +31,7 @@ pub(crate) trait Real: Copy {
 }
 
 impl Real for f64 {
+    const FUSED: bool = crate::FUSED;
     #[inline(always)]
     fn splat(v: f64) -> f64 {
         v

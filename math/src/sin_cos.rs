@@ -10,6 +10,9 @@
 
 use crate::real::Real;
 
+#[cfg(all(test, feature = "std"))]
+mod fused_reduction;
+
 /// 2/pi.
 const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
 /// 1.5 * 2^52: for |y| < 2^51, `(y + SHIFT) - SHIFT` is y rounded to the nearest integer, and
@@ -24,6 +27,13 @@ const P3: f64 = -4.978_996_250_514_799_4e-17;
 /// is exact for |k| < 2^20.
 const R1: f64 = f64::from_bits(0xBC8C_B3B3_99D0_0000);
 const R23: f64 = f64::from_bits(0xBA6D_1FC8_F8CB_B5BF);
+/// Where products are fused ([`Real::FUSED`]): pi/2 = FRAC_PI_2 + Q2 + e with
+/// |e| < 2^-109 (FRAC_PI_2 is pi/2 rounded to a double).
+const Q2: f64 = f64::from_bits(0x3C91_A626_3314_5C07);
+/// pi/2 - FRAC_PI_2 = Q21 + Q22 + e' with |e'| < 2^-141: Q21 has 33 significant bits, so
+/// k Q21 is exact for |k| < 2^20.
+const Q21: f64 = f64::from_bits(0x3C91_A626_3310_0000);
+const Q22: f64 = f64::from_bits(0x3A71_701B_839A_2520);
 /// The inline path takes |x| < 2^20 (so |k| < 2^20).
 const BOUND: f64 = 1_048_576.0;
 /// Below 2^-26, |r| is too small for the three-part reduction's 2^-86 (k != 0): the
@@ -64,6 +74,13 @@ const C: [f64; 6] = [
 ///    product and a two-sum: |r - (hi + lo)| < 2^-119, small against the smallest |r| of
 ///    any double below 2^20 (about 2^-60.5, at k = 29). x 2/pi + SHIFT, a and s are
 ///    [`crate::mul_add`]s (a and s are exact either way).
+///
+///    Where the target fuses [`crate::mul_add`] (FMA), the reduction is one step shorter:
+///    s = x - k FRAC_PI_2 (pi/2 rounded to 53 bits) in one fused step is exact, because
+///    k FRAC_PI_2 and x are multiples of 2^-53 (of 2^-52 for |x| >= 1) and |s| < 1; then
+///    hi = s - k Q2 (pi/2 = FRAC_PI_2 + Q2 to 2^-109) rounded once, and its rounding error
+///    lo = (s - hi) - k Q2 (s - hi exact), so |r - (hi + lo)| <= 2^-88. Near the multiples
+///    the rest after FRAC_PI_2 is taken as Q21 + Q22, as R1 + R23 above.
 /// 2. Kernels on |r| <= pi/4, z = hi^2, with the first-order terms of lo:
 ///    - sin r = hi + (hi z S(z) + lo (1 - z/2)),
 ///    - cos r = w + (z^2 C(z) + (((1 - w) - z/2) - hi lo)), w = 1 - z/2 (the rounding error
@@ -294,8 +311,8 @@ fn replace_platform_lanes<const L: usize>(
     }
 }
 
-/// x = k pi/2 + (hi + lo), s = x - k (P1 + P2) exactly, and t = x 2/pi + SHIFT (k mod 4
-/// in the low bits of its bits).
+/// x = k pi/2 + (hi + lo), s = x - k (P1 + P2) exactly (x - k FRAC_PI_2 where fused), and
+/// t = x 2/pi + SHIFT (k mod 4 in the low bits of its bits).
 struct Reduced<R> {
     k: R,
     s: R,
@@ -309,6 +326,15 @@ struct Reduced<R> {
 fn reduce<R: Real>(x: R) -> Reduced<R> {
     let t = x.mul_add(R::splat(FRAC_2_PI), R::splat(SHIFT));
     let k = t.sub(R::splat(SHIFT));
+    if R::FUSED {
+        // s = x - k FRAC_PI_2 in one fused step, exact; hi = s - k Q2 rounded once, and lo
+        // its rounding error (s - hi is exact on the fast path: |k Q2| < 2^-33 is far below
+        // |hi| >= 2^-26, so s and hi are within a factor of two).
+        let s = k.mul_add(R::splat(-core::f64::consts::FRAC_PI_2), x);
+        let hi = k.mul_add(R::splat(-Q2), s);
+        let lo = k.mul_add(R::splat(-Q2), s.sub(hi));
+        return Reduced { k, s, hi, lo, t };
+    }
     // Exact products and differences: the same value fused or not, one rounding step
     // shorter where fused.
     let a = k.mul_add(R::splat(-P1), x);
@@ -327,13 +353,15 @@ fn reduce<R: Real>(x: R) -> Reduced<R> {
 /// r = x - k pi/2 as (hi, lo) to within 2^-119 for |x| < 2^20, in every lane, from
 /// [`reduce`]'s exact s = x - k P1 - k P2: the rest of pi/2 is R1 + R23 (to 2^-142), k R1
 /// is exact and subtracted from s by a two-sum (exact), k R23 (below 2^-68, rounded to
-/// within 2^-121) from its error term, and a fast two-sum normalises. For the lanes within
+/// within 2^-121) from its error term, and a fast two-sum normalises. Where fused, s is
+/// x - k FRAC_PI_2 and the rest Q21 + Q22, with the same bounds. For the lanes within
 /// 2^-26 of a nonzero multiple of pi/2, where [`reduce`]'s 2^-86 is too large against
 /// |r| (at least 2^-60.5 for doubles below 2^20: relative error below 2^-58.5).
 #[inline(always)]
 fn reduce_near_multiple<R: Real>(r: &Reduced<R>) -> (R, R) {
-    let (h, e) = two_diff(r.s, r.k.mul(R::splat(R1)));
-    let e = e.sub(r.k.mul(R::splat(R23)));
+    let (r1, r23) = if R::FUSED { (Q21, Q22) } else { (R1, R23) };
+    let (h, e) = two_diff(r.s, r.k.mul(R::splat(r1)));
+    let e = e.sub(r.k.mul(R::splat(r23)));
     let hi = h.add(e);
     (hi, e.sub(hi.sub(h)))
 }

@@ -44,6 +44,7 @@ pub(crate) trait Vector: Real {
 pub(crate) struct F64x2(__m128d);
 
 impl Real for F64x2 {
+    const FUSED: bool = cfg!(target_feature = "fma");
     #[inline(always)]
     fn splat(v: f64) -> Self {
         // SAFETY: see the module docs.
@@ -165,6 +166,7 @@ impl Vector for F64x2 {
 pub(crate) struct F64x4(__m256d);
 
 impl Real for F64x4 {
+    const FUSED: bool = cfg!(target_feature = "fma");
     #[inline(always)]
     fn splat(v: f64) -> Self {
         // SAFETY: see the module docs.
