@@ -159,9 +159,9 @@ fn off_the_fast_path(x: f64) -> (f64, f64) {
 /// the same operations lane by lane, several lanes per vector instruction. On x86-64 the
 /// lanes go two to an SSE2 register, or (three or four of them) four to an AVX2 register
 /// where the build enables `avx2`; elsewhere each lane is a [`sin_cos`] call. The generated
-/// code calls it for the angles whose arguments are at hand together. One rarely taken
-/// branch computes the lanes off [`sin_cos`]'s inline path with the platform's functions,
-/// as [`sin_cos`] does.
+/// code calls it for the angles whose arguments are at hand together. Where a lane is off
+/// [`sin_cos`]'s inline path (|x| >= 2^20, -0.0, infinities, NaN), one rarely taken
+/// branch computes every lane by [`sin_cos`] itself.
 ///
 /// # Example
 /// ```
@@ -187,7 +187,21 @@ pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; 
     // Bit i set where lane i took the inline path.
     let inline = lanes::<L, WIDE>(&x, &mut s, &mut c);
     if inline != u64::MAX >> (64 - L) {
-        replace_platform_lanes(&x, inline, &mut s, &mut c);
+        return lane_by_lane(x);
+    }
+    (s, c)
+}
+
+/// Every lane by [`sin_cos`], out of line: the rare case of [`sin_cos_lanes`] where a lane
+/// is off the inline path. Computing all of them again here, rather than replacing the
+/// lanes off the path in the vector results, keeps those results in registers on the
+/// common path (a call that writes into them would need them in memory first).
+#[cold]
+#[inline(never)]
+fn lane_by_lane<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
+    let (mut s, mut c) = ([0.0; L], [0.0; L]);
+    for i in 0..L {
+        (s[i], c[i]) = sin_cos(x[i]);
     }
     (s, c)
 }
@@ -292,23 +306,6 @@ fn lanes<const L: usize, const WIDE: bool>(
         (s[i], c[i]) = sin_cos(x[i]);
     }
     u64::MAX >> (64 - L)
-}
-
-/// The lanes off the inline path (bit i of `inline` clear) by the platform's functions,
-/// out of line: the rare case of [`sin_cos_lanes`] (the other lanes keep their values).
-#[cold]
-#[inline(never)]
-fn replace_platform_lanes<const L: usize>(
-    x: &[f64; L],
-    inline: u64,
-    s: &mut [f64; L],
-    c: &mut [f64; L],
-) {
-    for i in 0..L {
-        if inline & (1 << i) == 0 {
-            (s[i], c[i]) = crate::route::sin_cos(x[i]);
-        }
-    }
 }
 
 /// x = k pi/2 + (hi + lo), s = x - k (P1 + P2) exactly (x - k FRAC_PI_2 where fused), and
