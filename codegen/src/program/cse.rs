@@ -32,6 +32,7 @@ use crate::program::builder::InstructionSelection;
 use crate::program::factor::factored_copy;
 use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
+use crate::program::scale::scale_early;
 use crate::program::schedule::schedule;
 
 /// A straight-line SSA program computing several matrices at once, with common
@@ -135,7 +136,16 @@ impl Program {
         symbols.sort_by_key(|p| p.0);
         // Dead instructions first, so that a product counts only its live readers.
         let live = compact(&lower.b.instrs, outs, &symbols);
-        let fused = fuse_multiply_add(&live.instrs, &live.outputs);
+        let parameter: Vec<bool> = arena
+            .symbols()
+            .iter()
+            .map(|s| s.kind == SymbolKind::Parameter)
+            .collect();
+        // Twice: a scaling moved onto a product of its own (`c (a b) q` to `(c (a b)) q`)
+        // moves on into that product.
+        let scaled = scale_early(&live.instrs, &live.outputs, &parameter);
+        let scaled = scale_early(&scaled, &live.outputs, &parameter);
+        let fused = fuse_multiply_add(&scaled, &live.outputs);
         let scheduled = schedule(&fused, &live.outputs);
         Ok(compact(&scheduled, live.outputs, &symbols))
     }

@@ -12,29 +12,12 @@
 //! fused instruction the results are those of the unfused code to the bit (negation is
 //! exact and `c - p` is `c + (-p)` in IEEE arithmetic).
 
-use crate::program::instructions::{BinOp, Instr, Operand, Output};
+use crate::program::instructions::{BinOp, Instr, Operand, Output, read_counts};
 
 /// `instrs` with every product that one addition or subtraction alone reads fused into it.
 pub(crate) fn fuse_multiply_add(instrs: &[Instr], outputs: &[Output]) -> Vec<Instr> {
-    let nregs = instrs
-        .iter()
-        .flat_map(crate::program::instructions::defines)
-        .flatten()
-        .map(|r| r.index() + 1)
-        .max()
-        .unwrap_or(0);
-    let mut uses = vec![0u32; nregs];
-    let mut count = |o: Operand| {
-        if let Operand::Reg(r) = o {
-            uses[r.index()] += 1;
-        }
-    };
-    for i in instrs {
-        i.for_each_operand(&mut count);
-    }
-    for o in outputs {
-        o.entries.iter().for_each(|&e| count(e));
-    }
+    let uses = read_counts(instrs, outputs);
+    let nregs = uses.len();
     // The factors of each product, by its register.
     let mut product: Vec<Option<(Operand, Operand)>> = vec![None; nregs];
     let mut out = Vec::with_capacity(instrs.len());

@@ -239,3 +239,29 @@ pub(crate) fn defines(i: &Instr) -> [Option<Reg>; 2] {
         Instr::SinCos { sin, cos, .. } => [Some(sin), Some(cos)],
     }
 }
+
+/// One more than the highest register `instrs` define: the length of a table by register.
+pub(crate) fn register_count(instrs: &[Instr]) -> usize {
+    instrs
+        .iter()
+        .flat_map(defines)
+        .flatten()
+        .map(|r| r.index() + 1)
+        .max()
+        .unwrap_or(0)
+}
+
+/// How many times each register is read, by the instructions and by the outputs.
+pub(crate) fn read_counts(instrs: &[Instr], outputs: &[Output]) -> Vec<u32> {
+    let mut uses = vec![0u32; register_count(instrs)];
+    let mut count = |o: Operand| {
+        if let Operand::Reg(r) = o {
+            uses[r.index()] += 1;
+        }
+    };
+    instrs.iter().for_each(|i| i.for_each_operand(&mut count));
+    outputs
+        .iter()
+        .for_each(|o| o.entries.iter().for_each(|&e| count(e)));
+    uses
+}

@@ -12,19 +12,13 @@
 //! between entries (the sines and cosines of the angles, common products) live long. The
 //! values computed are unchanged to the bit: the same instructions on the same operands.
 
-use crate::program::instructions::{Instr, Operand, Output, defines};
+use crate::program::instructions::{Instr, Operand, Output, defines, register_count};
 
 /// `instrs` (in execution order) reordered depth first from the entries of `outputs`;
 /// instructions no output reads keep their relative order at the end (the dead-code pass
 /// drops them).
 pub(crate) fn schedule(instrs: &[Instr], outputs: &[Output]) -> Vec<Instr> {
-    let nregs = instrs
-        .iter()
-        .flat_map(defines)
-        .flatten()
-        .map(|r| r.index() + 1)
-        .max()
-        .unwrap_or(0);
+    let nregs = register_count(instrs);
     // The instruction defining each register.
     let mut def = vec![usize::MAX; nregs];
     for (k, i) in instrs.iter().enumerate() {
