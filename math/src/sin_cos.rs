@@ -161,7 +161,7 @@ fn off_the_fast_path(x: f64) -> (f64, f64) {
 /// where the build enables `avx2`; elsewhere each lane is a [`sin_cos`] call. The generated
 /// code calls it for the angles whose arguments are at hand together. Where a lane is off
 /// [`sin_cos`]'s inline path (|x| >= 2^20, -0.0, infinities, NaN), one rarely taken
-/// branch computes every lane by [`sin_cos`] itself.
+/// branch computes those lanes (with AVX-512, every lane) by [`sin_cos`] itself.
 ///
 /// # Example
 /// ```
@@ -187,15 +187,40 @@ pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; 
     // Bit i set where lane i took the inline path.
     let inline = lanes::<L, WIDE>(&x, &mut s, &mut c);
     if inline != u64::MAX >> (64 - L) {
-        return lane_by_lane(x);
+        // Measured both ways (BENCHMARKS.md): with AVX-512's 32 vector registers, recomputing
+        // every lane keeps the results in registers on the common path (the seed 3 % faster);
+        // with 16, merging the recomputed lanes back costs the chains' bodies more reloads
+        // than the two stores it saves (chain16 and chain32 5 to 11 % slower), so the lanes off the path
+        // are patched in memory.
+        if cfg!(target_feature = "avx512f") {
+            return lane_by_lane(x);
+        }
+        replace_platform_lanes(&x, inline, &mut s, &mut c);
     }
     (s, c)
 }
 
+/// The lanes off the inline path (bit i of `inline` clear) by [`sin_cos`], out of line.
+#[cold]
+#[inline(never)]
+fn replace_platform_lanes<const L: usize>(
+    x: &[f64; L],
+    inline: u64,
+    s: &mut [f64; L],
+    c: &mut [f64; L],
+) {
+    for i in 0..L {
+        if inline & (1 << i) == 0 {
+            (s[i], c[i]) = sin_cos(x[i]);
+        }
+    }
+}
+
 /// Every lane by [`sin_cos`], out of line: the rare case of [`sin_cos_lanes`] where a lane
 /// is off the inline path. Computing all of them again here, rather than replacing the
-/// lanes off the path in the vector results, keeps those results in registers on the
-/// common path (a call that writes into them would need them in memory first).
+/// lanes off the path in the vector results ([`replace_platform_lanes`]), keeps those
+/// results in registers on the common path (a call that writes into them needs them in
+/// memory first).
 #[cold]
 #[inline(never)]
 fn lane_by_lane<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
