@@ -1,6 +1,7 @@
 //! The no-std route (`portable`, libm) against the platform's f64 methods: sqrt and powi
-//! give the same bits; the transcendental functions are each faithfully rounded on both
-//! routes, so they differ by at most 1 ulp.
+//! give the same bits; exp, ln, tan, powf, sin and cos are faithfully rounded on both
+//! routes, so they differ by at most 1 ulp. libm's atan2 is not faithfully rounded
+//! everywhere (see [`atan2_two_ulps_from_glibc`]), so atan2 may differ by 2.
 
 use mechanism_math::portable;
 use proptest::prelude::*;
@@ -8,10 +9,23 @@ use proptest::prelude::*;
 use crate::ulps::ulps_apart;
 
 fn within_one_ulp(name: &str, x: f64, ours: f64, platform: f64) {
+    within_ulps(name, x, ours, platform, 1);
+}
+
+fn within_ulps(name: &str, x: f64, ours: f64, platform: f64, ulps: u64) {
     assert!(
-        ulps_apart(ours, platform) <= 1,
+        ulps_apart(ours, platform) <= ulps,
         "{name}({x:e}): libm {ours:e}, platform {platform:e}"
     );
+}
+
+/// The input where proptest found the two atan2s 2 ulps apart. Against the exact value
+/// (300-bit mpmath, -0.12498110518750559640...), libm's result is 1.50 ulp off and glibc's
+/// 0.50 ulp: libm's atan2 is not faithfully rounded here, and 2 ulps is the bound.
+#[test]
+fn atan2_two_ulps_from_glibc() {
+    let (y, x) = (-30.509_487_473_908_9, 242.840_437_459_907_5);
+    assert!(ulps_apart(portable::atan2(y, x), y.atan2(x)) <= 2);
 }
 
 proptest! {
@@ -31,7 +45,7 @@ proptest! {
     fn transcendental_functions_within_one_ulp(x in -700.0..700.0_f64, y in -50.0..50.0_f64) {
         within_one_ulp("exp", x, portable::exp(x), x.exp());
         within_one_ulp("tan", y, portable::tan(y), y.tan());
-        within_one_ulp("atan2", x, portable::atan2(y, x), y.atan2(x));
+        within_ulps("atan2", x, portable::atan2(y, x), y.atan2(x), 2);
         let a = x.abs() + 1e-300;
         within_one_ulp("ln", a, portable::ln(a), a.ln());
         let b = y.abs() / 10.0;
