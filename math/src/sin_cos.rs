@@ -187,11 +187,11 @@ pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; 
     // Bit i set where lane i took the inline path.
     let inline = lanes::<L, WIDE>(&x, &mut s, &mut c);
     if inline != u64::MAX >> (64 - L) {
-        // Measured both ways (BENCHMARKS.md): with AVX-512's 32 vector registers, recomputing
-        // every lane keeps the results in registers on the common path (the seed 3 % faster);
-        // with 16, merging the recomputed lanes back costs the chains' bodies more reloads
-        // than the two stores it saves (chain16 and chain32 5 to 11 % slower), so the lanes off the path
-        // are patched in memory.
+        // Measured both ways (BENCHMARKS.md): with AVX-512's 32 vector registers,
+        // recomputing every lane keeps the results in registers on the common path (the
+        // seed 3 % faster); with 16, merging the recomputed lanes back costs the chains'
+        // bodies more reloads than the two stores it saves (chain16 and chain32 5 to 11 %
+        // slower), so the lanes off the path are patched in memory.
         if cfg!(target_feature = "avx512f") {
             return lane_by_lane(x);
         }
@@ -200,7 +200,8 @@ pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; 
     (s, c)
 }
 
-/// The lanes off the inline path (bit i of `inline` clear) by [`sin_cos`], out of line.
+/// The lanes off the inline path (bit i of `inline` clear) by [`sin_cos`], out of line,
+/// written into `s` and `c` (the other lanes keep their values).
 #[cold]
 #[inline(never)]
 fn replace_platform_lanes<const L: usize>(

@@ -1,8 +1,9 @@
 //! How long each value of a program takes to compute, counted along its longest chain of
-//! dependent instructions: what [`super::scale`] shortens. The cycle counts are those of a current x86-64 core (Zen 3,
-//! Ice Lake: a sum or product 3 to 4 cycles, a fused multiply-add 4, a division about 13,
-//! a square root about 15); only their relative sizes matter here, and a call to a real
-//! function, `sin_cos` included, is long against all of them.
+//! dependent instructions: what [`super::scale`] shortens. The cycle counts are those of a
+//! current x86-64 core (Zen 3, Ice Lake: a sum or product 3 to 4 cycles, a fused
+//! multiply-add 4, a division about 13, a square root about 15); only their relative sizes
+//! matter here, and a call to a real function, `sin_cos` included, is long against all of
+//! them.
 
 use crate::program::instructions::{BinOp, Instr, Operand, UnOp, defines};
 

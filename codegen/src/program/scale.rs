@@ -1,4 +1,5 @@
-//! Scaling by a power of two moved onto the factor that is ready first.
+//! Scaling by a power of two moved onto the factor that depends on parameters only, or
+//! that is ready first.
 //!
 //! A derivation leaves products such as `2 (a b)`, with the constant applied last: the
 //! seed's C q' has 2 l2 qd1 qd2 sin(beta) cos(gamma), its three multiplications after the
