@@ -156,6 +156,8 @@ pub fn closed_chain_model(n: usize) -> Model {
         constraints,
         forces: vec![zero; n],
         drawing: Default::default(),
+        links: Vec::new(),
+        kinetic_from_links: false,
     }
 }
 

@@ -80,8 +80,9 @@ pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tok
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
-pub use mechanics::equations::{Equations, EvaluationOutput};
-pub use mechanics::lagrange::derive;
+pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
+pub use mechanics::lagrange::{Route, derive, derive_with};
+pub use mechanics::links::{Link, LinkJoint};
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{ResidualTangent, residual_tangent};

@@ -951,6 +951,11 @@ impl Arena {
                 return Ok(self.number(r));
             }
         }
+        if let Some(k) = self.half_pi_multiple(x)
+            && let Some(v) = exact_trig(f, k)
+        {
+            return Ok(self.int(v));
+        }
         if self.is_negative_form(x) && matches!(f, Func::Sin | Func::Tan | Func::Cos | Func::Abs) {
             let nx = self.neg(x);
             let inner = self.func_raw(f, nx);
@@ -960,6 +965,22 @@ impl Arena {
             });
         }
         Ok(self.func_raw(f, x))
+    }
+
+    /// k when `x` is exactly k pi/2 for an integer k (`pi`, `-pi/2`, `3*pi/2`, written
+    /// with exact rational coefficients; a float coefficient is not exact and never counts).
+    fn half_pi_multiple(&self, x: Id) -> Option<i64> {
+        match self.node(x) {
+            Node::Pi => Some(2),
+            Node::Mul(fs) if fs.len() == 2 && matches!(self.node(fs[1]), Node::Pi) => {
+                let c = self.as_number(fs[0])?;
+                if c.is_float() {
+                    return None;
+                }
+                c.checked_mul(Number::int(2))?.as_integer()
+            }
+            _ => None,
+        }
     }
 
     /// sin x.
@@ -1009,5 +1030,17 @@ impl Arena {
             }
         }
         false
+    }
+}
+
+/// sin, cos and tan of k pi/2, exactly: 0, 1 or -1 (tan only at multiples of pi, where it
+/// is 0; at odd multiples of pi/2 it has a pole and stays symbolic, for evaluation to report).
+fn exact_trig(f: Func, k: i64) -> Option<i64> {
+    let r = k.rem_euclid(4);
+    match f {
+        Func::Sin => Some([0, 1, 0, -1][r as usize]),
+        Func::Cos => Some([1, 0, -1, 0][r as usize]),
+        Func::Tan if r % 2 == 0 => Some(0),
+        _ => None,
     }
 }

@@ -204,6 +204,19 @@ impl Matrix {
         })
     }
 
+    /// True when this is a square identity matrix, entry by entry as constants.
+    pub fn is_identity(&self, arena: &Arena) -> bool {
+        self.rows == self.cols
+            && self.data.iter().enumerate().all(|(k, &e)| {
+                let want = if k / self.cols == k % self.cols {
+                    1.0
+                } else {
+                    0.0
+                };
+                e.index() < arena.len() && arena.as_number(e).is_some_and(|n| n.to_f64() == want)
+            })
+    }
+
     /// True when every entry is the constant 0.
     pub fn is_zero(&self, arena: &Arena) -> bool {
         self.data

@@ -310,6 +310,14 @@ pub enum DeclarationError {
         /// The evaluation error.
         error: Box<Error>,
     },
+    /// A `link` that breaks a rule of links (its parent, joint, inertia or limits).
+    #[error("link `{link}`: {problem}")]
+    Link {
+        /// The link.
+        link: String,
+        /// What is wrong, and what to write instead.
+        problem: String,
+    },
     /// An axis `[0, 0, 0]`.
     #[error("an axis cannot be the zero vector")]
     ZeroAxis,

@@ -15,6 +15,7 @@ use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
+use crate::mechanics::links::{LinkContext, build_link};
 use crate::mechanics::model::{Constraint, Model};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::ast::Ast;
@@ -204,6 +205,8 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         .collect();
     moving.extend(model.arena.as_symbol(model.time));
     let mut drawing = None;
+    let mut links: Vec<crate::mechanics::links::Link> = Vec::new();
+    let mut orientations: Vec<Orientation> = Vec::new();
     for item in &bodies.items {
         let arena = &mut model.arena;
         match item {
@@ -277,6 +280,29 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                     });
                 }
             }
+            BodyItem::Link { name, at, entries } => {
+                let cx = LinkContext {
+                    known: &known,
+                    coordinates: &model.coordinates,
+                    links: &links,
+                    orientations: &orientations,
+                    names: &scope,
+                };
+                let built = build_link(arena, name, *at, entries, &cx)?;
+                define(&mut scope, name, *at, built.link.position)?;
+                for (pname, pat, v, point) in built.vectors {
+                    if point {
+                        define(&mut scope, &pname, pat, v)?;
+                    } else {
+                        let frame = axis_frame(arena, &v, &built.link.rotation, &known, pat)?;
+                        define(&mut scope, &pname, pat, frame.direction)?;
+                        scope.axes.insert(pname, frame);
+                    }
+                }
+                system.bodies.extend(built.body);
+                links.push(built.link);
+                orientations.push(built.orientation);
+            }
             BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
             BodyItem::Draw(d) => {
                 if drawing.is_some() {
@@ -293,6 +319,13 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         }
     }
     model.drawing = drawing.unwrap_or_default();
+    model.kinetic_from_links = !links.is_empty()
+        && model.arena.is_zero(model.kinetic)
+        && !bodies
+            .items
+            .iter()
+            .any(|i| matches!(i, BodyItem::Body { .. }));
+    model.links = links;
     add_body_terms(model, &system)?;
     model.constraints.extend(rows);
     Ok(())
@@ -302,6 +335,11 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
 fn named_at(bodies: &Bodies, name: &str) -> Option<Location> {
     bodies.items.iter().find_map(|i| match i {
         BodyItem::Body {
+            name: n,
+            at,
+            entries,
+        }
+        | BodyItem::Link {
             name: n,
             at,
             entries,

@@ -138,6 +138,8 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         constraints,
         forces,
         drawing: Default::default(),
+        links: Vec::new(),
+        kinetic_from_links: false,
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })

@@ -39,6 +39,26 @@ pub struct Equations {
     pub kinetic: Id,
     /// Pi.
     pub potential: Id,
+    /// The inverse dynamics tau_id(t, q, q', q'') = M q'' + C q' + g - tau (n x 1): the
+    /// effort that, with the declared forces and no constraint forces, produces q''. In the
+    /// acceleration symbols `der2(q)`.
+    pub inverse_dynamics: Matrix,
+    /// The frames of the declared links, in declaration order (empty without links).
+    pub frames: Vec<FrameEquations>,
+}
+
+/// The placement and Jacobian of one link frame.
+#[derive(Clone, Debug)]
+pub struct FrameEquations {
+    /// The link's name.
+    pub name: String,
+    /// R (3x3): the link axes in world axes.
+    pub rotation: Matrix,
+    /// p (3x1): the link origin in the world.
+    pub position: Matrix,
+    /// J (6 x n): [v; w] = J q' + [v_t; w_t], with v the velocity of the link origin and w
+    /// the angular velocity, both in world axes (Pinocchio's LOCAL_WORLD_ALIGNED).
+    pub jacobian: Matrix,
 }
 
 /// One output of the combined evaluation program: the emitted `evaluate` and the

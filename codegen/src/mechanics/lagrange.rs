@@ -26,9 +26,10 @@ use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
-use crate::mechanics::equations::Equations;
+use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::model::Model;
+use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
 struct Symbols {
@@ -109,9 +110,27 @@ fn reject_dependence(
 /// [`Error::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
 /// acceleration, or T or a force on an acceleration;
 /// [`Error::InvalidId`] for a foreign id; differentiation errors.
+pub fn derive(model: &mut Model) -> Result<Equations> {
+    derive_with(model, Route::Auto)
+}
+
+/// Which derivation [`derive_with`] takes for M and C q'.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Route {
+    /// The recursive route (composite bodies, Newton-Euler) where the links carry all of T,
+    /// Khang's calculus over T otherwise.
+    Auto,
+    /// Khang's calculus over T always (the reference the recursive route is tested against).
+    Lagrange,
+}
+
+/// [`derive`] with the route chosen.
+///
+/// # Errors
+/// As [`derive`].
 // One function: the module's formulas in order (M, C, C q', g, Phi, Phi_q, Phi_t, gamma),
 // each a few lines sharing one Differentiator, so that derivatives are memoised across them.
-pub fn derive(model: &mut Model) -> Result<Equations> {
+pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
     if n == 0 {
@@ -123,7 +142,12 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
             coordinates: n,
         });
     }
-    let (kinetic, potential) = (model.kinetic, model.potential);
+    let tree = if route == Route::Auto && model.kinetic_from_links {
+        Some(tree_equations(model)?)
+    } else {
+        None
+    };
+    let (mut kinetic, potential) = (model.kinetic, model.potential);
     let arena = &mut model.arena;
     for &id in [kinetic, potential]
         .iter()
@@ -143,8 +167,11 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
         reject_dependence(arena, &mut d, c.expr, &rates, "constraint")?;
     }
 
-    // M = d2T/dq'dq' (upper triangle, mirrored).
-    let momenta = d.gradient(arena, kinetic, &s.qd)?;
+    // M = d2T/dq'dq' (upper triangle, mirrored), or by composite bodies.
+    let momenta = match &tree {
+        Some(_) => Vec::new(),
+        None => d.gradient(arena, kinetic, &s.qd)?,
+    };
     let mut mass = Matrix::zeros(arena, n, n);
     for (i, &p) in momenta.iter().enumerate() {
         for j in i..n {
@@ -152,6 +179,11 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
             mass.set(i, j, mij);
             mass.set(j, i, mij);
         }
+    }
+    if let Some(t) = &tree {
+        mass = t.mass.clone();
+        // T = 1/2 q'^T M q' from the same entries (the links' T is this quadratic form).
+        kinetic = quadratic_form(arena, &mass, &s);
     }
     let view = ModelView {
         coordinates: &model.coordinates,
@@ -162,7 +194,9 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
     check_mass(arena, &mut d, &mass, &view)?;
 
     let coriolis_matrix = khang_coriolis_matrix(arena, &mut d, &mass, &s)?;
-    let coriolis_forces = if is_quadratic_form(arena, &mut d, kinetic, &momenta, &mass, &s)? {
+    let coriolis_forces = if let Some(t) = &tree {
+        t.coriolis_forces.clone()
+    } else if is_quadratic_form(arena, &mut d, kinetic, &momenta, &mass, &s)? {
         lean_coriolis_forces(arena, &mut d, &mass, &s)?
     } else {
         let mut h = Vec::with_capacity(n);
@@ -191,6 +225,28 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
         }
     }
     let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
+    // tau_id = M q'' + C q' + g - tau.
+    let inertial = match &tree {
+        Some(t) => t.inertial_forces.clone(),
+        None => {
+            let qdd = Symbols::column(arena, &s.qdd);
+            mass.mul(arena, &qdd)?.add(arena, &coriolis_forces)?
+        }
+    };
+    let inverse_dynamics = inertial.add(arena, &gravity)?.sub(arena, &forces)?;
+    let frames = (0..model.links.len())
+        .map(|l| {
+            let link = &model.links[l];
+            let (name, rotation, position) =
+                (link.name.clone(), link.rotation.clone(), link.position);
+            FrameEquations {
+                name,
+                rotation,
+                position: Matrix::column(position.to_vec()),
+                jacobian: frame_jacobian(arena, &model.links, l, n),
+            }
+        })
+        .collect();
     if let Some(o) = arena.take_overflow() {
         return Err(Error::DerivationOverflow {
             mechanism: model.name.clone(),
@@ -211,7 +267,25 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
         gamma,
         kinetic,
         potential,
+        inverse_dynamics,
+        frames,
     })
+}
+
+/// 1/2 q'^T M q', each pair once: sum_i 1/2 M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j'.
+fn quadratic_form(arena: &mut Arena, mass: &Matrix, s: &Symbols) -> Id {
+    let n = s.qd.len();
+    let half = arena.rational(1, 2).unwrap_or_else(|_| arena.int(0));
+    let mut terms = Vec::with_capacity(n * (n + 1) / 2);
+    for i in 0..n {
+        let qi = arena.symbol_node(s.qd[i]);
+        for j in i..n {
+            let qj = arena.symbol_node(s.qd[j]);
+            let c = if i == j { half } else { arena.int(1) };
+            terms.push(arena.mul(&[c, mass.get(i, j), qi, qj]));
+        }
+    }
+    arena.add(&terms)
 }
 
 /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T

@@ -3,6 +3,7 @@
 use crate::algebra::expr::{Arena, Id};
 use crate::error::Location;
 use crate::mechanics::drawing::Drawing;
+use crate::mechanics::links::Link;
 
 /// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
 #[derive(Clone, Debug)]
@@ -110,4 +111,10 @@ pub struct Model {
     pub forces: Vec<Id>,
     /// The declared drawing (`draw { .. }`), empty when there is none.
     pub drawing: Drawing,
+    /// The links of a kinematic tree (`link` sections), parents before children; empty
+    /// when the declaration has none.
+    pub links: Vec<Link>,
+    /// True when the links carry all of T (no `body`, no `kinetic`): then [`crate::derive`]
+    /// takes the recursive route (`mechanics::recursive`) for M and C q'.
+    pub kinetic_from_links: bool,
 }

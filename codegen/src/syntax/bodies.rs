@@ -13,12 +13,22 @@
 //!                     "coefficient" "=" vexpr ";" "}"
 //!               | "joints" "{" (joint ";")* "}"
 //!               | "draw" "{" .. "}"                           lines through points (syntax::draw)
+//!               | "link" NAME "{" (link_item ";")* "}"       a frame of a kinematic tree
 //! body_item    := "mass" "=" vexpr                            m
 //!               | "position" "=" vexpr                        centre of mass r(q, t), world
 //!               | "orientation" "=" vexpr                     R = F_1 * F_2 * ... (body to world)
 //!               | "inertia" "=" vexpr                         3x3 about the centre, body axes
 //!               | "point" NAME "=" vexpr                      body coordinates p: world r + R p
 //!               | "axis" NAME "=" vexpr                       body direction a: world R a
+//! link_item    := "parent" "=" NAME                           a link above, or `world` (default)
+//!               | "joint" "=" KIND "(" COORD "," vexpr ")"     KIND: revolute, continuous,
+//!                                                              prismatic; the axis in the joint frame
+//!               | "joint" "=" "fixed"                         (the default)
+//!               | "xyz" "=" vexpr | "rpy" "=" vexpr           joint frame in the parent frame
+//!               | "limit" "=" vexpr | "velocity_limit" "=" expr | "effort_limit" "=" expr
+//!               | "mass" "=" vexpr | "com" "=" vexpr | "com_rpy" "=" vexpr
+//!               | "inertia" "=" vexpr                         about the com, com_rpy axes
+//!               | "point" NAME "=" vexpr | "axis" NAME "=" vexpr   link-frame coordinates
 //! joint        := "spherical" "(" P "," Q ")"                 3 rows: P - Q
 //!               | "revolute" "(" P "," Q "," a "," b ")"      5 rows: P - Q, a parallel to b
 //!               | "prismatic" "(" P "," Q "," a "," b ")"     5 rows
@@ -45,7 +55,7 @@ use crate::syntax::lex::{Cursor, Tok, block, name};
 
 /// The top-level keywords of the body sections.
 pub(crate) const BODY_SECTIONS: &[&str] = &[
-    "body", "gravity", "point", "axis", "spring", "damper", "joints", "draw",
+    "body", "gravity", "point", "axis", "spring", "damper", "joints", "draw", "link",
 ];
 
 /// True when `keyword` starts a body section.
@@ -89,6 +99,12 @@ pub(crate) enum BodyItem {
     },
     Joint(Joint),
     Draw(DrawSection),
+    /// A link of a kinematic tree (see [`crate::mechanics::links`]).
+    Link {
+        name: String,
+        at: Location,
+        entries: Vec<Entry>,
+    },
 }
 
 /// A constraint statement of `joints`.
@@ -107,15 +123,19 @@ pub(crate) struct Bodies {
 impl Bodies {
     /// True when bodies or springs declare energy (then `kinetic` may be left out).
     pub(crate) fn declares_energy(&self) -> bool {
-        self.items
-            .iter()
-            .any(|i| matches!(i, BodyItem::Body { .. } | BodyItem::Spring { .. }))
+        self.items.iter().any(|i| {
+            matches!(
+                i,
+                BodyItem::Body { .. } | BodyItem::Spring { .. } | BodyItem::Link { .. }
+            )
+        })
     }
 
     /// The location of the first body item, if any.
     pub(crate) fn first_location(&self) -> Option<Location> {
         self.items.first().map(|i| match i {
             BodyItem::Body { at, .. }
+            | BodyItem::Link { at, .. }
             | BodyItem::Spring { at, .. }
             | BodyItem::Damper { at, .. }
             | BodyItem::Gravity(_, at)
@@ -131,7 +151,7 @@ impl Bodies {
         let mut vectors: Vec<&str> = Vec::new();
         for i in &self.items {
             match i {
-                BodyItem::Body { name, entries, .. } => {
+                BodyItem::Body { name, entries, .. } | BodyItem::Link { name, entries, .. } => {
                     vectors.push(name);
                     for e in entries {
                         if let Some(n) = &e.name {
@@ -188,11 +208,16 @@ pub(crate) fn parse_body_section(
                 BodyItem::Axis(name, nat, v)
             });
         }
-        "body" | "spring" | "damper" => {
+        "body" | "spring" | "damper" | "link" => {
             let (name, nat) = name(c, keyword)?;
             let entries = block(c, |c| entry(c, keyword))?;
             bodies.items.push(match keyword {
                 "body" => BodyItem::Body {
+                    name,
+                    at: nat,
+                    entries,
+                },
+                "link" => BodyItem::Link {
                     name,
                     at: nat,
                     entries,
@@ -229,6 +254,21 @@ fn keys(block: &str) -> &'static [&'static str] {
             "point",
             "axis",
         ],
+        "link" => &[
+            "parent",
+            "joint",
+            "xyz",
+            "rpy",
+            "limit",
+            "velocity_limit",
+            "effort_limit",
+            "mass",
+            "com",
+            "com_rpy",
+            "inertia",
+            "point",
+            "axis",
+        ],
         "spring" => &["between", "stiffness", "free_length"],
         _ => &["between", "coefficient"],
     }
@@ -251,6 +291,15 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
     };
     let written = key.clone();
     c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+    if block == "link" && key == "joint" {
+        let value = vec![link_joint(c)?];
+        return Ok(Entry {
+            key,
+            name: None,
+            at,
+            value,
+        });
+    }
     let mut value = vec![parse(c, Language::Vector)?];
     if key == "between" {
         c.expect(&Tok::Punct(','), Expected::BetweenComma)?;
@@ -262,6 +311,23 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
         at,
         value,
     })
+}
+
+/// A link's joint: `fixed`, or `KIND(COORDINATE, axis)` as a call (its kind and arguments
+/// are checked when the link is built, `mechanics::links`).
+fn link_joint(c: &mut Cursor<'_>) -> Result<Ast> {
+    let (kind, at) = name(c, "joint")?;
+    if !c.eat(&Tok::Open(crate::syntax::lex::Delim::Paren)) {
+        return Ok(Ast::Name(kind, at));
+    }
+    let (q, qat) = name(c, "joint")?;
+    c.expect(&Tok::Punct(','), Expected::ArgumentSeparator)?;
+    let axis = parse(c, Language::Vector)?;
+    c.expect(
+        &Tok::Close(crate::syntax::lex::Delim::Paren),
+        Expected::ArgumentSeparator,
+    )?;
+    Ok(Ast::Call(kind, vec![Ast::Name(q, qat), axis], at))
 }
 
 fn joint(c: &mut Cursor<'_>) -> Result<Joint> {

@@ -23,4 +23,5 @@ pub(crate) mod declaration;
 pub(crate) mod draw;
 pub(crate) mod expression;
 pub(crate) mod lex;
+pub(crate) mod links;
 pub(crate) mod spelling;

@@ -287,5 +287,7 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         constraints: vec![],
         forces: vec![zero, zero],
         drawing: Default::default(),
+        links: Vec::new(),
+        kinetic_from_links: false,
     }
 }

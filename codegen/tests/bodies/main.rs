@@ -5,3 +5,4 @@ mod bodies_chain;
 mod bodies_grammar;
 mod bodies_rotation;
 mod bodies_rssr;
+mod links_tree;

@@ -297,6 +297,8 @@ pub fn bare_model(
             .collect(),
         forces: vec![zero; coords.len()],
         drawing: Default::default(),
+        links: Vec::new(),
+        kinetic_from_links: false,
     }
 }
 

@@ -1,0 +1,553 @@
+//! Links: frames of a kinematic tree, each placed relative to its parent (as in URDF).
+//!
+//! For link i with parent p (or the world), joint origin (xyz_i, rpy_i) and joint axis a_i
+//! (a unit vector in the joint frame):
+//! - E_i = rot_z(yaw) rot_y(pitch) rot_x(roll), the joint frame's axes in the parent frame;
+//! - the joint motion J_i(q_i): rot(a_i, q_i) for `revolute`/`continuous`, a translation
+//!   a_i q_i for `prismatic`, the identity for `fixed`;
+//! - relative to the parent: R_i = E_i J_i, o_i = xyz_i (+ E_i a_i q_i when prismatic);
+//! - in the world: R_w,i = R_w,p R_i, p_w,i = p_w,p + R_w,p o_i.
+//!
+//! The inertia is declared as in URDF: mass m, centre of mass c (`com`, link frame), the
+//! tensor I_c about c in the axes rotated by `com_rpy`. The recursive route uses it about
+//! the link origin in link axes: h = m c (first moment) and
+//! I_o = R_c I_c R_c^T + m (|c|^2 1 - c c^T).
+//!
+//! Each link with mass is also a [`Body`] (centre p_w + R_w c, orientation R_w R_c), so
+//! the energy route (Khang's calculus over T and Pi) applies to the same declaration and
+//! checks the recursive one. Points and axes of a link are in link-frame coordinates.
+
+use crate::algebra::eval::eval;
+use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
+use crate::algebra::matrix::Matrix;
+use crate::algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
+use crate::error::{DeclarationError, Error, Location, Quantity, Result};
+use crate::mechanics::bodies::Body;
+use crate::mechanics::body_checks::{check_inertia, check_mass};
+use crate::mechanics::model::Coordinate;
+use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
+use crate::syntax::ast::Ast;
+use crate::syntax::bodies::Entry;
+use crate::syntax::links::MOVING_JOINTS;
+
+/// How a link moves relative to its parent.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum LinkJoint {
+    /// Rigidly attached.
+    Fixed,
+    /// Turns by q about the unit axis (joint frame).
+    Revolute {
+        /// Index of q in the model's coordinates.
+        coordinate: usize,
+        /// The unit axis a, joint frame (= link frame).
+        axis: Vec3,
+    },
+    /// Slides by q along the unit axis (joint frame).
+    Prismatic {
+        /// Index of q in the model's coordinates.
+        coordinate: usize,
+        /// The unit axis a, joint frame (= link frame).
+        axis: Vec3,
+    },
+}
+
+impl LinkJoint {
+    /// The coordinate of a moving joint.
+    pub fn coordinate(&self) -> Option<usize> {
+        match self {
+            LinkJoint::Fixed => None,
+            LinkJoint::Revolute { coordinate, .. } | LinkJoint::Prismatic { coordinate, .. } => {
+                Some(*coordinate)
+            }
+        }
+    }
+}
+
+/// One link of the tree (module docs for the symbols).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Link {
+    /// Name, as declared.
+    pub name: String,
+    /// Index of the parent link; `None`: the world.
+    pub parent: Option<usize>,
+    /// The joint to the parent.
+    pub joint: LinkJoint,
+    /// E, the joint frame's axes in the parent frame (3x3, constant).
+    pub origin_rotation: Matrix,
+    /// xyz, the joint frame's origin in the parent frame.
+    pub origin: Vec3,
+    /// m (0 for a massless frame).
+    pub mass: Id,
+    /// h = m c, link frame.
+    pub first_moment: Vec3,
+    /// I_o, the inertia about the link origin in link axes (3x3).
+    pub inertia: Matrix,
+    /// R_w: link axes in world axes (3x3).
+    pub rotation: Matrix,
+    /// p_w: the link origin in the world.
+    pub position: Vec3,
+    /// `limit = [lower, upper]`, when declared.
+    pub limit: Option<[f64; 2]>,
+    /// `velocity_limit`, when declared.
+    pub velocity_limit: Option<f64>,
+    /// `effort_limit`, when declared.
+    pub effort_limit: Option<f64>,
+    /// Where the link is declared.
+    pub location: Location,
+}
+
+/// What building one link gives besides the [`Link`]: its body (when it has mass), its
+/// orientation (for the links below it) and its points and axes in world coordinates.
+pub(crate) struct BuiltLink {
+    pub(crate) link: Link,
+    pub(crate) body: Option<Body>,
+    pub(crate) orientation: Orientation,
+    /// (name, location, world vector, true for a point / false for an axis direction).
+    pub(crate) vectors: Vec<(String, Location, Vec3, bool)>,
+}
+
+fn link_error(link: &str, problem: String, at: Location) -> Error {
+    let kind = DeclarationError::Link {
+        link: link.to_string(),
+        problem,
+    };
+    Error::declaration(kind, at)
+}
+
+/// The value of a numeric constant (parameters at their defaults).
+fn constant(
+    arena: &Arena,
+    id: Id,
+    known: &[(SymbolId, f64)],
+    link: &str,
+    what: &str,
+    at: Location,
+) -> Result<f64> {
+    let env = |s: SymbolId| known.iter().find(|k| k.0 == s).map(|k| k.1);
+    eval(arena, id, &env).map_err(|e| {
+        link_error(
+            link,
+            format!("{what} must be a constant (parameters allowed): {e}"),
+            at,
+        )
+    })
+}
+
+/// rot_z(yaw) rot_y(pitch) rot_x(roll), the URDF convention (fixed axes x, y, z).
+pub(crate) fn rpy_matrix(arena: &mut Arena, rpy: &Vec3) -> Result<Matrix> {
+    let z = elementary_rotation(arena, Axis::Z, rpy[2]);
+    let y = elementary_rotation(arena, Axis::Y, rpy[1]);
+    let x = elementary_rotation(arena, Axis::X, rpy[0]);
+    z.mul(arena, &y)?.mul(arena, &x)
+}
+
+/// rot(a, q) for a unit axis a: e_k axes give the elementary rotation (of -q for -e_k),
+/// others Rodrigues' formula R = cos q 1 + sin q [a]x + (1 - cos q) a a^T.
+pub(crate) fn joint_rotation(arena: &mut Arena, axis: &Vec3, q: Id) -> (Matrix, RotationFactor) {
+    if let Some((k, sign)) = unit_axis(arena, axis) {
+        let ax = [Axis::X, Axis::Y, Axis::Z][k];
+        let angle = if sign < 0 { arena.neg(q) } else { q };
+        return (
+            elementary_rotation(arena, ax, angle),
+            RotationFactor::Elementary(ax, angle),
+        );
+    }
+    let (c, s) = (arena.cos(q), arena.sin(q));
+    let one = arena.int(1);
+    let omc = arena.sub(one, c);
+    let mut data = Vec::with_capacity(9);
+    for i in 0..3 {
+        for j in 0..3 {
+            let aa = arena.mul(&[omc, axis[i], axis[j]]);
+            let diag = if i == j { c } else { arena.int(0) };
+            // [a]x_ij: (0, -a3, a2; a3, 0, -a1; -a2, a1, 0).
+            let skew = match (i, j) {
+                (0, 1) => arena.neg(axis[2]),
+                (0, 2) => axis[1],
+                (1, 0) => axis[2],
+                (1, 2) => arena.neg(axis[0]),
+                (2, 0) => arena.neg(axis[1]),
+                (2, 1) => axis[0],
+                _ => arena.int(0),
+            };
+            let ss = arena.mul2(s, skew);
+            data.push(arena.add(&[diag, ss, aa]));
+        }
+    }
+    let m = Matrix::from_fn(3, 3, |i, j| data[3 * i + j]);
+    (m.clone(), RotationFactor::Explicit(m))
+}
+
+/// (k, sign) when `axis` is exactly ±e_k.
+fn unit_axis(arena: &Arena, axis: &Vec3) -> Option<(usize, i32)> {
+    let vals: Vec<f64> = axis
+        .iter()
+        .map(|&a| arena.as_number(a).map(|n| n.to_f64()))
+        .collect::<Option<_>>()?;
+    let k = vals.iter().position(|v| *v != 0.0)?;
+    let others_zero = vals.iter().enumerate().all(|(i, v)| i == k || *v == 0.0);
+    (others_zero && vals[k].abs() == 1.0).then_some((k, if vals[k] < 0.0 { -1 } else { 1 }))
+}
+
+fn mat_vec(arena: &mut Arena, m: &Matrix, v: &Vec3) -> Result<Vec3> {
+    let r = m.mul(arena, &Matrix::column(v.to_vec()))?;
+    Ok([r.get(0, 0), r.get(1, 0), r.get(2, 0)])
+}
+
+fn add3(arena: &mut Arena, a: &Vec3, b: &Vec3) -> Vec3 {
+    [0, 1, 2].map(|i| arena.add2(a[i], b[i]))
+}
+
+/// The context a link is built in.
+pub(crate) struct LinkContext<'a> {
+    pub(crate) known: &'a [(SymbolId, f64)],
+    pub(crate) coordinates: &'a [Coordinate],
+    pub(crate) links: &'a [Link],
+    pub(crate) orientations: &'a [Orientation],
+    pub(crate) names: &'a dyn VectorNames,
+}
+
+// One function: one step per link key, in the order in which later ones need earlier ones.
+pub(crate) fn build_link(
+    arena: &mut Arena,
+    name: &str,
+    at: Location,
+    entries: &[Entry],
+    cx: &LinkContext<'_>,
+) -> Result<BuiltLink> {
+    let take = |key: &str| -> Result<Option<&Entry>> {
+        let mut found = entries.iter().filter(|e| e.key == key);
+        let first = found.next();
+        if let Some(second) = found.next() {
+            let kind = DeclarationError::GivenTwice {
+                key: key.to_string(),
+                owner: name.to_string(),
+            };
+            return Err(Error::declaration(kind, second.at));
+        }
+        Ok(first)
+    };
+    let vector = |arena: &mut Arena, key: &str| -> Result<Option<Vec3>> {
+        match take(key)? {
+            Some(e) => {
+                let m = vector_value(arena, &e.value[0], cx.names)?;
+                Ok(Some(vec3(&m, Quantity::Entry(key.to_string()), e.at)?))
+            }
+            None => Ok(None),
+        }
+    };
+    let zero3 = |arena: &mut Arena| [arena.int(0), arena.int(0), arena.int(0)];
+    let parent = match take("parent")? {
+        None => None,
+        Some(e) => match &e.value[0] {
+            Ast::Name(p, _) if p == "world" => None,
+            Ast::Name(p, pat) => match cx.links.iter().position(|l| &l.name == p) {
+                Some(k) => Some(k),
+                None => {
+                    let known: Vec<&str> = cx.links.iter().map(|l| l.name.as_str()).collect();
+                    let problem = format!(
+                        "its parent `{p}` is not a link declared above it (links above: {}; or `world`)",
+                        if known.is_empty() {
+                            "none".to_string()
+                        } else {
+                            known.join(", ")
+                        }
+                    );
+                    return Err(link_error(name, problem, *pat));
+                }
+            },
+            other => {
+                let problem = format!(
+                    "`parent` names a link declared above it, or `world`; found `{}`",
+                    other.text()
+                );
+                return Err(link_error(name, problem, other.location()));
+            }
+        },
+    };
+    let joint_entry = take("joint")?;
+    let mut joint = LinkJoint::Fixed;
+    if let Some(e) = joint_entry {
+        match &e.value[0] {
+            Ast::Name(f, _) if f == "fixed" => {}
+            Ast::Call(kind, args, kat) if MOVING_JOINTS.contains(&kind.as_str()) => {
+                let Some(Ast::Name(q, qat)) = args.first().filter(|_| args.len() == 2) else {
+                    let problem = format!(
+                        "write `joint = {kind}(COORDINATE, [ax, ay, az]);`: the joint's coordinate and its axis in the joint frame"
+                    );
+                    return Err(link_error(name, problem, *kat));
+                };
+                let coordinate = cx
+                    .coordinates
+                    .iter()
+                    .position(|c| &c.name == q)
+                    .ok_or_else(|| link_error(name, format!("`{q}` is not a coordinate"), *qat))?;
+                if let Some(other) = cx
+                    .links
+                    .iter()
+                    .find(|l| l.joint.coordinate() == Some(coordinate))
+                {
+                    let problem = format!(
+                        "the coordinate `{q}` already moves the joint of link `{}`",
+                        other.name
+                    );
+                    return Err(link_error(name, problem, *qat));
+                }
+                let m = vector_value(arena, &args[1], cx.names)?;
+                let a = vec3(&m, Quantity::Entry("joint axis".into()), args[1].location())?;
+                let mut v = [0.0; 3];
+                for (k, x) in v.iter_mut().enumerate() {
+                    *x = constant(
+                        arena,
+                        a[k],
+                        cx.known,
+                        name,
+                        "the joint axis",
+                        args[1].location(),
+                    )?;
+                }
+                let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                if !(norm > 0.0) || !norm.is_finite() {
+                    let problem = "the joint axis is the zero vector".to_string();
+                    return Err(link_error(name, problem, args[1].location()));
+                }
+                let axis = if norm == 1.0 {
+                    a
+                } else {
+                    let mut out = a;
+                    for (k, o) in out.iter_mut().enumerate() {
+                        *o = arena.float(v[k] / norm)?;
+                    }
+                    out
+                };
+                joint = if kind == "prismatic" {
+                    LinkJoint::Prismatic { coordinate, axis }
+                } else {
+                    LinkJoint::Revolute { coordinate, axis }
+                };
+            }
+            other => {
+                let problem = format!(
+                    "unknown joint `{}`: write `fixed`, or revolute, continuous or prismatic(COORDINATE, [ax, ay, az])",
+                    other.text()
+                );
+                return Err(link_error(name, problem, other.location()));
+            }
+        }
+    }
+    let origin = match vector(arena, "xyz")? {
+        Some(v) => v,
+        None => zero3(arena),
+    };
+    let origin_rotation = match vector(arena, "rpy")? {
+        Some(v) => rpy_matrix(arena, &v)?,
+        None => Matrix::identity(arena, 3),
+    };
+    // Joint motion and the link relative to its parent.
+    let (mut factors, parent_rotation, parent_position) = match parent {
+        Some(p) => (
+            cx.orientations[p].factors.clone(),
+            cx.links[p].rotation.clone(),
+            cx.links[p].position,
+        ),
+        None => (Vec::new(), Matrix::identity(arena, 3), zero3(arena)),
+    };
+    if !origin_rotation.is_identity(arena) {
+        factors.push(RotationFactor::Explicit(origin_rotation.clone()));
+    }
+    let mut relative_rotation = origin_rotation.clone();
+    let mut relative_origin = origin;
+    match &joint {
+        LinkJoint::Fixed => {}
+        LinkJoint::Revolute { coordinate, axis } => {
+            let q = cx.coordinates[*coordinate].q;
+            let (m, f) = joint_rotation(arena, axis, q);
+            relative_rotation = origin_rotation.mul(arena, &m)?;
+            factors.push(f);
+        }
+        LinkJoint::Prismatic { coordinate, axis } => {
+            let q = cx.coordinates[*coordinate].q;
+            let aq = axis.map(|a| arena.mul2(a, q));
+            let slide = mat_vec(arena, &origin_rotation, &aq)?;
+            relative_origin = add3(arena, &origin, &slide);
+        }
+    }
+    let rotation = parent_rotation.mul(arena, &relative_rotation)?;
+    let moved = mat_vec(arena, &parent_rotation, &relative_origin)?;
+    let position = add3(arena, &parent_position, &moved);
+    let orientation = Orientation { factors };
+
+    // Inertia.
+    let mass = match take("mass")? {
+        Some(e) => {
+            let m = vector_value(arena, &e.value[0], cx.names)?;
+            let m = scalar(&m, Quantity::Mass, e.at)?;
+            check_mass(arena, name, m, cx.known, e.at)?;
+            Some(m)
+        }
+        None => None,
+    };
+    let com = vector(arena, "com")?;
+    let com_rotation = match vector(arena, "com_rpy")? {
+        Some(v) => rpy_matrix(arena, &v)?,
+        None => Matrix::identity(arena, 3),
+    };
+    let inertia_entry = take("inertia")?;
+    let inertia_c = match inertia_entry {
+        Some(e) => {
+            if mass.is_none() {
+                let problem = "declares an inertia but no mass: add `mass = ...;`".to_string();
+                return Err(link_error(name, problem, e.at));
+            }
+            let m = vector_value(arena, &e.value[0], cx.names)?;
+            if (m.rows(), m.cols()) != (3, 3) {
+                let (rows, cols) = (m.rows(), m.cols());
+                let kind = DeclarationError::InertiaNot3x3 { rows, cols };
+                return Err(Error::declaration(kind, e.at));
+            }
+            check_inertia(arena, name, &m, cx.known, e.at)?;
+            Some(m)
+        }
+        None => None,
+    };
+    let c = match com {
+        Some(c) => c,
+        None => zero3(arena),
+    };
+    let m = match mass {
+        Some(m) => m,
+        None => arena.int(0),
+    };
+    let first_moment = c.map(|ci| arena.mul2(m, ci));
+    // I_o = R_c I_c R_c^T + m (|c|^2 1 - c c^T).
+    let mut inertia = match &inertia_c {
+        Some(ic) => com_rotation
+            .mul(arena, ic)?
+            .mul(arena, &com_rotation.transpose()?)?,
+        None => Matrix::zeros(arena, 3, 3),
+    };
+    let cc = {
+        let sq: Vec<Id> = c.iter().map(|&x| arena.mul2(x, x)).collect();
+        arena.add(&sq)
+    };
+    for i in 0..3 {
+        for j in 0..3 {
+            let cij = arena.mul2(c[i], c[j]);
+            let shift = if i == j {
+                arena.sub(cc, cij)
+            } else {
+                arena.neg(cij)
+            };
+            let shift = arena.mul2(m, shift);
+            let v = arena.add2(inertia.get(i, j), shift);
+            inertia.set(i, j, v);
+        }
+    }
+    let body = match mass {
+        Some(mass) => {
+            let rc = mat_vec(arena, &rotation, &c)?;
+            let mut f = orientation.factors.clone();
+            if !com_rotation.is_identity(arena) {
+                f.push(RotationFactor::Explicit(com_rotation.clone()));
+            }
+            Some(Body {
+                name: name.to_string(),
+                mass,
+                position: add3(arena, &position, &rc),
+                orientation: Some(Orientation { factors: f }),
+                inertia: inertia_c,
+            })
+        }
+        None => None,
+    };
+
+    // Limits.
+    let number = |arena: &mut Arena, key: &str| -> Result<Option<(Vec<f64>, Location)>> {
+        let Some(e) = take(key)? else { return Ok(None) };
+        let m = vector_value(arena, &e.value[0], cx.names)?;
+        let mut out = Vec::new();
+        for &x in m.data() {
+            out.push(constant(
+                arena,
+                x,
+                cx.known,
+                name,
+                &format!("`{key}`"),
+                e.at,
+            )?);
+        }
+        Ok(Some((out, e.at)))
+    };
+    let limit = match number(arena, "limit")? {
+        Some((v, lat)) => {
+            if v.len() != 2 || !(v[0] <= v[1]) {
+                let problem = "`limit = [lower, upper];` needs lower <= upper".to_string();
+                return Err(link_error(name, problem, lat));
+            }
+            Some([v[0], v[1]])
+        }
+        None => None,
+    };
+    let single = |arena: &mut Arena, key: &str| -> Result<Option<f64>> {
+        match number(arena, key)? {
+            Some((v, lat)) if v.len() != 1 || !(v[0] >= 0.0) => {
+                Err(link_error(name, format!("`{key}` is one value >= 0"), lat))
+            }
+            Some((v, _)) => Ok(Some(v[0])),
+            None => Ok(None),
+        }
+    };
+    let velocity_limit = single(arena, "velocity_limit")?;
+    let effort_limit = single(arena, "effort_limit")?;
+    if joint == LinkJoint::Fixed
+        && let Some(e) = entries.iter().find(|e| e.key.ends_with("limit"))
+    {
+        let problem = format!("a fixed joint has no `{}`", e.key);
+        return Err(link_error(name, problem, e.at));
+    }
+
+    // Points and axes, link frame.
+    let mut vectors = Vec::new();
+    for e in entries
+        .iter()
+        .filter(|e| e.key == "point" || e.key == "axis")
+    {
+        let pname = e.name.clone().unwrap_or_default();
+        let mv = vector_value(arena, &e.value[0], cx.names)?;
+        let point = e.key == "point";
+        let what = if point {
+            Quantity::Point(pname.clone())
+        } else {
+            Quantity::Axis(pname.clone())
+        };
+        let p = vec3(&mv, what, e.at)?;
+        let rp = mat_vec(arena, &rotation, &p)?;
+        let world = if point {
+            add3(arena, &position, &rp)
+        } else {
+            p
+        };
+        vectors.push((pname, e.at, world, point));
+    }
+    Ok(BuiltLink {
+        link: Link {
+            name: name.to_string(),
+            parent,
+            joint,
+            origin_rotation,
+            origin,
+            mass: m,
+            first_moment,
+            inertia,
+            rotation,
+            position,
+            limit,
+            velocity_limit,
+            effort_limit,
+            location: at,
+        },
+        body,
+        orientation,
+        vectors,
+    })
+}
