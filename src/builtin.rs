@@ -16,6 +16,7 @@
 //! | `n_four_bar`           | [`NFourBar40`]        | 82 | 81 | IFToMM benchmark A02, N = 40 (rank 81; 41 where the rockers lie flat) |
 //! | `bricard`              | [`Bricard`]           | 30 | 30 | IFToMM benchmark A04 (rank 29: one redundant row) |
 //! | `planar_four_bar_bodies` | [`PlanarFourBarBodies`] | 18 | 20 | the four-bar with bodies and spatial revolutes (rank 17) |
+//! | `panda`                | [`Panda`]             | 7 | 0 | Franka Panda arm, imported from its URDF (fingers locked) |
 
 use crate::{Compiled, System};
 
@@ -39,6 +40,7 @@ crate::mechanism!(
     crate = crate,
     file = "mechanisms/planar_four_bar_bodies.mech"
 );
+crate::mechanism!(crate = crate, file = "mechanisms/panda.mech");
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -55,6 +57,7 @@ pub fn builtin_names() -> &'static [&'static str] {
         "n_four_bar",
         "bricard",
         "planar_four_bar_bodies",
+        "panda",
     ]
 }
 
@@ -73,6 +76,7 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "n_four_bar" => Box::new(Compiled::new(NFourBar40::default())),
         "bricard" => Box::new(Compiled::new(Bricard::default())),
         "planar_four_bar_bodies" => Box::new(Compiled::new(PlanarFourBarBodies::default())),
+        "panda" => Box::new(Compiled::new(Panda::default())),
         _ => return None,
     };
     Some(system)
@@ -95,6 +99,7 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         "n_four_bar" => include_str!("../mechanisms/n_four_bar.mech"),
         "bricard" => include_str!("../mechanisms/bricard.mech"),
         "planar_four_bar_bodies" => include_str!("../mechanisms/planar_four_bar_bodies.mech"),
+        "panda" => include_str!("../mechanisms/panda.mech"),
         _ => return None,
     })
 }

@@ -475,6 +475,7 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
         equations,
         ..
     } = g;
+    let robotics = crate::robotics::methods(krate, n, g);
     quote! {
     fn mass_matrix(&self, q: &#sv<f64, #n>) -> #sm<f64, #n, #n> {
         #mass_matrix
@@ -549,5 +550,6 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
     fn draw_points(&self, t: f64, q: &#sv<f64, #n>, out: &mut [f64]) {
         #draw_points
     }
+    #robotics
     }
 }

@@ -61,6 +61,16 @@ pub struct Generated {
     pub draw_points: TokenStream,
     /// The derived equations as readable text (`mechanism_codegen::equations_text`).
     pub equations: String,
+    /// `mass_and_bias(&self, t, q, qd)`: M and b = C q' + g - tau, one program.
+    pub mass_and_bias: TokenStream,
+    /// `inverse_dynamics(&self, t, q, qd, qdd)`: M q'' + C q' + g - tau.
+    pub inverse_dynamics: TokenStream,
+    /// Per link frame: the body of one arm of `frame_placement`'s match, giving `(R, p)`.
+    pub frame_placements: Vec<TokenStream>,
+    /// Per link frame: the body of one arm of `frame_jacobian`'s match, giving J (6 x n).
+    pub frame_jacobians: Vec<TokenStream>,
+    /// The link frames' names.
+    pub frame_names: Vec<String>,
     /// The number of cached parameter-only values.
     pub cache_len: usize,
     /// `fn(p: &Parameters) -> [f64; cache_len]`'s body: the cached values.
@@ -78,6 +88,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
         krate: &decl.krate,
         slots: &programs.slots,
     };
+    let frames = eqs.frames.len();
     let result = (|| -> mechanism_codegen::Result<Generated> {
         let p = &programs.bodies;
         Ok(Generated {
@@ -97,6 +108,15 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             residual_tangent: b.tangent(&p[12], &tangent)?,
             draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
+            mass_and_bias: b.mass_and_bias(&p[13], eqs.n)?,
+            inverse_dynamics: b.inverse_dynamics(&p[14])?,
+            frame_placements: (0..frames)
+                .map(|k| b.placement(&p[15 + k]))
+                .collect::<mechanism_codegen::Result<_>>()?,
+            frame_jacobians: (0..frames)
+                .map(|k| b.matrix(&p[15 + frames + k]))
+                .collect::<mechanism_codegen::Result<_>>()?,
+            frame_names: eqs.frames.iter().map(|f| f.name.clone()).collect(),
             cache_len: programs.slots.len(),
             cache: b.cache(&programs.cache)?,
         })
@@ -106,7 +126,9 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
 
 /// The program of every body, with the parameter-only values moved into one cache program.
 struct Programs {
-    /// mass_matrix .. potential_energy (11), evaluate_into, residual_tangent.
+    /// mass_matrix .. potential_energy (11), evaluate_into, residual_tangent,
+    /// mass_and_bias, inverse_dynamics, then each frame's placement, then each frame's
+    /// Jacobian.
     bodies: Vec<Program>,
     /// Computes the cache from the parameters.
     cache: Program,
@@ -121,6 +143,10 @@ impl Programs {
         tangent: &ResidualTangent,
     ) -> mechanism_codegen::Result<Programs> {
         let singles = e.method_outputs();
+        let bias = e
+            .coriolis_forces
+            .add(&mut model.arena, &e.gravity)?
+            .sub(&mut model.arena, &e.forces)?;
         let arena = &model.arena;
         let mut programs = Vec::with_capacity(singles.len() + 2);
         for m in &singles {
@@ -133,6 +159,14 @@ impl Programs {
             arena,
             &[&tangent.stiffness, &tangent.damping],
         )?);
+        programs.push(Program::new(arena, &[&e.mass, &bias])?);
+        programs.push(Program::new(arena, &[&e.inverse_dynamics])?);
+        for f in &e.frames {
+            programs.push(Program::new(arena, &[&f.rotation, &f.position])?);
+        }
+        for f in &e.frames {
+            programs.push(Program::new(arena, &[&f.jacobian])?);
+        }
         let all: Vec<&Program> = programs.iter().collect();
         let h = hoist_parameters(&mut model.arena, &all)?;
         Ok(Programs {
@@ -241,6 +275,76 @@ impl Bodies<'_> {
             let #mutable out = #krate::__private::SMatrix::<f64, #r, #c>::zeros();
             #body
             out
+        })
+    }
+
+    /// `(M, b)`: M (n x n) and the bias b = C q' + g - tau (n x 1), one program.
+    fn mass_and_bias(&self, program: &Program, n: usize) -> mechanism_codegen::Result<TokenStream> {
+        let targets = [
+            OutputTarget::Matrix {
+                name: quote!(mass),
+                zeroed: true,
+            },
+            OutputTarget::Matrix {
+                name: quote!(bias),
+                zeroed: true,
+            },
+        ];
+        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        Ok(quote! {
+            #cache
+            let mut mass = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
+            let mut bias = #krate::__private::SVector::<f64, #n>::zeros();
+            #body
+            (mass, bias)
+        })
+    }
+
+    /// M q'' + C q' + g - tau, with q'' read from `qdd`.
+    fn inverse_dynamics(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+        let arena = &self.model.arena;
+        let mut bindings = self.bindings();
+        for (i, c) in self.model.coordinates.iter().enumerate() {
+            if let Some(s) = arena.as_symbol(c.qdd) {
+                bindings.bind(s, quote!(qdd[#i]));
+            }
+        }
+        let targets = [OutputTarget::Matrix {
+            name: quote!(out),
+            zeroed: true,
+        }];
+        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let n = self.model.coordinates.len();
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        Ok(quote! {
+            #cache
+            let mut out = #krate::__private::SVector::<f64, #n>::zeros();
+            #body
+            out
+        })
+    }
+
+    /// `(R, p)` of one link frame.
+    fn placement(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+        let targets = [
+            OutputTarget::Matrix {
+                name: quote!(rotation),
+                zeroed: true,
+            },
+            OutputTarget::Matrix {
+                name: quote!(position),
+                zeroed: true,
+            },
+        ];
+        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        Ok(quote! {
+            #cache
+            let mut rotation = #krate::__private::SMatrix::<f64, 3, 3>::zeros();
+            let mut position = #krate::__private::SVector::<f64, 3>::zeros();
+            #body
+            (rotation, position)
         })
     }
 

@@ -14,6 +14,7 @@ mod ast;
 mod check;
 mod expand;
 mod generate;
+mod robotics;
 
 use proc_macro::TokenStream;
 

@@ -20,7 +20,7 @@
 //! The run-time library (feature `std`) has the adaptive integrators, the events and the
 //! diagnostics; these are the parts small enough to live without an allocator.
 
-mod cholesky;
+pub(crate) mod cholesky;
 mod error;
 mod kkt;
 mod step;

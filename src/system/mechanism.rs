@@ -174,6 +174,89 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
         let _ = (t, q, out);
     }
 
+    /// M(q) and the bias b(t, q, q') = C q' + g - tau: without constraints the dynamics is
+    /// M q'' + b = u for an effort u along the coordinates. One program in the emitted code
+    /// (M and b share their sines, cosines and subexpressions); the default reads
+    /// [`Mechanism::evaluate`].
+    fn mass_and_bias(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SVector<f64, N>) {
+        let e = self.evaluate(t, q, qd);
+        (e.mass, e.coriolis + e.gravity - e.forces)
+    }
+
+    /// Inverse dynamics: the effort u = M q'' + C q' + g - tau that, added to the declared
+    /// forces tau, gives the accelerations q'' when no constraint acts (Pinocchio's `rnea`
+    /// for a robot without declared forces). Emitted for links by Newton-Euler (O(n)); the
+    /// default multiplies out [`Mechanism::mass_and_bias`]. A mechanism with constraint rows
+    /// also needs Phi_q^T lambda: see `mechanism::inverse_dynamics` at run time.
+    fn inverse_dynamics(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        let (m, b) = self.mass_and_bias(t, q, qd);
+        m * qdd + b
+    }
+
+    /// Forward dynamics of an unconstrained mechanism (M = 0 rows): q'' from
+    /// M q'' = u - b (Cholesky of the static M, no allocation). `None` when the mechanism has
+    /// constraint rows (solve the KKT system, [`crate::fixed::kkt_solve`]) or M is not
+    /// positive definite at q.
+    fn forward_dynamics(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        effort: &SVector<f64, N>,
+    ) -> Option<SVector<f64, N>> {
+        if M != 0 {
+            return None;
+        }
+        let (m, b) = self.mass_and_bias(t, q, qd);
+        let rhs = effort - b;
+        // A pivot below 1e-14 of the largest diagonal entry: M is singular to round-off.
+        let chol = crate::fixed::cholesky::Cholesky::new(m, 1e-14);
+        if chol.first_dropped().is_some() {
+            return None;
+        }
+        let qdd = chol.solve(&rhs);
+        qdd.iter().all(|x| x.is_finite()).then_some(qdd)
+    }
+
+    /// The link frames (`link` sections) in declaration order; empty without links.
+    const FRAMES: &'static [&'static str] = &[];
+
+    /// The index of the frame called `name` in [`Mechanism::FRAMES`].
+    fn frame_index(name: &str) -> Option<usize> {
+        Self::FRAMES.iter().position(|f| *f == name)
+    }
+
+    /// The placement of link frame `frame` at q: (R, p), R the link axes in world axes and
+    /// p its origin in the world (the world frame: z up where gravity is -z). `None` for an
+    /// index out of range, or a declaration without links.
+    fn frame_placement(
+        &self,
+        frame: usize,
+        q: &SVector<f64, N>,
+    ) -> Option<(SMatrix<f64, 3, 3>, SVector<f64, 3>)> {
+        let _ = (frame, q);
+        None
+    }
+
+    /// The Jacobian J (6 x N) of link frame `frame` at q: [v; w] = J q', v the velocity of
+    /// the frame's origin and w its angular velocity, both in world axes (Pinocchio's
+    /// `LOCAL_WORLD_ALIGNED`). `None` as for [`Mechanism::frame_placement`].
+    fn frame_jacobian(&self, frame: usize, q: &SVector<f64, N>) -> Option<SMatrix<f64, 6, N>> {
+        let _ = (frame, q);
+        None
+    }
+
     /// K = dF/dq and D = dF/dq' of the residual F = M q'' + C q' + g - tau + Phi_q^T lambda,
     /// derived symbolically (exact Jacobians for implicit integrators); `None` when the
     /// mechanism does not provide them.

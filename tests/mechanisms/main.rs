@@ -8,4 +8,6 @@ mod bodies_joints;
 mod bodies_snapshots;
 mod closed_chain;
 mod drawing;
+mod links_robot;
+mod panda_pinocchio;
 mod snapshots;

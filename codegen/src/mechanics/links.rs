@@ -198,6 +198,56 @@ fn add3(arena: &mut Arena, a: &Vec3, b: &Vec3) -> Vec3 {
     [0, 1, 2].map(|i| arena.add2(a[i], b[i]))
 }
 
+/// The names an expression uses.
+fn names_in<'a>(ast: &'a Ast, out: &mut Vec<(&'a str, Location)>) {
+    match ast {
+        Ast::Number(..) => {}
+        Ast::Name(n, at) => out.push((n, *at)),
+        Ast::Neg(a, _) | Ast::Member(a, _, _) => names_in(a, out),
+        Ast::Sum(items) | Ast::Product(items) => {
+            for (_, a, _) in items {
+                names_in(a, out);
+            }
+        }
+        Ast::Pow(a, b, _) => {
+            names_in(a, out);
+            names_in(b, out);
+        }
+        Ast::Call(_, args, _) | Ast::Brackets(args, _) => {
+            for a in args {
+                names_in(a, out);
+            }
+        }
+    }
+}
+
+/// A link's entries are in its own frame: constants, written with numbers and parameters.
+/// A point, axis or link name there is a world vector in the wrong frame, and a coordinate
+/// or `t` would move the frame's definition itself.
+fn check_own_frame(arena: &mut Arena, link: &str, e: &Entry, cx: &LinkContext<'_>) -> Result<()> {
+    let mut names = Vec::new();
+    for v in &e.value {
+        names_in(v, &mut names);
+    }
+    for (n, at) in names {
+        let moving = n == "t" || cx.coordinates.iter().any(|c| c.name == n);
+        if cx.names.vector(n).is_some() || moving {
+            let what = if moving {
+                "a coordinate or time"
+            } else {
+                "a point, axis or link in world coordinates"
+            };
+            let problem = format!(
+                "`{}` is in the link's own frame, written with numbers and parameters; `{n}` is {what} (join points of two links in `joints {{ .. }}`)",
+                e.key
+            );
+            let _ = arena;
+            return Err(link_error(link, problem, at));
+        }
+    }
+    Ok(())
+}
+
 /// The context a link is built in.
 pub(crate) struct LinkContext<'a> {
     pub(crate) known: &'a [(SymbolId, f64)],
@@ -227,6 +277,12 @@ pub(crate) fn build_link(
         }
         Ok(first)
     };
+    for e in entries
+        .iter()
+        .filter(|e| e.key != "parent" && e.key != "joint")
+    {
+        check_own_frame(arena, name, e, cx)?;
+    }
     let vector = |arena: &mut Arena, key: &str| -> Result<Option<Vec3>> {
         match take(key)? {
             Some(e) => {

@@ -1,0 +1,156 @@
+//! A spatial tree declared with links, emitted by `mechanism!`: the robotics methods against
+//! each other and against independent truth (finite differences of the placements, the
+//! power balance of C q').
+
+use mechanism::Mechanism;
+use nalgebra::{SMatrix, SVector};
+
+mechanism::mechanism! {
+    /// Every feature of a link: offsets and rpy (exact multiples of pi/2 and general angles),
+    /// a general revolute axis, a negative axis, a prismatic joint below a fixed link with
+    /// mass, inertial rpy, and a branch.
+    pub struct LinkTree;
+    parameters { g = 9.81; }
+    gravity = [0, 0, -g];
+    link base { }
+    link l1 {
+        parent = base; joint = revolute(q1, [0, 0, 1]); xyz = [0, 0, 0.333];
+        mass = 4.97; com = [0.0039, 0.0021, -0.0476];
+        inertia = [[0.7034, -0.0001, 0.0068], [-0.0001, 0.7066, 0.0192], [0.0068, 0.0192, 0.0091]];
+    }
+    link l2 {
+        parent = l1; joint = revolute(q2, [0, 0, -1]); rpy = [-pi/2, 0, 0];
+        mass = 0.65; com = [-0.0031, -0.0287, 0.0035]; com_rpy = [0.3, -0.2, 0.1];
+        inertia = [[0.03, -0.004, 0.003], [-0.004, 0.028, 0.0007], [0.003, 0.0007, 0.0258]];
+    }
+    link l3 {
+        parent = l2; joint = revolute(q3, [0.6, 0, 0.8]); xyz = [0, -0.316, 0];
+        rpy = [0.4, 0.1, -0.7];
+        mass = 3.23; com = [0.0275, 0.0392, -0.0664];
+        inertia = [[0.0371, -0.0048, -0.0013], [-0.0048, 0.0361, -0.0028], [-0.0013, -0.0028, 0.0308]];
+    }
+    link tool {
+        parent = l3; joint = fixed; xyz = [0.1, 0, 0.05]; rpy = [0, pi/2, 0];
+        mass = 0.7; com = [0, 0.01, 0.02]; inertia = diag(0.001, 0.0025, 0.0017);
+    }
+    link slider {
+        parent = tool; joint = prismatic(d4, [0, 1, 0]); xyz = [0, 0, 0.1]; rpy = [0.2, 0, 0];
+        mass = 0.4; com = [0.01, 0.02, -0.03];
+        inertia = [[0.0005, 0.0001, 0], [0.0001, 0.0007, 0], [0, 0, 0.0004]];
+    }
+    link branch {
+        parent = l1; joint = revolute(q5, [1, 0, 0]); xyz = [0.1, 0.05, 0];
+        mass = 1.1; com = [0, 0.2, 0]; inertia = diag(0.01, 0.002, 0.01);
+    }
+}
+
+type V = SVector<f64, 5>;
+
+fn state(k: usize) -> (V, V, V) {
+    let f = |s: f64, a: f64| V::from_fn(|i, _| ((k * 7 + i * 3) as f64 * s + a).sin());
+    (f(0.37, 0.0) * 2.5, f(0.61, 1.0) * 1.7, f(0.23, 2.0) * 3.1)
+}
+
+fn max_abs<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> f64 {
+    m.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+}
+
+/// Newton-Euler's inverse dynamics equals composite bodies' M times q'' plus the bias, and
+/// the forward dynamics inverts it: two algorithms that share nothing but the links. Both
+/// sides sum O(100) products of magnitude up to ~100 N m: 1e-12 of that scale bounds
+/// their rounding.
+#[test]
+fn inverse_and_forward_dynamics_agree_with_mass_and_bias() {
+    let r = LinkTree::default();
+    for k in 0..20 {
+        let (q, qd, qdd) = state(k);
+        let (m, b) = r.mass_and_bias(0.0, &q, &qd);
+        let tau = r.inverse_dynamics(0.0, &q, &qd, &qdd);
+        let direct = m * qdd + b;
+        let scale = max_abs(&direct).max(1.0);
+        assert!(max_abs(&(tau - direct)) <= 1e-12 * scale, "state {k}");
+        let back = r.forward_dynamics(0.0, &q, &qd, &tau).unwrap();
+        assert!(max_abs(&(back - qdd)) <= 1e-9 * max_abs(&qdd), "state {k}");
+        // The single-output methods agree with the combined program.
+        let e = r.evaluate(0.0, &q, &qd);
+        assert!(max_abs(&(e.mass - m)) <= 1e-14 * max_abs(&m));
+        assert!(max_abs(&(e.coriolis + e.gravity - b)) <= 1e-12 * scale);
+    }
+}
+
+/// The frame Jacobian's columns are the derivatives of the placement: the origin's
+/// velocity dp/dq_j, and the angular velocity vee(dR/dq_j R^T). Central differences with
+/// h = 1e-6 err by O(h^2) ~ 1e-12 times the third derivative (~1 m here) plus
+/// rounding ~1e-16/h = 1e-10: 1e-8 bounds both.
+#[test]
+fn frame_jacobians_are_the_derivatives_of_the_placements() {
+    let r = LinkTree::default();
+    assert_eq!(
+        LinkTree::FRAMES,
+        &["base", "l1", "l2", "l3", "tool", "slider", "branch"]
+    );
+    let h = 1e-6;
+    for frame in 0..LinkTree::FRAMES.len() {
+        for k in 0..5 {
+            let (q, _, _) = state(k);
+            let jac = r.frame_jacobian(frame, &q).unwrap();
+            let (rot, _) = r.frame_placement(frame, &q).unwrap();
+            // R is a rotation.
+            let orth = rot.transpose() * rot - SMatrix::<f64, 3, 3>::identity();
+            assert!(max_abs(&orth) < 1e-14);
+            for j in 0..5 {
+                let mut qp = q;
+                qp[j] += h;
+                let mut qm = q;
+                qm[j] -= h;
+                let (rp, pp) = r.frame_placement(frame, &qp).unwrap();
+                let (rm, pm) = r.frame_placement(frame, &qm).unwrap();
+                let dp = (pp - pm) / (2.0 * h);
+                let dr = (rp - rm) / (2.0 * h);
+                let w = dr * rot.transpose();
+                let omega = [w[(2, 1)], w[(0, 2)], w[(1, 0)]];
+                for i in 0..3 {
+                    assert!(
+                        (jac[(i, j)] - dp[i]).abs() < 1e-8,
+                        "frame {frame} v{i} q{j}"
+                    );
+                    assert!(
+                        (jac[(3 + i, j)] - omega[i]).abs() < 1e-8,
+                        "frame {frame} w{i} q{j}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        r.frame_placement(LinkTree::FRAMES.len(), &V::zeros())
+            .is_none()
+    );
+    assert_eq!(LinkTree::frame_index("tool"), Some(4));
+}
+
+/// Newton-Euler's C q' against the power balance q'^T C q' = 1/2 q'^T M' q', with
+/// M' = dM/dt along q' by central differences (h = 1e-6: error ~1e-10 of |M|).
+#[test]
+fn coriolis_forces_satisfy_the_power_balance() {
+    let r = LinkTree::default();
+    let h = 1e-6;
+    for k in 0..10 {
+        let (q, qd, _) = state(k);
+        let mdot = (r.mass_matrix(&(q + qd * h)) - r.mass_matrix(&(q - qd * h))) / (2.0 * h);
+        let lhs = qd.dot(&r.coriolis_forces(&q, &qd));
+        let rhs = 0.5 * qd.dot(&(mdot * qd));
+        assert!(
+            (lhs - rhs).abs() < 1e-7 * (1.0 + rhs.abs()),
+            "{lhs} vs {rhs}"
+        );
+    }
+}
+
+/// The open tree needs no `independent`: every coordinate is independent, at rest.
+#[test]
+fn an_open_tree_has_every_coordinate_independent() {
+    assert_eq!(LinkTree::COORDINATES, ["q1", "q2", "q3", "d4", "q5"]);
+    assert_eq!(LinkTree::INDEPENDENT.len(), 5);
+    assert!(LinkTree::INDEPENDENT.iter().all(|i| i.velocity == 0.0));
+}
