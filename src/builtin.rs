@@ -17,6 +17,7 @@
 //! | `bricard`              | [`Bricard`]           | 30 | 30 | IFToMM benchmark A04 (rank 29: one redundant row) |
 //! | `planar_four_bar_bodies` | [`PlanarFourBarBodies`] | 18 | 20 | the four-bar with bodies and spatial revolutes (rank 17) |
 //! | `panda`                | [`Panda`]             | 7 | 0 | Franka Panda arm, imported from its URDF (fingers locked) |
+//! | `five_bar`             | [`FiveBar`]           | 4 | 2 | five-bar parallel leg, declared with link frames |
 
 use crate::{Compiled, System};
 
@@ -41,6 +42,7 @@ crate::mechanism!(
     file = "mechanisms/planar_four_bar_bodies.mech"
 );
 crate::mechanism!(crate = crate, file = "mechanisms/panda.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/five_bar.mech");
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -58,6 +60,7 @@ pub fn builtin_names() -> &'static [&'static str] {
         "bricard",
         "planar_four_bar_bodies",
         "panda",
+        "five_bar",
     ]
 }
 
@@ -77,6 +80,7 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "bricard" => Box::new(Compiled::new(Bricard::default())),
         "planar_four_bar_bodies" => Box::new(Compiled::new(PlanarFourBarBodies::default())),
         "panda" => Box::new(Compiled::new(Panda::default())),
+        "five_bar" => Box::new(Compiled::new(FiveBar::default())),
         _ => return None,
     };
     Some(system)
@@ -100,6 +104,7 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         "bricard" => include_str!("../mechanisms/bricard.mech"),
         "planar_four_bar_bodies" => include_str!("../mechanisms/planar_four_bar_bodies.mech"),
         "panda" => include_str!("../mechanisms/panda.mech"),
+        "five_bar" => include_str!("../mechanisms/five_bar.mech"),
         _ => return None,
     })
 }

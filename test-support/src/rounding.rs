@@ -35,13 +35,16 @@ pub fn func_approx(f: Func, u: Approx) -> Approx {
 }
 
 /// atan2(y, x) with E = (|x| E(y) + |y| E(x)) / (x^2 + y^2) + |atan2(y, x)|; infinite at the
-/// branch cut and at the origin, where it is ill-conditioned.
+/// branch cut and at (or within rounding of) the origin, where it is ill-conditioned.
 pub fn atan2_approx(y: Approx, x: Approx) -> Approx {
     let r = y.v.atan2(x.v);
     let n2 = x.v * x.v + y.v * y.v;
     // Near the branch cut (y ~ 0, x < 0) a rounding error in y flips the sign: ill-conditioned.
     let cut = x.v < 0.0 && y.v.abs() <= 1e-6 * x.v.abs();
-    let e = if cut || n2 == 0.0 {
+    // Within its rounding error of the origin (exact arithmetic may put it at (0, 0), where
+    // atan2 is 0, while f64 gives +-pi/2): ill-conditioned too.
+    let near = |a: Approx| a.v.abs() <= 8.0 * f64::EPSILON * a.e;
+    let e = if cut || n2 == 0.0 || (near(x) && near(y)) {
         f64::INFINITY
     } else {
         (x.v.abs() * y.e + y.v.abs() * x.e) / n2 + r.abs()

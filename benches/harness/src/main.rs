@@ -9,6 +9,7 @@
 //!                                             10 s of DOP853 at rtol = atol = tol (PI
 //!                                             step control, or the predictive controller)
 //! harness reference <model>                   q at 10 s from DOP853 at 1e-13
+//! harness robot <rounds>                      the Panda's robotics routines (robot.rs)
 //! ```
 //!
 //! `<what>` is `evaluate` (the combined evaluation into the caller's buffer) or `five` (M,
@@ -20,6 +21,7 @@
 //! `four_bar`, `rssr`, `chain8`, `chain16` and `chain32`.
 
 mod models;
+mod robot;
 mod simulate;
 mod timing;
 
@@ -29,6 +31,11 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |k: usize| args.get(k).map(String::as_str).unwrap_or("");
     let number = |k: usize| arg(k).parse::<f64>().ok();
+    if arg(0) == "robot" {
+        let rounds = number(1).map_or(11, |r| r as usize).max(1);
+        println!("{}", robot::robot_json(rounds));
+        return ExitCode::SUCCESS;
+    }
     let result = match (arg(0), models::Model::named(arg(1))) {
         ("state", Some(m)) => Ok(m.state_json()),
         ("eval", Some(m)) => match (number(3), number(4)) {

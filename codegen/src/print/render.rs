@@ -149,6 +149,12 @@ impl<'a, S: Style> Renderer<'a, S> {
         self.get(id)
     }
 
+    /// From now on `id` prints as `name` (a shared subexpression defined once, above the
+    /// equations that use it).
+    pub(crate) fn name(&mut self, id: Id, name: String) {
+        self.memo.insert(id, Rendered::new(name, Prec::Atom));
+    }
+
     /// True when `id` is a node of the arena and the constant 0.
     pub(crate) fn is_zero(&self, id: Id) -> bool {
         id.index() < self.arena.len() && self.arena.is_zero(id)

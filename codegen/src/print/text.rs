@@ -6,7 +6,7 @@
 //! exponents below one fraction bar (`m2*l1^2/2`, `a/(b*c)`); `x^(1/2)` as `sqrt(x)`;
 //! floats in Rust's shortest round-trip form (`0.04`, `1e-7`); minimal parentheses.
 
-use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
+use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
@@ -179,9 +179,41 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
     out
 }
 
+/// The sums, products and powers that more than one node reachable from `roots` reads (or
+/// that two roots are), in increasing id order, so that each one's definition reads only
+/// names defined before it.
+fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
+    let mut uses = vec![0u32; arena.len()];
+    let mut seen = vec![false; arena.len()];
+    let mut stack: Vec<Id> = Vec::new();
+    for &root in roots {
+        if root.index() < arena.len() {
+            uses[root.index()] += 1;
+            stack.push(root);
+        }
+    }
+    while let Some(n) = stack.pop() {
+        if std::mem::replace(&mut seen[n.index()], true) {
+            continue;
+        }
+        for c in arena.children(n) {
+            uses[c.index()] += 1;
+            stack.push(c);
+        }
+    }
+    (0..arena.len())
+        .filter(|&i| uses[i] > 1)
+        .map(|i| Id::new(i as u32))
+        .filter(|&id| {
+            matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..))
+                && !arena.is_negative_form(id)
+        })
+        .collect()
+}
+
 /// The derived equations of `model` as readable text: a header with q, then the sections
 /// M, C (Khang), C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi, each with its definition
-/// and its non-zero entries. This is the text the snapshot tests pin and that
+/// and its non-zero entries (for links, their shared subexpressions first, by name). This is the text the snapshot tests pin and that
 /// `mechanism equations NAME` shows.
 pub fn equations_text(model: &Model, eqs: &Equations) -> String {
     let arena = &model.arena;
@@ -201,6 +233,34 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
         names.join(", ")
     ));
     let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
+    if model.kinetic_from_links {
+        // The recursive route builds M and C q' link by link: each link's velocities,
+        // accelerations and forces are shared by every entry below it, so they are printed
+        // once, by name, and the entries read them.
+        let mut roots: Vec<Id> = Vec::new();
+        for mat in [
+            &eqs.mass,
+            &eqs.coriolis_matrix,
+            &eqs.coriolis_forces,
+            &eqs.gravity,
+        ] {
+            roots.extend_from_slice(mat.data());
+        }
+        roots.push(eqs.kinetic);
+        roots.push(eqs.potential);
+        let shared = shared_nodes(arena, &roots);
+        if !shared.is_empty() {
+            out.push_str(&format!(
+                "\nShared subexpressions ({}, each used more than once below):\n",
+                shared.len()
+            ));
+            for (k, id) in shared.into_iter().enumerate() {
+                let def = r.render(id).s;
+                out.push_str(&format!("  w{} = {def}\n", k + 1));
+                r.name(id, format!("w{}", k + 1));
+            }
+        }
+    }
     let sections: [(&str, &str, &Matrix); 9] = [
         ("M", "M = d2T/dq'dq', the mass matrix", &eqs.mass),
         (

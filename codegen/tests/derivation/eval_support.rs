@@ -163,7 +163,9 @@ pub fn direct(e: &Ast, x: &[f64]) -> Approx {
         Ast::Int(n) => c(*n as f64),
         Ast::Rat(p, q) => ap(*p as f64 / *q as f64, (*p as f64 / *q as f64).abs()),
         Ast::Float(v) => c(*v),
-        Ast::Pi => c(std::f64::consts::PI),
+        // The double nearest pi is one rounding off the exact value, which the arena keeps
+        // (sin(pi) is exactly 0 there, 1.2e-16 in f64).
+        Ast::Pi => ap(std::f64::consts::PI, std::f64::consts::PI),
         Ast::Sym(i) => c(x[*i]),
         Ast::Add(a, b) => add_approx(&[direct(a, x), direct(b, x)]),
         Ast::Sub(a, b) => {
