@@ -79,6 +79,8 @@ mod tests {
         }
     }
 
+    // The approximations of pi/2 are the inputs under test.
+    #[allow(clippy::approx_constant)]
     #[test]
     fn quarter_turns_are_symbolic() {
         for (x, text) in [

@@ -78,11 +78,9 @@ fn rotate(a: &mut [[f64; 3]; 3], p: usize, q: usize) {
         row[p] = c * kp - s * kq;
         row[q] = s * kp + c * kq;
     }
-    for k in 0..3 {
-        let (pk, qk) = (a[p][k], a[q][k]);
-        a[p][k] = c * pk - s * qk;
-        a[q][k] = s * pk + c * qk;
-    }
+    let (row_p, row_q) = (a[p], a[q]);
+    a[p] = std::array::from_fn(|k| c * row_p[k] - s * row_q[k]);
+    a[q] = std::array::from_fn(|k| s * row_p[k] + c * row_q[k]);
 }
 
 #[cfg(test)]
