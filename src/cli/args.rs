@@ -47,8 +47,11 @@ pub enum Command {
     /// Inverse dynamics: the driving force needed for a prescribed motion, and the joint reactions.
     #[command(after_help = EXIT_CODES)]
     Inverse(InverseArgs),
-    /// Convert a URDF robot description into a .mech declaration (one link block per URDF
-    /// link; revolute, continuous, prismatic and fixed joints; gravity 9.81 m/s^2 along -z).
+    /// Convert a URDF robot description into a .mech declaration.
+    ///
+    /// One link block per URDF link, parents first; revolute, continuous, prismatic and
+    /// fixed joints; gravity 9.81 m/s^2 along -z. Geometry, materials, transmissions and
+    /// <dynamics> damping and friction are not imported.
     #[command(after_help = EXIT_CODES)]
     Import(ImportArgs),
 }
