@@ -12,8 +12,8 @@ use super::robot::{JointKind, Robot};
 /// The robot as a tree, ready to be written.
 #[derive(Clone, Debug)]
 pub(crate) struct Tree {
-    /// Link indices from the root down: depth-first, children in document order (so
-    /// parents come before their children).
+    /// Link indices from the root down: depth-first, siblings in the order their `<link>`s
+    /// are declared (so parents come before their children).
     pub order: Vec<usize>,
     /// The joint whose child each link is (`None` for the root).
     pub parent_joint: Vec<Option<usize>>,
@@ -258,7 +258,7 @@ fn check_single_root(
 }
 
 /// Every link is reached from the root (otherwise its joints form a cycle). Returns the
-/// links depth-first from the root, children in document order.
+/// links depth-first from the root, siblings in the order their `<link>`s are declared.
 fn check_connected(
     robot: &Robot,
     parent_joint: &[Option<usize>],
@@ -269,6 +269,10 @@ fn check_connected(
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
     for joint in &robot.joints {
         children[index[joint.parent.as_str()]].push(index[joint.child.as_str()]);
+    }
+    // Siblings in the order their links are declared.
+    for siblings in &mut children {
+        siblings.sort_unstable();
     }
     let mut order = Vec::with_capacity(robot.links.len());
     let mut stack = vec![root];

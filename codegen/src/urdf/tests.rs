@@ -108,6 +108,24 @@ fn names_become_identifiers() {
     );
 }
 
+#[test]
+fn links_are_written_depth_first_siblings_in_declaration_order() {
+    // Joints declared leaf first; links declared root, then c, then b, then d (b's child).
+    let xml = robot(
+        "<link name=\"a\"/>\n<link name=\"c\"/>\n<link name=\"b\"/>\n<link name=\"d\"/>\n\
+         <joint name=\"jd\" type=\"fixed\"><parent link=\"b\"/><child link=\"d\"/></joint>\n\
+         <joint name=\"jb\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"jc\" type=\"fixed\"><parent link=\"a\"/><child link=\"c\"/></joint>",
+    );
+    let text = urdf_to_mech(&xml, &options(&[])).expect("imported");
+    let order: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("link "))
+        .map(|l| l.split(' ').next().unwrap_or_default())
+        .collect();
+    assert_eq!(order, ["a", "c", "b", "d"], "{text}");
+}
+
 /// Each refused input: the URDF, the line and element the error names, and a phrase of its
 /// message.
 #[test]
