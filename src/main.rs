@@ -1,6 +1,6 @@
 //! The `mechanism` command-line tool (see `mechanism --help`): argument parsing, loading a
-//! mechanism by name or file, and the `list`, `equations`, `simulate` and `inverse`
-//! commands, on top of the library's public API.
+//! mechanism by name or file, and the `list`, `equations`, `simulate`, `inverse` and
+//! `import` commands, on top of the library's public API.
 mod cli;
 
 fn main() -> std::process::ExitCode {

@@ -12,6 +12,8 @@ mod conventions;
 mod declarations;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
+#[path = "cli/import.rs"]
+mod import;
 #[path = "cli/outputs.rs"]
 mod outputs;
 

@@ -48,6 +48,8 @@
 //!   interpreter.
 //! - `emit/`: a program as Rust tokens ([`emit_body`]).
 //! - `print/`: text ([`to_text`], [`equations_text`]) and LaTeX ([`equations_latex`]).
+//! - `urdf/`: a front end before `syntax/`, importing nothing of the others: a URDF robot
+//!   description as declaration text ([`urdf_to_mech`]).
 //!
 //! [`parse_declaration`] and [`parse_model_str`] run syntax, checks and model building in
 //! order, reporting every mistake in a declaration at once; [`error`] holds what each
@@ -68,6 +70,7 @@ mod pipeline;
 mod print;
 mod program;
 mod syntax;
+mod urdf;
 
 // The public surface: what the macro, the runtime, the benches and emit-check use, and the
 // types their signatures name. Everything else is crate-private or, for codegen's own tests,
@@ -94,6 +97,7 @@ pub use program::cse::Program;
 pub use program::hoist::{Hoisted, hoist_parameters};
 pub use program::instructions::{OpCounts, Operand, Output};
 pub use program::tape::Tape;
+pub use urdf::{UrdfError, UrdfOptions, urdf_to_mech};
 
 /// The parts of the stages that no dependent needs, reached only by codegen's own tests (the
 /// second routes they check against, the printers of single matrices, the instructions of a

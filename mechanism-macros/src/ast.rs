@@ -1,22 +1,29 @@
-//! The macro's input: the declaration's tokens or a `.mech` file, parsed into a
-//! [`Model`], with every error mapped to a span the user can click.
+//! The macro's input: the declaration's tokens, a `.mech` file, or a URDF file imported
+//! as declaration text, parsed into a [`Model`], with every error mapped to a span the
+//! user can click.
 
 use std::path::PathBuf;
 
-use mechanism_codegen::{Error, Location, Model, ModelSpans, SpannedError};
+use mechanism_codegen::{Error, Location, Model, ModelSpans, SpannedError, UrdfOptions};
 use proc_macro2::{Span, TokenStream, TokenTree};
-use syn::LitStr;
+use syn::parse::{ParseStream, Parser};
+use syn::punctuated::Punctuated;
+use syn::{Ident, LitStr, Token};
 
 /// Where the declaration came from.
 pub enum Source {
     /// Written inline: errors point at the offending token.
     Inline,
     /// `file = "mechanisms/x.mech"`: errors point at the literal and quote `file:line:column`.
+    /// `urdf = "robot.urdf"`: the same, the line and column being those of the imported
+    /// declaration text.
     File {
         /// The string literal as written (its span receives every error).
         literal: LitStr,
         /// The absolute path that was read (for `include_str!`, so edits trigger a rebuild).
         path: PathBuf,
+        /// Whether the file is a URDF, whose declaration text was written by the importer.
+        urdf: bool,
     },
 }
 
@@ -42,7 +49,7 @@ impl Declaration {
                 let span = location.map_or_else(Span::call_site, |l| self.spans.span(l));
                 syn::Error::new(span, message)
             }
-            Source::File { literal, .. } => file_error(literal, location, message),
+            Source::File { literal, urdf, .. } => file_error(literal, *urdf, location, message),
         }
     }
 }
@@ -59,6 +66,62 @@ fn file_literal(tokens: &TokenStream) -> Option<syn::Result<LitStr>> {
         }
         _ => None,
     }
+}
+
+/// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]` and `name = Struct`
+/// after it.
+struct UrdfInput {
+    /// The path as written.
+    literal: LitStr,
+    /// The URDF joints locked at q = 0.
+    lock: Vec<String>,
+    /// The struct name, when given.
+    name: Option<Ident>,
+}
+
+/// `urdf = "..."` and its options, recognised by its first two tokens.
+fn urdf_input(tokens: &TokenStream) -> Option<syn::Result<UrdfInput>> {
+    let trees: Vec<TokenTree> = tokens.clone().into_iter().collect();
+    match trees.as_slice() {
+        [TokenTree::Ident(kw), TokenTree::Punct(eq), rest @ ..]
+            if kw == "urdf" && eq.as_char() == '=' =>
+        {
+            let rest: TokenStream = rest.iter().cloned().collect();
+            Some(parse_urdf_options.parse2(rest))
+        }
+        _ => None,
+    }
+}
+
+/// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [,]`.
+fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
+    let mut urdf = UrdfInput {
+        literal: input.parse()?,
+        lock: Vec::new(),
+        name: None,
+    };
+    while !input.is_empty() {
+        input.parse::<Token![,]>()?;
+        if input.is_empty() {
+            break;
+        }
+        let key: Ident = input.parse()?;
+        input.parse::<Token![=]>()?;
+        if key == "lock" {
+            let content;
+            syn::bracketed!(content in input);
+            let joints = Punctuated::<LitStr, Token![,]>::parse_terminated(&content)?;
+            urdf.lock.extend(joints.iter().map(LitStr::value));
+        } else if key == "name" {
+            urdf.name = Some(input.parse()?);
+        } else {
+            return Err(syn::Error::new(
+                key.span(),
+                "expected `lock = [\"joint\", ...]` or `name = Struct` after the URDF path",
+            ));
+        }
+    }
+    Ok(urdf)
 }
 
 /// Splits an optional leading `crate = path,` off the input (serde's `crate = "..."`
@@ -90,9 +153,10 @@ fn crate_path(tokens: TokenStream) -> syn::Result<(TokenStream, TokenStream)> {
 /// Parses the macro input.
 pub fn parse(tokens: TokenStream) -> syn::Result<Declaration> {
     let (krate, tokens) = crate_path(tokens)?;
-    let mut decl = match file_literal(&tokens) {
-        Some(literal) => parse_file(literal?)?,
-        None => parse_inline(tokens)?,
+    let mut decl = match (file_literal(&tokens), urdf_input(&tokens)) {
+        (Some(literal), _) => parse_file(literal?)?,
+        (None, Some(urdf)) => parse_urdf(urdf?)?,
+        (None, None) => parse_inline(tokens)?,
     };
     decl.krate = krate;
     Ok(decl)
@@ -125,10 +189,32 @@ pub fn combine(errors: impl IntoIterator<Item = syn::Error>) -> syn::Error {
     first
 }
 
-/// The declaration read from a file: relative to `CARGO_MANIFEST_DIR` (the documented
-/// rule), or else relative to the directory of the source file holding the invocation (as
-/// `include_str!` resolves; it lets a test case sit next to its `.mech` file).
+/// The declaration read from a file: see [`read_relative`].
 fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
+    let (path, text) = read_relative(&literal, "mechanism")?;
+    parse_text(literal, path, &text, false)
+}
+
+/// The declaration imported from a URDF file ([`read_relative`]) by
+/// [`mechanism_codegen::urdf_to_mech`]; a refused URDF is one error at the literal, its
+/// message the importer's one line (`robot.urdf:12:3: <joint name="x">: ...`).
+fn parse_urdf(urdf: UrdfInput) -> syn::Result<Declaration> {
+    let (path, xml) = read_relative(&urdf.literal, "URDF")?;
+    let options = UrdfOptions {
+        file_name: urdf.literal.value(),
+        struct_name: urdf.name.map(|n| n.to_string()),
+        lock: urdf.lock,
+    };
+    let text = mechanism_codegen::urdf_to_mech(&xml, &options)
+        .map_err(|e| syn::Error::new(urdf.literal.span(), e.to_string()))?;
+    parse_text(urdf.literal, path, &text, true)
+}
+
+/// The text of the file `literal` names (a `kind` file: mechanism or URDF), relative to
+/// `CARGO_MANIFEST_DIR` (the documented rule), or else relative to the directory of the
+/// source file holding the invocation (as `include_str!` resolves; it lets a test case sit
+/// next to its file). Returns the canonical path read and the text.
+fn read_relative(literal: &LitStr, kind: &str) -> syn::Result<(PathBuf, String)> {
     let relative = literal.value();
     let root = std::env::var_os("CARGO_MANIFEST_DIR")
         .map(PathBuf::from)
@@ -147,7 +233,7 @@ fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
         match std::fs::read_to_string(&path) {
             Ok(text) => {
                 let path = std::fs::canonicalize(&path).unwrap_or(path);
-                return parse_text(literal, path, &text);
+                return Ok((path, text));
             }
             Err(e) => {
                 first_error.get_or_insert(e);
@@ -158,34 +244,51 @@ fn parse_file(literal: LitStr) -> syn::Result<Declaration> {
     Err(syn::Error::new(
         literal.span(),
         format!(
-            "cannot read mechanism file `{relative}` (paths are relative to CARGO_MANIFEST_DIR): {reason}"
+            "cannot read {kind} file `{relative}` (paths are relative to CARGO_MANIFEST_DIR): {reason}"
         ),
     ))
 }
 
-/// Parses the text of a mechanism file read from `path`.
-fn parse_text(literal: LitStr, path: PathBuf, text: &str) -> syn::Result<Declaration> {
+/// Parses the declaration text of a file read from `path` (imported from a URDF when
+/// `urdf`).
+fn parse_text(literal: LitStr, path: PathBuf, text: &str, urdf: bool) -> syn::Result<Declaration> {
     match mechanism_codegen::parse_declaration_str(text) {
         Ok(parsed) => Ok(Declaration {
             model: parsed.model,
             spans: parsed.spans,
-            source: Source::File { literal, path },
+            source: Source::File {
+                literal,
+                path,
+                urdf,
+            },
             krate: TokenStream::new(),
         }),
-        Err(errors) => Err(combine(
-            errors
-                .iter()
-                .map(|e| file_error(&literal, e.location(), &message(e))),
-        )),
+        Err(errors) => {
+            Err(combine(errors.iter().map(|e| {
+                file_error(&literal, urdf, e.location(), &message(e))
+            })))
+        }
     }
 }
 
-/// An error in a file: at the literal, prefixed with `file:line:column:`.
-fn file_error(literal: &LitStr, location: Option<Location>, message: &str) -> syn::Error {
+/// An error in a file: at the literal, prefixed with `file:line:column:`, or for a URDF
+/// (whose declaration text the importer wrote, so the URDF's lines do not apply) with
+/// `file: in the imported declaration, line L, column C:` (`mechanism import` writes that
+/// text to read).
+fn file_error(
+    literal: &LitStr,
+    urdf: bool,
+    location: Option<Location>,
+    message: &str,
+) -> syn::Error {
     let file = literal.value();
-    let text = match location {
-        Some(l) => format!("{file}:{}:{}: {message}", l.line, l.column),
-        None => format!("{file}: {message}"),
+    let text = match (location, urdf) {
+        (Some(l), false) => format!("{file}:{}:{}: {message}", l.line, l.column),
+        (Some(l), true) => format!(
+            "{file}: in the imported declaration (`mechanism import {file}`), line {}, column {}: {message}",
+            l.line, l.column
+        ),
+        (None, _) => format!("{file}: {message}"),
     };
     syn::Error::new(literal.span(), text)
 }
@@ -199,4 +302,54 @@ pub fn location(error: &Error) -> Option<Location> {
 /// `file:line:column:` prefix says where).
 pub fn message(error: &Error) -> String {
     SpannedError::from(error.clone()).message()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The importer's test arm, from this crate's manifest folder.
+    const ARM: &str = "../codegen/tests/urdf/arm.urdf";
+
+    #[test]
+    fn urdf_options_are_read() {
+        let tokens: TokenStream =
+            format!(r#"urdf = "{ARM}", lock = ["slide", "shoulder"], name = Arm,"#)
+                .parse()
+                .unwrap();
+        let urdf = urdf_input(&tokens).expect("recognised").expect("parsed");
+        assert_eq!(urdf.literal.value(), ARM);
+        assert_eq!(urdf.lock, ["slide", "shoulder"]);
+        assert_eq!(urdf.name.map(|n| n.to_string()).as_deref(), Some("Arm"));
+        let tokens: TokenStream = format!(r#"urdf = "{ARM}", locked = []"#).parse().unwrap();
+        let e = urdf_input(&tokens)
+            .expect("recognised")
+            .err()
+            .expect("refused");
+        assert!(e.to_string().contains("expected `lock = "), "{e}");
+        let tokens: TokenStream = "pub struct X;".parse().unwrap();
+        assert!(urdf_input(&tokens).is_none());
+    }
+
+    #[test]
+    fn a_refused_urdf_is_the_importers_line_at_the_path() {
+        let tokens: TokenStream = format!(r#"urdf = "{ARM}", lock = ["elbow"]"#)
+            .parse()
+            .unwrap();
+        let e = parse(tokens).err().expect("refused");
+        let text = e.to_string();
+        assert!(
+            text.starts_with(&format!(
+                "{ARM}:5:1: <robot name=\"test_arm\">: cannot lock \"elbow\""
+            )),
+            "{text}"
+        );
+        let tokens: TokenStream = r#"urdf = "no/such.urdf""#.parse().unwrap();
+        let e = parse(tokens).err().expect("refused");
+        assert!(
+            e.to_string()
+                .contains("cannot read URDF file `no/such.urdf`"),
+            "{e}"
+        );
+    }
 }

@@ -1,8 +1,9 @@
 //! The `mechanism!` proc-macro: a declared mechanism in, specialised dynamics code out.
 //!
 //! The pipeline has one stage per file:
-//! - `ast`: the input, either the declaration's tokens or `file = "mechanisms/x.mech"`,
-//!   parsed into a [`mechanism_codegen::Model`] with every error mapped to a span;
+//! - `ast`: the input, the declaration's tokens, `file = "mechanisms/x.mech"` or
+//!   `urdf = "robot.urdf"` (imported by [`mechanism_codegen::urdf_to_mech`]), parsed into a
+//!   [`mechanism_codegen::Model`] with every error mapped to a span;
 //! - `check`: the rules the macro adds on top of the parser (one `check_*` per rule);
 //! - `generate`: derivation (Lagrange equations with multipliers), CSE and emission of the
 //!   method bodies;
@@ -22,7 +23,12 @@ use proc_macro::TokenStream;
 ///
 /// Either inline, `mechanism! { pub struct Name; parameters { .. } coordinates { .. } .. }`,
 /// or from a file relative to `CARGO_MANIFEST_DIR`,
-/// `mechanism!(file = "mechanisms/spatial_crank_slider.mech");`. The expansion is a struct
+/// `mechanism!(file = "mechanisms/spatial_crank_slider.mech");`, or from a URDF robot
+/// description, imported as `mechanism import` does (one `link` per URDF link, gravity
+/// 9.81 m/s^2 along -z): `mechanism!(urdf = "robots/arm.urdf", lock = ["finger_joint"],
+/// name = Arm);`, where `lock` (joints fixed at q = 0) and `name` (the struct name; default
+/// the robot's name in CamelCase) are optional. A URDF the importer refuses is one error at
+/// the path, `robots/arm.urdf:12:3: <joint name="x">: message`. The expansion is a struct
 /// with one `pub f64` field per parameter and an implementation of `mechanism::Mechanism`.
 #[proc_macro]
 pub fn mechanism(input: TokenStream) -> TokenStream {

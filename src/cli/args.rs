@@ -47,6 +47,13 @@ pub enum Command {
     /// Inverse dynamics: the driving force needed for a prescribed motion, and the joint reactions.
     #[command(after_help = EXIT_CODES)]
     Inverse(InverseArgs),
+    /// Convert a URDF robot description into a .mech declaration.
+    ///
+    /// One link block per URDF link, parents first; revolute, continuous, prismatic and
+    /// fixed joints; gravity 9.81 m/s^2 along -z. Geometry, materials, transmissions and
+    /// <dynamics> damping and friction are not imported.
+    #[command(after_help = EXIT_CODES)]
+    Import(ImportArgs),
 }
 
 /// Options shared by `simulate` and `inverse`.
@@ -152,6 +159,24 @@ pub struct InverseArgs {
     /// Prescribed motion of a coordinate as an expression of t, e.g. `phi = 2*pi*t` (repeatable).
     #[arg(long, required = true, value_name = "'COORD = f(t)'")]
     pub drive: Vec<String>,
+}
+
+/// `mechanism import` options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ImportArgs {
+    /// The URDF file (a regular file of at most 16 MiB; run xacro first on a .xacro).
+    #[arg(value_name = "ROBOT.urdf")]
+    pub urdf: PathBuf,
+    /// Write the declaration to this file instead of printing it.
+    #[arg(long, value_name = "FILE.mech")]
+    pub out: Option<PathBuf>,
+    /// Lock a movable joint at q = 0, writing it as fixed (repeatable); a joint with
+    /// <mimic> must be locked. 0 must be within the joint's limits.
+    #[arg(long = "lock", value_name = "JOINT")]
+    pub lock: Vec<String>,
+    /// The struct name (default: the robot's name in CamelCase).
+    #[arg(long, value_name = "STRUCT")]
+    pub name: Option<String>,
 }
 
 /// Integrators offered on the command line.

@@ -1,5 +1,5 @@
 //! The `mechanism` command-line tool: argument parsing, loading a mechanism by name or
-//! file, and the `list`, `equations`, `simulate` and `inverse` commands.
+//! file, and the `list`, `equations`, `simulate`, `inverse` and `import` commands.
 //!
 //! Exit status ([`args::EXIT_CODES`], printed by `--help`): 0 success; 1 a failed run or
 //! invalid input; 2 a usage error (an unknown option, a missing argument, a value that is
@@ -9,6 +9,7 @@
 pub mod args;
 mod drawing;
 mod equations;
+mod import;
 mod inverse;
 mod load;
 #[cfg(feature = "progress")]
@@ -49,6 +50,9 @@ pub enum CliError {
         /// Why it stopped.
         error: mechanism::Error,
     },
+    /// A URDF that cannot be read or imported (`FILE:LINE:COL: <element>: message`).
+    #[error("{0}")]
+    Import(String),
     /// Writing a result file failed.
     #[error("{0}")]
     Output(#[from] mechanism::output::OutputError),
@@ -118,5 +122,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         }
         Some(Command::Simulate(a)) => simulate::run(&a),
         Some(Command::Inverse(a)) => inverse::run(&a),
+        Some(Command::Import(a)) => import::run(&a),
     }
 }

@@ -1,0 +1,97 @@
+//! URDF import: a robot described in URDF (the ROS Unified Robot Description Format) as
+//! declaration text, whose `link` sections the `syntax` stage reads like any `.mech` file.
+//!
+//! Enters: the text of a `.urdf` file and [`UrdfOptions`]. Leaves: the text of a
+//! declaration (`pub struct`, the gravity parameter `g`, one `link` block per URDF link,
+//! parents before children), or one [`UrdfError`] naming the file, line, column and
+//! element. Imports nothing of the other stages: the output is text, and the derivation
+//! that reads it checks it again like any declaration.
+//!
+//! The stages: [`read`] (XML to a [`robot::Robot`], numbers parsed), [`check`] (locks
+//! applied, the tree, the physics of each inertia, the identifiers) and [`write`] (the
+//! text). What is imported: links with their `<inertial>` (mass, centre of mass, inertia
+//! and its axes) and revolute, continuous, prismatic and fixed joints with their origin,
+//! axis and `<limit>`. What is not, because it carries no rigid-body dynamics: `<visual>`,
+//! `<collision>`, `<material>`, `<transmission>`, `<gazebo>`, `<safety_controller>`,
+//! `<calibration>`; and `<dynamics>` (joint damping and friction), which the header of the
+//! output counts.
+
+mod check;
+mod error;
+mod format;
+mod inertia;
+mod names;
+mod read;
+mod robot;
+mod write;
+
+pub use error::UrdfError;
+
+/// How to import a URDF.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct UrdfOptions {
+    /// The file name the errors and the output's header quote (`robots/panda.urdf`).
+    pub file_name: String,
+    /// The struct name; `None` for the robot's name in CamelCase (`panda` gives `Panda`).
+    pub struct_name: Option<String>,
+    /// URDF names of movable joints to lock at q = 0: each becomes a fixed joint (0 must
+    /// be within the joint's limits). A joint with `<mimic>` must be locked.
+    pub lock: Vec<String>,
+}
+
+/// The declaration text of the robot the URDF `xml` describes.
+///
+/// Links are written parents before children (depth-first from the root, siblings in the
+/// order their `<link>`s are declared); each movable joint's coordinate is named after the joint, each link
+/// after the link, with characters other than ASCII letters, digits and `_` replaced by
+/// `_` (and `j_` or `l_` in front of a leading digit). Gravity is g = 9.81 m/s^2 along -z.
+///
+/// # Example
+///
+/// ```
+/// use mechanism_codegen::{UrdfOptions, urdf_to_mech};
+///
+/// let urdf = r#"<robot name="pendulum">
+///   <link name="base"/>
+///   <link name="arm">
+///     <inertial><mass value="1"/><origin xyz="0 0 -0.5"/>
+///       <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0"/></inertial>
+///   </link>
+///   <joint name="hinge" type="continuous">
+///     <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+///   </joint>
+/// </robot>"#;
+/// let options = UrdfOptions { file_name: "pendulum.urdf".into(), ..Default::default() };
+/// let text = urdf_to_mech(urdf, &options)?;
+/// assert!(text.contains("pub struct Pendulum;"));
+/// assert!(text.contains("joint = continuous(hinge, [0, 1, 0]);"));
+/// # Ok::<(), mechanism_codegen::UrdfError>(())
+/// ```
+///
+/// # Errors
+/// The first problem found, as one line `FILE:LINE:COL: <element>: message`: malformed
+/// XML or numbers; a root other than `<robot>`; a joint type other than revolute,
+/// continuous, prismatic or fixed; a `<mimic>` on a joint not locked; a joint whose parent
+/// or child link is not declared; a link with two parent joints; a cycle, or more than one
+/// root link; a zero-length axis; a negative mass; an inertia that no rigid body has; two
+/// names written alike or a reserved name; a `lock` name that is not a movable joint, or
+/// whose limits exclude 0; a `struct_name` that is not an identifier.
+pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfError> {
+    let file = options.file_name.as_str();
+    let mut robot = read::read(xml, file)?;
+    let struct_name = match &options.struct_name {
+        Some(name) if names::is_identifier(name) => name.clone(),
+        Some(name) => {
+            return Err(robot.place.error(
+                file,
+                format!("the struct name `{name}` is not an identifier"),
+            ));
+        }
+        None => names::struct_name(&robot.name),
+    };
+    let tree = check::check(&mut robot, &options.lock, file)?;
+    Ok(write::write(&robot, &tree, file, &struct_name))
+}
+
+#[cfg(test)]
+mod tests;

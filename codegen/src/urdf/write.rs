@@ -1,0 +1,192 @@
+//! Writing: a checked [`Robot`] and its [`Tree`] as declaration text, one `link` block per
+//! link from the root down, keys at their defaults left out.
+
+use std::fmt::Write as _;
+
+use super::check::Tree;
+use super::format::{angles, number, vector};
+use super::robot::{Inertial, Joint, JointKind, Link, Robot};
+
+/// Standard gravity written as the parameter `g`, m/s^2.
+const GRAVITY: &str = "9.81";
+
+/// The declaration of `robot` as `struct_name`, imported from `file`.
+pub(crate) fn write(robot: &Robot, tree: &Tree, file: &str, struct_name: &str) -> String {
+    let mut out = header(robot, tree, file);
+    let _ = writeln!(out, "pub struct {struct_name};");
+    let _ = writeln!(out, "parameters {{ g = {GRAVITY}; }} // m/s^2");
+    out.push_str("gravity = [0, 0, -g];\n");
+    for &l in &tree.order {
+        let joint = tree.parent_joint[l].map(|j| (j, &robot.joints[j]));
+        if tree.world_root && joint.is_none() {
+            continue;
+        }
+        out.push('\n');
+        out.push_str(&link_block(robot, tree, l, joint));
+    }
+    out
+}
+
+/// The doc comment: where the declaration came from, what it holds, what was locked, the
+/// gravity convention, and what was left out.
+fn header(robot: &Robot, tree: &Tree, file: &str) -> String {
+    let kinds = [
+        JointKind::Revolute,
+        JointKind::Continuous,
+        JointKind::Prismatic,
+        JointKind::Fixed,
+    ];
+    let counts: Vec<String> = kinds
+        .iter()
+        .map(|&k| (k, robot.joints.iter().filter(|j| j.kind == k).count()))
+        .filter(|&(_, n)| n > 0)
+        .map(|(k, n)| format!("{n} {}", k.urdf_name()))
+        .collect();
+    let counts = if counts.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", counts.join(", "))
+    };
+    let mut out = format!(
+        "/// Imported by `mechanism import` from {}: {} {}, {} {}{counts}.\n",
+        comment_text(file),
+        robot.links.len(),
+        plural(robot.links.len(), "link"),
+        robot.joints.len(),
+        plural(robot.joints.len(), "joint"),
+    );
+    let locked: Vec<String> = robot
+        .joints
+        .iter()
+        .filter(|j| j.locked)
+        .map(|j| comment_text(&j.name))
+        .collect();
+    if locked.is_empty() {
+        out.push_str("/// No joint locked.\n");
+    } else {
+        let _ = writeln!(
+            out,
+            "/// Locked at q = 0 (written as fixed joints): {}.",
+            locked.join(", ")
+        );
+    }
+    out.push_str("/// Gravity: z up, g = 9.81 m/s^2 along -z.\n");
+    if tree.world_root {
+        out.push_str("/// The URDF's root link `world` is the declaration's world frame.\n");
+    }
+    let damped = robot.joints.iter().filter(|j| j.has_dynamics).count();
+    if damped > 0 {
+        let _ = writeln!(
+            out,
+            "/// Not imported: the <dynamics> damping and friction of {damped} {}.",
+            plural(damped, "joint")
+        );
+    }
+    out
+}
+
+/// One `link` block: its parent and joint (none for a root), then its mass properties.
+fn link_block(robot: &Robot, tree: &Tree, l: usize, joint: Option<(usize, &Joint)>) -> String {
+    let link: &Link = &robot.links[l];
+    let mut keys: Vec<String> = Vec::new();
+    if let Some((j, joint)) = joint {
+        // A child of the `world` root is written without a parent: its joint is to the world.
+        if let Some(parent) = tree.parent_link[l]
+            && !(tree.world_root && tree.parent_joint[parent].is_none())
+        {
+            keys.push(format!("parent = {};", tree.link_names[parent]));
+        }
+        keys.push(joint_key(joint, tree.coordinates[j].as_deref()));
+        push_nonzero(&mut keys, "xyz", &joint.xyz, vector);
+        push_nonzero(&mut keys, "rpy", &joint.rpy, angles);
+        if let (Some(limit), Some(_)) = (joint.limit, &tree.coordinates[j]) {
+            if joint.kind != JointKind::Continuous
+                && let Some(range) = limit.range()
+            {
+                keys.push(format!("limit = {};", vector(&range)));
+            }
+            if let Some(v) = limit.velocity {
+                keys.push(format!("velocity_limit = {};", number(v)));
+            }
+            if let Some(e) = limit.effort {
+                keys.push(format!("effort_limit = {};", number(e)));
+            }
+        }
+    }
+    if let Some(inertial) = &link.inertial {
+        inertial_keys(&mut keys, inertial);
+    }
+    let name = &tree.link_names[l];
+    if keys.is_empty() {
+        return format!("link {name} {{ }}\n");
+    }
+    let mut out = format!("link {name} {{\n");
+    for key in keys {
+        let _ = writeln!(out, "    {key}");
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// `joint = revolute(q, [x, y, z]);`, or `joint = fixed;` with the URDF joint named in a
+/// comment (and why, for a locked one).
+fn joint_key(joint: &Joint, coordinate: Option<&str>) -> String {
+    let name = comment_text(&joint.name);
+    match coordinate {
+        Some(q) => format!(
+            "joint = {}({q}, {});",
+            joint.kind.urdf_name(),
+            vector(&joint.axis)
+        ),
+        None if joint.locked => format!(
+            "joint = fixed; // URDF {} joint \"{name}\" locked at q = 0",
+            joint.kind.urdf_name()
+        ),
+        None => format!("joint = fixed; // URDF joint \"{name}\""),
+    }
+}
+
+/// `mass`, `com`, `com_rpy` and `inertia`, each left out at its default (a massless link
+/// has none of them).
+fn inertial_keys(keys: &mut Vec<String>, inertial: &Inertial) {
+    let zero_inertia = inertial.inertia.iter().all(|&v| v == 0.0);
+    if inertial.mass == 0.0 && zero_inertia {
+        return;
+    }
+    keys.push(format!("mass = {};", number(inertial.mass)));
+    push_nonzero(keys, "com", &inertial.xyz, vector);
+    push_nonzero(keys, "com_rpy", &inertial.rpy, angles);
+    if !zero_inertia {
+        let [xx, xy, xz, yy, yz, zz] = inertial.inertia;
+        keys.push(format!(
+            "inertia = [{}, {}, {}];",
+            vector(&[xx, xy, xz]),
+            vector(&[xy, yy, yz]),
+            vector(&[xz, yz, zz])
+        ));
+    }
+}
+
+/// `key = [..];` unless all of `v` is zero.
+fn push_nonzero(keys: &mut Vec<String>, key: &str, v: &[f64; 3], text: fn(&[f64]) -> String) {
+    if v.iter().any(|&x| x != 0.0) {
+        keys.push(format!("{key} = {};", text(v)));
+    }
+}
+
+/// `word`, with an `s` unless `n` is 1.
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        word.to_string()
+    } else {
+        format!("{word}s")
+    }
+}
+
+/// `text` safe inside a line comment: control characters (a newline in a URDF attribute)
+/// become spaces.
+fn comment_text(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}

@@ -1,0 +1,97 @@
+//! `mechanism import`: a URDF to stdout or to `--out`, joints locked, and a refused URDF as
+//! one line with exit status 1.
+
+use super::{assert_one_line_error, mechanism, out_dir, stderr};
+
+/// The importer's test arm (codegen's fixture).
+const ARM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/codegen/tests/urdf/arm.urdf");
+
+#[test]
+fn import_prints_the_declaration() {
+    let o = mechanism(&["import", ARM]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stderr.is_empty(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).expect("UTF-8");
+    assert!(
+        text.starts_with("/// Imported by `mechanism import` from "),
+        "{text}"
+    );
+    assert!(text.contains("arm.urdf: 4 links, 3 joints"), "{text}");
+    assert!(text.contains("pub struct TestArm;\n"), "{text}");
+    assert!(
+        text.contains("joint = prismatic(slide, [0.7071067811865475, 0.7071067811865475, 0]);"),
+        "{text}"
+    );
+}
+
+#[test]
+fn import_writes_out_with_a_name_and_locks() {
+    let dir = out_dir("import-out");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("arm.mech");
+    let o = mechanism(&[
+        "import",
+        ARM,
+        "--out",
+        out.to_str().unwrap(),
+        "--lock",
+        "slide",
+        "--name",
+        "Arm",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.is_empty(), "nothing printed with --out");
+    let text = std::fs::read_to_string(&out).expect("written");
+    assert!(text.contains("pub struct Arm;\n"), "{text}");
+    assert!(
+        text.contains("/// Locked at q = 0 (written as fixed joints): slide.\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("joint = fixed; // URDF prismatic joint \"slide\""),
+        "{text}"
+    );
+    // Only the declaration is left in the folder: the temporary was renamed.
+    let files: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(files.len(), 1, "{files:?}");
+}
+
+#[test]
+fn a_refused_urdf_is_one_line_and_exit_status_1() {
+    let dir = out_dir("import-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.urdf");
+    std::fs::write(
+        &bad,
+        "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n\
+         <joint name=\"free\" type=\"floating\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    let out = dir.join("bad.mech");
+    let o = mechanism(&[
+        "import",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(
+        &o,
+        "bad.urdf:4:1: <joint name=\"free\">: unknown joint type \"floating\" \
+         (supported: revolute, continuous, prismatic, fixed)",
+    );
+    assert!(!out.exists(), "nothing written");
+    // A lock that names no joint, a folder, a missing file.
+    assert_one_line_error(
+        &mechanism(&["import", ARM, "--lock", "elbow"]),
+        "cannot lock \"elbow\"",
+    );
+    assert_one_line_error(
+        &mechanism(&["import", dir.to_str().unwrap()]),
+        "not a regular file",
+    );
+    assert_one_line_error(
+        &mechanism(&["import", dir.join("none.urdf").to_str().unwrap()]),
+        "cannot read",
+    );
+}
