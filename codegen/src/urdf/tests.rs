@@ -46,6 +46,33 @@ fn the_test_arm_as_a_declaration() {
     insta::assert_snapshot!(text);
 }
 
+/// What the importer writes reads back as a declaration of the same tree: its joints'
+/// coordinates, independent by default (an open tree), every link a frame, and the
+/// recursive route's M symmetric positive definite at q = 0.
+#[test]
+fn the_written_declaration_parses_and_derives() {
+    let text = urdf_to_mech(ARM, &options(&[])).expect("imported");
+    let mut model = crate::parse_model_str(&text).expect("the written text parses");
+    let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["shoulder", "slide"]);
+    assert_eq!(model.independent.len(), 2);
+    assert!(model.kinetic_from_links);
+    let eqs = crate::derive(&mut model).expect("derived");
+    assert_eq!(eqs.frames.len(), model.links.len());
+    let env = |s: crate::SymbolId| {
+        model
+            .parameters
+            .iter()
+            .find(|p| model.arena.as_symbol(p.symbol) == Some(s))
+            .map(|p| p.default)
+            .or(Some(0.0))
+    };
+    let m = crate::eval_matrix(&model.arena, &eqs.mass, &env).expect("evaluated");
+    let (a, b, c) = (m[0], m[1], m[3]);
+    assert_eq!(m[1], m[2]);
+    assert!(a > 0.0 && c > 0.0 && a * c - b * b > 0.0, "{m:?}");
+}
+
 #[test]
 fn a_locked_joint_is_fixed_and_named_in_the_header() {
     let text = urdf_to_mech(ARM, &options(&["slide"])).expect("imported");

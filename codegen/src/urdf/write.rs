@@ -24,6 +24,58 @@ pub(crate) fn write(robot: &Robot, tree: &Tree, file: &str, struct_name: &str) -
         out.push('\n');
         out.push_str(&link_block(robot, tree, l, joint));
     }
+    out.push_str(&drawing(tree));
+    out
+}
+
+/// A `draw` section: lines through the link origins from the root to each leaf (a branch
+/// from where it leaves one already drawn), and the path of the last link of the first
+/// longest branch traced (the end effector of an arm). Empty for a robot with fewer than
+/// two written links.
+fn drawing(tree: &Tree) -> String {
+    let written = |l: usize| !(tree.world_root && tree.parent_joint[l].is_none());
+    let mut lines: Vec<Vec<usize>> = Vec::new();
+    for &l in tree.order.iter().filter(|&&l| written(l)) {
+        if tree.parent_link.iter().any(|p| *p == Some(l)) {
+            continue;
+        }
+        let mut chain = vec![l];
+        let mut cur = tree.parent_link[l];
+        while let Some(p) = cur.filter(|&p| written(p)) {
+            chain.push(p);
+            cur = tree.parent_link[p];
+        }
+        chain.reverse();
+        lines.push(chain);
+    }
+    // The first of the longest branches is traced; the others are drawn from where they
+    // leave a branch already drawn.
+    let longest = lines.iter().map(Vec::len).max().unwrap_or(0);
+    let Some(main) = lines
+        .iter()
+        .position(|c| c.len() == longest && longest >= 2)
+    else {
+        return String::new();
+    };
+    let tip = tree.link_names[*lines[main].last().unwrap_or(&0)].clone();
+    lines.swap(0, main);
+    let mut drawn: Vec<usize> = Vec::new();
+    for chain in &mut lines {
+        if let Some(k) = chain.iter().rposition(|l| drawn.contains(l)) {
+            chain.drain(..k);
+        }
+        drawn.extend(chain.iter().copied());
+    }
+    lines.retain(|c| c.len() >= 2);
+    let mut out = String::from(
+        "\n// The drawing: the link origins joined from the root to each leaf.\ndraw {\n",
+    );
+    for chain in &lines {
+        let names: Vec<&str> = chain.iter().map(|&l| tree.link_names[l].as_str()).collect();
+        let _ = writeln!(out, "    line {};", names.join(", "));
+    }
+    let _ = writeln!(out, "    trace {tip};");
+    out.push_str("}\n");
     out
 }
 
