@@ -158,6 +158,8 @@ pub fn closed_chain_model(n: usize) -> Model {
         drawing: Default::default(),
         links: Vec::new(),
         kinetic_from_links: false,
+        potential_from_links: false,
+        gravity: None,
     }
 }
 

@@ -325,6 +325,10 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
             .items
             .iter()
             .any(|i| matches!(i, BodyItem::Body { .. }));
+    model.potential_from_links = model.kinetic_from_links
+        && model.arena.is_zero(model.potential)
+        && system.springs.is_empty();
+    model.gravity = system.gravity;
     model.links = links;
     add_body_terms(model, &system)?;
     model.constraints.extend(rows);

@@ -140,6 +140,8 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         drawing: Default::default(),
         links: Vec::new(),
         kinetic_from_links: false,
+        potential_from_links: false,
+        gravity: None,
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })

@@ -207,7 +207,13 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         }
         Matrix::column(h)
     };
-    let gravity = Matrix::column(d.gradient(arena, potential, &s.q)?);
+    let (gravity, potential) = match tree.as_ref().and_then(|t| t.gravity.clone()) {
+        Some((g, pi)) => (g, pi),
+        None => (
+            Matrix::column(d.gradient(arena, potential, &s.q)?),
+            potential,
+        ),
+    };
     let forces = Matrix::column(model.forces.clone());
 
     let m = model.constraints.len();

@@ -117,4 +117,9 @@ pub struct Model {
     /// True when the links carry all of T (no `body`, no `kinetic`): then [`crate::derive`]
     /// takes the recursive route (`mechanics::recursive`) for M and C q'.
     pub kinetic_from_links: bool,
+    /// True when, besides, Pi is the links' gravity alone (no spring, no `potential`): then
+    /// g and Pi come from the recursive route too.
+    pub potential_from_links: bool,
+    /// The declared gravity vector g (world), when there is one.
+    pub gravity: Option<[Id; 3]>,
 }

@@ -59,6 +59,8 @@ pub(crate) struct TreeEquations {
     pub(crate) coriolis_forces: Matrix,
     /// M q'' + C q' (n x 1), without gravity.
     pub(crate) inertial_forces: Matrix,
+    /// g = dPi/dq (n x 1) and Pi, when the links' gravity is all of Pi.
+    pub(crate) gravity: Option<(Matrix, Id)>,
 }
 
 fn cross(a: &mut Arena, u: &Vec3, v: &Vec3) -> Vec3 {
@@ -162,8 +164,10 @@ fn link_inertia(l: &Link) -> Inertia {
     }
 }
 
-/// The moving bodies of the tree, fixed links merged (module docs).
-fn tree_bodies(arena: &mut Arena, model: &Model) -> Result<Vec<TreeBody>> {
+/// The moving bodies of the tree, fixed links merged (module docs), and the constant part
+/// of the links' potential, -sum m g . r over the links fixed to the world.
+fn tree_bodies(arena: &mut Arena, model: &Model) -> Result<(Vec<TreeBody>, Id)> {
+    let mut fixed_potential = arena.int(0);
     let links = &model.links;
     // For each link: (its body, or None for the world; its rotation and origin in the
     // body's frame).
@@ -185,10 +189,15 @@ fn tree_bodies(arena: &mut Arena, model: &Model) -> Result<Vec<TreeBody>> {
         };
         match &l.joint {
             LinkJoint::Fixed => {
+                let x = moved(arena, &link_inertia(l), &er, &eo);
                 if let Some(b) = pbody {
-                    let x = moved(arena, &link_inertia(l), &er, &eo);
                     let merged = sum(arena, &bodies[b].inertia, &x);
                     bodies[b].inertia = merged;
+                } else if let Some(g) = &model.gravity {
+                    // Fixed to the world: -g . (m o + R h), a constant.
+                    let gh = dot(arena, g, &x.h);
+                    let neg = arena.neg(gh);
+                    fixed_potential = arena.add2(fixed_potential, neg);
                 }
                 place.push((pbody, er, eo));
             }
@@ -223,7 +232,64 @@ fn tree_bodies(arena: &mut Arena, model: &Model) -> Result<Vec<TreeBody>> {
             }
         }
     }
-    Ok(bodies)
+    Ok((bodies, fixed_potential))
+}
+
+/// g = dPi/dq and Pi by the static recursion, the gravity vector carried into each body's
+/// axes: gamma_k = R_k^T gamma_p (gamma_world = g); the height term G_k = g . p_k of the
+/// body origin by G_k = G_p + gamma_p . o_k; Pi = -sum_k (m_k G_k + gamma_k . h_k) (+ the
+/// links fixed to the world); and the generalized gravity by Newton-Euler with the base
+/// accelerating at -g: f_k = -m_k gamma_k, n_k = -h_k x gamma_k, summed up the tree.
+fn gravity_and_potential(
+    arena: &mut Arena,
+    bodies: &[TreeBody],
+    n: usize,
+    g: &Vec3,
+    fixed_potential: Id,
+) -> (Matrix, Id) {
+    let z = arena.int(0);
+    let nb = bodies.len();
+    let mut gamma = vec![[z, z, z]; nb];
+    let mut height = vec![z; nb];
+    let mut f = vec![[z, z, z]; nb];
+    let mut nm = vec![[z, z, z]; nb];
+    let mut pi = vec![fixed_potential];
+    let minus_one = arena.int(-1);
+    for (k, b) in bodies.iter().enumerate() {
+        let (gp, hp) = match b.parent {
+            Some(p) => (gamma[p], height[p]),
+            None => (*g, z),
+        };
+        gamma[k] = rot_t(arena, &b.rotation, &gp);
+        let rise = dot(arena, &gp, &b.origin);
+        height[k] = arena.add2(hp, rise);
+        let x = &b.inertia;
+        let mh = arena.mul2(x.m, height[k]);
+        let gh = dot(arena, &gamma[k], &x.h);
+        let e = arena.add2(mh, gh);
+        pi.push(arena.neg(e));
+        let mg = scale(arena, x.m, &gamma[k]);
+        f[k] = scale(arena, minus_one, &mg);
+        nm[k] = cross(arena, &gamma[k], &x.h);
+    }
+    let mut tau = vec![z; n];
+    for k in (0..nb).rev() {
+        let b = &bodies[k];
+        tau[b.coordinate] = if b.revolute {
+            dot(arena, &b.axis, &nm[k])
+        } else {
+            dot(arena, &b.axis, &f[k])
+        };
+        if let Some(p) = b.parent {
+            let rf = rot(arena, &b.rotation, &f[k]);
+            let rn = rot(arena, &b.rotation, &nm[k]);
+            let orf = cross(arena, &b.origin, &rf);
+            f[p] = add(arena, &f[p], &rf);
+            let s = add(arena, &nm[p], &rn);
+            nm[p] = add(arena, &s, &orf);
+        }
+    }
+    (Matrix::column(tau), arena.add(&pi))
 }
 
 /// The rotation of a revolute joint about its unit axis (the same matrix the link's world
@@ -371,14 +437,25 @@ pub(crate) fn tree_equations(model: &mut Model) -> Result<TreeEquations> {
     let qdd: Vec<Id> = model.coordinates.iter().map(|c| c.qdd).collect();
     let mut arena = std::mem::take(&mut model.arena);
     let result = (|| {
-        let bodies = tree_bodies(&mut arena, model)?;
+        let (bodies, fixed_potential) = tree_bodies(&mut arena, model)?;
         let mass = composite_mass(&mut arena, &bodies, n);
         let coriolis = newton_euler(&mut arena, &bodies, n, &qd, None);
         let inertial = newton_euler(&mut arena, &bodies, n, &qd, Some(&qdd));
+        let gravity = match (model.potential_from_links, &model.gravity) {
+            (true, Some(g)) => Some(gravity_and_potential(
+                &mut arena,
+                &bodies,
+                n,
+                g,
+                fixed_potential,
+            )),
+            _ => None,
+        };
         Ok(TreeEquations {
             mass,
             coriolis_forces: Matrix::column(coriolis),
             inertial_forces: Matrix::column(inertial),
+            gravity,
         })
     })();
     model.arena = arena;

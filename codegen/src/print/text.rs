@@ -204,10 +204,7 @@ fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
     (0..arena.len())
         .filter(|&i| uses[i] > 1)
         .map(|i| Id::new(i as u32))
-        .filter(|&id| {
-            matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..))
-                && !arena.is_negative_form(id)
-        })
+        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..)))
         .collect()
 }
 
@@ -261,19 +258,32 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
             }
         }
     }
+    let (mass_title, coriolis_title, gravity_title) = if model.kinetic_from_links {
+        (
+            "M = d2T/dq'dq', the mass matrix (by composite bodies over the links)",
+            "C q', the Coriolis and centrifugal forces (by Newton-Euler over the links)",
+            if model.potential_from_links {
+                "g = dPi/dq, the gravity forces (by Newton-Euler over the links)"
+            } else {
+                "g = dPi/dq, the gravity forces"
+            },
+        )
+    } else {
+        (
+            "M = d2T/dq'dq', the mass matrix",
+            "C q', the Coriolis and centrifugal forces",
+            "g = dPi/dq, the gravity forces",
+        )
+    };
     let sections: [(&str, &str, &Matrix); 9] = [
-        ("M", "M = d2T/dq'dq', the mass matrix", &eqs.mass),
+        ("M", mass_title, &eqs.mass),
         (
             "C",
             "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
             &eqs.coriolis_matrix,
         ),
-        (
-            "Cq'",
-            "C q', the Coriolis and centrifugal forces",
-            &eqs.coriolis_forces,
-        ),
-        ("g", "g = dPi/dq, the gravity forces", &eqs.gravity),
+        ("Cq'", coriolis_title, &eqs.coriolis_forces),
+        ("g", gravity_title, &eqs.gravity),
         ("tau", "tau, the generalised forces", &eqs.forces),
         ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
         (
@@ -290,6 +300,12 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
     ];
     for (name, title, mat) in sections {
         out.push_str(&format!("\n{title} ({}):\n", size(mat)));
+        if name == "C" && model.kinetic_from_links {
+            // Its entries are the derivatives of M's: written out they repeat M's recursion
+            // per coordinate. The generated `coriolis_matrix` computes them.
+            out.push_str("  (Khang's C of the M above: not written out for links)\n");
+            continue;
+        }
         out.push_str(&matrix_lines(&mut r, name, mat, "  "));
     }
     out.push_str(&format!(

@@ -289,5 +289,7 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         drawing: Default::default(),
         links: Vec::new(),
         kinetic_from_links: false,
+        potential_from_links: false,
+        gravity: None,
     }
 }

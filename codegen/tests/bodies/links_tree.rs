@@ -10,7 +10,8 @@ const TREE: &str = "
     pub struct Tree;
     parameters { g = 9.81; }
     gravity = [0, 0, -g];
-    link base { }
+    link base { xyz = [0.1, 0.2, 0.3]; rpy = [0.1, 0.2, 0.3]; mass = 2.0; com = [0.01, 0.02, 0.05];
+                inertia = diag(0.01, 0.01, 0.01); }
     link l1 {
         parent = base; joint = revolute(q1, [0, 0, 1]); xyz = [0, 0, 0.333];
         mass = 4.97; com = [0.0039, 0.0021, -0.0476];
@@ -49,6 +50,7 @@ struct Values {
     gravity: Vec<f64>,
     inverse: Vec<f64>,
     kinetic: f64,
+    potential: f64,
 }
 
 fn values(model: &Model, eqs: &Equations, state: &[(SymbolId, f64)]) -> Values {
@@ -72,6 +74,7 @@ fn values(model: &Model, eqs: &Equations, state: &[(SymbolId, f64)]) -> Values {
         gravity: ev(eqs.gravity.data()),
         inverse: ev(eqs.inverse_dynamics.data()),
         kinetic: ev(&[eqs.kinetic])[0],
+        potential: ev(&[eqs.potential])[0],
     }
 }
 
@@ -104,7 +107,7 @@ fn assert_close(what: &str, a: &[f64], b: &[f64], scale: f64) {
 fn recursive_route_equals_khang_route_on_a_spatial_tree() {
     let mut tree = parse_model_str(TREE).unwrap();
     let mut lagrange = parse_model_str(TREE).unwrap();
-    assert!(tree.kinetic_from_links);
+    assert!(tree.kinetic_from_links && tree.potential_from_links);
     assert_eq!(tree.coordinates.len(), 5);
     // An open tree needs no `independent`: every coordinate is independent.
     assert_eq!(tree.independent.len(), 5);
@@ -120,6 +123,12 @@ fn recursive_route_equals_khang_route_on_a_spatial_tree() {
         assert_close("g", &a.gravity, &b.gravity, scale(&b.gravity));
         assert_close("tau", &a.inverse, &b.inverse, scale(&b.inverse));
         assert_close("T", &[a.kinetic], &[b.kinetic], b.kinetic.abs().max(1.0));
+        assert_close(
+            "Pi",
+            &[a.potential],
+            &[b.potential],
+            b.potential.abs().max(1.0),
+        );
     }
 }
 

@@ -299,6 +299,8 @@ pub fn bare_model(
         drawing: Default::default(),
         links: Vec::new(),
         kinetic_from_links: false,
+        potential_from_links: false,
+        gravity: None,
     }
 }
 
