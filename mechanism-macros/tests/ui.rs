@@ -14,6 +14,7 @@ fn ui() {
         "bodies",
         "drawing",
         "physics",
+        "links",
     ] {
         t.compile_fail(format!("tests/ui/{category}/*.rs"));
     }

@@ -46,7 +46,7 @@ pub enum Error {
     },
     /// A call to a function the language does not have.
     #[error(
-        "unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
+        "unknown function `{name}` at {location} (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der; in body and link sections also rot_x, rot_y, rot_z, diag, dot, cross, norm)"
     )]
     UnknownFunction {
         /// The name written.
@@ -356,7 +356,7 @@ impl Error {
                 ..
             } => format!("unknown symbol `{name}`{}", unknown_hint(suggestion, known)),
             Error::UnknownFunction { name, .. } => format!(
-                "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der)"
+                "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der; in body and link sections also rot_x, rot_y, rot_z, diag, dot, cross, norm)"
             ),
             Error::ZeroDivisor { divisor, .. } => {
                 format!("division by zero: `{divisor}` is the constant 0")

@@ -143,6 +143,14 @@ pub enum ParseError {
         /// The keys the block has.
         keys: &'static [&'static str],
     },
+    /// A link's joint of a kind the language does not have.
+    #[error(
+        "unknown joint `{found}`: a link's joint is `fixed`, or `revolute`, `continuous` or `prismatic` as `KIND(COORDINATE, [ax, ay, az])`"
+    )]
+    UnknownJoint {
+        /// The word written.
+        found: String,
+    },
     /// A statement of `draw` that is neither `line` nor `trace`.
     #[error("`{found}` is not a statement of `draw`; expected `line A, B, ..;` or `trace A, ..;`")]
     NotADrawStatement {

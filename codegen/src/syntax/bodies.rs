@@ -317,6 +317,10 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
 /// are checked when the link is built, `mechanics::links`).
 fn link_joint(c: &mut Cursor<'_>) -> Result<Ast> {
     let (kind, at) = name(c, "joint")?;
+    let moving = crate::syntax::links::MOVING_JOINTS.contains(&kind.as_str());
+    if !moving && kind != "fixed" {
+        return Err(Error::parse(ParseError::UnknownJoint { found: kind }, at));
+    }
     if !c.eat(&Tok::Open(crate::syntax::lex::Delim::Paren)) {
         return Ok(Ast::Name(kind, at));
     }

@@ -132,6 +132,39 @@ fn recursive_route_equals_khang_route_on_a_spatial_tree() {
     }
 }
 
+/// The library's link declarations (the Panda imported from its URDF, the five-bar leg
+/// closed by constraints): the recursive route equals Khang's on each.
+#[test]
+fn recursive_route_equals_khang_route_on_the_library_robots() {
+    for text in [
+        include_str!("../../../mechanisms/panda.mech"),
+        include_str!("../../../mechanisms/five_bar.mech"),
+    ] {
+        let mut tree = parse_model_str(text).unwrap();
+        let mut lagrange = parse_model_str(text).unwrap();
+        assert!(tree.kinetic_from_links && tree.potential_from_links);
+        let rec = derive_with(&mut tree, Route::Auto).unwrap();
+        let kh = derive_with(&mut lagrange, Route::Lagrange).unwrap();
+        for k in 0..6 {
+            let (a, b) = (
+                values(&tree, &rec, &state(&tree, k)),
+                values(&lagrange, &kh, &state(&lagrange, k)),
+            );
+            let scale = |v: &[f64]| v.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            assert_close("M", &a.mass, &b.mass, scale(&b.mass));
+            assert_close("C q'", &a.coriolis, &b.coriolis, scale(&b.coriolis));
+            assert_close("g", &a.gravity, &b.gravity, scale(&b.gravity));
+            assert_close("tau", &a.inverse, &b.inverse, scale(&b.inverse));
+            assert_close(
+                "Pi",
+                &[a.potential],
+                &[b.potential],
+                b.potential.abs().max(1.0),
+            );
+        }
+    }
+}
+
 #[test]
 fn two_link_planar_arm_matches_its_closed_form() {
     // Two uniform rods of mass m_i and length l_i turning about z, gravity along -y.

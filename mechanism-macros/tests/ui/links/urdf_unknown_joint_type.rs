@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(urdf = "bad.urdf");
+
+fn main() {}
