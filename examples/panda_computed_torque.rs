@@ -59,12 +59,13 @@ fn main() {
         if t >= 1.0 {
             worst = worst.max((reference(t + h).0 - q).amax());
         }
-        if k % 1000 == 0 {
+        if (k + 1) % 1000 == 0 {
             let hand = Panda::frame_index("panda_hand_tcp").unwrap();
             let (_, p) = robot.frame_placement(hand, &q).unwrap();
             println!(
-                "t = {t:.1} s  |q_d - q| = {:.2e} rad  tcp = ({:.3}, {:.3}, {:.3}) m  u1 = {:+.2} N m",
-                (q_d - q).amax(),
+                "t = {:.1} s  |q_d - q| = {:.2e} rad  tcp = ({:.3}, {:.3}, {:.3}) m  u1 = {:+.2} N m",
+                t + h,
+                (reference(t + h).0 - q).amax(),
                 p[0],
                 p[1],
                 p[2],

@@ -91,6 +91,27 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
         programs.push(Program::new(arena, &[m])?);
     }
     programs.push(Program::new(arena, &all)?);
+    // The residual's tangent, and the robotics routines (inverse dynamics, each link
+    // frame's placement and Jacobian), as the macro builds them.
+    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs)?;
+    let arena = &model.arena;
+    programs.push(Program::new(
+        arena,
+        &[&tangent.stiffness, &tangent.damping],
+    )?);
+    programs.push(Program::new(arena, &[&eqs.inverse_dynamics])?);
+    for f in &eqs.frames {
+        programs.push(Program::new(arena, &[&f.rotation, &f.position])?);
+        programs.push(Program::new(arena, &[&f.jacobian])?);
+    }
+    for (i, c) in model.coordinates.iter().enumerate() {
+        if let Some(s) = model.arena.as_symbol(c.qdd) {
+            b.bind(s, quote!(qdd[#i]));
+        }
+    }
+    for (k, &s) in tangent.lambda.iter().enumerate() {
+        b.bind(s, quote!(lambda[#k]));
+    }
     // The parameter-only values moved into one cache, as the macro does.
     let refs: Vec<&Program> = programs.iter().collect();
     let hoisted = hoist_parameters(&mut model.arena, &refs)?;

@@ -1,6 +1,6 @@
 //! The emitted methods allocate nothing: a counting global allocator sees zero allocations
 //! while every method of every library mechanism runs (and `evaluate`, the one the solver
-//! calls in its step loop).
+//! calls in its step loop; and the robotics methods, every frame of the link declarations).
 //!
 //! The counter is thread-local so that the test harness's other threads cannot disturb it.
 
@@ -8,8 +8,8 @@ use std::hint::black_box;
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
-    SpatialFourBar,
+    CartesianPendulum, ClosedChain4, FiveBar, Panda, PlanarFourBar, PlanarSliderCrank,
+    SpatialCrankSlider, SpatialFourBar,
 };
 use nalgebra::SVector;
 
@@ -33,6 +33,14 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(mech.potential_energy(&q));
     black_box(mech.parameter(0));
     black_box(mech.evaluate(black_box(t), &q, &qd));
+    // The robotics methods (every frame of a declaration with links).
+    black_box(mech.mass_and_bias(t, &q, &qd));
+    black_box(mech.inverse_dynamics(t, &q, &qd, &qd));
+    black_box(mech.forward_dynamics(t, &q, &qd, &qd));
+    for frame in 0..T::FRAMES.len() {
+        black_box(mech.frame_placement(frame, &q));
+        black_box(mech.frame_jacobian(frame, &q));
+    }
     mechanism_test_support::allocations() - before
 }
 
@@ -57,4 +65,6 @@ fn emitted_methods_do_not_allocate() {
     assert_eq!(count::<ClosedChain4, 4, 2>(), 0, "closed_chain");
     assert_eq!(count::<PlanarSliderCrank, 3, 2>(), 0, "planar_slider_crank");
     assert_eq!(count::<CartesianPendulum, 2, 1>(), 0, "cartesian_pendulum");
+    assert_eq!(count::<Panda, 7, 0>(), 0, "panda");
+    assert_eq!(count::<FiveBar, 4, 2>(), 0, "five_bar");
 }
