@@ -363,7 +363,7 @@ pub(crate) fn build_link(
                     )?;
                 }
                 let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                if !(norm > 0.0) || !norm.is_finite() {
+                if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
                     let problem = "the joint axis is the zero vector".to_string();
                     return Err(link_error(name, problem, args[1].location()));
                 }
@@ -536,7 +536,7 @@ pub(crate) fn build_link(
     };
     let limit = match number(arena, "limit")? {
         Some((v, lat)) => {
-            if v.len() != 2 || !(v[0] <= v[1]) {
+            if v.len() != 2 || v[0].is_nan() || v[1].is_nan() || v[0] > v[1] {
                 let problem = "`limit = [lower, upper];` needs lower <= upper".to_string();
                 return Err(link_error(name, problem, lat));
             }
@@ -546,7 +546,7 @@ pub(crate) fn build_link(
     };
     let single = |arena: &mut Arena, key: &str| -> Result<Option<f64>> {
         match number(arena, key)? {
-            Some((v, lat)) if v.len() != 1 || !(v[0] >= 0.0) => {
+            Some((v, lat)) if v.len() != 1 || v[0].is_nan() || v[0] < 0.0 => {
                 Err(link_error(name, format!("`{key}` is one value >= 0"), lat))
             }
             Some((v, _)) => Ok(Some(v[0])),

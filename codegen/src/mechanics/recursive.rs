@@ -20,11 +20,12 @@
 //! - tau_k = a_k . n_k (revolute) or a_k . f_k (prismatic).
 //!
 //! Composite bodies: the composite inertia (m, h, I) of k's subtree, each child's moved into
-//! k's axes by (R, o): h' = R h + m o, I' = R I R^T + m (|o|^2 1 - o o^T)
-//! + 2 (o . h') 1 - h' o^T - o h'^T with h' = R h (the parallel-axis theorem for a body
-//! whose centre is not at its origin). The momentum of unit motion of joint k,
-//! (f, n) = (a x h, I a) (revolute) or (m a, h x a) (prismatic), is carried up the tree
-//! (f <- R f, n <- R n + o x R f) and projected on each ancestor's axis: M_jk.
+//! k's axes by (R, o): h' = R h + m o and
+//! I' = R I R^T + m (|o|^2 1 - o o^T) + 2 (o . h'') 1 - h'' o^T - o h''^T with h'' = R h
+//! (the parallel-axis theorem for a body whose centre is not at its origin). The momentum
+//! of unit motion of joint k, (f, n) = (a x h, I a) (revolute) or (m a, h x a)
+//! (prismatic), is carried up the tree (f <- R f, n <- R n + o x R f) and projected on each
+//! ancestor's axis: M_jk.
 
 use crate::algebra::expr::{Arena, Id, Vec3};
 use crate::algebra::matrix::Matrix;

@@ -36,7 +36,7 @@ fn drawing(tree: &Tree) -> String {
     let written = |l: usize| !(tree.world_root && tree.parent_joint[l].is_none());
     let mut lines: Vec<Vec<usize>> = Vec::new();
     for &l in tree.order.iter().filter(|&&l| written(l)) {
-        if tree.parent_link.iter().any(|p| *p == Some(l)) {
+        if tree.parent_link.contains(&Some(l)) {
             continue;
         }
         let mut chain = vec![l];
