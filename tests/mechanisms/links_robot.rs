@@ -5,44 +5,8 @@
 use mechanism::Mechanism;
 use nalgebra::{SMatrix, SVector};
 
-mechanism::mechanism! {
-    /// Every feature of a link: offsets and rpy (exact multiples of pi/2 and general angles),
-    /// a general revolute axis, a negative axis, a prismatic joint below a fixed link with
-    /// mass, inertial rpy, and a branch.
-    pub struct LinkTree;
-    parameters { g = 9.81; }
-    gravity = [0, 0, -g];
-    link base { }
-    link l1 {
-        parent = base; joint = revolute(q1, [0, 0, 1]); xyz = [0, 0, 0.333];
-        mass = 4.97; com = [0.0039, 0.0021, -0.0476];
-        inertia = [[0.7034, -0.0001, 0.0068], [-0.0001, 0.7066, 0.0192], [0.0068, 0.0192, 0.0091]];
-    }
-    link l2 {
-        parent = l1; joint = revolute(q2, [0, 0, -1]); rpy = [-pi/2, 0, 0];
-        mass = 0.65; com = [-0.0031, -0.0287, 0.0035]; com_rpy = [0.3, -0.2, 0.1];
-        inertia = [[0.03, -0.004, 0.003], [-0.004, 0.028, 0.0007], [0.003, 0.0007, 0.0258]];
-    }
-    link l3 {
-        parent = l2; joint = revolute(q3, [0.6, 0, 0.8]); xyz = [0, -0.316, 0];
-        rpy = [0.4, 0.1, -0.7];
-        mass = 3.23; com = [0.0275, 0.0392, -0.0664];
-        inertia = [[0.0371, -0.0048, -0.0013], [-0.0048, 0.0361, -0.0028], [-0.0013, -0.0028, 0.0308]];
-    }
-    link tool {
-        parent = l3; joint = fixed; xyz = [0.1, 0, 0.05]; rpy = [0, pi/2, 0];
-        mass = 0.7; com = [0, 0.01, 0.02]; inertia = diag(0.001, 0.0025, 0.0017);
-    }
-    link slider {
-        parent = tool; joint = prismatic(d4, [0, 1, 0]); xyz = [0, 0, 0.1]; rpy = [0.2, 0, 0];
-        mass = 0.4; com = [0.01, 0.02, -0.03];
-        inertia = [[0.0005, 0.0001, 0], [0.0001, 0.0007, 0], [0, 0, 0.0004]];
-    }
-    link branch {
-        parent = l1; joint = revolute(q5, [1, 0, 0]); xyz = [0.1, 0.05, 0];
-        mass = 1.1; com = [0, 0.2, 0]; inertia = diag(0.01, 0.002, 0.01);
-    }
-}
+// The spatial tree with every kind of link, shared with codegen's route tests.
+mechanism::mechanism!(file = "codegen/tests/bodies/link_tree.mech");
 
 type V = SVector<f64, 5>;
 

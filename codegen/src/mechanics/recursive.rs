@@ -273,23 +273,7 @@ fn gravity_and_potential(
         f[k] = scale(arena, minus_one, &mg);
         nm[k] = cross(arena, &gamma[k], &x.h);
     }
-    let mut tau = vec![z; n];
-    for k in (0..nb).rev() {
-        let b = &bodies[k];
-        tau[b.coordinate] = if b.revolute {
-            dot(arena, &b.axis, &nm[k])
-        } else {
-            dot(arena, &b.axis, &f[k])
-        };
-        if let Some(p) = b.parent {
-            let rf = rot(arena, &b.rotation, &f[k]);
-            let rn = rot(arena, &b.rotation, &nm[k]);
-            let orf = cross(arena, &b.origin, &rf);
-            f[p] = add(arena, &f[p], &rf);
-            let s = add(arena, &nm[p], &rn);
-            nm[p] = add(arena, &s, &orf);
-        }
-    }
+    let tau = backward(arena, bodies, n, f, nm);
     (Matrix::column(tau), arena.add(&pi))
 }
 
@@ -369,8 +353,22 @@ fn newton_euler(
         nm[k] = add(arena, &idw, &wiw);
         nm[k] = add(arena, &nm[k], &ha);
     }
+    backward(arena, bodies, n, f, nm)
+}
+
+/// The backward pass of Newton-Euler: each body's force f and moment n (about its origin,
+/// its axes) projected on its joint axis, then added into its parent's, moved by (R, o):
+/// f_p += R f, n_p += R n + o x R f. The joint forces, by coordinate.
+fn backward(
+    arena: &mut Arena,
+    bodies: &[TreeBody],
+    n: usize,
+    mut f: Vec<Vec3>,
+    mut nm: Vec<Vec3>,
+) -> Vec<Id> {
+    let z = arena.int(0);
     let mut tau = vec![z; n];
-    for k in (0..nb).rev() {
+    for k in (0..bodies.len()).rev() {
         let b = &bodies[k];
         tau[b.coordinate] = if b.revolute {
             dot(arena, &b.axis, &nm[k])

@@ -3,46 +3,8 @@
 
 use mechanism_codegen::{Equations, Model, Route, SymbolId, derive_with, eval, parse_model_str};
 
-/// A spatial tree with every feature of a link: offsets and rpy (exact multiples of pi/2
-/// and general angles), a general revolute axis, a negative elementary axis, a prismatic
-/// joint, a fixed link carrying mass below a moving one, inertial rpy, and a branch.
-const TREE: &str = "
-    pub struct Tree;
-    parameters { g = 9.81; }
-    gravity = [0, 0, -g];
-    link base { xyz = [0.1, 0.2, 0.3]; rpy = [0.1, 0.2, 0.3]; mass = 2.0; com = [0.01, 0.02, 0.05];
-                inertia = diag(0.01, 0.01, 0.01); }
-    link l1 {
-        parent = base; joint = revolute(q1, [0, 0, 1]); xyz = [0, 0, 0.333];
-        mass = 4.97; com = [0.0039, 0.0021, -0.0476];
-        inertia = [[0.7034, -0.0001, 0.0068], [-0.0001, 0.7066, 0.0192], [0.0068, 0.0192, 0.0091]];
-    }
-    link l2 {
-        parent = l1; joint = revolute(q2, [0, 0, -1]); rpy = [-pi/2, 0, 0];
-        mass = 0.65; com = [-0.0031, -0.0287, 0.0035]; com_rpy = [0.3, -0.2, 0.1];
-        inertia = [[0.03, -0.004, 0.003], [-0.004, 0.028, 0.0007], [0.003, 0.0007, 0.0258]];
-    }
-    link l3 {
-        parent = l2; joint = revolute(q3, [0.6, 0, 0.8]); xyz = [0, -0.316, 0]; rpy = [0.4, 0.1, -0.7];
-        mass = 3.23; com = [0.0275, 0.0392, -0.0664];
-        inertia = [[0.0371, -0.0048, -0.0013], [-0.0048, 0.0361, -0.0028], [-0.0013, -0.0028, 0.0308]];
-    }
-    link tool {
-        parent = l3; joint = fixed; xyz = [0.1, 0, 0.05]; rpy = [0, pi/2, 0];
-        mass = 0.7; com = [0, 0.01, 0.02];
-        inertia = [[0.001, 0, 0], [0, 0.0025, 0], [0, 0, 0.0017]];
-    }
-    link slider {
-        parent = tool; joint = prismatic(d4, [0, 1, 0]); xyz = [0, 0, 0.1]; rpy = [0.2, 0, 0];
-        mass = 0.4; com = [0.01, 0.02, -0.03];
-        inertia = [[0.0005, 0.0001, 0], [0.0001, 0.0007, 0], [0, 0, 0.0004]];
-    }
-    link branch {
-        parent = l1; joint = revolute(q5, [1, 0, 0]); xyz = [0.1, 0.05, 0];
-        mass = 1.1; com = [0, 0.2, 0];
-        inertia = [[0.01, 0, 0], [0, 0.002, 0], [0, 0, 0.01]];
-    }
-";
+/// The spatial tree of `link_tree.mech` (every kind of link).
+const TREE: &str = include_str!("link_tree.mech");
 
 struct Values {
     mass: Vec<f64>,
@@ -103,20 +65,18 @@ fn assert_close(what: &str, a: &[f64], b: &[f64], scale: f64) {
     }
 }
 
-#[test]
-fn recursive_route_equals_khang_route_on_a_spatial_tree() {
-    let mut tree = parse_model_str(TREE).unwrap();
-    let mut lagrange = parse_model_str(TREE).unwrap();
+/// Derives `text` by both routes and compares M, C q', g, the inverse dynamics, T and Pi at
+/// `states` states.
+fn assert_routes_agree(text: &str, states: usize) {
+    let mut tree = parse_model_str(text).unwrap();
+    let mut lagrange = parse_model_str(text).unwrap();
+    // The recursive route is taken for M, C q', g and Pi.
     assert!(tree.kinetic_from_links && tree.potential_from_links);
-    assert_eq!(tree.coordinates.len(), 5);
-    // An open tree needs no `independent`: every coordinate is independent.
-    assert_eq!(tree.independent.len(), 5);
     let rec = derive_with(&mut tree, Route::Auto).unwrap();
     let kh = derive_with(&mut lagrange, Route::Lagrange).unwrap();
-    for k in 0..12 {
-        let st = state(&tree, k);
-        let st2 = state(&lagrange, k);
-        let (a, b) = (values(&tree, &rec, &st), values(&lagrange, &kh, &st2));
+    for k in 0..states {
+        let a = values(&tree, &rec, &state(&tree, k));
+        let b = values(&lagrange, &kh, &state(&lagrange, k));
         let scale = |v: &[f64]| v.iter().fold(1.0f64, |m, x| m.max(x.abs()));
         assert_close("M", &a.mass, &b.mass, scale(&b.mass));
         assert_close("C q'", &a.coriolis, &b.coriolis, scale(&b.coriolis));
@@ -132,37 +92,21 @@ fn recursive_route_equals_khang_route_on_a_spatial_tree() {
     }
 }
 
+#[test]
+fn recursive_route_equals_khang_route_on_a_spatial_tree() {
+    let tree = parse_model_str(TREE).unwrap();
+    assert_eq!(tree.coordinates.len(), 5);
+    // An open tree needs no `independent`: every coordinate is independent.
+    assert_eq!(tree.independent.len(), 5);
+    assert_routes_agree(TREE, 12);
+}
+
 /// The library's link declarations (the Panda imported from its URDF, the five-bar leg
 /// closed by constraints): the recursive route equals Khang's on each.
 #[test]
 fn recursive_route_equals_khang_route_on_the_library_robots() {
-    for text in [
-        include_str!("../../../mechanisms/panda.mech"),
-        include_str!("../../../mechanisms/five_bar.mech"),
-    ] {
-        let mut tree = parse_model_str(text).unwrap();
-        let mut lagrange = parse_model_str(text).unwrap();
-        assert!(tree.kinetic_from_links && tree.potential_from_links);
-        let rec = derive_with(&mut tree, Route::Auto).unwrap();
-        let kh = derive_with(&mut lagrange, Route::Lagrange).unwrap();
-        for k in 0..6 {
-            let (a, b) = (
-                values(&tree, &rec, &state(&tree, k)),
-                values(&lagrange, &kh, &state(&lagrange, k)),
-            );
-            let scale = |v: &[f64]| v.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-            assert_close("M", &a.mass, &b.mass, scale(&b.mass));
-            assert_close("C q'", &a.coriolis, &b.coriolis, scale(&b.coriolis));
-            assert_close("g", &a.gravity, &b.gravity, scale(&b.gravity));
-            assert_close("tau", &a.inverse, &b.inverse, scale(&b.inverse));
-            assert_close(
-                "Pi",
-                &[a.potential],
-                &[b.potential],
-                b.potential.abs().max(1.0),
-            );
-        }
-    }
+    assert_routes_agree(include_str!("../../../mechanisms/panda.mech"), 6);
+    assert_routes_agree(include_str!("../../../mechanisms/five_bar.mech"), 6);
 }
 
 #[test]
