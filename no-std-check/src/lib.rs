@@ -69,3 +69,5 @@ mod tests {
         assert!((e.phi_q * a.qdd - e.gamma).amax() < 1e-9);
     }
 }
+
+pub mod arm;

@@ -144,3 +144,43 @@ fn two_link_planar_arm_matches_its_closed_form() {
         assert_close("g", &v.gravity, &gr, 10.0);
     }
 }
+
+/// A serial chain of `n` links, alternating z and y axes, each offset and with a full
+/// inertia: what a real arm looks like to the recursive route.
+fn chain(n: usize) -> String {
+    let mut s =
+        String::from("pub struct Chain;\nparameters { g = 9.81; }\ngravity = [0, 0, -g];\n");
+    for k in 0..n {
+        let parent = if k == 0 {
+            String::new()
+        } else {
+            format!("parent = l{}; ", k - 1)
+        };
+        let axis = if k % 2 == 0 { "[0, 0, 1]" } else { "[0, 1, 0]" };
+        s.push_str(&format!(
+            "link l{k} {{ {parent}joint = revolute(q{k}, {axis}); xyz = [0.1, 0.02, 0.3]; \
+             mass = 1.5; com = [0.03, 0.01, 0.12]; \
+             inertia = [[0.02, 0.001, 0.002], [0.001, 0.03, 0.003], [0.002, 0.003, 0.025]]; }}\n"
+        ));
+    }
+    s
+}
+
+/// The operations per call of the inverse dynamics grow linearly with the number of links
+/// (Newton-Euler: a fixed amount of work per link, shared by CSE), where the expanded
+/// Lagrange form grows with n^3 or faster: doubling a chain from 8 to 16 links and again
+/// to 32 multiplies them by about 2 each time (2.5 allows the first links' cheaper
+/// zero-velocity terms).
+#[test]
+fn inverse_dynamics_costs_grow_linearly_along_a_chain() {
+    let ops = |n: usize| {
+        let mut model = parse_model_str(&chain(n)).unwrap();
+        let eqs = derive_with(&mut model, Route::Auto).unwrap();
+        let p = mechanism_codegen::Program::new(&model.arena, &[&eqs.inverse_dynamics]).unwrap();
+        p.op_counts().total() as f64
+    };
+    let (a, b, c) = (ops(8), ops(16), ops(32));
+    eprintln!("inverse dynamics, operations per call: 8 links {a}, 16 links {b}, 32 links {c}");
+    assert!(b / a < 2.5 && c / b < 2.5, "{a} -> {b} -> {c}");
+    assert!(b / a > 1.5 && c / b > 1.5, "{a} -> {b} -> {c}");
+}
