@@ -6,8 +6,8 @@
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, PlanarFourBar, PlanarSliderCrank, SpatialCrankSlider,
-    SpatialFourBar, builtin_source,
+    CartesianPendulum, ClosedChain4, FiveBar, Panda, PlanarFourBar, PlanarSliderCrank,
+    SpatialCrankSlider, SpatialFourBar, builtin_source,
 };
 use mechanism_codegen::{derive, equations_text, parse_model_str};
 use nalgebra::SVector;
@@ -29,6 +29,20 @@ fn spatial_crank_slider() {
 fn planar_four_bar() {
     same_as_codegen("planar_four_bar", PlanarFourBar::equations());
     insta::assert_snapshot!("planar_four_bar", PlanarFourBar::equations());
+}
+
+/// Links: the recursive route's M, C q' and g, their shared sums and products named once.
+#[test]
+fn five_bar() {
+    same_as_codegen("five_bar", FiveBar::equations());
+    insta::assert_snapshot!("five_bar", FiveBar::equations());
+}
+
+/// The Panda from its URDF: 99 kB of equations (its recursion's shared terms by name).
+#[test]
+fn panda() {
+    same_as_codegen("panda", Panda::equations());
+    insta::assert_snapshot!("panda", Panda::equations());
 }
 
 #[test]

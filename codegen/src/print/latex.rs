@@ -279,6 +279,22 @@ pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
         "\\[ q = \\begin{{bmatrix}} {} \\end{{bmatrix}}^T \\]\n",
         q.join(" & ")
     ));
+    if model.kinetic_from_links {
+        // As in the text: the links' shared sums and products defined once, by name.
+        let mut roots: Vec<crate::algebra::expr::Id> = Vec::new();
+        for mat in [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity] {
+            roots.extend_from_slice(mat.data());
+        }
+        roots.extend([eqs.kinetic, eqs.potential]);
+        for (k, id) in crate::print::render::shared_nodes(&model.arena, &roots)
+            .into_iter()
+            .enumerate()
+        {
+            let def = r.render(id).s;
+            out.push_str(&format!("\\[ w_{{{}}} = {def} \\]\n", k + 1));
+            r.name(id, format!("w_{{{}}}", k + 1));
+        }
+    }
     let sections: [(&str, &Matrix); 9] = [
         ("M", &eqs.mass),
         ("C", &eqs.coriolis_matrix),
@@ -291,6 +307,10 @@ pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
         ("\\gamma", &eqs.gamma),
     ];
     for (name, m) in sections {
+        if name == "C" && model.kinetic_from_links {
+            out.push_str("% C: Khang's C of the M above, not written out for links\n");
+            continue;
+        }
         out.push_str(&format!("\\[ {name} = {} \\]\n", bmatrix(&mut r, m)));
     }
     out.push_str(&format!("\\[ T = {} \\]\n", r.render(eqs.kinetic).s));

@@ -333,3 +333,32 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
     }
 }
+
+/// The sums, products and powers that more than one node reachable from `roots` reads (or
+/// that two roots are), in increasing id order, so that each one's definition reads only
+/// names defined before it.
+pub(crate) fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
+    let mut uses = vec![0u32; arena.len()];
+    let mut seen = vec![false; arena.len()];
+    let mut stack: Vec<Id> = Vec::new();
+    for &root in roots {
+        if root.index() < arena.len() {
+            uses[root.index()] += 1;
+            stack.push(root);
+        }
+    }
+    while let Some(n) = stack.pop() {
+        if std::mem::replace(&mut seen[n.index()], true) {
+            continue;
+        }
+        for c in arena.children(n) {
+            uses[c.index()] += 1;
+            stack.push(c);
+        }
+    }
+    (0..arena.len())
+        .filter(|&i| uses[i] > 1)
+        .map(|i| Id::new(i as u32))
+        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..)))
+        .collect()
+}

@@ -6,7 +6,7 @@
 //! exponents below one fraction bar (`m2*l1^2/2`, `a/(b*c)`); `x^(1/2)` as `sqrt(x)`;
 //! floats in Rust's shortest round-trip form (`0.04`, `1e-7`); minimal parentheses.
 
-use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
+use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
@@ -179,35 +179,6 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
     out
 }
 
-/// The sums, products and powers that more than one node reachable from `roots` reads (or
-/// that two roots are), in increasing id order, so that each one's definition reads only
-/// names defined before it.
-fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
-    let mut uses = vec![0u32; arena.len()];
-    let mut seen = vec![false; arena.len()];
-    let mut stack: Vec<Id> = Vec::new();
-    for &root in roots {
-        if root.index() < arena.len() {
-            uses[root.index()] += 1;
-            stack.push(root);
-        }
-    }
-    while let Some(n) = stack.pop() {
-        if std::mem::replace(&mut seen[n.index()], true) {
-            continue;
-        }
-        for c in arena.children(n) {
-            uses[c.index()] += 1;
-            stack.push(c);
-        }
-    }
-    (0..arena.len())
-        .filter(|&i| uses[i] > 1)
-        .map(|i| Id::new(i as u32))
-        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..)))
-        .collect()
-}
-
 /// The derived equations of `model` as readable text: a header with q, then the sections
 /// M, C (Khang), C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi, each with its definition
 /// and its non-zero entries (for links, their shared subexpressions first, by name). This is the text the snapshot tests pin and that
@@ -245,7 +216,7 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
         }
         roots.push(eqs.kinetic);
         roots.push(eqs.potential);
-        let shared = shared_nodes(arena, &roots);
+        let shared = crate::print::render::shared_nodes(arena, &roots);
         if !shared.is_empty() {
             out.push_str(&format!(
                 "\nShared subexpressions ({}, each used more than once below):\n",
