@@ -124,10 +124,10 @@ pub enum Route {
     Lagrange,
 }
 
-/// [`derive`] with the route chosen.
+/// [`derive()`] with the route chosen.
 ///
 /// # Errors
-/// As [`derive`].
+/// As [`derive()`].
 // One function: the module's formulas in order (M, C, C q', g, Phi, Phi_q, Phi_t, gamma),
 // each a few lines sharing one Differentiator, so that derivatives are memoised across them.
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {

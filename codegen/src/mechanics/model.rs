@@ -114,7 +114,7 @@ pub struct Model {
     /// The links of a kinematic tree (`link` sections), parents before children; empty
     /// when the declaration has none.
     pub links: Vec<Link>,
-    /// True when the links carry all of T (no `body`, no `kinetic`): then [`crate::derive`]
+    /// True when the links carry all of T (no `body`, no `kinetic`): then [`crate::derive()`]
     /// takes the recursive route (`mechanics::recursive`) for M and C q'.
     pub kinetic_from_links: bool,
     /// True when, besides, Pi is the links' gravity alone (no spring, no `potential`): then
