@@ -42,13 +42,22 @@ pub(crate) fn check_mass(
         .iter()
         .map(|c| arena.as_symbol(c.qd))
         .collect();
+    // Which coordinate each rate symbol belongs to: one look-up per symbol of an entry
+    // (constant entries have none), not a scan of every rate per entry.
+    let mut rate_of: Vec<Option<usize>> = vec![None; arena.symbols().len()];
+    for (k, r) in rates.iter().enumerate() {
+        if let Some(r) = r {
+            rate_of[r.index()] = Some(k);
+        }
+    }
     for i in 0..n {
         for j in 0..=i {
-            let symbols = d.symbols_of(arena, mass.get(i, j))?;
-            if let Some(k) = rates
-                .iter()
-                .position(|r| r.is_some_and(|r| symbols.contains(&r)))
-            {
+            let e = mass.get(i, j);
+            if arena.as_number(e).is_some() {
+                continue;
+            }
+            let symbols = d.symbols_of(arena, e)?;
+            if let Some(k) = symbols.iter().filter_map(|s| rate_of[s.index()]).min() {
                 return Err(Error::declaration(
                     DeclarationError::KineticNotQuadratic {
                         row: names[i].to_string(),

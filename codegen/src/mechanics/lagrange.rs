@@ -374,11 +374,21 @@ fn is_quadratic_form(
     {
         return Ok(false);
     }
+    // One look-up of each entry's symbols (constant entries have none), not one per
+    // (entry, rate) pair: n^2 entries times n rates is the cost of large mechanisms.
+    let mut is_varying = vec![false; arena.symbols().len()];
+    for v in &varying {
+        is_varying[v.index()] = true;
+    }
     for &e in &mass.data {
-        for &v in &varying {
-            if d.depends_on(arena, e, v)? {
-                return Ok(false);
-            }
+        if arena.as_number(e).is_some() {
+            continue;
+        }
+        if d.symbols_of(arena, e)?
+            .iter()
+            .any(|s| is_varying[s.index()])
+        {
+            return Ok(false);
         }
     }
     let zero = arena.int(0);
