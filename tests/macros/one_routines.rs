@@ -42,7 +42,11 @@ fn macro_and_interpreter_come_from_one_routines() {
     let mut fingerprints: Vec<u64> = EMITTED.iter().map(|(_, f)| *f).collect();
     fingerprints.sort_unstable();
     fingerprints.dedup();
-    assert_eq!(fingerprints.len(), EMITTED.len(), "one fingerprint per mechanism");
+    assert_eq!(
+        fingerprints.len(),
+        EMITTED.len(),
+        "one fingerprint per mechanism"
+    );
     for (name, emitted) in EMITTED {
         let source = builtin_source(name).expect("registered");
         let interpreted = Interpreted::from_source(source).expect("a library file");
