@@ -2,13 +2,15 @@
 //! in), derived by `mechanism-codegen` and evaluated through its [`Tape`](mechanism_codegen::Tape).
 //!
 //! It computes exactly what the code emitted by `mechanism!` computes: its tapes run the
-//! programs of the same [`Routines`](mechanism_codegen::Routines) (`mechanism_codegen::compile`), one per role it
-//! serves, with the parameter-only values computed by the routines' parameter cache once
-//! per parameter set, as the emitted struct caches them. The runtime gets a [`System`] for
+//! programs of the same [`Routines`] (`mechanism_codegen::compile`), one per role it serves,
+//! with the parameter-only values computed by the routines' parameter cache once per
+//! parameter set, as the emitted struct caches them. The runtime gets a [`System`] for
 //! any declaration without a rebuild, and the tests get a second route to check the
 //! emitted code against. Everything that can be wrong with the programs is checked when the
 //! `Interpreted` is built; an evaluation then cannot fail, and like the emitted code it lets
 //! a non-finite value through to the outputs it reaches.
+//!
+//! [`Routines`]: mechanism_codegen::Routines
 
 use mechanism_codegen::{
     Equations, Error, EvaluationOutput, Model, Role, compile, residual_tangent,
@@ -43,7 +45,8 @@ pub struct Interpreted {
     /// The drawn points' positions (3 per point), when the declaration draws
     /// ([`Role::Draw`]).
     draw: Option<Routine>,
-    /// [`Routines::fingerprint`](mechanism_codegen::Routines::fingerprint) of the routines the tapes run.
+    /// The fingerprint of the routines the tapes run
+    /// ([`mechanism_codegen::Routines::fingerprint`]).
     routines: u64,
     equations_text: String,
 }
@@ -75,9 +78,9 @@ impl Interpreted {
         Self::from_equations(model, eqs)
     }
 
-    /// Compiles already derived equations into [`Routines`](mechanism_codegen::Routines) and builds a tape for each
-    /// role it serves (the evaluation; Phi; Phi_q; Phi_t; the residual's tangent; the
-    /// drawing; the parameter cache), checking each once.
+    /// Compiles already derived equations into [`mechanism_codegen::Routines`] and builds a
+    /// tape for each role it serves (the evaluation; Phi; Phi_q; Phi_t; the residual's
+    /// tangent; the drawing; the parameter cache), checking each once.
     ///
     /// # Errors
     /// A compilation error from codegen; [`Error::NotASymbol`] for a hand-built model whose
@@ -118,8 +121,8 @@ impl Interpreted {
         Ok(interpreted)
     }
 
-    /// [`Routines::fingerprint`](mechanism_codegen::Routines::fingerprint) of the routines this system's tapes run (the code
-    /// `mechanism!` emits from the same declaration carries the same value as
+    /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run
+    /// (the code `mechanism!` emits from the same declaration carries the same value as
     /// `__ROUTINES`).
     #[doc(hidden)]
     pub fn routines_fingerprint(&self) -> u64 {
