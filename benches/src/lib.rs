@@ -11,8 +11,8 @@ pub mod simulation;
 
 use mechanism::{Interpreted, System};
 use mechanism_codegen::{
-    EmitBindings, Equations, Matrix, Model, OpCounts, OutputTarget, Program, Result, emit_body,
-    hoist_parameters,
+    EmitBindings, Equations, Matrix, Model, OpCounts, OutputTarget, Program, Result, Source,
+    emit_body,
 };
 use quote::quote;
 
@@ -51,82 +51,39 @@ pub fn derive_and_cse(mut model: Model) -> Result<OpCounts> {
 }
 
 /// What `mechanism!` does at build time, minus the final `quote!` of the impl: parse the
-/// declaration, derive the equations, CSE one program per trait method (11) plus the
-/// combined `evaluate`, move their parameter-only values into the cache program, emit
-/// every body, and print the equations text. Returns the number of emitted token trees
-/// (to keep the work observable).
+/// declaration, derive the equations and the residual's tangent, compile the routines
+/// (`mechanism_codegen::compile`: one program per role, the parameter-only values moved
+/// into the cache program), emit every body, and print the equations text. Returns the
+/// number of emitted token trees (to keep the work observable).
 pub fn macro_pipeline(source: &str) -> Result<usize> {
     let mut model = mechanism_codegen::parse_model_str(source)?;
     let eqs = mechanism_codegen::derive(&mut model)?;
-    let arena = &model.arena;
+    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs)?;
+    let routines = mechanism_codegen::compile(&mut model, &eqs, &tangent)?;
     let mut b = EmitBindings::new();
     b.set_prefix("v");
     b.set_math(quote!(::mechanism::math));
-    for (i, c) in model.coordinates.iter().enumerate() {
-        if let Some(s) = arena.as_symbol(c.q) {
-            b.bind(s, quote!(q[#i]));
-        }
-        if let Some(s) = arena.as_symbol(c.qd) {
-            b.bind(s, quote!(qd[#i]));
-        }
+    for (symbol, source) in routines.sources().iter() {
+        let tokens = match source {
+            Source::Coordinate(i) => quote!(q[#i]),
+            Source::Rate(i) => quote!(qd[#i]),
+            Source::Acceleration(i) => quote!(qdd[#i]),
+            Source::Parameter(k) => quote!(p[#k]),
+            Source::Cache(k) => quote!(cache[#k]),
+            Source::Time => quote!(t),
+            Source::Multiplier(k) => quote!(lambda[#k]),
+        };
+        b.bind(symbol, tokens);
     }
-    for (k, p) in model.parameters.iter().enumerate() {
-        if let Some(s) = arena.as_symbol(p.symbol) {
-            b.bind(s, quote!(p[#k]));
-        }
-    }
-    if let Some(s) = arena.as_symbol(model.time) {
-        b.bind(s, quote!(t));
-    }
-    // The programs mechanism! builds: one per generated method, then the evaluation.
-    let singles = eqs.method_outputs();
     let place = || OutputTarget::Matrix {
         name: quote!(out),
         zeroed: true,
     };
-    let all = eqs.evaluation_outputs();
-    let all: Vec<&Matrix> = all.iter().collect();
-    let mut programs = Vec::with_capacity(singles.len() + 1);
-    for m in &singles {
-        programs.push(Program::new(arena, &[m])?);
-    }
-    programs.push(Program::new(arena, &all)?);
-    // The residual's tangent, and the robotics routines (inverse dynamics, each link
-    // frame's placement and Jacobian), as the macro builds them.
-    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs)?;
-    let arena = &model.arena;
-    programs.push(Program::new(
-        arena,
-        &[&tangent.stiffness, &tangent.damping],
-    )?);
-    programs.push(Program::new(arena, &[&eqs.inverse_dynamics])?);
-    for f in &eqs.frames {
-        programs.push(Program::new(arena, &[&f.rotation, &f.position])?);
-        programs.push(Program::new(arena, &[&f.jacobian])?);
-    }
-    for (i, c) in model.coordinates.iter().enumerate() {
-        if let Some(s) = model.arena.as_symbol(c.qdd) {
-            b.bind(s, quote!(qdd[#i]));
-        }
-    }
-    for (k, &s) in tangent.lambda.iter().enumerate() {
-        b.bind(s, quote!(lambda[#k]));
-    }
-    // The parameter-only values moved into one cache, as the macro does.
-    let refs: Vec<&Program> = programs.iter().collect();
-    let hoisted = hoist_parameters(&mut model.arena, &refs)?;
-    for (k, &s) in hoisted.slots.iter().enumerate() {
-        b.bind(s, quote!(cache[#k]));
-    }
     let mut tokens = 0;
-    for p in &hoisted.programs {
+    for (_, p) in routines.iter() {
         let targets: Vec<_> = p.outputs().iter().map(|_| place()).collect();
         tokens += emit_body(p, &b, &targets)?.tokens.into_iter().count();
     }
-    tokens += emit_body(&hoisted.cache, &b, &[place()])?
-        .tokens
-        .into_iter()
-        .count();
     tokens += mechanism_codegen::equations_text(&model, &eqs).len();
     Ok(tokens)
 }

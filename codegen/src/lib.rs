@@ -9,8 +9,9 @@
 //! ```
 //!
 //! derived symbolically (Van Khang's matrix calculus with Kronecker products), then compiled
-//! into one straight-line program per evaluation (common subexpressions shared), which is
-//! emitted as Rust, interpreted, or printed as text or LaTeX.
+//! into one straight-line program per routine (common subexpressions shared, parameter-only
+//! values cached), which is emitted as Rust or interpreted; the equations print as text or
+//! LaTeX.
 //!
 //! ## Example
 //!
@@ -44,8 +45,12 @@
 //! - `mechanics/`: names resolved into the arena, the checked [`Model`], bodies and joints,
 //!   [`derive()`] ([`Equations`]) and the implicit integrators' tangent
 //!   ([`residual_tangent`]).
-//! - `program/`: common-subexpression elimination into a [`Program`], and the [`Tape`]
-//!   interpreter.
+//! - `program/`: the [`Program`] and its passes (instruction selection with
+//!   common-subexpression elimination, factoring, scaling, fusion, scheduling, hoisting),
+//!   and the [`Tape`] interpreter.
+//! - `compile/`: [`compile()`] runs the passes in one order and turns [`Equations`] into
+//!   [`Routines`]: a program per [`Role`], the parameter cache, and the [`Sources`] table of
+//!   where each symbol's value comes from. The macro emits and the interpreter runs these.
 //! - `emit/`: a program as Rust tokens ([`emit_body`]).
 //! - `print/`: text ([`to_text`], [`equations_text`]) and LaTeX ([`equations_latex`]).
 //! - `urdf/`: a front end before `syntax/`, importing nothing of the others: a URDF robot
@@ -60,6 +65,7 @@
 #![warn(missing_docs)]
 
 mod algebra;
+mod compile;
 mod emit;
 pub mod error;
 #[cfg(any(test, feature = "fixtures"))]
@@ -79,6 +85,7 @@ pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
+pub use compile::{Role, Routines, Source, Sources, compile};
 pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};

@@ -284,6 +284,7 @@ fn expand_constants(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStrea
     } = t;
     let k = independent.len();
     let equations = &g.equations;
+    let routines = g.routines;
     let param_const = format_ident!("PARAMETERS");
     quote! {
         #[allow(dead_code, clippy::approx_constant, clippy::excessive_precision)]
@@ -307,6 +308,11 @@ fn expand_constants(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStrea
             /// The joint and the component of each constraint row, in row order.
             pub const CONSTRAINT_ROWS: [(&'static str, &'static str); #m] =
                 [#((#row_joints, #row_components)),*];
+            /// The fingerprint of the compiled routines every method runs
+            /// (`mechanism_codegen::Routines::fingerprint`), for the tests that hold the
+            /// interpreter route to the same routines.
+            #[doc(hidden)]
+            pub const __ROUTINES: u64 = #routines;
 
             /// The derived equations as readable text.
             pub fn equations() -> &'static str {

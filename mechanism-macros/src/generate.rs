@@ -1,18 +1,20 @@
 //! Derivation and code generation: the Lagrange equations with multipliers of the declared
-//! model (`mechanism_codegen::derive`), then one CSE'd, straight-line, allocation-free body
-//! per trait method (`Program::new` + `emit_body`).
+//! model (`mechanism_codegen::derive`), compiled into one program per role
+//! (`mechanism_codegen::compile`, the routines the interpreter runs too), then one
+//! straight-line, allocation-free body per trait method (`emit_body`).
 //!
-//! The values that depend on parameters only are moved out of every body into one cache
-//! (`hoist_parameters`), computed when the parameters are set and read as `cache[k]`; a body
-//! then computes only what depends on t, q and q'. Matrix bodies start from zeroed nalgebra
+//! The values that depend on parameters only are computed by the routines' parameter cache
+//! when the parameters are set and read as `cache[k]`; a body then computes only what
+//! depends on t, q and q'. Matrix bodies start from zeroed nalgebra
 //! matrices (stack values, no allocation) and write the non-zero entries with constant
 //! indices; `evaluate_into` writes every entry of the caller's buffer. Symbols are read as
-//! `self.__parameters.<parameter>`, `q[i]`, `qd[i]` and `t`. The combined evaluation is one
+//! the routines' source table says: `self.__parameters.<parameter>`, `cache[k]`, `q[i]`,
+//! `qd[i]`, `qdd[i]`, `lambda[k]` and `t`. The combined evaluation is one
 //! program over all outputs, so sin/cos pairs and common subexpressions are computed once.
 
 use mechanism_codegen::{
-    EmitBindings, Equations, EvaluationOutput, Matrix, Model, Operand, OutputTarget, Program,
-    ResidualTangent, SymbolId, emit_body, hoist_parameters, residual_tangent,
+    EmitBindings, EvaluationOutput, Model, Operand, OutputTarget, Program, Role, Routines, Source,
+    emit_body, residual_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
@@ -75,106 +77,55 @@ pub struct Generated {
     pub cache_len: usize,
     /// `fn(p: &Parameters) -> [f64; cache_len]`'s body: the cached values.
     pub cache: TokenStream,
+    /// The fingerprint of the routines every body comes from (`Routines::fingerprint`).
+    pub routines: u64,
 }
 
-/// Derives the equations of `decl` and generates every body.
+/// Derives the equations of `decl`, compiles them into routines and generates every body.
 pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
     let tangent = residual_tangent(&mut decl.model, &eqs).map_err(|e| codegen_error(decl, &e))?;
-    let programs = Programs::new(&mut decl.model, &eqs, &tangent);
-    let programs = programs.map_err(|e| codegen_error(decl, &e))?;
+    let routines = mechanism_codegen::compile(&mut decl.model, &eqs, &tangent);
+    let routines = routines.map_err(|e| codegen_error(decl, &e))?;
     let b = Bodies {
         model: &decl.model,
         krate: &decl.krate,
-        slots: &programs.slots,
+        routines: &routines,
     };
     let frames = eqs.frames.len();
     let result = (|| -> mechanism_codegen::Result<Generated> {
-        let p = &programs.bodies;
         Ok(Generated {
-            mass_matrix: b.matrix(&p[0])?,
-            coriolis_matrix: b.matrix(&p[1])?,
-            coriolis_forces: b.matrix(&p[2])?,
-            gravity: b.matrix(&p[3])?,
-            generalized_forces: b.matrix(&p[4])?,
-            constraints: b.matrix(&p[5])?,
-            constraint_jacobian: b.matrix(&p[6])?,
-            constraint_time_derivative: b.matrix(&p[7])?,
-            constraint_gamma: b.matrix(&p[8])?,
-            kinetic_energy: b.scalar(&p[9])?,
-            potential_energy: b.scalar(&p[10])?,
-            evaluate_into: b.evaluate_into(&p[11], false)?,
-            evaluate_into_avx2: b.evaluate_into(&p[11], true)?,
-            residual_tangent: b.tangent(&p[12], &tangent)?,
+            mass_matrix: b.matrix(Role::Mass)?,
+            coriolis_matrix: b.matrix(Role::CoriolisMatrix)?,
+            coriolis_forces: b.matrix(Role::CoriolisForces)?,
+            gravity: b.matrix(Role::Gravity)?,
+            generalized_forces: b.matrix(Role::Forces)?,
+            constraints: b.matrix(Role::Constraints)?,
+            constraint_jacobian: b.matrix(Role::ConstraintJacobian)?,
+            constraint_time_derivative: b.matrix(Role::ConstraintTimeDerivative)?,
+            constraint_gamma: b.matrix(Role::Gamma)?,
+            kinetic_energy: b.scalar(Role::Kinetic)?,
+            potential_energy: b.scalar(Role::Potential)?,
+            evaluate_into: b.evaluate_into(false)?,
+            evaluate_into_avx2: b.evaluate_into(true)?,
+            residual_tangent: b.tangent(eqs.n)?,
             draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
-            mass_and_bias: b.mass_and_bias(&p[13], eqs.n)?,
-            inverse_dynamics: b.inverse_dynamics(&p[14])?,
+            mass_and_bias: b.mass_and_bias(eqs.n)?,
+            inverse_dynamics: b.inverse_dynamics()?,
             frame_placements: (0..frames)
-                .map(|k| b.placement(&p[15 + k]))
+                .map(|k| b.placement(Role::FramePlacement(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
             frame_jacobians: (0..frames)
-                .map(|k| b.matrix(&p[15 + frames + k]))
+                .map(|k| b.matrix(Role::FrameJacobian(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
             frame_names: eqs.frames.iter().map(|f| f.name.clone()).collect(),
-            cache_len: programs.slots.len(),
-            cache: b.cache(&programs.cache)?,
+            cache_len: routines.cache_len(),
+            cache: b.cache()?,
+            routines: routines.fingerprint(),
         })
     })();
     result.map_err(|e| codegen_error(decl, &e))
-}
-
-/// The program of every body, with the parameter-only values moved into one cache program.
-struct Programs {
-    /// mass_matrix .. potential_energy (11), evaluate_into, residual_tangent,
-    /// mass_and_bias, inverse_dynamics, then each frame's placement, then each frame's
-    /// Jacobian.
-    bodies: Vec<Program>,
-    /// Computes the cache from the parameters.
-    cache: Program,
-    /// The symbol standing for cache entry k in the bodies.
-    slots: Vec<SymbolId>,
-}
-
-impl Programs {
-    fn new(
-        model: &mut Model,
-        e: &Equations,
-        tangent: &ResidualTangent,
-    ) -> mechanism_codegen::Result<Programs> {
-        let singles = e.method_outputs();
-        let bias = e
-            .coriolis_forces
-            .add(&mut model.arena, &e.gravity)?
-            .sub(&mut model.arena, &e.forces)?;
-        let arena = &model.arena;
-        let mut programs = Vec::with_capacity(singles.len() + 2);
-        for m in &singles {
-            programs.push(Program::new(arena, &[m])?);
-        }
-        let outputs = e.evaluation_outputs();
-        let outputs: Vec<&Matrix> = outputs.iter().collect();
-        programs.push(Program::new(arena, &outputs)?);
-        programs.push(Program::new(
-            arena,
-            &[&tangent.stiffness, &tangent.damping],
-        )?);
-        programs.push(Program::new(arena, &[&e.mass, &bias])?);
-        programs.push(Program::new(arena, &[&e.inverse_dynamics])?);
-        for f in &e.frames {
-            programs.push(Program::new(arena, &[&f.rotation, &f.position])?);
-        }
-        for f in &e.frames {
-            programs.push(Program::new(arena, &[&f.jacobian])?);
-        }
-        let all: Vec<&Program> = programs.iter().collect();
-        let h = hoist_parameters(&mut model.arena, &all)?;
-        Ok(Programs {
-            bodies: h.programs,
-            cache: h.cache,
-            slots: h.slots,
-        })
-    }
 }
 
 /// A codegen error as a compile error at the user's token (or the file literal). An error
@@ -188,62 +139,68 @@ fn codegen_error(decl: &Declaration, e: &mechanism_codegen::Error) -> syn::Error
 struct Bodies<'a> {
     model: &'a Model,
     krate: &'a TokenStream,
-    slots: &'a [SymbolId],
+    routines: &'a Routines,
 }
 
 impl Bodies<'_> {
-    /// How the emitted code reads each symbol: parameters from `self.__parameters`, cached
-    /// values from `cache`, coordinates and rates from `q` and `qd`, time from `t`. Real
-    /// functions call the runtime crate's `math` module (`sin_cos` is the function the
-    /// interpreter, `Tape`, uses; the others exist without std, where the f64 methods do
-    /// not).
-    fn bindings(&self) -> EmitBindings {
-        self.bindings_with(quote!(self.__parameters))
+    /// How the emitted body of `role` reads each symbol its role provides, from the
+    /// routines' source table: parameters from `self.__parameters`, cached values from
+    /// `cache`, coordinates, rates and accelerations from `q`, `qd` and `qdd`, multipliers
+    /// from `lambda`, time from `t`. Real functions call the runtime crate's `math` module
+    /// (`sin_cos` is the function the interpreter, `Tape`, uses; the others exist without
+    /// std, where the f64 methods do not).
+    fn bindings(&self, role: Role) -> EmitBindings {
+        self.bindings_with(role, quote!(self.__parameters))
     }
 
     /// [`Bodies::bindings`] with the parameters read from the struct at `params`.
-    fn bindings_with(&self, params: TokenStream) -> EmitBindings {
-        let model = self.model;
-        let arena = &model.arena;
+    fn bindings_with(&self, role: Role, params: TokenStream) -> EmitBindings {
         let krate = self.krate;
         let mut b = EmitBindings::new();
         b.set_prefix("v");
         b.set_math(quote!(#krate::math));
-        for (i, c) in model.coordinates.iter().enumerate() {
-            if let Some(s) = arena.as_symbol(c.q) {
-                b.bind(s, quote!(q[#i]));
+        for (symbol, source) in self.routines.sources().iter() {
+            if !role.provides(source) {
+                continue;
             }
-            if let Some(s) = arena.as_symbol(c.qd) {
-                b.bind(s, quote!(qd[#i]));
-            }
-        }
-        for p in &model.parameters {
-            let field = Ident::new(&p.name, Span::call_site());
-            if let Some(s) = arena.as_symbol(p.symbol) {
-                b.bind(s, quote!(#params.#field));
-            }
-        }
-        if let Some(s) = arena.as_symbol(model.time) {
-            b.bind(s, quote!(t));
-        }
-        for (k, &s) in self.slots.iter().enumerate() {
-            b.bind(s, quote!(cache[#k]));
+            let tokens = match source {
+                Source::Coordinate(i) => quote!(q[#i]),
+                Source::Rate(i) => quote!(qd[#i]),
+                Source::Acceleration(i) => quote!(qdd[#i]),
+                Source::Parameter(k) => {
+                    let Some(p) = self.model.parameters.get(k) else {
+                        continue;
+                    };
+                    let field = Ident::new(&p.name, Span::call_site());
+                    quote!(#params.#field)
+                }
+                Source::Cache(k) => quote!(cache[#k]),
+                Source::Time => quote!(t),
+                Source::Multiplier(k) => quote!(lambda[#k]),
+            };
+            b.bind(symbol, tokens);
         }
         b
+    }
+
+    /// The program of `role` and its bindings.
+    fn routine(&self, role: Role) -> mechanism_codegen::Result<(&Program, EmitBindings)> {
+        Ok((self.routines.program(role)?, self.bindings(role)))
     }
 
     /// `let cache = ...;` when `program` reads a cached value: the struct's cache while it
     /// is current, else the values computed here from the parameters (after a change
     /// through `DerefMut` that was not followed by `refresh`).
     fn cache_read(&self, program: &Program) -> TokenStream {
+        let sources = self.routines.sources();
         let reads = program
             .symbols()
             .iter()
-            .any(|(s, _)| self.slots.contains(s));
+            .any(|(s, _)| matches!(sources.get(*s), Some(Source::Cache(_))));
         if !reads {
             return quote!();
         }
-        let k = self.slots.len();
+        let k = self.routines.cache_len();
         quote! {
             let computed: [f64; #k];
             let cache: &[f64; #k] = if self.__cached {
@@ -255,13 +212,14 @@ impl Bodies<'_> {
         }
     }
 
-    /// A body returning one nalgebra matrix (or vector) of the shape of `program`'s output.
-    fn matrix(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+    /// A body returning one nalgebra matrix (or vector) of the shape of `role`'s output.
+    fn matrix(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(role)?;
         let targets = [OutputTarget::Matrix {
             name: quote!(out),
             zeroed: true,
         }];
-        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let body = emit_body(program, &bindings, &targets)?.tokens;
         let o = &program.outputs()[0];
         let (r, c, krate) = (o.rows, o.cols, self.krate);
         let mutable = if body.is_empty() {
@@ -279,7 +237,8 @@ impl Bodies<'_> {
     }
 
     /// `(M, b)`: M (n x n) and the bias b = C q' + g - tau (n x 1), one program.
-    fn mass_and_bias(&self, program: &Program, n: usize) -> mechanism_codegen::Result<TokenStream> {
+    fn mass_and_bias(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(Role::MassAndBias)?;
         let targets = [
             OutputTarget::Matrix {
                 name: quote!(mass),
@@ -290,7 +249,7 @@ impl Bodies<'_> {
                 zeroed: true,
             },
         ];
-        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let body = emit_body(program, &bindings, &targets)?.tokens;
         let (krate, cache) = (self.krate, self.cache_read(program));
         Ok(quote! {
             #cache
@@ -302,14 +261,8 @@ impl Bodies<'_> {
     }
 
     /// M q'' + C q' + g - tau, with q'' read from `qdd`.
-    fn inverse_dynamics(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
-        let arena = &self.model.arena;
-        let mut bindings = self.bindings();
-        for (i, c) in self.model.coordinates.iter().enumerate() {
-            if let Some(s) = arena.as_symbol(c.qdd) {
-                bindings.bind(s, quote!(qdd[#i]));
-            }
-        }
+    fn inverse_dynamics(&self) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(Role::InverseDynamics)?;
         let targets = [OutputTarget::Matrix {
             name: quote!(out),
             zeroed: true,
@@ -325,8 +278,9 @@ impl Bodies<'_> {
         })
     }
 
-    /// `(R, p)` of one link frame.
-    fn placement(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
+    /// `(R, p)` of one link frame (`role` is its [`Role::FramePlacement`]).
+    fn placement(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(role)?;
         let targets = [
             OutputTarget::Matrix {
                 name: quote!(rotation),
@@ -337,7 +291,7 @@ impl Bodies<'_> {
                 zeroed: true,
             },
         ];
-        let body = emit_body(program, &self.bindings(), &targets)?.tokens;
+        let body = emit_body(program, &bindings, &targets)?.tokens;
         let (krate, cache) = (self.krate, self.cache_read(program));
         Ok(quote! {
             #cache
@@ -351,30 +305,30 @@ impl Bodies<'_> {
     /// The drawn points' x, y, z into the slice `out` (3 per point, in drawing order),
     /// after a length check so that the constant indices cannot panic.
     fn draw_points(&self) -> mechanism_codegen::Result<TokenStream> {
-        let points = &self.model.drawing.points;
-        if points.is_empty() {
+        let Some(program) = self.routines.get(Role::Draw) else {
             return Ok(quote!(let _ = (t, q, out);));
-        }
-        let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
-        let program = Program::new(&self.model.arena, &[&column])?;
+        };
         let targets = [OutputTarget::Vector {
             name: quote!(out),
             zeroed: false,
         }];
-        let body = emit_body(&program, &self.bindings(), &targets)?.tokens;
-        let len = 3 * points.len();
+        let body = emit_body(program, &self.bindings(Role::Draw), &targets)?.tokens;
+        let len = 3 * self.model.drawing.points.len();
+        let cache = self.cache_read(program);
         Ok(quote! {
             let _ = (t, q);
             if out.len() < #len {
                 return;
             }
+            #cache
             #body
         })
     }
 
     /// A body returning the single entry of a 1 x 1 output.
-    fn scalar(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
-        let body = emit_body(program, &self.bindings(), &[OutputTarget::Return])?.tokens;
+    fn scalar(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(role)?;
+        let body = emit_body(program, &bindings, &[OutputTarget::Return])?.tokens;
         let cache = self.cache_read(program);
         Ok(quote! {
             #cache
@@ -386,11 +340,8 @@ impl Bodies<'_> {
     /// entry is written: small outputs entry by entry (zeros included), outputs with many
     /// zeros by one `fill(0.0)` and their nonzero entries. With `avx2`, the functions are
     /// called from `math::avx2` (the same bits, for a body compiled with AVX2).
-    fn evaluate_into(
-        &self,
-        program: &Program,
-        avx2: bool,
-    ) -> mechanism_codegen::Result<TokenStream> {
+    fn evaluate_into(&self, avx2: bool) -> mechanism_codegen::Result<TokenStream> {
+        let (program, mut bindings) = self.routine(Role::Evaluation)?;
         let mut fills = TokenStream::new();
         let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
             .iter()
@@ -430,7 +381,6 @@ impl Bodies<'_> {
                 OutputTarget::Matrix { name, zeroed }
             })
             .collect();
-        let mut bindings = self.bindings();
         if avx2 {
             let krate = self.krate;
             bindings.set_math(quote!(#krate::math::avx2));
@@ -448,27 +398,14 @@ impl Bodies<'_> {
         })
     }
 
-    /// `Some((K, D))` with K = dF/dq and D = dF/dq' (one program for both); q'' is read
-    /// from `qdd`, the multipliers from `lambda`.
-    fn tangent(
-        &self,
-        program: &Program,
-        tangent: &ResidualTangent,
-    ) -> mechanism_codegen::Result<TokenStream> {
-        let arena = &self.model.arena;
-        let mut bindings = self.bindings();
-        for (i, c) in self.model.coordinates.iter().enumerate() {
-            if let Some(s) = arena.as_symbol(c.qdd) {
-                bindings.bind(s, quote!(qdd[#i]));
-            }
-        }
-        for (k, &s) in tangent.lambda.iter().enumerate() {
-            bindings.bind(s, quote!(lambda[#k]));
-        }
+    /// `Some((K, D))` with K = dF/dq and D = dF/dq' (n x n each, one program for both);
+    /// q'' is read from `qdd`, the multipliers from `lambda`.
+    fn tangent(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(Role::Tangent)?;
         let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
         let targets = [place(quote!(stiffness)), place(quote!(damping))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
-        let (n, krate) = (tangent.stiffness.rows(), self.krate);
+        let krate = self.krate;
         let cache = self.cache_read(program);
         Ok(quote! {
             #cache
@@ -480,13 +417,15 @@ impl Bodies<'_> {
     }
 
     /// The body of `fn parameter_cache(p: &Parameters) -> [f64; K]`.
-    fn cache(&self, program: &Program) -> mechanism_codegen::Result<TokenStream> {
-        let k = self.slots.len();
+    fn cache(&self) -> mechanism_codegen::Result<TokenStream> {
+        let role = Role::ParameterCache;
+        let program = self.routines.program(role)?;
+        let k = self.routines.cache_len();
         let targets = [OutputTarget::Vector {
             name: quote!(out),
             zeroed: false,
         }];
-        let body = emit_body(program, &self.bindings_with(quote!(p)), &targets)?.tokens;
+        let body = emit_body(program, &self.bindings_with(role, quote!(p)), &targets)?.tokens;
         let mutable = if k == 0 { quote!() } else { quote!(mut) };
         Ok(quote! {
             let #mutable out = [0.0_f64; #k];

@@ -1,14 +1,12 @@
 //! Prescribed motions written as expressions: `phi = 2*pi*t` becomes a driver constraint
 //! q_k - f(t) = 0, with f' and f'' derived symbolically by `mechanism-codegen`.
 
-use std::collections::HashMap;
-
-use mechanism_codegen::{Arena, Differentiator, Matrix, Program, SymbolId, SymbolKind};
+use mechanism_codegen::{Arena, Differentiator, Matrix, Program, Source, Sources, SymbolKind};
 
 use crate::algorithms::kinematics::Drive;
 use crate::error::Error;
 use crate::system::System;
-use crate::system::routine::{Routine, Source, Values};
+use crate::system::routine::{Routine, Values};
 
 /// Why a drive specification was refused.
 #[derive(Debug, thiserror::Error)]
@@ -64,7 +62,7 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
     let f1 = d.diff(&mut arena, f, t).map_err(wrap)?;
     let f2 = d.diff(&mut arena, f1, t).map_err(wrap)?;
     let program = Program::new(&arena, &[&Matrix::column(vec![f, f1, f2])]).map_err(wrap)?;
-    let sources: HashMap<SymbolId, Source> = params
+    let sources: Sources = params
         .iter()
         .enumerate()
         .map(|(k, s)| (*s, Source::Parameter(k)))

@@ -1,21 +1,23 @@
 //! The interpreter route: a mechanism read at run time (a `.mech` file that was not compiled
 //! in), derived by `mechanism-codegen` and evaluated through its [`Tape`](mechanism_codegen::Tape).
 //!
-//! It computes exactly what the code emitted by `mechanism!` computes (the same derived
-//! equations, the same CSE'd program), only interpreted: the runtime gets a [`System`] for
+//! It computes exactly what the code emitted by `mechanism!` computes: its tapes run the
+//! programs of the same [`Routines`] (`mechanism_codegen::compile`), one per role it serves,
+//! with the parameter-only values computed by the routines' parameter cache once per
+//! parameter set, as the emitted struct caches them. The runtime gets a [`System`] for
 //! any declaration without a rebuild, and the tests get a second route to check the
 //! emitted code against. Everything that can be wrong with the programs is checked when the
 //! `Interpreted` is built; an evaluation then cannot fail, and like the emitted code it lets
 //! a non-finite value through to the outputs it reaches.
-
-use std::collections::HashMap;
+//!
+//! [`Routines`]: mechanism_codegen::Routines
 
 use mechanism_codegen::{
-    Equations, Error, EvaluationOutput, Id, Matrix, Model, Program, SymbolId, residual_tangent,
+    Equations, Error, EvaluationOutput, Model, Role, compile, residual_tangent,
 };
 use nalgebra::DMatrix;
 
-use crate::system::routine::{Routine, Source, Values};
+use crate::system::routine::{Routine, Values};
 use crate::system::{
     ConstraintRow, Drawing, DrawnPoint, Evaluation, Independent, System, SystemInfo, Tangent,
 };
@@ -25,16 +27,27 @@ use crate::system::{
 pub struct Interpreted {
     info: SystemInfo,
     parameters: Vec<f64>,
-    /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi.
+    /// The parameter-only values of `parameters`, in cache-slot order.
+    cache: Vec<f64>,
+    /// Computes `cache` from the parameters ([`Role::ParameterCache`]).
+    parameter_cache: Routine,
+    /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi ([`Role::Evaluation`]).
     full: Routine,
-    /// Phi.
+    /// Phi ([`Role::Constraints`]).
     phi: Routine,
-    /// Phi_q, Phi_t.
+    /// Phi_q ([`Role::ConstraintJacobian`]).
     jacobian: Routine,
-    /// dF/dq, dF/dq' of the residual (exact Jacobians for implicit integrators).
+    /// Phi_t ([`Role::ConstraintTimeDerivative`]).
+    time_derivative: Routine,
+    /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
+    /// ([`Role::Tangent`]).
     tangent: Routine,
-    /// The drawn points' positions (3 per point), when the declaration draws.
+    /// The drawn points' positions (3 per point), when the declaration draws
+    /// ([`Role::Draw`]).
     draw: Option<Routine>,
+    /// The fingerprint of the routines the tapes run
+    /// ([`mechanism_codegen::Routines::fingerprint`]).
+    routines: u64,
     equations_text: String,
 }
 
@@ -65,8 +78,9 @@ impl Interpreted {
         Self::from_equations(model, eqs)
     }
 
-    /// Compiles already derived equations into the four evaluations (everything; Phi;
-    /// Phi_q and Phi_t; the residual's tangent), checking each once.
+    /// Compiles already derived equations into [`mechanism_codegen::Routines`] and builds a
+    /// tape for each role it serves (the evaluation; Phi; Phi_q; Phi_t; the residual's
+    /// tangent; the drawing; the parameter cache), checking each once.
     ///
     /// # Errors
     /// A compilation error from codegen; [`Error::NotASymbol`] for a hand-built model whose
@@ -75,37 +89,55 @@ impl Interpreted {
     /// whose sizes are not n and m.
     pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, Error> {
         let tangent = residual_tangent(&mut model, &eqs)?;
-        let sources = sources(&model, &tangent.lambda)?;
-        let arena = &model.arena;
+        let routines = compile(&mut model, &eqs, &tangent)?;
         let (n, m) = (model.coordinates.len(), eqs.m);
-        let outputs = eqs.evaluation_outputs();
-        let full = Program::new(arena, &outputs.iter().collect::<Vec<_>>())?;
         let full_len = EvaluationOutput::ORDER
             .iter()
             .map(|o| o.shape(n, m))
             .map(|(rows, cols)| rows * cols)
             .sum();
-        let phi = Program::new(arena, &[&eqs.phi])?;
-        let jacobian = Program::new(arena, &[&eqs.phi_q, &eqs.phi_t])?;
-        let tan = Program::new(arena, &[&tangent.stiffness, &tangent.damping])?;
-        let points = &model.drawing.points;
-        let draw = if points.is_empty() {
-            None
-        } else {
-            let column = Matrix::column(points.iter().flat_map(|p| p.position).collect());
-            let program = Program::new(arena, &[&column])?;
-            Some(Routine::new(&program, &sources, 3 * points.len())?)
+        let routine = |role: Role, outputs: usize| -> Result<Routine, Error> {
+            Routine::new(routines.program(role)?, routines.sources(), outputs)
         };
-        Ok(Self {
+        let draw = match routines.get(Role::Draw) {
+            Some(_) => Some(routine(Role::Draw, 3 * model.drawing.points.len())?),
+            None => None,
+        };
+        let mut interpreted = Self {
             draw,
-            full: Routine::new(&full, &sources, full_len)?,
-            phi: Routine::new(&phi, &sources, m)?,
-            jacobian: Routine::new(&jacobian, &sources, m * n + m)?,
-            tangent: Routine::new(&tan, &sources, 2 * n * n)?,
+            parameter_cache: routine(Role::ParameterCache, routines.cache_len())?,
+            full: routine(Role::Evaluation, full_len)?,
+            phi: routine(Role::Constraints, m)?,
+            jacobian: routine(Role::ConstraintJacobian, m * n)?,
+            time_derivative: routine(Role::ConstraintTimeDerivative, m)?,
+            tangent: routine(Role::Tangent, 2 * n * n)?,
+            cache: vec![0.0; routines.cache_len()],
             parameters: model.parameters.iter().map(|p| p.default).collect(),
+            routines: routines.fingerprint(),
             info: system_info(&model, m),
             equations_text: mechanism_codegen::equations_text(&model, &eqs),
-        })
+        };
+        interpreted.refresh_cache();
+        Ok(interpreted)
+    }
+
+    /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run
+    /// (the code `mechanism!` emits from the same declaration carries the same value as
+    /// `__ROUTINES`).
+    #[doc(hidden)]
+    pub fn routines_fingerprint(&self) -> u64 {
+        self.routines
+    }
+
+    /// Computes the parameter cache of the current parameters.
+    fn refresh_cache(&mut self) {
+        let values = Values {
+            parameters: &self.parameters,
+            ..Values::default()
+        };
+        let cache = &mut self.cache;
+        self.parameter_cache
+            .run(&values, |v| cache.copy_from_slice(v));
     }
 
     /// The derived equations as readable text (the same text `mechanism!` embeds).
@@ -117,40 +149,12 @@ impl Interpreted {
     fn at<'a>(&'a self, t: f64, q: &'a [f64]) -> Values<'a> {
         Values {
             parameters: &self.parameters,
+            cache: &self.cache,
             t,
             q,
             ..Values::default()
         }
     }
-}
-
-/// The source of each symbol an evaluation may read: parameters, coordinates with their
-/// rates and accelerations, the multipliers of the tangent, and time.
-fn sources(model: &Model, lambda: &[SymbolId]) -> Result<HashMap<SymbolId, Source>, Error> {
-    let arena = &model.arena;
-    // A hand-built Model may put any expression where a symbol belongs: say so.
-    let symbol = |id: Id, what: String| arena.as_symbol(id).ok_or(Error::NotASymbol { role: what });
-    let mut sources = HashMap::new();
-    for (k, p) in model.parameters.iter().enumerate() {
-        let s = symbol(p.symbol, format!("parameter `{}`", p.name))?;
-        sources.insert(s, Source::Parameter(k));
-    }
-    for (k, c) in model.coordinates.iter().enumerate() {
-        let name = &c.name;
-        let q = symbol(c.q, format!("coordinate `{name}`"))?;
-        let qd = symbol(c.qd, format!("the rate of `{name}`"))?;
-        let qdd = symbol(c.qdd, format!("the acceleration of `{name}`"))?;
-        sources.insert(q, Source::Position(k));
-        sources.insert(qd, Source::Rate(k));
-        sources.insert(qdd, Source::Acceleration(k));
-    }
-    for (k, s) in lambda.iter().enumerate() {
-        sources.insert(*s, Source::Multiplier(k));
-    }
-    if let Some(t) = arena.as_symbol(model.time) {
-        sources.insert(t, Source::Time);
-    }
-    Ok(sources)
 }
 
 /// Copies a row-major block of `rows x cols` values into `dst`.
@@ -177,6 +181,7 @@ impl System for Interpreted {
         match self.parameters.get_mut(index) {
             Some(p) => {
                 *p = value;
+                self.refresh_cache();
                 true
             }
             None => false,
@@ -227,10 +232,9 @@ impl System for Interpreted {
 
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
         let (n, m) = (self.info.n(), self.info.m());
-        self.jacobian.run(&self.at(t, q), |v| {
-            copy_block(v, m, n, phi_q);
-            phi_t.copy_from_slice(&v[m * n..m * n + m]);
-        });
+        let at = self.at(t, q);
+        self.jacobian.run(&at, |v| copy_block(v, m, n, phi_q));
+        self.time_derivative.run(&at, |v| phi_t.copy_from_slice(v));
     }
 
     fn tangent(

@@ -1,34 +1,17 @@
-//! One evaluation of the interpreted route: a codegen [`Tape`] and where each of its inputs
-//! comes from, checked once when it is built so that running it cannot fail.
+//! One evaluation of the interpreted route: a codegen [`Tape`] of one compiled routine and
+//! where each of its inputs comes from (the routines' [`Sources`] table), checked once when
+//! it is built so that running it cannot fail.
 
-use std::collections::HashMap;
-
-use mechanism_codegen::{Error, Program, SymbolId, Tape};
+use mechanism_codegen::{Error, Program, Source, Sources, Tape};
 
 use crate::system::registers::with_registers;
-
-/// Where the value of a tape input comes from at an evaluation (an index into the slice
-/// of [`Values`] it names).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Source {
-    /// A parameter.
-    Parameter(usize),
-    /// A coordinate q_k.
-    Position(usize),
-    /// A rate q'_k.
-    Rate(usize),
-    /// An acceleration q''_k.
-    Acceleration(usize),
-    /// A multiplier lambda_k.
-    Multiplier(usize),
-    /// Time t.
-    Time,
-}
 
 /// The values one evaluation reads; a slice an evaluation does not have is empty.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Values<'a> {
     pub(crate) parameters: &'a [f64],
+    /// The parameter cache of `parameters` (the routines' `ParameterCache` output).
+    pub(crate) cache: &'a [f64],
     pub(crate) t: f64,
     pub(crate) q: &'a [f64],
     pub(crate) qd: &'a [f64],
@@ -43,7 +26,8 @@ impl Values<'_> {
         let at = |values: &[f64], k: usize| values.get(k).copied().unwrap_or(f64::NAN);
         match source {
             Source::Parameter(k) => at(self.parameters, k),
-            Source::Position(k) => at(self.q, k),
+            Source::Cache(k) => at(self.cache, k),
+            Source::Coordinate(k) => at(self.q, k),
             Source::Rate(k) => at(self.qd, k),
             Source::Acceleration(k) => at(self.qdd, k),
             Source::Multiplier(k) => at(self.lambda, k),
@@ -66,11 +50,7 @@ impl Routine {
     /// # Errors
     /// [`Error::MissingValue`] for an input symbol without a source (a hand-built model's
     /// free symbol), [`Error::OutputCount`] when the program does not have `outputs` entries.
-    pub(crate) fn new(
-        program: &Program,
-        sources: &HashMap<SymbolId, Source>,
-        outputs: usize,
-    ) -> Result<Self, Error> {
+    pub(crate) fn new(program: &Program, sources: &Sources, outputs: usize) -> Result<Self, Error> {
         let tape = Tape::new(program);
         if tape.output_len() != outputs {
             return Err(Error::OutputCount {
@@ -79,18 +59,15 @@ impl Routine {
                 outputs: tape.output_len(),
             });
         }
-        let names: HashMap<SymbolId, &str> = program
-            .symbols()
-            .iter()
-            .map(|(s, name)| (*s, name.as_str()))
-            .collect();
+        let name = |symbol| {
+            let named = program.symbols().iter().find(|(s, _)| *s == symbol);
+            named.map_or("?", |(_, name)| name.as_str()).to_string()
+        };
         let inputs = tape
             .input_slots()
-            .map(|(symbol, slot)| match sources.get(&symbol) {
-                Some(source) => Ok((slot, *source)),
-                None => Err(Error::MissingValue {
-                    name: names.get(&symbol).copied().unwrap_or("?").to_string(),
-                }),
+            .map(|(symbol, slot)| match sources.get(symbol) {
+                Some(source) => Ok((slot, source)),
+                None => Err(Error::MissingValue { name: name(symbol) }),
             })
             .collect::<Result<_, _>>()?;
         Ok(Self { tape, inputs })

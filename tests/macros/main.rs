@@ -1,5 +1,6 @@
-//! What `mechanism!` emits: the same numbers as the interpreter route, large declarations,
-//! and generated code that allocates nothing (this binary counts allocations per thread).
+//! What `mechanism!` emits: the same routines and numbers as the interpreter route, large
+//! declarations, and generated code that allocates nothing (this binary counts allocations
+//! per thread).
 
 #[global_allocator]
 static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
@@ -9,4 +10,5 @@ mod emitted_vs_interpreter;
 mod file_paths;
 mod large_mechanism;
 mod no_alloc;
+mod one_routines;
 mod parameter_cache;

@@ -1,7 +1,7 @@
 //! `derive_time FILE.mech [runs]`: the wall time of everything `mechanism!` does at build
 //! time for one declaration (`mechanism_bench::macro_pipeline`: parse, derive, the tangent,
-//! every routine's program, hoisting, emission, the equations text), the median of `runs`
-//! (default 5) in this process.
+//! the routines of `mechanism_codegen::compile`, emission, the equations text), the median
+//! of `runs` (default 5) in this process.
 
 use std::time::Instant;
 

@@ -259,6 +259,13 @@ pub enum Error {
         /// The 1-based count asked for.
         wanted: usize,
     },
+    /// A role with no compiled routine (a frame past the last, the drawing of a model that
+    /// draws nothing).
+    #[error("no routine was compiled for the role {role}")]
+    NoSuchRoutine {
+        /// The role, as `Debug` prints it.
+        role: String,
+    },
     /// A list of output slots or targets whose length is not the program's output count.
     #[error("{given} {what} for {outputs} outputs")]
     OutputCount {

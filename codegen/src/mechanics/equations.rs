@@ -134,27 +134,6 @@ impl Equations {
         }
     }
 
-    /// The matrix of each single-output method the macro generates, in this order:
-    /// `mass_matrix` (M), `coriolis_matrix` (C), `coriolis_forces` (C q'), `gravity` (g),
-    /// `generalized_forces` (tau), `constraints` (Phi), `constraint_jacobian` (Phi_q),
-    /// `constraint_time_derivative` (Phi_t), `constraint_gamma` (gamma), `kinetic_energy`
-    /// (T, 1 x 1) and `potential_energy` (Pi, 1 x 1).
-    pub fn method_outputs(&self) -> [Matrix; 11] {
-        [
-            self.mass.clone(),
-            self.coriolis_matrix.clone(),
-            self.coriolis_forces.clone(),
-            self.gravity.clone(),
-            self.forces.clone(),
-            self.phi.clone(),
-            self.phi_q.clone(),
-            self.phi_t.clone(),
-            self.gamma.clone(),
-            Matrix::column(vec![self.kinetic]),
-            Matrix::column(vec![self.potential]),
-        ]
-    }
-
     /// The matrices of the evaluation program, in [`EvaluationOutput::ORDER`].
     pub fn evaluation_outputs(&self) -> Vec<Matrix> {
         EvaluationOutput::ORDER

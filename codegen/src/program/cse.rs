@@ -1,11 +1,11 @@
-//! Common-subexpression elimination: a straight-line SSA [`Program`] for several matrices.
+//! The [`Program`] type: a straight-line SSA program computing several matrices, with
+//! common subexpressions shared; and dead-code elimination with register renumbering
+//! (`compact`). The passes that make a program, and their order, are in
+//! `crate::compile::passes`.
 //!
-//! The sums are first factored (`super::factor`: sum_j w_j sin a cos b_j ... becomes
-//! sin a (sum_j w_j cos b_j ...), on a copy of what the outputs reach), and that form is
-//! kept when it needs fewer operations per call than the derived one. The arena is
-//! hash-consed, so every distinct subexpression is one node; the
-//! program gives each needed node one register (one `let`), in id (topological) order, and
-//! lowers the canonical n-ary forms into lean binary operations:
+//! The arena is hash-consed, so every distinct subexpression is one node; instruction
+//! selection (`super::builder`) gives each needed node one register (one `let`), in id
+//! (topological) order, and lowers the canonical n-ary forms into lean binary operations:
 //!
 //! | expression                      | lowered to                                  |
 //! |---------------------------------|---------------------------------------------|
@@ -25,15 +25,9 @@
 //! Identical instructions are value-numbered (one register), so partial products such as
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
 
-use crate::algebra::expr::{Arena, SymbolId, SymbolKind, size_budget};
-use crate::algebra::matrix::Matrix;
+use crate::algebra::expr::{Arena, SymbolId, SymbolKind};
 use crate::error::{Error, Result};
-use crate::program::builder::InstructionSelection;
-use crate::program::factor::factored_copy;
-use crate::program::fuse::fuse_multiply_add;
 use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
-use crate::program::scale::scale_early;
-use crate::program::schedule::schedule;
 
 /// A straight-line SSA program computing several matrices at once, with common
 /// subexpressions shared between all of them (module docs list the lowering rules).
@@ -46,129 +40,18 @@ pub struct Program {
 }
 
 impl Program {
-    /// The CSE'd program computing every entry of every matrix in `outputs`. Its sums are
-    /// lowered either as derived or factored by their most frequent factors (module
-    /// `factor`), whichever needs fewer operations per call once the parameter-only values
-    /// are cached; the value is the same up to rounding.
-    ///
-    /// # Errors
-    /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::MalformedMatrix`]
-    /// for a matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
-    /// subexpression that is not finite.
-    ///
-    /// # Example
-    /// ```
-    /// use mechanism_codegen::{Arena, Matrix, Program};
-    ///
-    /// // sin(u) in one output and cos(u) in another: one sin_cos call for both.
-    /// let mut a = Arena::new();
-    /// let [p, ..] = a.coordinate("th1");
-    /// let [q, ..] = a.coordinate("th2");
-    /// let u = a.sub(p, q);
-    /// let (s, c) = (a.sin(u), a.cos(u));
-    /// let program = Program::new(&a, &[&Matrix::column(vec![s]), &Matrix::column(vec![c])]).unwrap();
-    /// let n = program.op_counts();
-    /// assert_eq!((n.adds, n.calls, n.total()), (1, 1, 2));
-    /// assert_eq!(program.output_op_counts(1).unwrap().total(), 2);
-    /// ```
-    pub fn new(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
-        arena.check_size(size_budget())?;
-        let len = arena.len();
-        for m in outputs {
-            if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
-                return Err(Error::MalformedMatrix {
-                    rows: m.rows,
-                    cols: m.cols,
-                    len: m.data.len(),
-                });
-            }
-            if let Some(bad) = m.data.iter().find(|i| i.index() >= len) {
-                return Err(Error::InvalidId { id: bad.0, len });
-            }
-        }
-        // The factoring is greedy: where expanding a product of shared sums loses more
-        // sharing than the factors save (the rotation matrices of bodies), the program as
-        // derived is the leaner one. Both are lowered; the one with fewer operations per
-        // call (parameter-only ones go to the cache) is kept, the derived one on a tie.
-        let plain = Self::lowered(arena, outputs)?;
-        let (mut local, factored) = factored_copy(arena, outputs);
-        if local.take_overflow().is_some() {
-            // A constant of the rewrite overflowed (exponents near f64::MAX) and folded to 0
-            // there: that form is wrong, the derived one is not.
-            return Ok(plain);
-        }
-        let factored: Vec<&Matrix> = factored.iter().collect();
-        let factored = Self::lowered(&local, &factored)?;
-        Ok(
-            if factored.ops_per_call(arena) < plain.ops_per_call(arena) {
-                factored
-            } else {
-                plain
-            },
-        )
-    }
-
-    /// The lowering of `outputs` (valid entries of `arena`) into a program.
-    pub(crate) fn lowered(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
-        let mut lower = InstructionSelection::new(arena, outputs);
-        lower.run()?;
-        let outs: Vec<Output> = outputs
-            .iter()
-            .map(|m| Output {
-                rows: m.rows,
-                cols: m.cols,
-                entries: m.data.iter().map(|i| lower.op(*i)).collect(),
-            })
-            .collect();
-        let mut symbols: Vec<(SymbolId, String)> = lower
-            .used_symbols
-            .into_iter()
-            .map(|s| {
-                (
-                    s,
-                    arena
-                        .symbols()
-                        .get(s.0 as usize)
-                        .map_or_else(|| format!("#{}", s.0), |x| x.name.clone()),
-                )
-            })
-            .collect();
-        symbols.sort_by_key(|p| p.0);
-        // Dead instructions first, so that a product counts only its live readers.
-        let live = compact(&lower.b.instrs, outs, &symbols);
-        let parameter: Vec<bool> = arena
-            .symbols()
-            .iter()
-            .map(|s| s.kind == SymbolKind::Parameter)
-            .collect();
-        // Twice: a scaling moved onto a product of its own (`c (a b) q` to `(c (a b)) q`)
-        // moves on into that product.
-        let scaled = scale_early(&live.instrs, &live.outputs, &parameter);
-        let scaled = scale_early(&scaled, &live.outputs, &parameter);
-        let fused = fuse_multiply_add(&scaled, &live.outputs);
-        let scheduled = schedule(&fused, &live.outputs);
-        Ok(compact(&scheduled, live.outputs, &symbols))
-    }
-
     /// A program of the instructions `instrs` (in execution order, registers defined
     /// before they are read) computing `outputs`: dead instructions dropped, registers
     /// renumbered, the symbols read named from `arena`.
     pub(crate) fn from_parts(arena: &Arena, instrs: &[Instr], outputs: Vec<Output>) -> Program {
         let mut p = compact(instrs, outputs, &[]);
-        let mut symbols: Vec<(SymbolId, String)> = p
-            .read_symbols()
-            .into_iter()
-            .map(|s| {
-                let name = arena
-                    .symbols()
-                    .get(s.0 as usize)
-                    .map_or_else(|| format!("#{}", s.0), |x| x.name.clone());
-                (s, name)
-            })
-            .collect();
-        symbols.sort_by_key(|p| p.0);
-        p.symbols = symbols;
+        p.symbols = named_symbols(arena, p.read_symbols());
         p
+    }
+
+    /// The instructions and the outputs, taken apart (for the next pass).
+    pub(crate) fn into_parts(self) -> (Vec<Instr>, Vec<Output>) {
+        (self.instrs, self.outputs)
     }
 
     /// The symbols the instructions and the outputs read, in order of first read.
@@ -293,6 +176,23 @@ impl Program {
     }
 }
 
+/// The symbols `used`, sorted by id, with their names in `arena` (`#k` for an id past its
+/// symbols).
+pub(crate) fn named_symbols(arena: &Arena, used: Vec<SymbolId>) -> Vec<(SymbolId, String)> {
+    let mut symbols: Vec<(SymbolId, String)> = used
+        .into_iter()
+        .map(|s| {
+            let name = arena
+                .symbols()
+                .get(s.0 as usize)
+                .map_or_else(|| format!("#{}", s.0), |x| x.name.clone());
+            (s, name)
+        })
+        .collect();
+    symbols.sort_by_key(|p| p.0);
+    symbols
+}
+
 fn push_sym(used: &mut Vec<SymbolId>, o: Operand) {
     if let Operand::Sym(s) = o
         && !used.contains(&s)
@@ -313,7 +213,11 @@ fn mark(live: &mut [bool], o: Operand) {
 /// `SinCos` with one dead half to a plain `sin` or `cos`, numbers registers in order.
 // One function: liveness, the SinCos downgrade and the renumbering are one backward and
 // one forward pass over the same instructions.
-fn compact(instrs: &[Instr], mut outputs: Vec<Output>, symbols: &[(SymbolId, String)]) -> Program {
+pub(crate) fn compact(
+    instrs: &[Instr],
+    mut outputs: Vec<Output>,
+    symbols: &[(SymbolId, String)],
+) -> Program {
     let nregs = instrs
         .iter()
         .flat_map(defines)

@@ -579,9 +579,9 @@ mod tests {
         let mut model = crate::parse_model_str(source).expect("parses");
         let eqs = crate::derive(&mut model).expect("derived");
         let a = &model.arena;
-        let plain = Program::lowered(a, &[&eqs.phi_q]).expect("program");
+        let plain = crate::compile::passes::lower(a, &[&eqs.phi_q]).expect("program");
         let (local, f) = factored_copy(a, &[&eqs.phi_q]);
-        let factored = Program::lowered(&local, &[&f[0]]).expect("program");
+        let factored = crate::compile::passes::lower(&local, &[&f[0]]).expect("program");
         assert!(
             factored.ops_per_call(a) > plain.ops_per_call(a),
             "{} vs {}",
@@ -609,8 +609,8 @@ mod tests {
         let m = Matrix::column(vec![e]);
         let (mut local, f) = factored_copy(&a, &[&m]);
         assert!(local.take_overflow().is_some());
-        let factored = Program::lowered(&local, &[&f[0]]).expect("program");
-        let plain = Program::lowered(&a, &[&m]).expect("program");
+        let factored = crate::compile::passes::lower(&local, &[&f[0]]).expect("program");
+        let plain = crate::compile::passes::lower(&a, &[&m]).expect("program");
         assert!(factored.ops_per_call(&a) < plain.ops_per_call(&a));
         assert_eq!(Program::new(&a, &[&m]).expect("program"), plain);
     }

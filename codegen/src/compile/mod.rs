@@ -1,0 +1,171 @@
+//! Compile: the derived equations as the routines both back ends run.
+//!
+//! Enters: a [`Model`](crate::Model), its [`Equations`](crate::Equations) and their
+//! [`ResidualTangent`](crate::ResidualTangent). Leaves: [`Routines`], one [`Program`] per
+//! [`Role`] plus the parameter cache, and the [`Sources`] table saying where the value of
+//! every symbol they read comes from. The stage runs, in this order:
+//!
+//! 1. each role's outputs (`role.rs`), in [`Role::compiled`] order;
+//! 2. each role's program through the passes of [`passes`] (checks, factoring, instruction
+//!    selection with CSE, dead-code elimination, early scaling, multiply-add fusion,
+//!    depth-first scheduling, renumbering);
+//! 3. hoisting (`program::hoist`): the values that depend on parameters only move out of
+//!    every program into one cache program, [`Role::ParameterCache`];
+//! 4. the symbol-source table (`sources.rs`), with one [`Source::Cache`] per cache slot;
+//! 5. the check that every symbol each program reads has a source its role provides.
+//!
+//! The macro emits its methods from [`Routines`] (through `emit`) and the interpreter builds
+//! its tapes from them (through `Tape`): both run the same programs, so they compute the
+//! same bits. Imports: `algebra`, `mechanics` and `program`; nothing here knows `emit`.
+
+pub(crate) mod passes;
+pub(crate) mod role;
+pub(crate) mod sources;
+
+use std::fmt::Write as _;
+
+use crate::error::{Error, Result};
+use crate::mechanics::equations::Equations;
+use crate::mechanics::model::Model;
+use crate::mechanics::tangent::ResidualTangent;
+use crate::program::cse::Program;
+use crate::program::hoist::hoist_parameters;
+
+pub use role::Role;
+pub use sources::{Source, Sources};
+
+/// The compiled routines of one mechanism: a program per role, the parameter cache, and
+/// where each symbol they read comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Routines {
+    /// Every role's program, in [`Role::compiled`] order, then the parameter cache.
+    programs: Vec<(Role, Program)>,
+    /// The source of every symbol the programs read.
+    sources: Sources,
+    /// The number of cached parameter-only values.
+    cache_len: usize,
+}
+
+/// Compiles the equations `eqs` of `model`, with their tangent, into [`Routines`] (the
+/// stage's steps in the module docs). The cache slots are new symbols of `model.arena`
+/// (`cache[k]`), and so is the bias of [`Role::MassAndBias`].
+///
+/// # Errors
+/// What [`Program::new`] and hoisting report; [`Error::NotASymbol`] for a hand-built model
+/// whose parameter or coordinate entry is not a symbol; [`Error::MissingValue`] for a
+/// program that reads a symbol without a source its role provides (equations reading a
+/// symbol the model does not declare).
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{Role, compile, derive, parse_model_str, residual_tangent};
+///
+/// let mut model = parse_model_str(
+///     "pub struct Pendulum;
+///      parameters { m = 1.0; l = 0.5; g = 9.81; }
+///      coordinates { phi = 0.1; }
+///      independent { phi = 0.1; der(phi) = 0.0; }
+///      kinetic = 1/2*m*l^2*der(phi)^2;
+///      potential = -m*g*l*cos(phi);",
+/// )?;
+/// let eqs = derive(&mut model)?;
+/// let tangent = residual_tangent(&mut model, &eqs)?;
+/// let routines = compile(&mut model, &eqs, &tangent)?;
+/// // M = m l^2 depends on parameters only: the cache computes it, M reads one slot.
+/// assert_eq!(routines.program(Role::Mass)?.op_counts().total(), 0);
+/// assert!(routines.cache_len() > 0);
+/// # Ok::<(), mechanism_codegen::Error>(())
+/// ```
+pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
+    let roles = Role::compiled(eqs, &model.drawing);
+    let mut programs = Vec::with_capacity(roles.len());
+    for &role in &roles {
+        let outputs = role.outputs(&mut model.arena, &model.drawing, eqs, tangent)?;
+        let outputs: Vec<_> = outputs.iter().collect();
+        programs.push(Program::new(&model.arena, &outputs)?);
+    }
+    let all: Vec<&Program> = programs.iter().collect();
+    let hoisted = hoist_parameters(&mut model.arena, &all)?;
+    let sources = Sources::new(model, &tangent.lambda, &hoisted.slots)?;
+    let mut programs: Vec<(Role, Program)> = roles.into_iter().zip(hoisted.programs).collect();
+    programs.push((Role::ParameterCache, hoisted.cache));
+    for (role, program) in &programs {
+        check_sources(*role, program, &sources)?;
+    }
+    Ok(Routines {
+        programs,
+        sources,
+        cache_len: hoisted.slots.len(),
+    })
+}
+
+/// Every symbol `program` reads has a source that `role` provides.
+fn check_sources(role: Role, program: &Program, sources: &Sources) -> Result<()> {
+    for (symbol, name) in program.symbols() {
+        match sources.get(*symbol) {
+            Some(source) if role.provides(source) => {}
+            _ => return Err(Error::MissingValue { name: name.clone() }),
+        }
+    }
+    Ok(())
+}
+
+impl Routines {
+    /// The program of `role`, `None` for a role not compiled (a frame past the last, the
+    /// drawing of a model that draws nothing).
+    pub fn get(&self, role: Role) -> Option<&Program> {
+        self.programs
+            .iter()
+            .find(|(r, _)| *r == role)
+            .map(|(_, p)| p)
+    }
+
+    /// The program of `role`.
+    ///
+    /// # Errors
+    /// [`Error::NoSuchRoutine`] for a role not compiled.
+    pub fn program(&self, role: Role) -> Result<&Program> {
+        self.get(role).ok_or(Error::NoSuchRoutine {
+            role: format!("{role:?}"),
+        })
+    }
+
+    /// Every (role, program) pair, in [`Role::compiled`] order, then the parameter cache.
+    pub fn iter(&self) -> impl Iterator<Item = (Role, &Program)> + '_ {
+        self.programs.iter().map(|(r, p)| (*r, p))
+    }
+
+    /// The symbol-source table.
+    pub fn sources(&self) -> &Sources {
+        &self.sources
+    }
+
+    /// The number of cached parameter-only values (the rows of the
+    /// [`Role::ParameterCache`] program's one output).
+    pub fn cache_len(&self) -> usize {
+        self.cache_len
+    }
+
+    /// A 64-bit FNV-1a hash of the roles, their programs (instructions, outputs, symbols)
+    /// and the source table, as printed by `Debug`: equal routines have equal
+    /// fingerprints, on every platform. The macro emits it and the interpreter records it,
+    /// so a test can check that both routes were built from the same routines.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        // Writing into the hash cannot fail.
+        let _ = write!(h, "{:?}{:?}", self.programs, self.sources);
+        h.0
+    }
+}
+
+/// The 64-bit FNV-1a hash of the text written into it.
+struct Fnv(u64);
+
+impl std::fmt::Write for Fnv {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        for b in s.bytes() {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        Ok(())
+    }
+}

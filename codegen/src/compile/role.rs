@@ -1,0 +1,152 @@
+//! What each routine computes and which inputs its callers hand it.
+
+use crate::algebra::expr::Arena;
+use crate::algebra::matrix::Matrix;
+use crate::compile::sources::Source;
+use crate::error::Result;
+use crate::mechanics::drawing::Drawing;
+use crate::mechanics::equations::Equations;
+use crate::mechanics::tangent::ResidualTangent;
+
+/// One routine of a compiled mechanism: what its program computes. The macro emits one
+/// method (or one arm of a method) per role; the interpreter runs one tape per role it
+/// serves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Role {
+    /// M (n x n): `mass_matrix`.
+    Mass,
+    /// Khang's C (n x n): `coriolis_matrix`.
+    CoriolisMatrix,
+    /// C q' (n x 1): `coriolis_forces`.
+    CoriolisForces,
+    /// g (n x 1): `gravity`.
+    Gravity,
+    /// tau (n x 1): `generalized_forces`.
+    Forces,
+    /// Phi (m x 1): `constraints`.
+    Constraints,
+    /// Phi_q (m x n): `constraint_jacobian`.
+    ConstraintJacobian,
+    /// Phi_t (m x 1): `constraint_time_derivative`.
+    ConstraintTimeDerivative,
+    /// gamma (m x 1): `constraint_gamma`.
+    Gamma,
+    /// T (1 x 1): `kinetic_energy`.
+    Kinetic,
+    /// Pi (1 x 1): `potential_energy`.
+    Potential,
+    /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi in one program, in
+    /// [`crate::EvaluationOutput::ORDER`]: `evaluate_into` and the interpreter's `evaluate`.
+    Evaluation,
+    /// dF/dq and dF/dq' of the residual F = M q'' + C q' + g + Phi_q^T lambda - tau (two
+    /// n x n outputs): `residual_tangent`.
+    Tangent,
+    /// M (n x n) and the bias b = C q' + g - tau (n x 1) in one program: `mass_and_bias`.
+    MassAndBias,
+    /// M q'' + C q' + g - tau (n x 1): `inverse_dynamics`.
+    InverseDynamics,
+    /// R (3 x 3) and p (3 x 1) of link frame k: `frame_placement`.
+    FramePlacement(usize),
+    /// J (6 x n) of link frame k: `frame_jacobian`.
+    FrameJacobian(usize),
+    /// The drawn points' world positions, x, y, z per point in drawing order (3 x points,
+    /// one column): `draw_points`. Only for a model that draws.
+    Draw,
+    /// The values that depend on parameters only, one column in cache-slot order: the
+    /// emitted `parameter_cache`, run once per parameter set.
+    ParameterCache,
+}
+
+impl Role {
+    /// The roles compiled for equations `eqs` and a model's `drawing`, in compilation order (the
+    /// order in which hoisting numbers the cache slots): the eleven single outputs, the
+    /// evaluation, the tangent, the robotics roles, the frames, the drawing. The parameter
+    /// cache, made from all of them, is not in the list.
+    pub fn compiled(eqs: &Equations, drawing: &Drawing) -> Vec<Role> {
+        let mut roles = vec![
+            Role::Mass,
+            Role::CoriolisMatrix,
+            Role::CoriolisForces,
+            Role::Gravity,
+            Role::Forces,
+            Role::Constraints,
+            Role::ConstraintJacobian,
+            Role::ConstraintTimeDerivative,
+            Role::Gamma,
+            Role::Kinetic,
+            Role::Potential,
+            Role::Evaluation,
+            Role::Tangent,
+            Role::MassAndBias,
+            Role::InverseDynamics,
+        ];
+        roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
+        roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
+        if !drawing.points.is_empty() {
+            roles.push(Role::Draw);
+        }
+        roles
+    }
+
+    /// Whether the routine of this role may read a value from `source`: parameters and
+    /// cached values always (the cache itself reads parameters only); t, q and q' in every
+    /// other routine; q'' in the tangent and the inverse dynamics; the multipliers in the
+    /// tangent.
+    pub fn provides(self, source: Source) -> bool {
+        match (self, source) {
+            (Role::ParameterCache, s) => matches!(s, Source::Parameter(_)),
+            (_, Source::Parameter(_) | Source::Cache(_)) => true,
+            (_, Source::Time | Source::Coordinate(_) | Source::Rate(_)) => true,
+            (Role::Tangent | Role::InverseDynamics, Source::Acceleration(_)) => true,
+            (Role::Tangent, Source::Multiplier(_)) => true,
+            _ => false,
+        }
+    }
+
+    /// The matrices this role's program computes, in output order (not for
+    /// [`Role::ParameterCache`], which hoisting makes). The bias of
+    /// [`Role::MassAndBias`] is built in `arena`; a frame past `eqs.frames` has none.
+    pub(crate) fn outputs(
+        self,
+        arena: &mut Arena,
+        drawing: &Drawing,
+        eqs: &Equations,
+        tangent: &ResidualTangent,
+    ) -> Result<Vec<Matrix>> {
+        let frame = |k: usize| eqs.frames.get(k);
+        Ok(match self {
+            Role::Mass => vec![eqs.mass.clone()],
+            Role::CoriolisMatrix => vec![eqs.coriolis_matrix.clone()],
+            Role::CoriolisForces => vec![eqs.coriolis_forces.clone()],
+            Role::Gravity => vec![eqs.gravity.clone()],
+            Role::Forces => vec![eqs.forces.clone()],
+            Role::Constraints => vec![eqs.phi.clone()],
+            Role::ConstraintJacobian => vec![eqs.phi_q.clone()],
+            Role::ConstraintTimeDerivative => vec![eqs.phi_t.clone()],
+            Role::Gamma => vec![eqs.gamma.clone()],
+            Role::Kinetic => vec![Matrix::column(vec![eqs.kinetic])],
+            Role::Potential => vec![Matrix::column(vec![eqs.potential])],
+            Role::Evaluation => eqs.evaluation_outputs(),
+            Role::Tangent => vec![tangent.stiffness.clone(), tangent.damping.clone()],
+            Role::MassAndBias => {
+                let bias = eqs
+                    .coriolis_forces
+                    .add(arena, &eqs.gravity)?
+                    .sub(arena, &eqs.forces)?;
+                vec![eqs.mass.clone(), bias]
+            }
+            Role::InverseDynamics => vec![eqs.inverse_dynamics.clone()],
+            Role::FramePlacement(k) => frame(k)
+                .map(|f| vec![f.rotation.clone(), f.position.clone()])
+                .unwrap_or_default(),
+            Role::FrameJacobian(k) => frame(k)
+                .map(|f| vec![f.jacobian.clone()])
+                .unwrap_or_default(),
+            Role::Draw => {
+                let entries = drawing.points.iter().flat_map(|p| p.position);
+                vec![Matrix::column(entries.collect())]
+            }
+            Role::ParameterCache => vec![],
+        })
+    }
+}
