@@ -1,0 +1,123 @@
+//! Values that would run and be wrong (issue 29, items 6 to 8): an orientation that is not
+//! a rotation, a `--set` that makes a mass negative, an `--init` so large that no step can
+//! change it. Each is refused with one line that names the value and the rule.
+
+use super::{assert_one_line_error, mechanism, out_dir, stderr};
+
+/// `planar_four_bar_bodies.mech` with `from` replaced by `to`, written to a file.
+fn bodies_with(name: &str, from: &str, to: &str) -> std::path::PathBuf {
+    let text = include_str!("../../mechanisms/planar_four_bar_bodies.mech");
+    assert!(text.contains(from), "{from}");
+    let dir = out_dir(&format!("values-{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.mech"));
+    std::fs::write(&path, text.replace(from, to)).unwrap();
+    path
+}
+
+#[test]
+fn an_orientation_that_is_not_a_rotation_is_refused_with_its_deviation() {
+    let from = "orientation = rot_z(th2) * rot_y(b2) * rot_x(c2);";
+    let cases = [
+        (
+            "zero",
+            "orientation = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];",
+            "max |(R^T R - I)_ij| = 1.000e0",
+        ),
+        (
+            "scaled",
+            "orientation = rot_z(th2) * [[2, 0, 0], [0, 1, 0], [0, 0, 1]];",
+            "max |(R^T R - I)_ij| = 3.000e0",
+        ),
+        (
+            "reflection",
+            "orientation = [[cos(th2), -sin(th2), 0], [sin(th2), cos(th2), 0], [0, 0, -1]];",
+            "det R = -1.000000",
+        ),
+    ];
+    for (name, to, needle) in cases {
+        let file = bodies_with(name, from, to);
+        let out = out_dir(&format!("values-{name}-out"));
+        let o = mechanism(&[
+            "simulate",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_one_line_error(&o, "the orientation of body `coupler` is not a rotation");
+        assert_one_line_error(&o, needle);
+    }
+    // A rotation written out explicitly stays accepted.
+    let to = "orientation = [[cos(th2), -sin(th2), 0], [sin(th2), cos(th2), 0], [0, 0, 1]] \
+              * rot_y(b2) * rot_x(c2);";
+    let file = bodies_with("explicit", from, to);
+    let out = out_dir("values-explicit-out");
+    let f = file.to_str().unwrap();
+    let o = mechanism(&[
+        "simulate",
+        f,
+        "--t-end",
+        "0.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn set_values_are_checked_like_declared_ones() {
+    // m2 in a declared T (planar_four_bar) and a body's mass (planar_four_bar_bodies).
+    let o = mechanism(&["simulate", "planar_four_bar", "--set", "m2=-1"]);
+    assert_one_line_error(&o, "--set m2=-1: the kinetic energy can be negative");
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar_bodies",
+        "--set",
+        "g=3",
+        "--set",
+        "m2=-1",
+    ]);
+    assert_one_line_error(&o, "--set m2=-1: planar_four_bar_bodies:");
+    assert_one_line_error(&o, "the mass of body `coupler` is -1");
+    let o = mechanism(&[
+        "inverse",
+        "planar_four_bar",
+        "--set",
+        "m3=-0.4",
+        "--drive",
+        "th1 = pi/2 + t",
+    ]);
+    assert_one_line_error(&o, "--set m3=-0.4: the kinetic energy can be negative");
+    // Values that keep the model physical still run.
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--set",
+        "m2=0",
+        "--set",
+        "m1=2",
+        "--t-end",
+        "0.1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn init_values_beyond_1e9_are_refused_with_the_reason() {
+    for (init, shown) in [("th1=1e300", "1e300"), ("der(th1)=-1e10", "-1e10")] {
+        let o = mechanism(&["simulate", "planar_four_bar", "--init", init]);
+        assert_one_line_error(&o, &format!("|value| must be at most 1e9, got {shown}"));
+        assert_one_line_error(&o, "the spacing of f64 values there is");
+        assert_one_line_error(&o, "stay frozen");
+    }
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--init",
+        "th1=1e9",
+        "--t-end",
+        "0.1",
+    ]);
+    // The limit itself is accepted (whatever the run then does).
+    assert!(!stderr(&o).contains("at most 1e9"), "{}", stderr(&o));
+}
