@@ -199,7 +199,7 @@ pub fn initial_values(
         })?;
         let v =
             finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
-        check_initial_value(lhs, v)?;
+        check_initial_value(lhs, v, rate)?;
         match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
             (Some(ind), false) => ind.position = v,
             (Some(ind), true) => ind.velocity = v,

@@ -10,7 +10,7 @@
 //!   directly (`1/2*m2*v^2` with `m2 = -1`) shows there. The error names the `--set` that
 //!   causes it: each is undone in turn, and the first without which the check passes is
 //!   named (all of them when none alone is to blame).
-//! - **`--init`.** |value| at most [`MAX_INITIAL_VALUE`].
+//! - **`--init`.** |value| at most [`MAX_INITIAL_VALUE`], for a position and for a rate.
 
 use nalgebra::SymmetricEigen;
 
@@ -27,16 +27,26 @@ pub const MAX_INITIAL_VALUE: f64 = 1e9;
 /// derivation's test of T).
 const NEGATIVE_EIGENVALUE: f64 = 1e-9;
 
-/// Checks `value` of `--init lhs` against [`MAX_INITIAL_VALUE`].
-pub fn check_initial_value(lhs: &str, value: f64) -> Result<(), CliError> {
+/// Checks `value` of `--init lhs` (a position, or a rate `der(..)` when `rate`) against
+/// [`MAX_INITIAL_VALUE`]. A rate is held to the positions' range: beyond 1e9 per second the
+/// coordinate would leave it within a second.
+pub fn check_initial_value(lhs: &str, value: f64, rate: bool) -> Result<(), CliError> {
     if value.abs() <= MAX_INITIAL_VALUE {
         return Ok(());
     }
-    let ulp = value.abs().next_up() - value.abs();
+    let why = if rate {
+        "a rate beyond 1e9 per second carries its coordinate past the 1e9 allowed for a \
+         position within a second"
+            .to_string()
+    } else {
+        let spacing = value.abs().next_up() - value.abs();
+        format!(
+            "f64 values there are {spacing:.1e} apart (at 1e9, 1.2e-7), so no integration step \
+             could change it and the coordinate would stay frozen"
+        )
+    };
     Err(CliError::Argument(format!(
-        "--init {lhs}: |value| must be at most 1e9, got {value:e}: the spacing of f64 values \
-         there is {ulp:.1e}, so no integration step could change it and the coordinate would \
-         stay frozen"
+        "--init {lhs}: |value| must be at most 1e9, got {value:e}: {why}"
     )))
 }
 

@@ -104,11 +104,21 @@ fn set_values_are_checked_like_declared_ones() {
 
 #[test]
 fn init_values_beyond_1e9_are_refused_with_the_reason() {
-    for (init, shown) in [("th1=1e300", "1e300"), ("der(th1)=-1e10", "-1e10")] {
+    let cases = [
+        (
+            "th1=1e300",
+            "got 1e300: f64 values there are 1.5e284 apart (at 1e9, 1.2e-7), so no integration \
+             step could change it and the coordinate would stay frozen",
+        ),
+        (
+            "der(th1)=-1e10",
+            "got -1e10: a rate beyond 1e9 per second carries its coordinate past the 1e9",
+        ),
+    ];
+    for (init, needle) in cases {
         let o = mechanism(&["simulate", "planar_four_bar", "--init", init]);
-        assert_one_line_error(&o, &format!("|value| must be at most 1e9, got {shown}"));
-        assert_one_line_error(&o, "the spacing of f64 values there is");
-        assert_one_line_error(&o, "stay frozen");
+        assert_one_line_error(&o, "|value| must be at most 1e9, ");
+        assert_one_line_error(&o, needle);
     }
     let o = mechanism(&[
         "simulate",
