@@ -46,11 +46,15 @@ impl FolderLock {
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => {
-                    let mut holder = String::new();
-                    let _ = file.read_to_string(&mut holder);
+                    let mut id = String::new();
+                    let _ = file.read_to_string(&mut id);
+                    let holder = match id.trim() {
+                        "" => "its process id not yet written".to_string(),
+                        id => format!("process {id}"),
+                    };
                     return Err(OutputError::Locked {
                         dir: dir.to_path_buf(),
-                        holder: holder.trim().to_string(),
+                        holder,
                     });
                 }
                 Err(TryLockError::Error(e)) => return Err(io(e)),

@@ -110,13 +110,13 @@ pub enum OutputError {
     },
     /// Another run holds the output folder ([`FolderLock`]).
     #[error(
-        "the output folder {dir} is in use by another run (process {holder}): wait for it to \
-         end or write elsewhere; a run that died leaves no hold on it"
+        "the output folder {dir} is in use by another run ({holder}): wait for it to end or \
+         write elsewhere; a run that died leaves no hold on it"
     )]
     Locked {
         /// The folder.
         dir: PathBuf,
-        /// The process id in the lock file (empty if not yet written).
+        /// Who holds it: `process <id>` from the lock file.
         holder: String,
     },
     /// The input is inconsistent (empty, or series of different lengths).

@@ -39,7 +39,7 @@ fn a_held_folder_is_refused_and_a_released_one_taken_over() {
     let pid = std::process::id().to_string();
     assert_eq!(std::fs::read_to_string(dir.join(LOCK_FILE)).unwrap(), pid);
     match FolderLock::acquire(&dir) {
-        Err(OutputError::Locked { holder, .. }) => assert_eq!(holder, pid),
+        Err(OutputError::Locked { holder, .. }) => assert_eq!(holder, format!("process {pid}")),
         other => panic!("expected Locked, got {other:?}"),
     }
     drop(first);
