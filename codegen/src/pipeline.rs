@@ -83,11 +83,13 @@ pub fn parse_declaration_str(text: &str) -> Result<ParsedModel, Vec<Error>> {
     declare(&toks)
 }
 
-/// Checks the declaration `text` with its parameters at `values` (name, value) instead of
-/// their declared defaults: every check that a declared value gets at build time (a body's
-/// mass not negative, its inertia physically possible, the constants finite) runs on them.
-/// The run-time route's `--set` uses it. The kinetic energy's positive semi-definiteness,
-/// tested in the derivation, is not repeated here (the caller has M at run time).
+/// Checks the declaration `text` with the parameters and coordinates named in `values`
+/// (name, value) at those values instead of their declared defaults and initial guesses:
+/// every check that a declared value gets at build time (a body's mass not negative, its
+/// inertia physically possible, its orientation a rotation, the constants finite) runs on
+/// them. The command-line tool uses it for `--set` and for the assembled state. The kinetic
+/// energy's positive semi-definiteness, tested in the derivation, is not repeated here (the
+/// caller has M at run time).
 ///
 /// # Errors
 /// The first error, with its line and column.

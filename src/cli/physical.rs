@@ -11,6 +11,8 @@
 //!   causes it: each is undone in turn, and the first without which the check passes is
 //!   named (all of them when none alone is to blame).
 //! - **`--init`.** |value| at most [`MAX_INITIAL_VALUE`], for a position and for a rate.
+//! - **The assembled state.** The declaration's checks that depend on the coordinates (a
+//!   body's explicit orientation a rotation) run again there ([`check_assembled`]).
 
 use nalgebra::SymmetricEigen;
 
@@ -75,6 +77,36 @@ pub fn check_set_values(loaded: &mut Loaded, sets: &[(usize, String)]) -> Result
         "--set {}: {message}",
         blamed.join(" --set ")
     )))
+}
+
+/// Checks the declaration of `loaded` at the assembled state `q` (t = 0) and the current
+/// parameter values: the declared checks that depend on the coordinates, a body's explicit
+/// orientation a rotation, run there too (they ran at the initial guesses when the
+/// declaration was built; an orientation can be a rotation there and not at the state the
+/// run starts from).
+pub fn check_assembled(loaded: &Loaded, q: &[f64]) -> Result<(), CliError> {
+    // Only an explicit `orientation` depends on the coordinates among these checks.
+    if !loaded.source.contains("orientation") {
+        return Ok(());
+    }
+    let system = loaded.system.as_ref();
+    let info = system.info();
+    let mut values = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut values);
+    let named: Vec<(&str, f64)> = info
+        .parameters
+        .iter()
+        .map(String::as_str)
+        .zip(values.iter().copied())
+        .chain(
+            info.coordinates
+                .iter()
+                .map(String::as_str)
+                .zip(q.iter().copied()),
+        )
+        .collect();
+    mechanism_codegen::check_parameter_values(&loaded.source, &named)
+        .map_err(|e| CliError::Mechanism(super::load::located(&loaded.shown, &e)))
 }
 
 /// The checks of the module docs on the current parameter values; the first failure.

@@ -5,6 +5,7 @@ use super::CliError;
 use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
 use super::drawing::write_drawing;
 use super::load::{apply_sets, initial_values, load};
+use super::physical::check_assembled;
 use super::progress::Progress;
 use super::report::summary_text;
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
@@ -149,6 +150,7 @@ fn simulate(
     let (independent, guess) = initial_values(system, &a.common).at("setup")?;
     let assembly = AssemblyOptions::default();
     let start = assemble_from(system, 0.0, &independent, &guess, &assembly).at("assembly")?;
+    check_assembled(&loaded, &start.q).at("assembly")?;
     let options = SimulationOptions {
         t_end: a.common.t_end,
         output_rate: a.common.samples_per_second,

@@ -44,9 +44,33 @@ fn an_orientation_that_is_not_a_rotation_is_refused_with_its_deviation() {
             "--out",
             out.to_str().unwrap(),
         ]);
-        assert_one_line_error(&o, "the orientation of body `coupler` is not a rotation");
+        assert_one_line_error(
+            &o,
+            "the orientation of body `coupler` is not a rotation at t = 0",
+        );
         assert_one_line_error(&o, needle);
     }
+    // Orthonormal at the guess th2 = 0.523537 (so the declaration is accepted), not at the
+    // state assembled from th1 = 1.2: refused there, at that state.
+    let to = "orientation = [[cos(th2), -sin(th2), 0], [sin(th2), cos(th2), 0], \
+              [0, 0, th2/0.523537]] * rot_y(b2) * rot_x(c2);";
+    let file = bodies_with("assembled", from, to);
+    let out = out_dir("values-assembled-out");
+    let f = file.to_str().unwrap();
+    let o = mechanism(&["equations", f]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = mechanism(&[
+        "simulate",
+        f,
+        "--init",
+        "th1=1.2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(
+        &o,
+        "the orientation of body `coupler` is not a rotation at t = 0, th2 = 0.539088: max |(R^T R - I)_ij| = 6.029e-2",
+    );
     // A rotation written out explicitly stays accepted.
     let to = "orientation = [[cos(th2), -sin(th2), 0], [sin(th2), cos(th2), 0], [0, 0, 1]] \
               * rot_y(b2) * rot_x(c2);";

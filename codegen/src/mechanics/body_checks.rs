@@ -14,7 +14,7 @@
 //! the largest moment).
 
 use crate::algebra::eval::eval;
-use crate::algebra::expr::{Arena, Id, SymbolId};
+use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Result};
@@ -149,12 +149,43 @@ pub(crate) fn check_orientation(
                     body: body.to_string(),
                     deviation,
                     determinant,
+                    state: coordinates_at(arena, &f.data, values),
                 },
                 at,
             ));
         }
     }
     Ok(())
+}
+
+/// `t = 0, x = 0.5`: the coordinates that `entries` use, at their values in `values`
+/// (rounded to 6 decimals), as an error shows where it evaluated them.
+fn coordinates_at(arena: &Arena, entries: &[Id], values: &[(SymbolId, f64)]) -> String {
+    let nodes = arena.nodes();
+    let mut used = vec![false; nodes.len()];
+    for e in entries {
+        used[e.index()] = true;
+    }
+    // Children precede their parents: one sweep down marks every node the entries use.
+    for k in (0..nodes.len()).rev() {
+        if used[k] {
+            nodes[k].for_each_child(|c| used[c.index()] = true);
+        }
+    }
+    let symbols = arena.symbols();
+    let mut parts = vec!["t = 0".to_string()];
+    for (s, v) in values {
+        let Some(symbol) = symbols.get(s.0 as usize) else {
+            continue;
+        };
+        let node = arena.symbol_node(*s);
+        if symbol.kind == SymbolKind::Coordinate && used.get(node.index()) == Some(&true) {
+            let shown = format!("{v:.6}");
+            let shown = shown.trim_end_matches('0').trim_end_matches('.');
+            parts.push(format!("{} = {shown}", symbol.name));
+        }
+    }
+    parts.join(", ")
 }
 
 /// The eigenvalues of the symmetric 3 x 3 `a` (its upper triangle read), ascending, by

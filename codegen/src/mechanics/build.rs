@@ -87,9 +87,10 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
     build_with_values(d, &[])
 }
 
-/// [`build`] with the parameters named in `values` at those values instead of their
-/// declared defaults, so that every check of the declared values (masses, inertias,
-/// orientations, guesses) runs on them: the run-time check of `--set`.
+/// [`build`] with the parameters and coordinates named in `values` at those values instead
+/// of their declared defaults and guesses, so that every check of the declared values
+/// (masses, inertias, orientations) runs on them: the run-time check of `--set` and of the
+/// assembled state.
 pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Result<ParsedModel> {
     let mut arena = Arena::new();
     let param_items = d.parameters.as_ref().map_or(&[][..], |s| &s.body[..]);
@@ -105,7 +106,7 @@ pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Resu
     // Time last: products then read `Omega*t`, parameters first.
     let time = arena.symbol("t", SymbolKind::Time);
     let (parameters, known) = build_parameters(&mut arena, param_items, &param_syms, values)?;
-    let coordinates = build_coordinates(&mut arena, coord_items, &coord_ids, &known)?;
+    let coordinates = build_coordinates(&mut arena, coord_items, &coord_ids, &known, values)?;
     let independent = build_independent(&mut arena, d, &coordinates, &known)?;
     let (kinetic, kinetic_at) = match &d.kinetic {
         Some(k) => (resolve_at(&mut arena, &k.body)?, k.at),
@@ -190,10 +191,15 @@ fn build_coordinates(
     items: &[Item],
     ids: &[[Id; 3]],
     known: &[(SymbolId, f64)],
+    values: &[(&str, f64)],
 ) -> Result<Vec<Coordinate>> {
     let mut coordinates = Vec::with_capacity(items.len());
     for (c, ids) in items.iter().zip(ids) {
-        let guess = constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?;
+        let given = values.iter().find(|v| v.0 == c.name).map(|v| v.1);
+        let guess = match given {
+            Some(v) => v,
+            None => constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?,
+        };
         let [q, qd, qdd] = *ids;
         coordinates.push(Coordinate {
             name: c.name.clone(),
