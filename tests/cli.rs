@@ -14,15 +14,31 @@ mod declarations;
 mod fail_fast;
 #[path = "cli/import.rs"]
 mod import;
+#[path = "cli/input_limits.rs"]
+mod input_limits;
 #[path = "cli/outputs.rs"]
 mod outputs;
+#[path = "cli/ownership.rs"]
+mod ownership;
+#[path = "cli/run_values.rs"]
+mod run_values;
+#[path = "cli/streams.rs"]
+mod streams;
 
-/// Runs the binary with `args` in a scratch working folder (so the default `out/<key>`
-/// lands there, never among the repository's files).
+/// Runs the binary with `args` in a fresh scratch working folder (so the default
+/// `out/<key>` lands there, never among the repository's files, and never in a folder that
+/// a test running at the same time writes: the second run would be refused).
 fn mechanism(args: &[&str]) -> Output {
-    let cwd = scratch("cwd");
+    mechanism_in(&fresh_cwd(), args)
+}
+
+/// A new, empty working folder for one run of the binary.
+fn fresh_cwd() -> PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static RUNS: AtomicUsize = AtomicUsize::new(0);
+    let cwd = out_dir(&format!("cwd/{}", RUNS.fetch_add(1, Ordering::Relaxed)));
     std::fs::create_dir_all(&cwd).expect("scratch folder");
-    mechanism_in(&cwd, args)
+    cwd
 }
 
 /// Runs the binary with `args` in the working folder `cwd`.

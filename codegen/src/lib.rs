@@ -97,13 +97,16 @@ pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Param
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{ResidualTangent, residual_tangent};
 pub use number::Number;
-pub use pipeline::{SpannedError, parse_declaration, parse_declaration_str, parse_model_str};
+pub use pipeline::{
+    SpannedError, check_parameter_values, parse_declaration, parse_declaration_str, parse_model_str,
+};
 pub use print::latex::equations_latex;
 pub use print::text::{equations_text, to_text};
 pub use program::cse::Program;
 pub use program::hoist::{Hoisted, hoist_parameters};
 pub use program::instructions::{OpCounts, Operand, Output};
 pub use program::tape::Tape;
+pub use syntax::spelling::closest;
 pub use urdf::{UrdfError, UrdfOptions, urdf_to_mech};
 
 /// The parts of the stages that no dependent needs, reached only by codegen's own tests (the

@@ -7,7 +7,7 @@
 use proc_macro2::{Span, TokenStream};
 
 use crate::error::{DeclarationError, Error, Result};
-use crate::mechanics::build::{ParsedModel, build};
+use crate::mechanics::build::{ParsedModel, build, build_with_values};
 use crate::mechanics::check::{ModelFinding, check, check_model};
 use crate::mechanics::model::Model;
 use crate::print::text::to_text;
@@ -81,6 +81,22 @@ pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<Spanned
 pub fn parse_declaration_str(text: &str) -> Result<ParsedModel, Vec<Error>> {
     let toks = tokens_from_str(text).map_err(|e| vec![e])?;
     declare(&toks)
+}
+
+/// Checks the declaration `text` with the parameters and coordinates named in `values`
+/// (name, value) at those values instead of their declared defaults and initial guesses:
+/// every check that a declared value gets at build time (a body's mass not negative, its
+/// inertia physically possible, its orientation a rotation, the constants finite) runs on
+/// them. The command-line tool uses it for `--set` and for the assembled state. The kinetic
+/// energy's positive semi-definiteness, tested in the derivation, is not repeated here (the
+/// caller has M at run time).
+///
+/// # Errors
+/// The first error, with its line and column.
+pub fn check_parameter_values(text: &str, values: &[(&str, f64)]) -> Result<(), Error> {
+    let toks = tokens_from_str(text)?;
+    let d = parse_declaration_tokens(&toks)?;
+    build_with_values(&d, values).map(|_| ())
 }
 
 /// The model declared by macro input; the first error with its span.

@@ -1,11 +1,14 @@
 //! `mechanism inverse`: the driving force for a prescribed motion, and the joint reactions.
 //! Writes inverse.csv, the figures and summary.json (see [`RunDir`] for the folder).
 
+use std::fmt::Write as _;
+
 use super::CliError;
 use super::args::InverseArgs;
 use super::drawing::write_drawing;
-use super::load::{apply_sets, load};
+use super::load::{apply_sets, did_you_mean, load};
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::stdio::print;
 use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::Unit;
@@ -14,7 +17,7 @@ use mechanism::output::{
     Figure, InverseSummary, InverseTable, OutputError, SUMMARY_FILE, plot_driving_torque,
     write_inverse_csv, write_inverse_summary,
 };
-use mechanism::parse_drive;
+use mechanism::{Drive, System, parse_drive};
 use mechanism::{inverse_dynamics, sample_times};
 
 /// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
@@ -44,13 +47,13 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
 fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), Failure> {
     let mut loaded = load(&a.common.mechanism).at("setup")?;
     *known = Known::of(loaded.system.as_ref());
-    apply_sets(loaded.system.as_mut(), &a.common.set).at("setup")?;
+    apply_sets(&mut loaded, &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();
     *known = Known::of(system);
     let drives = a
         .drive
         .iter()
-        .map(|d| parse_drive(system, d).map_err(|e| CliError::Argument(format!("--drive: {e}"))))
+        .map(|d| drive(system, d))
         .collect::<Result<Vec<_>, _>>()
         .at("setup")?;
     let info = system.info();
@@ -74,7 +77,7 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     let written = write_data(&table, out, &loaded.key).and_then(|()| {
         let n = info.n();
         let rows = &table.rows;
-        let drawing = write_drawing(system, &a.common, out.dir(), rows.len(), |i| {
+        let drawing = write_drawing(system, &a.common, out.staging(), rows.len(), |i| {
             (rows[i][0], &rows[i][1..1 + n])
         })?;
         out.wrote_figures(drawing);
@@ -85,19 +88,46 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     }
     summary.outcome.files = out.names();
     write_inverse_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
+    let mut text = String::new();
     for (name, peak) in &summary.max_abs_driving_force.0 {
-        println!(
-            "{name}: max |tau| = {peak:.6e} over {} samples",
-            summary.samples
+        let samples = summary.samples;
+        let _ = writeln!(
+            text,
+            "{name}: max |tau| = {peak:.6e} over {samples} samples"
         );
     }
-    println!("wrote {}", out.displayed().join(", "));
+    let _ = writeln!(text, "wrote {}", out.displayed().join(", "));
     loaded.source.clear();
-    written.map_err(|e| Failure {
+    let summarized = |e: CliError| Failure {
         stage: "output",
-        error: Box::new(e.into()),
+        error: Box::new(e),
         summarized: true,
-    })
+    };
+    written.map_err(|e| summarized(e.into()))?;
+    print(&text).map_err(summarized)
+}
+
+/// The drive `text` (`COORD = f(t)`) of `system`; an unknown coordinate is named with the
+/// likely one it mistypes, the coordinates and which of them are independent.
+fn drive(system: &dyn System, text: &str) -> Result<Drive, CliError> {
+    let info = system.info();
+    if let Some((name, _)) = text.split_once('=')
+        && info.coordinate_index(name.trim()).is_none()
+    {
+        let name = name.trim();
+        let independent: Vec<&str> = info
+            .independent
+            .iter()
+            .map(|i| info.coordinates[i.coordinate].as_str())
+            .collect();
+        return Err(CliError::Argument(format!(
+            "--drive `{text}`: unknown coordinate `{name}`{}; coordinates: {} (independent: {})",
+            did_you_mean(name, &info.coordinates),
+            info.coordinates.join(", "),
+            independent.join(", ")
+        )));
+    }
+    parse_drive(system, text).map_err(|e| CliError::Argument(format!("--drive: {e}")))
 }
 
 /// inverse.csv, one figure per coordinate and the driving-torque figure.

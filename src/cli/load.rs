@@ -6,6 +6,8 @@ use mechanism_codegen::Arena;
 
 use super::CliError;
 use super::args::{CommonArgs, split_assignment};
+use super::input::read_input;
+use super::physical::{check_initial_value, check_set_values};
 use mechanism::Interpreted;
 use mechanism::builtin::{builtin, builtin_names, builtin_source};
 use mechanism::{Independent, System};
@@ -18,6 +20,26 @@ pub struct Loaded {
     pub key: String,
     /// The declaration text.
     pub source: String,
+    /// The mechanism as given (a built-in name or a path), which errors in the declaration
+    /// are located by.
+    pub shown: String,
+    /// The parameter values as declared, before any `--set`.
+    pub declared: Vec<f64>,
+}
+
+impl Loaded {
+    /// `system` loaded from `spec` as `key`, with its declaration text `source`.
+    fn new(system: Box<dyn System>, spec: &str, key: String, source: String) -> Self {
+        let mut declared = vec![0.0; system.info().parameters.len()];
+        system.parameter_values(&mut declared);
+        Self {
+            system,
+            key,
+            source,
+            shown: spec.to_string(),
+            declared,
+        }
+    }
 }
 
 /// Loads `spec`: a built-in name (`mechanism list`) or a path to a `.mech` file, which runs
@@ -29,22 +51,19 @@ pub struct Loaded {
 pub fn load(spec: &str) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
     if is_file_spec(spec) {
-        let source = std::fs::read_to_string(path)
+        let source = read_input(path)
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
         let system = Interpreted::from_source(&source)
             .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
-        return Ok(Loaded {
-            system: Box::new(system),
-            key: file_key(path),
-            source,
-        });
+        return Ok(Loaded::new(Box::new(system), spec, file_key(path), source));
     }
     match (builtin(spec), builtin_source(spec)) {
-        (Some(system), Some(source)) => Ok(Loaded {
+        (Some(system), Some(source)) => Ok(Loaded::new(
             system,
-            key: spec.to_string(),
-            source: source.to_string(),
-        }),
+            spec,
+            spec.to_string(),
+            source.to_string(),
+        )),
         _ => Err(CliError::Mechanism(format!(
             "unknown mechanism `{spec}`; available: {} (or a path to a .mech file)",
             builtin_names().join(", ")
@@ -95,7 +114,7 @@ pub fn folder_name(name: &str) -> String {
 }
 
 /// `file:line:column: message` for a codegen error that has a location, else `file: message`.
-fn located(file: &str, e: &mechanism_codegen::Error) -> String {
+pub fn located(file: &str, e: &mechanism_codegen::Error) -> String {
     match e.location() {
         Some(l) => format!("{file}:{}:{}: {}", l.line, l.column, e.message()),
         None => format!("{file}: {e}"),
@@ -124,23 +143,31 @@ fn finite_constant(text: &str) -> Result<f64, String> {
     }
 }
 
-/// Applies every `--set NAME=VALUE`.
-pub fn apply_sets(system: &mut dyn System, sets: &[String]) -> Result<(), CliError> {
+/// Applies every `--set NAME=VALUE`, then checks the values like declared ones
+/// ([`check_set_values`]).
+pub fn apply_sets(loaded: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
+    let mut applied = Vec::with_capacity(sets.len());
     for s in sets {
+        let system = loaded.system.as_mut();
         let (name, value) = split_assignment(s)
             .ok_or_else(|| CliError::Argument(format!("--set takes PARAM=VALUE, got `{s}`")))?;
         let info = system.info();
         let index = info.parameter_index(name).ok_or_else(|| {
             CliError::Argument(format!(
-                "--set: unknown parameter `{name}`; parameters: {}",
+                "--set: unknown parameter `{name}`{}; parameters: {}",
+                did_you_mean(name, &info.parameters),
                 info.parameters.join(", ")
             ))
         })?;
         let v =
             finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
         system.set_parameter(index, v);
+        applied.push((index, format!("{name}={value}")));
     }
-    Ok(())
+    if applied.is_empty() {
+        return Ok(());
+    }
+    check_set_values(loaded, &applied)
 }
 
 /// The independent coordinates and the guess after every `--init COORD=VALUE` or
@@ -165,12 +192,14 @@ pub fn initial_values(
         };
         let k = info.coordinate_index(name).ok_or_else(|| {
             CliError::Argument(format!(
-                "--init: unknown coordinate `{name}`; coordinates: {}",
+                "--init: unknown coordinate `{name}`{}; coordinates: {}",
+                did_you_mean(name, &info.coordinates),
                 info.coordinates.join(", ")
             ))
         })?;
         let v =
             finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
+        check_initial_value(lhs, v, rate)?;
         match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
             (Some(ind), false) => ind.position = v,
             (Some(ind), true) => ind.velocity = v,
@@ -188,4 +217,13 @@ pub fn initial_values(
         }
     }
     Ok((independent, guess))
+}
+
+/// `" (did you mean `l2`?)"` when one of `names` is a likely typo of `name` (at most two
+/// edits, or equal up to letter case: [`mechanism_codegen::closest`]), else nothing.
+pub fn did_you_mean(name: &str, names: &[String]) -> String {
+    match mechanism_codegen::closest(name, names.iter().map(String::as_str)) {
+        Some(c) => format!(" (did you mean `{c}`?)"),
+        None => String::new(),
+    }
 }

@@ -10,8 +10,10 @@ pub mod args;
 mod drawing;
 mod equations;
 mod import;
+mod input;
 mod inverse;
 mod load;
+mod physical;
 #[cfg(feature = "progress")]
 mod progress;
 #[cfg(not(feature = "progress"))]
@@ -20,6 +22,7 @@ mod progress;
 mod report;
 mod run_dir;
 mod simulate;
+mod stdio;
 mod validate;
 
 use std::process::ExitCode;
@@ -56,6 +59,10 @@ pub enum CliError {
     /// Writing a result file failed.
     #[error("{0}")]
     Output(#[from] mechanism::output::OutputError),
+    /// Writing to standard output failed (a full disk; a closed pipe is not an error:
+    /// [`stdio::print`]).
+    #[error("cannot write to standard output: {0}")]
+    Stdout(std::io::Error),
 }
 
 /// Runs the command line in `args` (the program name first) and returns the exit status.
@@ -69,14 +76,14 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> Exi
             return ExitCode::SUCCESS;
         }
         Err(e) => {
-            eprintln!("{}", usage_error(&e, &args));
+            stdio::eprint_line(&usage_error(&e, &args));
             return ExitCode::from(2);
         }
     };
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            stdio::eprint_line(&format!("error: {e}"));
             ExitCode::from(1)
         }
     }
@@ -112,13 +119,9 @@ pub fn usage_error(e: &clap::Error, args: &[std::ffi::OsString]) -> String {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         None => simulate::run(&simulate::default_args()),
-        Some(Command::List) => {
-            print!("{}", equations::list()?);
-            Ok(())
-        }
+        Some(Command::List) => stdio::print(&equations::list()?),
         Some(Command::Equations { mechanism, latex }) => {
-            print!("{}", equations::equations(&mechanism, latex)?);
-            Ok(())
+            stdio::print(&equations::equations(&mechanism, latex)?)
         }
         Some(Command::Simulate(a)) => simulate::run(&a),
         Some(Command::Inverse(a)) => inverse::run(&a),

@@ -1,12 +1,15 @@
 //! The output folder a run owns, and how a failed run is recorded there.
 //!
-//! Once the options are checked, a run claims its folder: the results of the run before
-//! (the files its `summary.json` lists) are removed first, so that whatever happens next
-//! the folder never shows older results as current; the user's other files stay. Every
-//! file the run writes is recorded, and its `summary.json` lists them. A run that fails,
-//! even before its first sample (an unreadable declaration, a bad `--set`, an assembly
-//! that fails), still writes a `summary.json` with `status: failed`, the stage and the
-//! error.
+//! Once the options are checked, a run claims its folder: it takes the folder's lock (a
+//! second run into a folder in use is refused: [`FolderLock`]) and writes every file into
+//! a staging folder inside it ([`Staging`]). When the run ends, completed or failed, its
+//! results replace the previous run's whole: the files the previous `summary.json` lists
+//! (only if that summary is ours) go, the new ones come in, the user's other files stay.
+//! Until then the previous results are untouched, so a run that is killed, or cannot even
+//! write its summary, leaves them as they were. A run that fails, even before its first
+//! sample (an unreadable declaration, a bad `--set`, an assembly that fails), still writes
+//! a `summary.json` with `status: failed`, the stage and the error, and that summary
+//! replaces the previous results: a folder never shows older results as current.
 
 use std::path::{Path, PathBuf};
 
@@ -15,42 +18,51 @@ use super::args::CommonArgs;
 use super::load::{key_of, load};
 use mechanism::System;
 use mechanism::output::summary::NamedValues;
-use mechanism::output::{OutputError, remove_previous_results};
+use mechanism::output::{FolderLock, OutputError, Staging};
 
 /// The folder of one run and the files written into it so far.
 pub struct RunDir {
-    dir: PathBuf,
-    /// Data files (CSV), then figures, in the order written.
+    staging: Staging,
+    /// Data files (CSV), then figures, in the order written (in the staging folder).
     data: Vec<PathBuf>,
     figures: Vec<PathBuf>,
+    /// Held until the run's results are swapped in (declared last: dropped last).
+    _lock: FolderLock,
 }
 
 impl RunDir {
-    /// The folder of a run of `common` (`--out`, or `out/<key>`) with the previous run's
-    /// results removed; `None` when there is none to claim (an unknown mechanism name and
-    /// no `--out`).
+    /// The folder of a run of `common` (`--out`, or `out/<key>`), locked, with a fresh
+    /// staging folder; `None` when there is none to claim (an unknown mechanism name and no
+    /// `--out`).
     pub fn claim(common: &CommonArgs) -> Result<Option<Self>, CliError> {
         let dir = match (&common.out, key_of(&common.mechanism)) {
             (Some(out), _) => out.clone(),
             (None, Some(key)) => Path::new("out").join(key),
             (None, None) => return Ok(None),
         };
-        remove_previous_results(&dir)?;
+        let lock = FolderLock::acquire(&dir)?;
+        let staging = Staging::begin(&lock)?;
         Ok(Some(Self {
-            dir,
+            staging,
             data: Vec::new(),
             figures: Vec::new(),
+            _lock: lock,
         }))
     }
 
-    /// The folder.
+    /// The output folder (where the results are once the run ends).
     pub fn dir(&self) -> &Path {
-        &self.dir
+        self.staging.target()
     }
 
-    /// The path of `name` in the folder.
+    /// The staging folder the run writes into.
+    pub fn staging(&self) -> &Path {
+        self.staging.path()
+    }
+
+    /// The path of `name` in the staging folder.
     pub fn file(&self, name: &str) -> PathBuf {
-        self.dir.join(name)
+        self.staging().join(name)
     }
 
     /// Records a data file written.
@@ -63,37 +75,38 @@ impl RunDir {
         self.figures.extend(paths);
     }
 
-    /// Every file of the run: the data, then `summary.json`, then the figures.
-    pub fn paths(&self) -> Vec<PathBuf> {
-        let summary = self.file(mechanism::output::SUMMARY_FILE);
-        let data = self.data.iter().cloned();
-        data.chain([summary])
-            .chain(self.figures.iter().cloned())
-            .collect()
-    }
-
-    /// [`RunDir::paths`] by file name, as `summary.json` lists them.
+    /// [`RunDir::paths`] by file name, as `summary.json` lists them: the data, then
+    /// `summary.json`, then the figures.
     pub fn names(&self) -> Vec<String> {
-        self.paths()
-            .iter()
+        let summary = PathBuf::from(mechanism::output::SUMMARY_FILE);
+        let data = self.data.iter();
+        data.chain([&summary])
+            .chain(&self.figures)
             .filter_map(|p| p.file_name())
             .map(|n| n.to_string_lossy().into_owned())
             .collect()
     }
 
-    /// [`RunDir::paths`] as printed.
+    /// Every file of the run as it will be in the output folder, as printed.
     pub fn displayed(&self) -> Vec<String> {
-        self.paths()
+        self.names()
             .iter()
-            .map(|p| p.display().to_string())
+            .map(|n| self.dir().join(n).display().to_string())
             .collect()
+    }
+
+    /// Swaps the staged results in when the summary is staged, else leaves the previous
+    /// results as they were ([`Staging::commit`]); then releases the folder.
+    fn end(self) -> Result<bool, OutputError> {
+        self.staging.commit()
     }
 }
 
 /// Runs `run` in the output folder of `common` (options already checked): claims the
 /// folder ([`RunDir::claim`]), runs, and when the run fails without having recorded it,
-/// writes the summary `failed_summary` makes of what is known. With no folder to claim
-/// (an unknown name and no `--out`) nothing is touched and the error is the loader's.
+/// writes the summary `failed_summary` makes of what is known; then the results replace the
+/// previous ones ([`RunDir::end`]). With no folder to claim (an unknown name and no
+/// `--out`) nothing is touched and the error is the loader's.
 pub fn owning_folder(
     common: &CommonArgs,
     run: impl FnOnce(&mut RunDir, &mut Known) -> Result<(), Failure>,
@@ -104,7 +117,7 @@ pub fn owning_folder(
     };
     let mut known = Known::given(common);
     let failure = match run(&mut out, &mut known) {
-        Ok(()) => return Ok(()),
+        Ok(()) => return out.end().map(|_| ()).map_err(CliError::Output),
         Err(failure) => failure,
     };
     if !failure.summarized {
@@ -112,6 +125,8 @@ pub fn owning_folder(
         // either (a full disk) adds nothing to it.
         let _ = failed_summary(known, &failure, &out);
     }
+    // Likewise a swap that fails: the run's error comes first.
+    let _ = out.end();
     Err(*failure.error)
 }
 

@@ -5,9 +5,11 @@ use super::CliError;
 use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
 use super::drawing::write_drawing;
 use super::load::{apply_sets, initial_values, load};
+use super::physical::check_assembled;
 use super::progress::Progress;
 use super::report::summary_text;
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::stdio::print;
 use super::validate::{check_csv_size, check_integrator, check_span};
 use mechanism::Stabilization;
 use mechanism::System;
@@ -140,7 +142,7 @@ fn simulate(
 ) -> Result<(), Failure> {
     let mut loaded = load(&a.common.mechanism).at("setup")?;
     *known = Known::of(loaded.system.as_ref());
-    apply_sets(loaded.system.as_mut(), &a.common.set).at("setup")?;
+    apply_sets(&mut loaded, &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();
     *known = Known::of(system);
     let columns = 1 + 3 * system.info().n() + system.info().m() + 5;
@@ -148,6 +150,7 @@ fn simulate(
     let (independent, guess) = initial_values(system, &a.common).at("setup")?;
     let assembly = AssemblyOptions::default();
     let start = assemble_from(system, 0.0, &independent, &guess, &assembly).at("assembly")?;
+    check_assembled(&loaded, &start.q).at("assembly")?;
     let options = SimulationOptions {
         t_end: a.common.t_end,
         output_rate: a.common.samples_per_second,
@@ -205,12 +208,13 @@ fn write_results(
     }
     summary.outcome.files = out.names();
     write_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
-    print!("{}", summary_text(key, system, &summary, &out.displayed()));
     let summarized = |stage, error| Failure {
         stage,
         error,
         summarized: true,
     };
+    let text = summary_text(key, system, &summary, &out.displayed());
+    print(&text).map_err(|e| summarized("output", Box::new(e)))?;
     match (failure, written) {
         (_, Err(e)) => Err(summarized("output", Box::new(e.into()))),
         // The samples up to the failure are written; the run still failed.
@@ -238,9 +242,14 @@ fn write_data(
     out.wrote_data(csv);
     if trajectory.len() >= 2 {
         let res = residuals(system, trajectory);
-        out.wrote_figures(plot_trajectory(out.dir(), trajectory, None, Some(&res))?);
+        out.wrote_figures(plot_trajectory(
+            out.staging(),
+            trajectory,
+            None,
+            Some(&res),
+        )?);
     }
-    let drawing = write_drawing(system, common, out.dir(), trajectory.len(), |i| {
+    let drawing = write_drawing(system, common, out.staging(), trajectory.len(), |i| {
         let s = trajectory.sample(i);
         (s.t, s.q)
     })?;

@@ -8,9 +8,10 @@
 //!   constraint residuals and of the energy balance error ([`TrajectoryMaxima`]).
 //! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5 and the driving torque).
 //!
-//! - [`remove_previous_results`]: before a run writes into a folder, the files the
-//!   previous run's `summary.json` lists are removed, so a failed run never leaves older
-//!   results looking current (the user's other files there stay).
+//! - The output folder belongs to one run at a time: [`FolderLock`] (a lock file held for
+//!   the run), [`Staging`] (the run writes apart; its results replace the previous ones
+//!   whole when it ends), [`remove_previous_results`] (only the files our own marked
+//!   `summary.json` lists are ever removed: the user's other files stay).
 //!
 //! Every file is written under a temporary name and renamed when complete
 //! ([`write_atomically`]), so none is ever left half-written. Every function returns
@@ -24,6 +25,7 @@ mod atomic;
 pub mod csv;
 #[cfg(feature = "files")]
 mod inverse_summary;
+mod lock;
 #[cfg(feature = "files")]
 mod outcome;
 #[cfg(feature = "plots")]
@@ -31,6 +33,8 @@ pub mod plot;
 #[cfg(feature = "files")]
 mod previous;
 mod scene;
+#[cfg(feature = "files")]
+mod staging;
 #[cfg(feature = "files")]
 pub mod summary;
 mod table;
@@ -43,6 +47,7 @@ pub use self::atomic::{temporary_path, write_atomically};
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
 #[cfg(feature = "files")]
 pub use self::inverse_summary::{InverseSummary, write_inverse_summary};
+pub use self::lock::{FolderLock, LOCK_FILE};
 #[cfg(feature = "files")]
 pub use self::outcome::Outcome;
 #[cfg(feature = "plots")]
@@ -51,8 +56,12 @@ pub use self::plot::{
     plot_strobe, plot_trajectory, strobe_frames,
 };
 #[cfg(feature = "files")]
-pub use self::previous::{SUMMARY_FILE, remove_previous_results};
+pub use self::previous::{
+    SUMMARY_FILE, SUMMARY_FORMAT, SUMMARY_FORMAT_VERSION, is_ours, remove_previous_results,
+};
 pub use self::scene::{Scene, SceneCoordinate, ScenePoint};
+#[cfg(feature = "files")]
+pub use self::staging::{STAGING_FOLDER, Staging};
 #[cfg(feature = "files")]
 pub use self::summary::{
     MobilityReport, PassageReport, RunSettings, Summary, TrajectoryMaxima, write_summary,
@@ -98,6 +107,17 @@ pub enum OutputError {
         path: PathBuf,
         /// What plotters reported.
         message: String,
+    },
+    /// Another run holds the output folder ([`FolderLock`]).
+    #[error(
+        "the output folder {dir} is in use by another run ({holder}): wait for it to end or \
+         write elsewhere; a run that died leaves no hold on it"
+    )]
+    Locked {
+        /// The folder.
+        dir: PathBuf,
+        /// Who holds it: `process <id>` from the lock file.
+        holder: String,
     },
     /// The input is inconsistent (empty, or series of different lengths).
     #[error("invalid data for {what}: {message}")]

@@ -322,13 +322,29 @@ pub fn write_summary(path: &Path, summary: &Summary) -> Result<(), OutputError> 
     write_json(path, summary)
 }
 
-/// Writes `value` as pretty-printed JSON to `path`, creating its directory; under a
-/// temporary name renamed when complete ([`super::write_atomically`]).
+/// A summary's keys after our mark: `format` and `format_version` first
+/// ([`super::SUMMARY_FORMAT`]), which tell our summaries from any other `summary.json`.
+#[derive(Serialize)]
+struct Marked<'a, T> {
+    format: &'static str,
+    format_version: u64,
+    #[serde(flatten)]
+    summary: &'a T,
+}
+
+/// Writes the summary `value` as pretty-printed JSON to `path`, marked as ours ([`Marked`]),
+/// creating its directory; under a temporary name renamed when complete
+/// ([`super::write_atomically`]).
 pub(crate) fn write_json(path: &Path, value: &impl Serialize) -> Result<(), OutputError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         ensure_dir(dir)?;
     }
-    let mut text = serde_json::to_string_pretty(value).map_err(|source| OutputError::Json {
+    let marked = Marked {
+        format: super::SUMMARY_FORMAT,
+        format_version: super::SUMMARY_FORMAT_VERSION,
+        summary: value,
+    };
+    let mut text = serde_json::to_string_pretty(&marked).map_err(|source| OutputError::Json {
         path: path.to_path_buf(),
         source,
     })?;

@@ -1,6 +1,6 @@
 //! Result files are written whole or not at all (a temporary `.<stem>.partial.<ext>` renamed
 //! when complete, removed when the write fails or panics), and a new run removes exactly the
-//! files the previous run's summary.json listed.
+//! files the previous run's summary.json listed, if that summary is ours.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -119,6 +119,8 @@ fn only_the_files_the_previous_summary_lists_are_removed() {
     std::fs::write(&outside, "not ours").unwrap();
     let escape = format!("../{}", outside.file_name().unwrap().to_string_lossy());
     let summary = serde_json::json!({
+        "format": "mechanism-summary",
+        "format_version": 1,
         "status": "completed",
         "files": ["trajectory.csv", "summary.json", "phi.png", "missing.svg", "plots",
                   escape, "/etc/hostname", "a/b"],
@@ -145,12 +147,27 @@ fn only_the_files_the_previous_summary_lists_are_removed() {
 }
 
 #[test]
-fn a_summary_from_before_the_file_list_stands_for_the_data_files() {
-    let dir = temp_dir("previous-legacy");
-    for f in ["trajectory.csv", "inverse.csv", "phi.png"] {
-        std::fs::write(dir.join(f), "x").unwrap();
+fn a_summary_we_did_not_write_removes_nothing() {
+    // Another tool's summary, an empty one, one of ours from before the format mark, and
+    // one of a format version we do not know: none is trusted.
+    let foreign = [
+        r#"{"files": ["thesis.tex", "inverse.csv"]}"#,
+        "{}",
+        r#"{"status": "completed", "files": ["thesis.tex", "inverse.csv"]}"#,
+        r#"{"format": "mechanism-summary", "format_version": 2, "files": ["thesis.tex"]}"#,
+        r#"{"format": "other", "format_version": 1, "files": ["thesis.tex"]}"#,
+    ];
+    for text in foreign {
+        let dir = temp_dir("previous-foreign");
+        for f in ["thesis.tex", "inverse.csv", "phi.png"] {
+            std::fs::write(dir.join(f), "x").unwrap();
+        }
+        std::fs::write(dir.join("summary.json"), text).unwrap();
+        assert!(remove_previous_results(&dir).unwrap().is_empty(), "{text}");
+        assert_eq!(
+            files_in(&dir),
+            set(&["thesis.tex", "inverse.csv", "phi.png", "summary.json"]),
+            "{text}"
+        );
     }
-    std::fs::write(dir.join("summary.json"), r#"{"status": "completed"}"#).unwrap();
-    remove_previous_results(&dir).unwrap();
-    assert_eq!(files_in(&dir), set(&["phi.png"]));
 }

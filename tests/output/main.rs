@@ -8,5 +8,6 @@ mod animation;
 mod atomic;
 mod browser;
 mod csv;
+mod ownership;
 mod plot;
 mod summary;

@@ -103,6 +103,8 @@ fn summary_json_has_every_key_with_its_value() {
     let text = std::fs::read_to_string(&path).expect("read");
     let json: Value = serde_json::from_str(&text).expect("valid JSON");
     let keys = [
+        "format",
+        "format_version",
         "mechanism",
         "parameters",
         "consistent_initial_state",

@@ -96,7 +96,42 @@ pub fn eval_many(
             value[k] = node_value(arena, &nodes[k], &value, env)?;
         }
     }
+    // A reciprocal that overflowed and that no product brought back (see `node_value`).
+    for i in ids {
+        if let Node::Pow(b, e) = &nodes[i.index()]
+            && !value[i.index()].is_finite()
+        {
+            return Err(non_finite("pow", &[value[b.index()], value[e.index()]]));
+        }
+    }
     Ok(ids.iter().map(|i| value[i.index()]).collect())
+}
+
+/// True for x^y with x finite and not 0 and y < 0 whose value overflowed: the reciprocal
+/// of a tiny number (1e-320^-1), left infinite for the product that divides by it
+/// ([`quotient`]) to evaluate as a quotient.
+fn is_overflowed_reciprocal(x: f64, y: f64, r: f64) -> bool {
+    !r.is_finite() && x.is_finite() && x != 0.0 && y < 0.0
+}
+
+/// The product `factors` as a quotient: the overflowed reciprocals b^y among them
+/// ([`is_overflowed_reciprocal`]) divide by b^-y instead of multiplying by b^y, so that
+/// 1e-320/1e-320 (1e-320 * 1e-320^-1) is 1, not inf.
+fn quotient(arena: &Arena, factors: &[Id], value: &[f64]) -> f64 {
+    let (mut numerator, mut denominator) = (1.0, 1.0);
+    for f in factors {
+        let v = value[f.index()];
+        match arena.nodes().get(f.index()) {
+            Some(Node::Pow(b, e))
+                if is_overflowed_reciprocal(value[b.index()], value[e.index()], v) =>
+            {
+                let exponent = arena.as_number(*e).map(|n| -n);
+                denominator *= pow_value(value[b.index()], -value[e.index()], exponent);
+            }
+            _ => numerator *= v,
+        }
+    }
+    numerator / denominator
 }
 
 /// The value of one node whose children are already in `value`.
@@ -127,11 +162,22 @@ fn node_value(
             return Ok(x);
         }
         Node::Add(ts) => (ts.iter().map(v).sum(), "+"),
-        Node::Mul(fs) => (fs.iter().map(v).product(), "*"),
+        Node::Mul(fs) => {
+            let r: f64 = fs.iter().map(v).product();
+            if r.is_finite() {
+                (r, "*")
+            } else {
+                (quotient(arena, fs, value), "*")
+            }
+        }
         Node::Pow(b, e) => {
             let exponent = arena.as_number(*e);
             let (x, y) = (v(b), v(e));
             let r = pow_value(x, y, exponent);
+            if is_overflowed_reciprocal(x, y, r) {
+                // Left to the product that divides by it, or refused at the end.
+                return Ok(r);
+            }
             if !r.is_finite() {
                 let op = if x == 0.0 && y < 0.0 {
                     "division by zero"

@@ -460,6 +460,22 @@ pub enum DeclarationError {
         /// The coordinates whose positions the section sets.
         independent: Vec<String>,
     },
+    /// An explicit orientation factor that is not a rotation at the parameter values and
+    /// coordinates checked (the declared values and initial guesses; at run time, the
+    /// assembled state).
+    #[error(
+        "the orientation of body `{body}` is not a rotation at {state}: max |(R^T R - I)_ij| = {deviation:.3e} (at most 1e-6 allowed), det R = {determinant:.6}; an orientation must be orthonormal with det R = 1 (write it as a product of rot_x, rot_y, rot_z)"
+    )]
+    OrientationNotRotation {
+        /// The body.
+        body: String,
+        /// max |(R^T R - I)_ij|.
+        deviation: f64,
+        /// det R.
+        determinant: f64,
+        /// `t = 0, x = 0.5, ...`: where it was evaluated.
+        state: String,
+    },
     /// A body's mass below zero at the declared values.
     #[error(
         "the mass of body `{body}` is {value} at the declared values: a mass cannot be negative"

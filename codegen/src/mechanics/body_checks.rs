@@ -14,8 +14,9 @@
 //! the largest moment).
 
 use crate::algebra::eval::eval;
-use crate::algebra::expr::{Arena, Id, SymbolId};
+use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
+use crate::algebra::rotation::{Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Result};
 
 /// Relative asymmetry of two numeric entries beyond which the tensor is not symmetric.
@@ -98,6 +99,93 @@ pub(crate) fn check_inertia(
         ));
     }
     Ok(())
+}
+
+/// Largest |(F^T F - I)_ij| of an explicit orientation factor F that still counts as
+/// orthogonal: entries typed with 7 significant digits (0.7071068) deviate by about 1e-7.
+const ORTHOGONALITY: f64 = 1e-6;
+
+/// Each explicit factor F of the orientation `orientation` of body `body`, declared at `at`,
+/// evaluated at `values` (the declared parameter values, the initial guesses and t = 0) is
+/// a rotation: max |(F^T F - I)_ij| <= 1e-6 and det F > 0. An explicit factor is assumed
+/// orthogonal by the angular velocity vee(F^T F'); one that is not (the zero matrix, a
+/// scaled or sheared one, a reflection) would silently drop or distort the rotational
+/// inertia. `rot_x/y/z` factors are rotations by construction. A factor that cannot be
+/// evaluated there (it depends on something else) is not checked.
+pub(crate) fn check_orientation(
+    arena: &Arena,
+    body: &str,
+    orientation: &Orientation,
+    values: &[(SymbolId, f64)],
+    at: Location,
+) -> Result<()> {
+    for factor in &orientation.factors {
+        let RotationFactor::Explicit(f) = factor else {
+            continue;
+        };
+        let mut a = [[0.0; 3]; 3];
+        for (i, row) in a.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                match value(arena, f.get(i, j), values) {
+                    Some(x) => *v = x,
+                    None => return Ok(()),
+                }
+            }
+        }
+        let mut deviation = 0.0_f64;
+        for i in 0..3 {
+            for j in 0..3 {
+                let dot: f64 = (0..3).map(|k| a[k][i] * a[k][j]).sum();
+                let identity = if i == j { 1.0 } else { 0.0 };
+                deviation = deviation.max((dot - identity).abs());
+            }
+        }
+        let determinant = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        if deviation > ORTHOGONALITY || determinant <= 0.0 {
+            return Err(Error::declaration(
+                DeclarationError::OrientationNotRotation {
+                    body: body.to_string(),
+                    deviation,
+                    determinant,
+                    state: coordinates_at(arena, &f.data, values),
+                },
+                at,
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `t = 0, x = 0.5`: the coordinates that `entries` use, at their values in `values`
+/// (rounded to 6 decimals), as an error shows where it evaluated them.
+fn coordinates_at(arena: &Arena, entries: &[Id], values: &[(SymbolId, f64)]) -> String {
+    let nodes = arena.nodes();
+    let mut used = vec![false; nodes.len()];
+    for e in entries {
+        used[e.index()] = true;
+    }
+    // Children precede their parents: one sweep down marks every node the entries use.
+    for k in (0..nodes.len()).rev() {
+        if used[k] {
+            nodes[k].for_each_child(|c| used[c.index()] = true);
+        }
+    }
+    let symbols = arena.symbols();
+    let mut parts = vec!["t = 0".to_string()];
+    for (s, v) in values {
+        let Some(symbol) = symbols.get(s.0 as usize) else {
+            continue;
+        };
+        let node = arena.symbol_node(*s);
+        if symbol.kind == SymbolKind::Coordinate && used.get(node.index()) == Some(&true) {
+            let shown = format!("{v:.6}");
+            let shown = shown.trim_end_matches('0').trim_end_matches('.');
+            parts.push(format!("{} = {shown}", symbol.name));
+        }
+    }
+    parts.join(", ")
 }
 
 /// The eigenvalues of the symmetric 3 x 3 `a` (its upper triangle read), ascending, by

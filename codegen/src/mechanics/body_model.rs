@@ -10,7 +10,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, add_body_terms};
-use crate::mechanics::body_checks::{check_inertia, check_mass};
+use crate::mechanics::body_checks::{check_inertia, check_mass, check_orientation};
 use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
@@ -182,6 +182,15 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         return Ok(());
     }
     let known = defaults(model);
+    // The declared values and the initial guesses at t = 0, for the orientation check.
+    let mut at_guesses = known.clone();
+    at_guesses.extend(
+        model
+            .coordinates
+            .iter()
+            .filter_map(|c| Some((model.arena.as_symbol(c.q)?, c.guess))),
+    );
+    at_guesses.extend(model.arena.as_symbol(model.time).map(|s| (s, 0.0)));
     let mut scope = Scope::default();
     let mut system = BodySystem::default();
     let mut rows: Vec<Constraint> = Vec::new();
@@ -231,7 +240,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 scope.axes.insert(name.clone(), frame);
             }
             BodyItem::Body { name, at, entries } => {
-                let body = build_body(arena, name, *at, entries, &mut scope, &known)?;
+                let body = build_body(arena, name, *at, entries, &mut scope, &known, &at_guesses)?;
                 system.bodies.push(body);
             }
             BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
@@ -370,6 +379,7 @@ fn build_body(
     entries: &[Entry],
     scope: &mut Scope,
     known: &[(SymbolId, f64)],
+    at_guesses: &[(SymbolId, f64)],
 ) -> Result<Body> {
     // A body without a mass would silently carry none: a massless frame says `mass = 0;`.
     let me = take(entries, "mass", name)?.ok_or_else(|| missing("body", name, Needed::Mass, at))?;
@@ -383,7 +393,11 @@ fn build_body(
     let pm = vector_value(arena, &pe.value[0], scope)?;
     let position = vec3(&pm, Quantity::Position, pe.at)?;
     let orient = match take(entries, "orientation", name)? {
-        Some(e) => Some(orientation(arena, &e.value[0], scope)?),
+        Some(e) => {
+            let o = orientation(arena, &e.value[0], scope)?;
+            check_orientation(arena, name, &o, at_guesses, e.at)?;
+            Some(o)
+        }
         None => None,
     };
     let inertia = match take(entries, "inertia", name)? {

@@ -84,6 +84,14 @@ fn constant(
 /// a fixed order (parameters, coordinates, t, then the expressions in declaration order), so
 /// that the same declaration gives the same ids.
 pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
+    build_with_values(d, &[])
+}
+
+/// [`build`] with the parameters and coordinates named in `values` at those values instead
+/// of their declared defaults and guesses, so that every check of the declared values
+/// (masses, inertias, orientations) runs on them: the run-time check of `--set` and of the
+/// assembled state.
+pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Result<ParsedModel> {
     let mut arena = Arena::new();
     let param_items = d.parameters.as_ref().map_or(&[][..], |s| &s.body[..]);
     let coord_items = d.coordinates.as_ref().map_or(&[][..], |s| &s.body[..]);
@@ -97,8 +105,8 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
         .collect();
     // Time last: products then read `Omega*t`, parameters first.
     let time = arena.symbol("t", SymbolKind::Time);
-    let (parameters, known) = build_parameters(&mut arena, param_items, &param_syms)?;
-    let coordinates = build_coordinates(&mut arena, coord_items, &coord_ids, &known)?;
+    let (parameters, known) = build_parameters(&mut arena, param_items, &param_syms, values)?;
+    let coordinates = build_coordinates(&mut arena, coord_items, &coord_ids, &known, values)?;
     let independent = build_independent(&mut arena, d, &coordinates, &known)?;
     let (kinetic, kinetic_at) = match &d.kinetic {
         Some(k) => (resolve_at(&mut arena, &k.body)?, k.at),
@@ -156,11 +164,16 @@ fn build_parameters(
     arena: &mut Arena,
     items: &[Item],
     syms: &[SymbolId],
+    values: &[(&str, f64)],
 ) -> Result<(Vec<Parameter>, Defaults)> {
     let mut known: Defaults = Vec::with_capacity(items.len());
     let mut parameters = Vec::with_capacity(items.len());
     for (p, &s) in items.iter().zip(syms) {
-        let default = constant(arena, &p.value, &known, Constant::Default(p.name.clone()))?;
+        let given = values.iter().find(|v| v.0 == p.name).map(|v| v.1);
+        let default = match given {
+            Some(v) => v,
+            None => constant(arena, &p.value, &known, Constant::Default(p.name.clone()))?,
+        };
         known.push((s, default));
         parameters.push(Parameter {
             name: p.name.clone(),
@@ -178,10 +191,15 @@ fn build_coordinates(
     items: &[Item],
     ids: &[[Id; 3]],
     known: &[(SymbolId, f64)],
+    values: &[(&str, f64)],
 ) -> Result<Vec<Coordinate>> {
     let mut coordinates = Vec::with_capacity(items.len());
     for (c, ids) in items.iter().zip(ids) {
-        let guess = constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?;
+        let given = values.iter().find(|v| v.0 == c.name).map(|v| v.1);
+        let guess = match given {
+            Some(v) => v,
+            None => constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?,
+        };
         let [q, qd, qdd] = *ids;
         coordinates.push(Coordinate {
             name: c.name.clone(),

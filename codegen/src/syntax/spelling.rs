@@ -5,10 +5,7 @@
 /// The candidate closest to `name` by edit distance, when it is a likely typo: at most 2
 /// edits, and at most half the longer name (so `x` does not suggest `y`). A candidate equal
 /// up to letter case wins.
-pub(crate) fn closest<'n>(
-    name: &str,
-    candidates: impl IntoIterator<Item = &'n str>,
-) -> Option<String> {
+pub fn closest<'n>(name: &str, candidates: impl IntoIterator<Item = &'n str>) -> Option<String> {
     let mut best: Option<(usize, &str)> = None;
     for c in candidates {
         if c == name {

@@ -25,6 +25,25 @@ fn error_of(body: &str) -> Error {
 
 /// Each case: the body sections, then a phrase the error message must contain.
 const ERRORS: &[(&str, &str)] = &[
+    // Orientations that are not rotations at the declared values and guesses (issue 29,
+    // item 6): the zero matrix, a scaled one, a reflection, one whose entry 3 x is not 1 at
+    // the guess x = 0.5.
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = [[0, 0, 0], [0, 0, 0], [0, 0, 0]]; inertia = diag(1, 1, 1); }",
+        "the orientation of body `b` is not a rotation at t = 0: max |(R^T R - I)_ij| = 1.000e0",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x) * diag(2, 1, 1); inertia = diag(1, 1, 1); }",
+        "max |(R^T R - I)_ij| = 3.000e0 (at most 1e-6 allowed), det R = 2.000000",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]; inertia = diag(1, 1, 1); }",
+        "det R = -1.000000",
+    ),
+    (
+        "body b { mass = m; position = [x, y, 0]; orientation = [[cos(x), -sin(x), 0], [sin(x), cos(x), 0], [0, 0, 3*x]]; inertia = diag(1, 1, 1); }",
+        "the orientation of body `b` is not a rotation at t = 0, x = 0.5: max |(R^T R - I)_ij| = 1.250e0",
+    ),
     (
         "body b { mass = m; position = [x, y, 0]; inertia = diag(1, 1, 1); }",
         "no `orientation`",
@@ -167,6 +186,9 @@ fn limiting_bodies_are_accepted() {
         "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(m*l^2/12, m*l^2/12, m*l^2/6); }",
         "body b { mass = m; position = [x, y, 0]; } body f { mass = 0; position = [x, 0, 0]; }",
         "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = [[1, 0.1, 0], [0.1, 2, 0], [0, 0, 3]]; }",
+        // An explicit rotation, and one typed with 7 digits (orthogonal to about 1e-7).
+        "body b { mass = m; position = [x, y, 0]; orientation = [[cos(x), -sin(x), 0], [sin(x), cos(x), 0], [0, 0, 1]]; inertia = diag(1, 1, 1); }",
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x) * [[0.7071068, -0.7071068, 0], [0.7071068, 0.7071068, 0], [0, 0, 1]]; inertia = diag(1, 1, 1); }",
     ] {
         let mut model =
             parse_model_str(&declaration(body)).unwrap_or_else(|e| panic!("`{body}` refused: {e}"));
@@ -354,4 +376,21 @@ fn joint_rows_are_labelled() {
     assert_eq!(model.constraints[4].label(), "revolute(P, O, u, w) axis 1");
     assert_eq!(model.constraints[14].label(), "distance(P, O, l/2)");
     assert_eq!(model.constraints[15].label(), "P = O + [l, -(l - 1), 0] x");
+}
+
+/// The body checks run again on given parameter values (the run-time `--set`, issue 29,
+/// item 7): a mass that the values make negative is refused there, at its line.
+#[test]
+fn given_parameter_values_are_checked_like_declared_ones() {
+    let text = declaration(
+        "body b { mass = m; position = [x, y, 0]; orientation = rot_z(x); inertia = diag(m, m, m); }",
+    );
+    assert!(mechanism_codegen::check_parameter_values(&text, &[("m", 2.0)]).is_ok());
+    let e = mechanism_codegen::check_parameter_values(&text, &[("m", -1.0)]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the mass of body `b` is -1 at the declared values"),
+        "{e}"
+    );
+    assert!(e.location().is_some(), "{e}");
 }

@@ -62,6 +62,29 @@ fn runtime_division_by_zero_is_an_error() {
 }
 
 #[test]
+fn a_quotient_of_tiny_numbers_is_evaluated_as_a_quotient() {
+    // 1e-320 / 1e-320 is 1e-320 * 1e-320^-1, and 1e-320^-1 overflows (issue 29, item 16):
+    // the product divides instead. Only a reciprocal that nothing brings back fails.
+    let (mut a, x, y) = arena_xy();
+    let q = a.div(x, y).unwrap();
+    let tiny = |_| Some(1e-320);
+    assert_eq!(eval(&a, q, &tiny).unwrap(), 1.0);
+    let r = a.div(y, x).unwrap();
+    let both = a.mul2(q, r);
+    assert_eq!(eval(&a, both, &tiny).unwrap(), 1.0);
+    let one = a.int(1);
+    let reciprocal = a.div(one, x).unwrap();
+    assert!(matches!(
+        eval(&a, reciprocal, &tiny),
+        Err(Error::NonFinite { ref operation, .. }) if operation == "pow"
+    ));
+    let sum = a.add2(reciprocal, y);
+    assert!(matches!(eval(&a, sum, &tiny), Err(Error::NonFinite { .. })));
+    let parsed = mechanism_codegen::parse_expr(&mut a, "1e-320/1e-320").unwrap();
+    assert_eq!(eval(&a, parsed, &|_| None).unwrap(), 1.0);
+}
+
+#[test]
 fn domain_errors_are_typed_not_nan() {
     let (mut a, x, _) = arena_xy();
     let ln = a.func(Func::Ln, x).unwrap();

@@ -1,0 +1,80 @@
+//! Reading an input file (a `.mech` declaration, a URDF) with limits: only a regular file,
+//! and at most [`MAX_INPUT_BYTES`] of it.
+//!
+//! A FIFO would block the read until a writer comes (forever, if none does), and a device
+//! such as `/dev/zero` (or a symbolic link to one) never ends: both are refused before they
+//! are opened. The size is checked twice, before reading and while reading (a file may
+//! grow in between), so no more than the limit plus one byte is ever held.
+
+use std::io::Read as _;
+use std::path::Path;
+
+/// Largest input file read, bytes: 16 MiB. The largest declarations we know (the Panda's
+/// URDF, the 32-bar chain) are under 100 KB, and a declaration of 20 MB takes about 70 s
+/// and 2 GB to derive; a larger file is far more likely a wrong path than a mechanism.
+/// Raised by the environment variable `MECHANISM_MAX_INPUT_BYTES`.
+pub const MAX_INPUT_BYTES: u64 = 16 * 1024 * 1024;
+
+/// [`MAX_INPUT_BYTES`], or `MECHANISM_MAX_INPUT_BYTES` when set to a number.
+pub fn input_budget() -> u64 {
+    std::env::var("MECHANISM_MAX_INPUT_BYTES")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .unwrap_or(MAX_INPUT_BYTES)
+}
+
+/// The text of the file at `path` (see the module docs); the error is the reason, for
+/// `cannot read <path>: <reason>`.
+pub fn read_input(path: &Path) -> Result<String, String> {
+    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !metadata.is_file() {
+        return Err(format!("not a regular file ({})", kind(&metadata)));
+    }
+    let budget = input_budget();
+    let too_large = |size: u64| {
+        format!(
+            "{size} bytes, more than the {budget} allowed for an input file; raise the limit \
+             with the environment variable MECHANISM_MAX_INPUT_BYTES={size}"
+        )
+    };
+    if metadata.len() > budget {
+        return Err(too_large(metadata.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut bytes = Vec::new();
+    file.take(budget + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > budget {
+        return Err(too_large(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 (byte {} is not valid)",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+/// What a file that is not a regular one is: a folder, a pipe, a device.
+fn kind(metadata: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        let t = metadata.file_type();
+        if t.is_fifo() {
+            return "a pipe";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if metadata.is_dir() {
+        "a folder"
+    } else {
+        "not a file"
+    }
+}

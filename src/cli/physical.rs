@@ -1,0 +1,160 @@
+//! The values given on the command line checked like declared ones: `--set` values against
+//! the declaration's checks and a mass matrix with no negative direction, `--init` values
+//! within a range where a step can still change them.
+//!
+//! - **`--set`.** The declaration is built again with the parameters at their new values
+//!   ([`mechanism_codegen::check_parameter_values`]): a body's mass not negative, its
+//!   inertia physically possible, its orientation a rotation. Then, as the derivation tests
+//!   T at the declared values, M(q) at the initial guesses (t = 0) must have no eigenvalue
+//!   below -1e-9 times its largest entry: a negative mass or inertia written into T
+//!   directly (`1/2*m2*v^2` with `m2 = -1`) shows there. The error names the `--set` that
+//!   causes it: each is undone in turn, and the first without which the check passes is
+//!   named (all of them when none alone is to blame).
+//! - **`--init`.** |value| at most [`MAX_INITIAL_VALUE`], for a position and for a rate.
+//! - **The assembled state.** The declaration's checks that depend on the coordinates (a
+//!   body's explicit orientation a rotation) run again there ([`check_assembled`]).
+
+use nalgebra::SymmetricEigen;
+
+use super::CliError;
+use super::load::Loaded;
+use mechanism::{Evaluation, System};
+
+/// Largest |value| of an `--init` position or rate, 1e9: the spacing of f64 values there is
+/// 1.2e-7, so a step of a slow motion still moves it; at 1e300 the spacing is 1.5e284 and
+/// no step can change the value, which stays frozen in every sample.
+pub const MAX_INITIAL_VALUE: f64 = 1e9;
+
+/// Relative size of a negative eigenvalue of M that counts as a negative direction (as the
+/// derivation's test of T).
+const NEGATIVE_EIGENVALUE: f64 = 1e-9;
+
+/// Checks `value` of `--init lhs` (a position, or a rate `der(..)` when `rate`) against
+/// [`MAX_INITIAL_VALUE`]. A rate is held to the positions' range: beyond 1e9 per second the
+/// coordinate would leave it within a second.
+pub fn check_initial_value(lhs: &str, value: f64, rate: bool) -> Result<(), CliError> {
+    if value.abs() <= MAX_INITIAL_VALUE {
+        return Ok(());
+    }
+    let why = if rate {
+        "a rate beyond 1e9 per second carries its coordinate past the 1e9 allowed for a \
+         position within a second"
+            .to_string()
+    } else {
+        let spacing = value.abs().next_up() - value.abs();
+        format!(
+            "f64 values there are {spacing:.1e} apart (at 1e9, 1.2e-7), so no integration step \
+             could change it and the coordinate would stay frozen"
+        )
+    };
+    Err(CliError::Argument(format!(
+        "--init {lhs}: |value| must be at most 1e9, got {value:e}: {why}"
+    )))
+}
+
+/// Checks the parameters of `loaded` after `sets` (`NAME=VALUE`, already applied), see the
+/// module docs.
+pub fn check_set_values(loaded: &mut Loaded, sets: &[(usize, String)]) -> Result<(), CliError> {
+    let Err(message) = check_values(loaded) else {
+        return Ok(());
+    };
+    let mut blamed = Vec::new();
+    for (index, text) in sets {
+        let mut values = vec![0.0; loaded.declared.len()];
+        loaded.system.parameter_values(&mut values);
+        loaded.system.set_parameter(*index, loaded.declared[*index]);
+        let passes_without = check_values(loaded).is_ok();
+        loaded.system.set_parameter(*index, values[*index]);
+        if passes_without {
+            blamed.push(text.as_str());
+            break;
+        }
+    }
+    if blamed.is_empty() {
+        blamed = sets.iter().map(|s| s.1.as_str()).collect();
+    }
+    Err(CliError::Argument(format!(
+        "--set {}: {message}",
+        blamed.join(" --set ")
+    )))
+}
+
+/// Checks the declaration of `loaded` at the assembled state `q` (t = 0) and the current
+/// parameter values: the declared checks that depend on the coordinates, a body's explicit
+/// orientation a rotation, run there too (they ran at the initial guesses when the
+/// declaration was built; an orientation can be a rotation there and not at the state the
+/// run starts from).
+pub fn check_assembled(loaded: &Loaded, q: &[f64]) -> Result<(), CliError> {
+    // Only an explicit `orientation` depends on the coordinates among these checks.
+    if !loaded.source.contains("orientation") {
+        return Ok(());
+    }
+    let system = loaded.system.as_ref();
+    let info = system.info();
+    let mut values = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut values);
+    let named: Vec<(&str, f64)> = info
+        .parameters
+        .iter()
+        .map(String::as_str)
+        .zip(values.iter().copied())
+        .chain(
+            info.coordinates
+                .iter()
+                .map(String::as_str)
+                .zip(q.iter().copied()),
+        )
+        .collect();
+    mechanism_codegen::check_parameter_values(&loaded.source, &named)
+        .map_err(|e| CliError::Mechanism(super::load::located(&loaded.shown, &e)))
+}
+
+/// The checks of the module docs on the current parameter values; the first failure.
+fn check_values(loaded: &Loaded) -> Result<(), String> {
+    let system = loaded.system.as_ref();
+    let info = system.info();
+    let mut values = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut values);
+    let named: Vec<(&str, f64)> = info
+        .parameters
+        .iter()
+        .map(String::as_str)
+        .zip(values.iter().copied())
+        .collect();
+    mechanism_codegen::check_parameter_values(&loaded.source, &named)
+        .map_err(|e| super::load::located(&loaded.shown, &e))?;
+    negative_direction(system)
+}
+
+/// M(q) at the initial guesses and t = 0 with no negative direction (see the module docs).
+fn negative_direction(system: &dyn System) -> Result<(), String> {
+    let info = system.info();
+    let (n, m) = (info.n(), info.m());
+    let mut e = Evaluation::zeros(n, m);
+    system.evaluate(0.0, &info.initial_guess, &vec![0.0; n], &mut e);
+    let mass = e.mass.clone();
+    let scale = mass.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+    if !mass.iter().all(|v| v.is_finite()) || scale == 0.0 {
+        return Ok(());
+    }
+    let eigen = SymmetricEigen::new(mass);
+    let (k, lowest) = eigen
+        .eigenvalues
+        .iter()
+        .copied()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((0, 0.0));
+    if lowest >= -NEGATIVE_EIGENVALUE * scale {
+        return Ok(());
+    }
+    let direction = eigen.eigenvectors.column(k);
+    let along = (0..n)
+        .max_by(|&a, &b| direction[a].abs().total_cmp(&direction[b].abs()))
+        .map_or("", |c| info.coordinates[c].as_str());
+    Err(format!(
+        "the kinetic energy can be negative: at the initial guesses (t = 0) the mass matrix M \
+         has the eigenvalue {lowest:.4e}, mostly along `{along}`; a mass or moment of inertia \
+         cannot be negative"
+    ))
+}
