@@ -334,9 +334,10 @@ impl<'a, S: Style> Renderer<'a, S> {
     }
 }
 
-/// The sums, products and powers that more than one node reachable from `roots` reads (or
+/// The sums and products that more than one node reachable from `roots` reads (or
 /// that two roots are), in increasing id order, so that each one's definition reads only
-/// names defined before it.
+/// names defined before it. Powers are left out: a product prints its factors' powers
+/// itself (`m2*l1^2`), so a name for `l1^2` would never be read.
 pub(crate) fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
     let mut uses = vec![0u32; arena.len()];
     let mut seen = vec![false; arena.len()];
@@ -359,6 +360,6 @@ pub(crate) fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
     (0..arena.len())
         .filter(|&i| uses[i] > 1)
         .map(|i| Id::new(i as u32))
-        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Pow(..)))
+        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_)))
         .collect()
 }
