@@ -92,10 +92,10 @@ pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
 pub use mechanics::lagrange::{Route, derive, derive_with};
-pub use mechanics::links::{Link, LinkJoint};
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{ResidualTangent, residual_tangent};
+pub use mechanics::tree::{Link, LinkJoint};
 pub use number::Number;
 pub use pipeline::{
     SpannedError, check_parameter_values, parse_declaration, parse_declaration_str, parse_model_str,

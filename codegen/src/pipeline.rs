@@ -11,8 +11,9 @@ use crate::mechanics::build::{ParsedModel, build, build_with_values};
 use crate::mechanics::check::{ModelFinding, check, check_model};
 use crate::mechanics::model::Model;
 use crate::print::text::to_text;
-use crate::syntax::declaration::parse_declaration_tokens;
+use crate::syntax::declaration::{Declaration, parse_declaration_tokens};
 use crate::syntax::lex::{Tokens, tokens_from_str, tokens_from_stream};
+use crate::syntax::links::declare_link_coordinates;
 
 /// An error with the span of the offending token, for a proc-macro to report
 /// (`syn::Error::new(e.span, e.message())`).
@@ -95,7 +96,7 @@ pub fn parse_declaration_str(text: &str) -> Result<ParsedModel, Vec<Error>> {
 /// The first error, with its line and column.
 pub fn check_parameter_values(text: &str, values: &[(&str, f64)]) -> Result<(), Error> {
     let toks = tokens_from_str(text)?;
-    let d = parse_declaration_tokens(&toks)?;
+    let d = declaration(&toks)?;
     build_with_values(&d, values).map(|_| ())
 }
 
@@ -151,9 +152,17 @@ impl From<Error> for SpannedError {
     }
 }
 
+/// The syntax tree of a declaration, with what its links declare besides their frames
+/// (their joints' coordinates; `independent` for an open tree: `syntax::links`).
+fn declaration(tokens: &Tokens) -> Result<Declaration, Error> {
+    let mut d = parse_declaration_tokens(tokens)?;
+    declare_link_coordinates(&mut d);
+    Ok(d)
+}
+
 /// Syntax, then every rule, then the model.
 fn declare(tokens: &Tokens) -> Result<ParsedModel, Vec<Error>> {
-    let d = parse_declaration_tokens(tokens).map_err(|e| vec![e])?;
+    let d = declaration(tokens).map_err(|e| vec![e])?;
     let errors = check(&d);
     if !errors.is_empty() {
         return Err(errors);

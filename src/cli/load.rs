@@ -1,16 +1,15 @@
-//! Finding a mechanism by built-in name or `.mech` path, and applying `--set` / `--init`.
+//! Finding a mechanism by built-in name or `.mech` path ([`load`]); `--set` and `--init`
+//! are applied and checked in `physical`.
 
 use std::path::Path;
 
 use mechanism_codegen::Arena;
 
 use super::CliError;
-use super::args::{CommonArgs, split_assignment};
 use super::input::read_input;
-use super::physical::{check_initial_value, check_set_values};
 use mechanism::Interpreted;
+use mechanism::System;
 use mechanism::builtin::{builtin, builtin_names, builtin_source};
-use mechanism::{Independent, System};
 
 /// A mechanism ready to run, with its declaration text.
 pub struct Loaded {
@@ -134,89 +133,13 @@ pub fn constant(text: &str) -> Result<f64, String> {
 }
 
 /// [`constant`], which must be finite: `--set` and `--init` values are.
-fn finite_constant(text: &str) -> Result<f64, String> {
+pub fn finite_constant(text: &str) -> Result<f64, String> {
     let v = constant(text)?;
     if v.is_finite() {
         Ok(v)
     } else {
         Err(format!("the value must be finite, got `{text}` = {v}"))
     }
-}
-
-/// Applies every `--set NAME=VALUE`, then checks the values like declared ones
-/// ([`check_set_values`]).
-pub fn apply_sets(loaded: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
-    let mut applied = Vec::with_capacity(sets.len());
-    for s in sets {
-        let system = loaded.system.as_mut();
-        let (name, value) = split_assignment(s)
-            .ok_or_else(|| CliError::Argument(format!("--set takes PARAM=VALUE, got `{s}`")))?;
-        let info = system.info();
-        let index = info.parameter_index(name).ok_or_else(|| {
-            CliError::Argument(format!(
-                "--set: unknown parameter `{name}`{}; parameters: {}",
-                did_you_mean(name, &info.parameters),
-                info.parameters.join(", ")
-            ))
-        })?;
-        let v =
-            finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
-        system.set_parameter(index, v);
-        applied.push((index, format!("{name}={value}")));
-    }
-    if applied.is_empty() {
-        return Ok(());
-    }
-    check_set_values(loaded, &applied)
-}
-
-/// The independent coordinates and the guess after every `--init COORD=VALUE` or
-/// `--init 'der(COORD)=VALUE'`. A dependent coordinate's value replaces its guess (to pick
-/// an assembly branch).
-pub fn initial_values(
-    system: &dyn System,
-    common: &CommonArgs,
-) -> Result<(Vec<Independent>, Vec<f64>), CliError> {
-    let info = system.info();
-    let mut independent = info.independent.clone();
-    let mut guess = info.initial_guess.clone();
-    for s in &common.init {
-        let (lhs, value) = split_assignment(s).ok_or_else(|| {
-            CliError::Argument(format!(
-                "--init takes COORD=VALUE or der(COORD)=VALUE, got `{s}`"
-            ))
-        })?;
-        let (name, rate) = match lhs.strip_prefix("der(").and_then(|r| r.strip_suffix(')')) {
-            Some(inner) => (inner.trim(), true),
-            None => (lhs, false),
-        };
-        let k = info.coordinate_index(name).ok_or_else(|| {
-            CliError::Argument(format!(
-                "--init: unknown coordinate `{name}`{}; coordinates: {}",
-                did_you_mean(name, &info.coordinates),
-                info.coordinates.join(", ")
-            ))
-        })?;
-        let v =
-            finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
-        check_initial_value(lhs, v, rate)?;
-        match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
-            (Some(ind), false) => ind.position = v,
-            (Some(ind), true) => ind.velocity = v,
-            (None, false) => guess[k] = v,
-            (None, true) => {
-                let names: Vec<&str> = independent
-                    .iter()
-                    .map(|i| info.coordinates[i.coordinate].as_str())
-                    .collect();
-                return Err(CliError::Argument(format!(
-                    "--init: der({name}) follows from the constraints; rates can be set for the independent coordinates ({})",
-                    names.join(", ")
-                )));
-            }
-        }
-    }
-    Ok((independent, guess))
 }
 
 /// `" (did you mean `l2`?)"` when one of `names` is a likely typo of `name` (at most two

@@ -1,4 +1,5 @@
-//! The values given on the command line checked like declared ones: `--set` values against
+//! The values given on the command line, applied ([`apply_sets`], [`initial_values`]) and
+//! checked like declared ones: `--set` values against
 //! the declaration's checks and a mass matrix with no negative direction, `--init` values
 //! within a range where a step can still change them.
 //!
@@ -17,8 +18,9 @@
 use nalgebra::SymmetricEigen;
 
 use super::CliError;
-use super::load::Loaded;
-use mechanism::{Evaluation, System};
+use super::args::{CommonArgs, split_assignment};
+use super::load::{Loaded, did_you_mean, finite_constant};
+use mechanism::{Evaluation, Independent, System};
 
 /// Largest |value| of an `--init` position or rate, 1e9: the spacing of f64 values there is
 /// 1.2e-7, so a step of a slow motion still moves it; at 1e300 the spacing is 1.5e284 and
@@ -157,4 +159,80 @@ fn negative_direction(system: &dyn System) -> Result<(), String> {
          has the eigenvalue {lowest:.4e}, mostly along `{along}`; a mass or moment of inertia \
          cannot be negative"
     ))
+}
+
+/// Applies every `--set NAME=VALUE`, then checks the values like declared ones
+/// ([`check_set_values`]).
+pub fn apply_sets(loaded: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
+    let mut applied = Vec::with_capacity(sets.len());
+    for s in sets {
+        let system = loaded.system.as_mut();
+        let (name, value) = split_assignment(s)
+            .ok_or_else(|| CliError::Argument(format!("--set takes PARAM=VALUE, got `{s}`")))?;
+        let info = system.info();
+        let index = info.parameter_index(name).ok_or_else(|| {
+            CliError::Argument(format!(
+                "--set: unknown parameter `{name}`{}; parameters: {}",
+                did_you_mean(name, &info.parameters),
+                info.parameters.join(", ")
+            ))
+        })?;
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
+        system.set_parameter(index, v);
+        applied.push((index, format!("{name}={value}")));
+    }
+    if applied.is_empty() {
+        return Ok(());
+    }
+    check_set_values(loaded, &applied)
+}
+
+/// The independent coordinates and the guess after every `--init COORD=VALUE` or
+/// `--init 'der(COORD)=VALUE'`. A dependent coordinate's value replaces its guess (to pick
+/// an assembly branch).
+pub fn initial_values(
+    system: &dyn System,
+    common: &CommonArgs,
+) -> Result<(Vec<Independent>, Vec<f64>), CliError> {
+    let info = system.info();
+    let mut independent = info.independent.clone();
+    let mut guess = info.initial_guess.clone();
+    for s in &common.init {
+        let (lhs, value) = split_assignment(s).ok_or_else(|| {
+            CliError::Argument(format!(
+                "--init takes COORD=VALUE or der(COORD)=VALUE, got `{s}`"
+            ))
+        })?;
+        let (name, rate) = match lhs.strip_prefix("der(").and_then(|r| r.strip_suffix(')')) {
+            Some(inner) => (inner.trim(), true),
+            None => (lhs, false),
+        };
+        let k = info.coordinate_index(name).ok_or_else(|| {
+            CliError::Argument(format!(
+                "--init: unknown coordinate `{name}`{}; coordinates: {}",
+                did_you_mean(name, &info.coordinates),
+                info.coordinates.join(", ")
+            ))
+        })?;
+        let v =
+            finite_constant(value).map_err(|e| CliError::Argument(format!("--init {lhs}: {e}")))?;
+        check_initial_value(lhs, v, rate)?;
+        match (independent.iter_mut().find(|i| i.coordinate == k), rate) {
+            (Some(ind), false) => ind.position = v,
+            (Some(ind), true) => ind.velocity = v,
+            (None, false) => guess[k] = v,
+            (None, true) => {
+                let names: Vec<&str> = independent
+                    .iter()
+                    .map(|i| info.coordinates[i.coordinate].as_str())
+                    .collect();
+                return Err(CliError::Argument(format!(
+                    "--init: der({name}) follows from the constraints; rates can be set for the independent coordinates ({})",
+                    names.join(", ")
+                )));
+            }
+        }
+    }
+    Ok((independent, guess))
 }

@@ -4,8 +4,9 @@
 use super::CliError;
 use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
 use super::drawing::write_drawing;
-use super::load::{apply_sets, initial_values, load};
+use super::load::load;
 use super::physical::check_assembled;
+use super::physical::{apply_sets, initial_values};
 use super::progress::Progress;
 use super::report::summary_text;
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};

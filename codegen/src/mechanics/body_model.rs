@@ -214,7 +214,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         .collect();
     moving.extend(model.arena.as_symbol(model.time));
     let mut drawing = None;
-    let mut links: Vec<crate::mechanics::links::Link> = Vec::new();
+    let mut links: Vec<crate::mechanics::tree::Link> = Vec::new();
     let mut orientations: Vec<Orientation> = Vec::new();
     for item in &bodies.items {
         let arena = &mut model.arena;

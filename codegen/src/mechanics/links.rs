@@ -25,76 +25,11 @@ use crate::error::{DeclarationError, Error, Location, Quantity, Result};
 use crate::mechanics::bodies::Body;
 use crate::mechanics::body_checks::{check_inertia, check_mass};
 use crate::mechanics::model::Coordinate;
+use crate::mechanics::tree::{Link, LinkJoint};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::ast::Ast;
 use crate::syntax::bodies::Entry;
-use crate::syntax::links::MOVING_JOINTS;
-
-/// How a link moves relative to its parent.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum LinkJoint {
-    /// Rigidly attached.
-    Fixed,
-    /// Turns by q about the unit axis (joint frame).
-    Revolute {
-        /// Index of q in the model's coordinates.
-        coordinate: usize,
-        /// The unit axis a, joint frame (= link frame).
-        axis: Vec3,
-    },
-    /// Slides by q along the unit axis (joint frame).
-    Prismatic {
-        /// Index of q in the model's coordinates.
-        coordinate: usize,
-        /// The unit axis a, joint frame (= link frame).
-        axis: Vec3,
-    },
-}
-
-impl LinkJoint {
-    /// The coordinate of a moving joint.
-    pub fn coordinate(&self) -> Option<usize> {
-        match self {
-            LinkJoint::Fixed => None,
-            LinkJoint::Revolute { coordinate, .. } | LinkJoint::Prismatic { coordinate, .. } => {
-                Some(*coordinate)
-            }
-        }
-    }
-}
-
-/// One link of the tree (module docs for the symbols).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Link {
-    /// Name, as declared.
-    pub name: String,
-    /// Index of the parent link; `None`: the world.
-    pub parent: Option<usize>,
-    /// The joint to the parent.
-    pub joint: LinkJoint,
-    /// E, the joint frame's axes in the parent frame (3x3, constant).
-    pub origin_rotation: Matrix,
-    /// xyz, the joint frame's origin in the parent frame.
-    pub origin: Vec3,
-    /// m (0 for a massless frame).
-    pub mass: Id,
-    /// h = m c, link frame.
-    pub first_moment: Vec3,
-    /// I_o, the inertia about the link origin in link axes (3x3).
-    pub inertia: Matrix,
-    /// R_w: link axes in world axes (3x3).
-    pub rotation: Matrix,
-    /// p_w: the link origin in the world.
-    pub position: Vec3,
-    /// `limit = [lower, upper]`, when declared.
-    pub limit: Option<[f64; 2]>,
-    /// `velocity_limit`, when declared.
-    pub velocity_limit: Option<f64>,
-    /// `effort_limit`, when declared.
-    pub effort_limit: Option<f64>,
-    /// Where the link is declared.
-    pub location: Location,
-}
+use crate::syntax::bodies::MOVING_JOINTS;
 
 /// What building one link gives besides the [`Link`]: its body (when it has mass), its
 /// orientation (for the links below it) and its points and axes in world coordinates.

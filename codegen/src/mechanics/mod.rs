@@ -33,4 +33,5 @@ pub(crate) mod model;
 pub(crate) mod recursive;
 pub(crate) mod resolve;
 pub(crate) mod tangent;
+pub(crate) mod tree;
 pub(crate) mod vectors;

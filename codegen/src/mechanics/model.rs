@@ -3,7 +3,7 @@
 use crate::algebra::expr::{Arena, Id};
 use crate::error::Location;
 use crate::mechanics::drawing::Drawing;
-use crate::mechanics::links::Link;
+use crate::mechanics::tree::Link;
 
 /// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
 #[derive(Clone, Debug)]

@@ -30,8 +30,8 @@
 use crate::algebra::expr::{Arena, Id, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::error::Result;
-use crate::mechanics::links::{Link, LinkJoint};
 use crate::mechanics::model::Model;
+use crate::mechanics::tree::{Link, LinkJoint};
 
 /// A spatial inertia about a frame origin, in its axes: (m, h = m c, I).
 #[derive(Clone)]

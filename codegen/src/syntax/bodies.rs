@@ -58,6 +58,9 @@ pub(crate) const BODY_SECTIONS: &[&str] = &[
     "body", "gravity", "point", "axis", "spring", "damper", "joints", "draw", "link",
 ];
 
+/// The joint kinds of a link that move: each carries a coordinate.
+pub(crate) const MOVING_JOINTS: &[&str] = &["revolute", "continuous", "prismatic"];
+
 /// True when `keyword` starts a body section.
 pub(crate) fn is_body_section(keyword: &str) -> bool {
     BODY_SECTIONS.contains(&keyword)
@@ -317,7 +320,7 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
 /// are checked when the link is built, `mechanics::links`).
 fn link_joint(c: &mut Cursor<'_>) -> Result<Ast> {
     let (kind, at) = name(c, "joint")?;
-    let moving = crate::syntax::links::MOVING_JOINTS.contains(&kind.as_str());
+    let moving = MOVING_JOINTS.contains(&kind.as_str());
     if !moving && kind != "fixed" {
         return Err(Error::parse(ParseError::UnknownJoint { found: kind }, at));
     }

@@ -133,7 +133,6 @@ pub(crate) fn parse_declaration_tokens(tokens: &Tokens) -> Result<Declaration> {
         section(&mut c, &mut d)?;
         c.eat(&Tok::Punct(';'));
     }
-    crate::syntax::links::declare_link_coordinates(&mut d);
     Ok(d)
 }
 

@@ -12,11 +12,8 @@
 
 use crate::number::Number;
 use crate::syntax::ast::Ast;
-use crate::syntax::bodies::{BodyItem, Joint};
+use crate::syntax::bodies::{BodyItem, Joint, MOVING_JOINTS};
 use crate::syntax::declaration::{Declaration, IndependentItem, Item, Section};
-
-/// The joint kinds that move: each carries a coordinate.
-pub(crate) const MOVING_JOINTS: &[&str] = &["revolute", "continuous", "prismatic"];
 
 /// Adds the coordinates of the links' joints and, for an open tree, `independent`.
 pub(crate) fn declare_link_coordinates(d: &mut Declaration) {
