@@ -238,25 +238,36 @@ impl Bodies<'_> {
 
     /// `(M, b)`: M (n x n) and the bias b = C q' + g - tau (n x 1), one program.
     fn mass_and_bias(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
-        let (program, bindings) = self.routine(Role::MassAndBias)?;
-        let targets = [
-            OutputTarget::Matrix {
-                name: quote!(mass),
-                zeroed: true,
-            },
-            OutputTarget::Matrix {
-                name: quote!(bias),
-                zeroed: true,
-            },
-        ];
+        self.pair(
+            Role::MassAndBias,
+            (quote!(mass), n, n),
+            (quote!(bias), n, 1),
+        )
+    }
+
+    /// A body returning the two outputs of `role`'s program as a tuple of nalgebra matrices,
+    /// `(name, rows, cols)` each.
+    fn pair(
+        &self,
+        role: Role,
+        first: (TokenStream, usize, usize),
+        second: (TokenStream, usize, usize),
+    ) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(role)?;
+        let place = |name: &TokenStream| OutputTarget::Matrix {
+            name: name.clone(),
+            zeroed: true,
+        };
+        let targets = [place(&first.0), place(&second.0)];
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let (krate, cache) = (self.krate, self.cache_read(program));
+        let ((a, ar, ac), (b, br, bc)) = (first, second);
         Ok(quote! {
             #cache
-            let mut mass = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
-            let mut bias = #krate::__private::SVector::<f64, #n>::zeros();
+            let mut #a = #krate::__private::SMatrix::<f64, #ar, #ac>::zeros();
+            let mut #b = #krate::__private::SMatrix::<f64, #br, #bc>::zeros();
             #body
-            (mass, bias)
+            (#a, #b)
         })
     }
 
@@ -278,28 +289,9 @@ impl Bodies<'_> {
         })
     }
 
-    /// `(R, p)` of one link frame (`role` is its [`Role::FramePlacement`]).
+    /// `(R, p)` of one link frame.
     fn placement(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
-        let (program, bindings) = self.routine(role)?;
-        let targets = [
-            OutputTarget::Matrix {
-                name: quote!(rotation),
-                zeroed: true,
-            },
-            OutputTarget::Matrix {
-                name: quote!(position),
-                zeroed: true,
-            },
-        ];
-        let body = emit_body(program, &bindings, &targets)?.tokens;
-        let (krate, cache) = (self.krate, self.cache_read(program));
-        Ok(quote! {
-            #cache
-            let mut rotation = #krate::__private::SMatrix::<f64, 3, 3>::zeros();
-            let mut position = #krate::__private::SVector::<f64, 3>::zeros();
-            #body
-            (rotation, position)
-        })
+        self.pair(role, (quote!(rotation), 3, 3), (quote!(position), 3, 1))
     }
 
     /// The drawn points' x, y, z into the slice `out` (3 per point, in drawing order),

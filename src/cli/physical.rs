@@ -91,22 +91,8 @@ pub fn check_assembled(loaded: &Loaded, q: &[f64]) -> Result<(), CliError> {
     if !loaded.source.contains("orientation") {
         return Ok(());
     }
-    let system = loaded.system.as_ref();
-    let info = system.info();
-    let mut values = vec![0.0; info.parameters.len()];
-    system.parameter_values(&mut values);
-    let named: Vec<(&str, f64)> = info
-        .parameters
-        .iter()
-        .map(String::as_str)
-        .zip(values.iter().copied())
-        .chain(
-            info.coordinates
-                .iter()
-                .map(String::as_str)
-                .zip(q.iter().copied()),
-        )
-        .collect();
+    let named = named_values(loaded.system.as_ref(), q);
+    let named: Vec<(&str, f64)> = named.iter().map(|(n, v)| (n.as_str(), *v)).collect();
     mechanism_codegen::check_parameter_values(&loaded.source, &named)
         .map_err(|e| CliError::Mechanism(super::load::located(&loaded.shown, &e)))
 }
@@ -114,18 +100,21 @@ pub fn check_assembled(loaded: &Loaded, q: &[f64]) -> Result<(), CliError> {
 /// The checks of the module docs on the current parameter values; the first failure.
 fn check_values(loaded: &Loaded) -> Result<(), String> {
     let system = loaded.system.as_ref();
-    let info = system.info();
-    let mut values = vec![0.0; info.parameters.len()];
-    system.parameter_values(&mut values);
-    let named: Vec<(&str, f64)> = info
-        .parameters
-        .iter()
-        .map(String::as_str)
-        .zip(values.iter().copied())
-        .collect();
+    let named = named_values(system, &[]);
+    let named: Vec<(&str, f64)> = named.iter().map(|(n, v)| (n.as_str(), *v)).collect();
     mechanism_codegen::check_parameter_values(&loaded.source, &named)
         .map_err(|e| super::load::located(&loaded.shown, &e))?;
     negative_direction(system)
+}
+
+/// The parameters' current values by name, then the first `q.len()` coordinates at `q`.
+fn named_values(system: &dyn System, q: &[f64]) -> Vec<(String, f64)> {
+    let info = system.info();
+    let mut values = vec![0.0; info.parameters.len()];
+    system.parameter_values(&mut values);
+    let parameters = info.parameters.iter().cloned().zip(values);
+    let coordinates = info.coordinates.iter().cloned().zip(q.iter().copied());
+    parameters.chain(coordinates).collect()
 }
 
 /// M(q) at the initial guesses and t = 0 with no negative direction (see the module docs).

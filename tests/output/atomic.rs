@@ -2,25 +2,13 @@
 //! when complete, removed when the write fails or panics), and a new run removes exactly the
 //! files the previous run's summary.json listed, if that summary is ours.
 
-use std::collections::BTreeSet;
 use std::path::Path;
 
-use crate::support::{temp_dir, time, trajectory};
+use crate::support::{files_in, set, temp_dir, time, trajectory};
 use mechanism::output::{
     OutputError, Unit, plot_coordinate, remove_previous_results, temporary_path, write_atomically,
     write_trajectory_csv,
 };
-
-fn files_in(dir: &Path) -> BTreeSet<String> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect()
-}
-
-fn set(names: &[&str]) -> BTreeSet<String> {
-    names.iter().map(|s| s.to_string()).collect()
-}
 
 #[test]
 fn the_temporary_keeps_the_folder_and_the_extension() {

@@ -2,25 +2,11 @@
 //! taken over once its holder is gone; staged results replace the previous ones whole, and
 //! a swap cut short is completed by the next run.
 
-use std::collections::BTreeSet;
-use std::path::Path;
-
-use crate::support::temp_dir;
+use crate::support::{files_in, set, temp_dir};
 use mechanism::output::{
     FolderLock, LOCK_FILE, OutputError, STAGING_FOLDER, SUMMARY_FORMAT, SUMMARY_FORMAT_VERSION,
     Staging,
 };
-
-fn files_in(dir: &Path) -> BTreeSet<String> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect()
-}
-
-fn set(names: &[&str]) -> BTreeSet<String> {
-    names.iter().map(|s| s.to_string()).collect()
-}
 
 /// A summary of ours listing `files`.
 fn our_summary(files: &[&str]) -> String {
