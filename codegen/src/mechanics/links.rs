@@ -159,7 +159,7 @@ fn names_in<'a>(ast: &'a Ast, out: &mut Vec<(&'a str, Location)>) {
 /// A link's entries are in its own frame: constants, written with numbers and parameters.
 /// A point, axis or link name there is a world vector in the wrong frame, and a coordinate
 /// or `t` would move the frame's definition itself.
-fn check_own_frame(arena: &mut Arena, link: &str, e: &Entry, cx: &LinkContext<'_>) -> Result<()> {
+fn check_own_frame(link: &str, e: &Entry, cx: &LinkContext<'_>) -> Result<()> {
     let mut names = Vec::new();
     for v in &e.value {
         names_in(v, &mut names);
@@ -176,7 +176,6 @@ fn check_own_frame(arena: &mut Arena, link: &str, e: &Entry, cx: &LinkContext<'_
                 "`{}` is in the link's own frame, written with numbers and parameters; `{n}` is {what} (join points of two links in `joints {{ .. }}`)",
                 e.key
             );
-            let _ = arena;
             return Err(link_error(link, problem, at));
         }
     }
@@ -216,7 +215,7 @@ pub(crate) fn build_link(
         .iter()
         .filter(|e| e.key != "parent" && e.key != "joint")
     {
-        check_own_frame(arena, name, e, cx)?;
+        check_own_frame(name, e, cx)?;
     }
     let vector = |arena: &mut Arena, key: &str| -> Result<Option<Vec3>> {
         match take(key)? {
@@ -302,12 +301,23 @@ pub(crate) fn build_link(
                     let problem = "the joint axis is the zero vector".to_string();
                     return Err(link_error(name, problem, args[1].location()));
                 }
-                let axis = if norm == 1.0 {
+                let numeric = a.iter().all(|&x| arena.as_number(x).is_some());
+                let axis = if numeric && norm == 1.0 {
                     a
-                } else {
+                } else if numeric {
                     let mut out = a;
                     for (k, o) in out.iter_mut().enumerate() {
                         *o = arena.float(v[k] / norm)?;
+                    }
+                    out
+                } else {
+                    // An axis in parameters stays unit when they change: a / |a|.
+                    let squares: Vec<Id> = a.iter().map(|&x| arena.mul2(x, x)).collect();
+                    let sum = arena.add(&squares);
+                    let length = arena.sqrt(sum)?;
+                    let mut out = a;
+                    for o in out.iter_mut() {
+                        *o = arena.div(*o, length)?;
                     }
                     out
                 };

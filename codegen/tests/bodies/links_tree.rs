@@ -184,3 +184,24 @@ fn inverse_dynamics_costs_grow_linearly_along_a_chain() {
     assert!(b / a < 2.5 && c / b < 2.5, "{a} -> {b} -> {c}");
     assert!(b / a > 1.5 && c / b > 1.5, "{a} -> {b} -> {c}");
 }
+
+/// A joint axis written with a parameter stays a unit vector when the parameter changes:
+/// for a body of inertia diag(1, 2, 3) (kg m^2, about its origin) turning about
+/// n = (a, 0, 1)/sqrt(a^2 + 1), M = n^T I n = (a^2 + 3)/(a^2 + 1): 2 at a = 1, 1.2 at a = 3.
+#[test]
+fn a_parametric_joint_axis_is_normalised_for_every_value() {
+    let src = "
+        pub struct Spinner;
+        parameters { a = 1.0; }
+        link body { joint = revolute(th, [a, 0, 1]); mass = 1.0; inertia = diag(1, 2, 3); }
+    ";
+    let mut model = parse_model_str(src).unwrap();
+    let eqs = derive_with(&mut model, Route::Auto).unwrap();
+    let a = model.arena.as_symbol(model.parameters[0].symbol).unwrap();
+    for (value, expected) in [(1.0, 2.0), (3.0, 1.2)] {
+        let env = |s: SymbolId| if s == a { Some(value) } else { Some(0.4) };
+        let m = eval(&model.arena, eqs.mass.get(0, 0), &env).unwrap();
+        // A handful of roundings of values near 1.
+        assert!((m - expected).abs() < 1e-14, "a = {value}: M = {m}");
+    }
+}
