@@ -81,6 +81,9 @@ mod urdf;
 // The public surface: what the macro, the runtime, the benches and emit-check use, and the
 // types their signatures name. Everything else is crate-private or, for codegen's own tests,
 // in the hidden `internals`.
+pub use algebra::budget::{
+    BUDGET_VARIABLES, Budget, Effort, MAX_ENTRIES, MAX_SIZE, MAX_WORK, PROGRESS_EVERY,
+};
 pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
@@ -98,7 +101,8 @@ pub use mechanics::tangent::{ResidualTangent, residual_tangent};
 pub use mechanics::tree::{Link, LinkJoint};
 pub use number::Number;
 pub use pipeline::{
-    SpannedError, check_parameter_values, parse_declaration, parse_declaration_str, parse_model_str,
+    SpannedError, check_parameter_values, parse_declaration, parse_declaration_str,
+    parse_declaration_str_with, parse_declaration_with, parse_model_str, parse_model_str_with,
 };
 pub use print::latex::equations_latex;
 pub use print::text::{equations_text, to_text};

@@ -6,6 +6,7 @@
 
 use proc_macro2::{Span, TokenStream};
 
+use crate::algebra::budget::Budget;
 use crate::error::{DeclarationError, Error, Result};
 use crate::mechanics::build::{ParsedModel, build, build_with_values};
 use crate::mechanics::check::{ModelFinding, check, check_model};
@@ -14,6 +15,7 @@ use crate::print::text::to_text;
 use crate::syntax::declaration::{Declaration, parse_declaration_tokens};
 use crate::syntax::lex::{Tokens, tokens_from_str, tokens_from_stream};
 use crate::syntax::links::declare_link_coordinates;
+use crate::syntax::unconstrained::independent_when_unconstrained;
 
 /// An error with the span of the offending token, for a proc-macro to report
 /// (`syn::Error::new(e.span, e.message())`).
@@ -51,6 +53,18 @@ impl std::error::Error for SpannedError {}
 /// constants (a division by zero, ln of a negative). More constraint rows than coordinates
 /// are allowed (redundant rows): the runtime reports the rank of Phi_q and the mobility.
 pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<SpannedError>> {
+    parse_declaration_with(tokens, Budget::default())
+}
+
+/// [`parse_declaration`] with the model's arena keeping to `budget` (the macro's, from the
+/// environment).
+///
+/// # Errors
+/// As [`parse_declaration`].
+pub fn parse_declaration_with(
+    tokens: TokenStream,
+    budget: Budget,
+) -> Result<ParsedModel, Vec<SpannedError>> {
     let toks = tokens_from_stream(tokens);
     let spans = toks.spans();
     let span_of = |e: &Error| {
@@ -58,7 +72,7 @@ pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<Spanned
             .and_then(|l| l.token)
             .and_then(|i| spans.get(i).copied())
     };
-    match declare(&toks) {
+    match declare(&toks, budget) {
         Ok(mut parsed) => {
             parsed.spans.tokens = spans.clone();
             Ok(parsed)
@@ -80,8 +94,16 @@ pub fn parse_declaration(tokens: TokenStream) -> Result<ParsedModel, Vec<Spanned
 /// As [`parse_declaration`]; a text that cannot be split into tokens (unbalanced brackets)
 /// is an [`Error::Parse`] at the line and column where the lexer stopped.
 pub fn parse_declaration_str(text: &str) -> Result<ParsedModel, Vec<Error>> {
+    parse_declaration_str_with(text, Budget::default())
+}
+
+/// [`parse_declaration_str`] with the model's arena keeping to `budget`.
+///
+/// # Errors
+/// As [`parse_declaration_str`].
+pub fn parse_declaration_str_with(text: &str, budget: Budget) -> Result<ParsedModel, Vec<Error>> {
     let toks = tokens_from_str(text).map_err(|e| vec![e])?;
-    declare(&toks)
+    declare(&toks, budget)
 }
 
 /// Checks the declaration `text` with the parameters and coordinates named in `values`
@@ -130,7 +152,17 @@ pub fn parse_model(tokens: TokenStream) -> Result<Model, SpannedError> {
 /// assert_eq!(m.doc, ["A pendulum in Cartesian coordinates."]);
 /// ```
 pub fn parse_model_str(text: &str) -> Result<Model, Error> {
-    parse_declaration_str(text).map(|p| p.model).map_err(first)
+    parse_model_str_with(text, Budget::default())
+}
+
+/// [`parse_model_str`] with the model's arena keeping to `budget` (the command-line tool's,
+/// from the environment): the derivation and compilation of the model keep to it too.
+///
+/// # Errors
+/// As [`parse_model_str`].
+pub fn parse_model_str_with(text: &str, budget: Budget) -> Result<Model, Error> {
+    let toks = tokens_from_str(text)?;
+    declare(&toks, budget).map(|p| p.model).map_err(first)
 }
 
 fn first<E>(errors: Vec<E>) -> E
@@ -153,21 +185,23 @@ impl From<Error> for SpannedError {
 }
 
 /// The syntax tree of a declaration, with what its links declare besides their frames
-/// (their joints' coordinates; `independent` for an open tree: `syntax::links`).
+/// (their joints' coordinates: `syntax::links`), and `independent` for a declaration
+/// without constraint rows (`syntax::unconstrained`).
 fn declaration(tokens: &Tokens) -> Result<Declaration, Error> {
     let mut d = parse_declaration_tokens(tokens)?;
     declare_link_coordinates(&mut d);
+    independent_when_unconstrained(&mut d);
     Ok(d)
 }
 
 /// Syntax, then every rule, then the model.
-fn declare(tokens: &Tokens) -> Result<ParsedModel, Vec<Error>> {
+fn declare(tokens: &Tokens, budget: Budget) -> Result<ParsedModel, Vec<Error>> {
     let d = declaration(tokens).map_err(|e| vec![e])?;
     let errors = check(&d);
     if !errors.is_empty() {
         return Err(errors);
     }
-    let parsed = build(&d).map_err(|e| vec![e])?;
+    let parsed = build(&d, budget).map_err(|e| vec![e])?;
     let errors: Vec<Error> = check_model(&parsed.model, parsed.spans.kinetic)
         .into_iter()
         .map(|f| finding_error(&parsed.model, f))

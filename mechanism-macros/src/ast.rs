@@ -164,7 +164,7 @@ pub fn parse(tokens: TokenStream) -> syn::Result<Declaration> {
 
 /// The declaration written inline: every error of the parser's checks, combined.
 fn parse_inline(tokens: TokenStream) -> syn::Result<Declaration> {
-    match mechanism_codegen::parse_declaration(tokens) {
+    match mechanism_codegen::parse_declaration_with(tokens, budget()?) {
         Ok(parsed) => Ok(Declaration {
             model: parsed.model,
             spans: parsed.spans,
@@ -175,6 +175,14 @@ fn parse_inline(tokens: TokenStream) -> syn::Result<Declaration> {
             errors.iter().map(|e| syn::Error::new(e.span, e.message())),
         )),
     }
+}
+
+/// The derivation's budget: the defaults, or the environment variables
+/// `MECHANISM_MAX_SIZE`, `MECHANISM_MAX_ENTRIES` and `MECHANISM_MAX_WORK` of the build (the
+/// macro is the boundary that reads them; codegen takes the value).
+fn budget() -> syn::Result<mechanism_codegen::Budget> {
+    mechanism_codegen::Budget::from_lookup(|name| std::env::var(name).ok())
+        .map_err(|e| syn::Error::new(Span::call_site(), e))
 }
 
 /// One error holding all of `errors` (the user sees every mistake at once).
@@ -252,7 +260,7 @@ fn read_relative(literal: &LitStr, kind: &str) -> syn::Result<(PathBuf, String)>
 /// Parses the declaration text of a file read from `path` (imported from a URDF when
 /// `urdf`).
 fn parse_text(literal: LitStr, path: PathBuf, text: &str, urdf: bool) -> syn::Result<Declaration> {
-    match mechanism_codegen::parse_declaration_str(text) {
+    match mechanism_codegen::parse_declaration_str_with(text, budget()?) {
         Ok(parsed) => Ok(Declaration {
             model: parsed.model,
             spans: parsed.spans,

@@ -2,8 +2,13 @@
 
 use std::fmt::Write as _;
 
+use std::path::Path;
+
 use super::CliError;
-use super::load::load;
+use super::budget::{derivation_budget, derivation_done};
+use super::input::read_input;
+use super::load::{is_file_spec, load, located};
+use mechanism::Interpreted;
 use mechanism::System;
 use mechanism::builtin::{builtin, builtin_names};
 use mechanism::{AssemblyOptions, assemble};
@@ -94,18 +99,35 @@ fn mobility_text(system: &dyn System) -> String {
     s
 }
 
-/// The derived equations of a built-in mechanism or a `.mech` file, as text or LaTeX.
+/// The derived equations of a built-in mechanism or a `.mech` file, as text or LaTeX. A
+/// file is derived once: the equations printed are the ones the mobility is computed from.
 pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
-    let loaded = load(spec)?;
-    let err = |e: mechanism_codegen::Error| CliError::Mechanism(format!("{spec}: {e}"));
-    let mut model = mechanism_codegen::parse_model_str(&loaded.source).map_err(err)?;
-    let eqs = mechanism_codegen::derive(&mut model).map_err(err)?;
-    Ok(if latex {
-        mechanism_codegen::equations_latex(&model, &eqs)
+    let err = |e: mechanism_codegen::Error| CliError::Mechanism(located(spec, &e));
+    let file = is_file_spec(spec);
+    let (source, builtin_system) = if file {
+        let source = read_input(Path::new(spec))
+            .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
+        (source, None)
     } else {
-        let mut text = mechanism_codegen::equations_text(&model, &eqs);
-        text.push('\n');
-        text.push_str(&mobility_text(loaded.system.as_ref()));
-        text
-    })
+        let loaded = load(spec)?;
+        (loaded.source, Some(loaded.system))
+    };
+    let derived = mechanism_codegen::parse_model_str_with(&source, derivation_budget()?)
+        .and_then(|mut model| mechanism_codegen::derive(&mut model).map(|eqs| (model, eqs)));
+    derivation_done();
+    let (model, eqs) = derived.map_err(err)?;
+    if latex {
+        return Ok(mechanism_codegen::equations_latex(&model, &eqs));
+    }
+    let mut text = mechanism_codegen::equations_text(&model, &eqs);
+    text.push('\n');
+    let system: Box<dyn System> = match builtin_system {
+        Some(system) => system,
+        None => Box::new(
+            Interpreted::from_equations(model, eqs)
+                .map_err(|e| CliError::Mechanism(format!("{spec}: {e}")))?,
+        ),
+    };
+    text.push_str(&mobility_text(system.as_ref()));
+    Ok(text)
 }

@@ -6,6 +6,7 @@ use std::path::Path;
 use mechanism_codegen::Arena;
 
 use super::CliError;
+use super::budget::{derivation_budget, derivation_done};
 use super::input::read_input;
 use mechanism::Interpreted;
 use mechanism::System;
@@ -52,8 +53,9 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
     if is_file_spec(spec) {
         let source = read_input(path)
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
-        let system = Interpreted::from_source(&source)
-            .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
+        let system = Interpreted::from_source_with(&source, derivation_budget()?);
+        derivation_done();
+        let system = system.map_err(|e| CliError::Mechanism(located(spec, &e)))?;
         return Ok(Loaded::new(Box::new(system), spec, file_key(path), source));
     }
     match (builtin(spec), builtin_source(spec)) {
@@ -71,7 +73,7 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
 }
 
 /// True when `spec` names a `.mech` file rather than a built-in mechanism.
-fn is_file_spec(spec: &str) -> bool {
+pub fn is_file_spec(spec: &str) -> bool {
     spec.ends_with(".mech") || Path::new(spec).is_file()
 }
 

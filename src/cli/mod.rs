@@ -7,6 +7,7 @@
 //! message and a pointer to `--help` ([`usage_error`]).
 
 pub mod args;
+mod budget;
 mod drawing;
 mod equations;
 mod import;

@@ -65,7 +65,16 @@ impl Interpreted {
     /// # Errors
     /// The codegen error (parse errors carry line and column).
     pub fn from_source(text: &str) -> Result<Self, Error> {
-        let model = mechanism_codegen::parse_model_str(text)?;
+        Self::from_source_with(text, mechanism_codegen::Budget::default())
+    }
+
+    /// [`Interpreted::from_source`] keeping the derivation to `budget` (its size, entries and
+    /// work, and its progress report).
+    ///
+    /// # Errors
+    /// As [`Interpreted::from_source`]; a derivation past its budget.
+    pub fn from_source_with(text: &str, budget: mechanism_codegen::Budget) -> Result<Self, Error> {
+        let model = mechanism_codegen::parse_model_str_with(text, budget)?;
         Self::from_model(model)
     }
 

@@ -69,19 +69,19 @@ fn bad_declarations_fail_with_their_location_and_exit_status_1() {
     );
 }
 
-/// The derivation's matrix budget: over it, one line naming the size, the budget and the
-/// variable that raises it; raised, the same file runs.
+/// The derivation's budgets: over one, one line naming the figure, the budget and the
+/// variable that raises it; raised to the figure named, the same file runs.
 #[test]
 fn the_derivation_budget_is_named_and_can_be_raised() {
     let file = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/mechanisms/planar_four_bar.mech"
     );
-    let run = |budget: &str| {
-        let out = out_dir(&format!("budget-{budget}"));
+    let run = |variable: &str, budget: &str| {
+        let out = out_dir(&format!("budget-{variable}-{budget}"));
         assert_cmd::Command::cargo_bin("mechanism")
             .unwrap()
-            .env("MECHANISM_MAX_ENTRIES", budget)
+            .env(variable, budget)
             .args([
                 "simulate",
                 file,
@@ -93,12 +93,40 @@ fn the_derivation_budget_is_named_and_can_be_raised() {
             .output()
             .unwrap()
     };
-    let o = run("10");
+    // The figure the message names, as a number.
+    let named = |o: &std::process::Output, before: &str| -> u64 {
+        let text = super::stderr(o);
+        let at = text.find(before).unwrap_or_else(|| panic!("{text}")) + before.len();
+        text[at..]
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .and_then(|d| d.parse().ok())
+            .unwrap_or_else(|| panic!("{text}"))
+    };
+    let o = run("MECHANISM_MAX_ENTRIES", "1");
+    assert_one_line_error(&o, "beyond its budget of 1; declare fewer coordinates");
+    let entries = named(&o, "needs dM/dq with ");
+    // The four-bar's M (3 coordinates) depends on th2 and th3 in some entries: more than
+    // one nonzero of dM/dq, and fewer than the dense 3^3.
+    assert!(entries > 1 && entries < 27, "{entries}");
+    assert!(super::stderr(&o).contains(&format!("MECHANISM_MAX_ENTRIES={entries}")));
+    assert_eq!(
+        run("MECHANISM_MAX_ENTRIES", &entries.to_string())
+            .status
+            .code(),
+        Some(0)
+    );
+
+    let o = run("MECHANISM_MAX_WORK", "100");
     assert_one_line_error(
         &o,
-        "the derivation needs dM/dq with n^3 = 27 entries for the 3 coordinates, beyond its budget of 10 (4 bytes each); declare fewer coordinates (each body's or point's own) or raise the budget with the environment variable MECHANISM_MAX_ENTRIES=27",
+        "units of work (building expressions), beyond its budget of 100",
     );
-    assert_eq!(run("27").status.code(), Some(0));
+    let raised = named(&o, "MECHANISM_MAX_WORK=");
+    assert!(raised > 100, "{raised}");
+
+    let o = run("MECHANISM_MAX_WORK", "lots");
+    assert_one_line_error(&o, "MECHANISM_MAX_WORK=lots is not a positive whole number");
 }
 
 /// The size budget of the derivation's expressions: a body turned by 8 chained rotations

@@ -2,99 +2,18 @@
 //! time derivative by Van Khang's Theorem 1.
 //!
 //! Every derivative is built with the arena's canonical constructors, so like terms of a
-//! derivative collect (and cancel) as it is formed. A per-node dependency bitset tells in
-//! O(1) whether a subexpression depends on a symbol at all; independent subtrees are never
+//! derivative collect (and cancel) as it is formed. A per-node dependency set (`algebra::dependencies`)
+//! tells in O(log k) whether a subexpression depends on a symbol at all; independent subtrees are never
 //! visited, which keeps the cost of d/dq_k of a big expression proportional to the part that
 //! mentions q_k.
 //!
 //! The walk is iterative (the nodes to differentiate are collected, then processed in
 //! increasing id order, which is topological), so deep expressions cannot overflow the stack.
 
-use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind, size_budget};
+use crate::algebra::dependencies::DependencySets;
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
 use crate::error::{Error, Result};
 use crate::number::Number;
-
-/// Per-node sets of the symbols each node depends on, as fixed-width bitsets, extended
-/// incrementally as the arena grows (ids are topological, so a node's set is the union of
-/// its children's).
-#[derive(Clone, Debug, Default)]
-struct DependencySets {
-    /// u64 words per node.
-    words: usize,
-    /// `words` words per node, node-major.
-    bits: Vec<u64>,
-    /// Number of nodes covered.
-    done: usize,
-}
-
-impl DependencySets {
-    /// Brings the sets up to date with `arena` (new nodes; a full rebuild when new symbols
-    /// no longer fit the width).
-    fn sync(&mut self, arena: &Arena) {
-        let needed = arena.symbols().len().div_ceil(64).max(1);
-        if needed > self.words {
-            self.words = needed + 1;
-            self.bits.clear();
-            self.done = 0;
-        }
-        let w = self.words;
-        let len = arena.len();
-        self.bits.resize(len * w, 0);
-        for n in self.done..len {
-            let (before, here) = self.bits.split_at_mut(n * w);
-            let here = &mut here[..w];
-            here.fill(0);
-            let mut or_child = |c: Id| {
-                let c = c.index();
-                for (h, b) in here.iter_mut().zip(&before[c * w..(c + 1) * w]) {
-                    *h |= *b;
-                }
-            };
-            match arena.node(Id(n as u32)) {
-                Node::Num(_) | Node::Pi => {}
-                Node::Sym(s) => {
-                    let k = s.0 as usize;
-                    here[k / 64] |= 1 << (k % 64);
-                }
-                Node::Add(v) | Node::Mul(v) => v.iter().for_each(|&c| or_child(c)),
-                Node::Pow(a, b) | Node::Atan2(a, b) => {
-                    or_child(*a);
-                    or_child(*b);
-                }
-                Node::Func(_, a) => or_child(*a),
-            }
-        }
-        self.done = len;
-    }
-
-    /// Whether node `id` (covered) depends on symbol `s`.
-    fn contains(&self, id: Id, s: SymbolId) -> bool {
-        let k = s.0 as usize;
-        let (word, bit) = (k / 64, k % 64);
-        if id.index() >= self.done || word >= self.words {
-            return true; // not covered: be conservative
-        }
-        self.bits[id.index() * self.words + word] >> bit & 1 == 1
-    }
-
-    /// The symbols node `id` (covered) depends on, in increasing order.
-    fn symbols(&self, id: Id) -> Vec<SymbolId> {
-        let mut out = Vec::new();
-        if id.index() >= self.done {
-            return out;
-        }
-        let row = &self.bits[id.index() * self.words..(id.index() + 1) * self.words];
-        for (w, &word) in row.iter().enumerate() {
-            let mut x = word;
-            while x != 0 {
-                let b = x.trailing_zeros() as usize;
-                out.push(SymbolId((w * 64 + b) as u32));
-                x &= x - 1;
-            }
-        }
-        out
-    }
-}
 
 /// A memoising differentiator for one [`Arena`].
 ///
@@ -130,7 +49,7 @@ impl Differentiator {
     /// not the arena this differentiator was used with: the caches are dropped rather than
     /// hand out ids that do not exist there.
     fn sync(&mut self, arena: &Arena) {
-        if arena.len() < self.deps.done {
+        if arena.len() < self.deps.covered() {
             self.memo.clear();
             self.deps = DependencySets::default();
         }
@@ -196,7 +115,7 @@ impl Differentiator {
         Self::check_symbol(arena, sym)?;
         // Every derivation goes through here: the budget stops a runaway one within one
         // derivative's growth of the limit.
-        arena.check_size(size_budget())?;
+        arena.check_budget()?;
         self.sync(arena);
         if !self.deps.contains(id, sym) {
             return Ok(arena.int(0));

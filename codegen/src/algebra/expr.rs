@@ -16,6 +16,7 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
+use crate::algebra::budget::{Budget, Effort, PROGRESS_EVERY};
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -237,27 +238,10 @@ pub struct Arena {
     /// The size of the graph: one per node plus one per child reference (an n-term sum
     /// counts n + 1), what the derivation and the lowering to programs spend memory on.
     size: usize,
-}
-
-/// The size ([`Arena::size`]) a derivation may reach: 2^24, about 16.8 million nodes and
-/// child references. Measured with `mechanism equations` (release build, which derives the
-/// equations, the residual tangent and the interpreter's programs): a body turned by 24
-/// chained rotations ends between 6 and 7 million and peaks at 1.24 GB in 4.9 s, about
-/// 190 bytes per unit, so the budget is about 3 GB by that measure; 28 rotations pass (10 s,
-/// 2.3 GB), 32 are refused after 6.5 s at 0.9 GB. The mechanisms of this repository stay
-/// far below it (the 32-bar chain's equations: 76,000; the seed's: 399). Raised by the
-/// environment variable `MECHANISM_MAX_SIZE`.
-pub const MAX_SIZE: usize = 1 << 24;
-
-/// [`MAX_SIZE`], or `MECHANISM_MAX_SIZE` when set to a number.
-pub fn size_budget() -> usize {
-    static BUDGET: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *BUDGET.get_or_init(|| {
-        std::env::var("MECHANISM_MAX_SIZE")
-            .ok()
-            .and_then(|v| v.trim().parse::<usize>().ok())
-            .unwrap_or(MAX_SIZE)
-    })
+    /// Calls of the constructors (found or new): what the derivation spends time on.
+    work: u64,
+    /// The limits on size and work, and who hears of the progress.
+    budget: Budget,
 }
 
 /// A sum or product of two constants beyond the range of f64 (about 1.8e308), met while
@@ -300,19 +284,45 @@ impl Arena {
         self.nodes.len()
     }
 
-    /// The size of the graph: its nodes plus their child references (a derivation may reach
-    /// 2^24 by default, raised by the environment variable `MECHANISM_MAX_SIZE`).
+    /// The size of the graph: its nodes plus their child references (within
+    /// [`Budget::size`] in a derivation).
     pub fn size(&self) -> usize {
         self.size
     }
 
-    /// [`Error::ExpressionsTooLarge`] when the graph is beyond `budget` (the derivations use
-    /// 2^24 by default).
-    pub fn check_size(&self, budget: usize) -> Result<()> {
-        if self.size > budget {
+    /// What the arena has spent: its work (constructor calls) and size.
+    pub fn effort(&self) -> Effort {
+        Effort {
+            work: self.work,
+            size: self.size,
+        }
+    }
+
+    /// The budget the derivations on this arena keep to.
+    pub fn budget(&self) -> &Budget {
+        &self.budget
+    }
+
+    /// Sets the budget (the macro and the command-line tool set it from the environment).
+    pub fn set_budget(&mut self, budget: Budget) {
+        self.budget = budget;
+    }
+
+    /// [`Error::ExpressionsTooLarge`] when the graph is beyond [`Budget::size`],
+    /// [`Error::WorkTooLarge`] when the work is beyond [`Budget::work`]. Every derivative and
+    /// every compiled program checks it, so a runaway derivation stops within one
+    /// derivative's growth of the limit.
+    pub fn check_budget(&self) -> Result<()> {
+        if self.size > self.budget.size {
             return Err(Error::ExpressionsTooLarge {
                 size: self.size,
-                budget,
+                budget: self.budget.size,
+            });
+        }
+        if self.work > self.budget.work {
+            return Err(Error::WorkTooLarge {
+                work: self.work,
+                budget: self.budget.work,
             });
         }
         Ok(())
@@ -334,6 +344,12 @@ impl Arena {
     }
 
     fn intern(&mut self, node: Node) -> Id {
+        self.work += 1;
+        if self.work.is_multiple_of(PROGRESS_EVERY)
+            && let Some(progress) = self.budget.progress
+        {
+            progress(self.effort());
+        }
         if let Some(&id) = self.intern.get(&node) {
             return id;
         }

@@ -17,6 +17,8 @@
 //! - [`eval`]: numeric evaluation of a DAG in id order, every intermediate
 //!   value checked to be finite (sin and cos from `mechanism_math::sin_cos`, as every route).
 
+pub(crate) mod budget;
+pub(crate) mod dependencies;
 pub(crate) mod diff;
 pub(crate) mod eval;
 pub(crate) mod expr;

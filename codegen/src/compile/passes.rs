@@ -21,7 +21,7 @@
 //! Hoisting the parameter-only values of several programs into one cache is the stage's
 //! next step, in [`super::compile`].
 
-use crate::algebra::expr::{Arena, SymbolKind, size_budget};
+use crate::algebra::expr::{Arena, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
@@ -81,7 +81,7 @@ impl Program {
 
 /// Pass 1: the arena within its budget, each matrix rows x cols entries of the arena.
 fn check(arena: &Arena, outputs: &[&Matrix]) -> Result<()> {
-    arena.check_size(size_budget())?;
+    arena.check_budget()?;
     let len = arena.len();
     for m in outputs {
         if m.rows.checked_mul(m.cols) != Some(m.data.len()) {

@@ -178,9 +178,9 @@ pub enum DeclarationError {
         .n - .m,
         if .n - .m == 1 { "degree of freedom" } else { "degrees of freedom" },
         .given.len(),
-        if .given.is_empty() { "none".to_string() } else { .given.join(", ") },
+        if .given.is_empty() { "none".to_string() } else { listed(.given) },
         .n - .m - .given.len(),
-        .candidates.join(", ")
+        listed(.candidates)
     )]
     TooFewIndependent {
         /// Coordinates.
@@ -674,6 +674,22 @@ pub enum Needed {
 }
 
 /// `x` or `der(x)`.
+/// Names joined by ", ", the first [`LISTED`] of them and then how many more: a
+/// mechanism of a thousand coordinates still gets a message that fits a terminal line.
+fn listed(names: &[String]) -> String {
+    if names.len() <= LISTED {
+        return names.join(", ");
+    }
+    format!(
+        "{}, ... ({} more)",
+        names[..LISTED].join(", "),
+        names.len() - LISTED
+    )
+}
+
+/// How many names an error message lists before it counts the rest.
+const LISTED: usize = 12;
+
 fn written(name: &str, rate: bool) -> String {
     if rate {
         format!("der({name})")

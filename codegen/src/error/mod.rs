@@ -180,17 +180,29 @@ pub enum Error {
     #[error("a mechanism needs at least one coordinate")]
     NoCoordinates,
     /// The derivation would need matrices beyond its budget: Khang's dM/dq of n coordinates
-    /// (whose M depends on them) has n^3 entries.
+    /// has an entry for each (M_ij, q_k) where M_ij depends on q_k.
     #[error(
-        "the derivation needs dM/dq with n^3 = {entries} entries for the {coordinates} coordinates, beyond its budget of {limit} (4 bytes each); declare fewer coordinates (each body's or point's own) or raise the budget with the environment variable MECHANISM_MAX_ENTRIES={entries}"
+        "the derivation needs dM/dq with {entries} nonzero entries (an M_ij depending on a q_k) for the {coordinates} coordinates, beyond its budget of {limit}; declare fewer coordinates (each body's or point's own) or raise the budget with the environment variable MECHANISM_MAX_ENTRIES={entries}"
     )]
     DerivationTooLarge {
         /// n.
         coordinates: usize,
-        /// n^3.
+        /// The nonzero entries of dM/dq.
         entries: usize,
         /// The budget in entries.
         limit: usize,
+    },
+    /// The derivation worked beyond its budget ([`crate::Budget::work`]): it stops there,
+    /// within the budget's time, instead of running on for hours.
+    #[error(
+        "the derivation did {work} units of work (building expressions), beyond its budget of {budget}; simplify the declaration (fewer coordinates, bodies declared with their own coordinates, links instead of one long kinetic energy) or raise the budget with the environment variable MECHANISM_MAX_WORK={suggest}",
+        suggest = work.saturating_mul(4)
+    )]
+    WorkTooLarge {
+        /// The work done when it stopped.
+        work: u64,
+        /// The budget.
+        budget: u64,
     },
     /// The expressions grew beyond the derivation's budget (see `MAX_SIZE`): the work stops
     /// there, within seconds, instead of exhausting the memory.

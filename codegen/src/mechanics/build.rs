@@ -4,6 +4,7 @@
 
 use proc_macro2::Span;
 
+use crate::algebra::budget::Budget;
 use crate::algebra::eval::eval;
 use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
 use crate::error::{Constant, DeclarationError, Error, Location, Result};
@@ -83,8 +84,8 @@ fn constant(
 /// Builds the model of a checked declaration. The arena's symbols and nodes are created in
 /// a fixed order (parameters, coordinates, t, then the expressions in declaration order), so
 /// that the same declaration gives the same ids.
-pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
-    build_with_values(d, &[])
+pub(crate) fn build(d: &Declaration, budget: Budget) -> Result<ParsedModel> {
+    build_with(d, &[], budget)
 }
 
 /// [`build`] with the parameters and coordinates named in `values` at those values instead
@@ -92,7 +93,13 @@ pub(crate) fn build(d: &Declaration) -> Result<ParsedModel> {
 /// (masses, inertias, orientations) runs on them: the run-time check of `--set` and of the
 /// assembled state.
 pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Result<ParsedModel> {
+    build_with(d, values, Budget::default())
+}
+
+/// [`build_with_values`] in an arena that keeps to `budget` (and the derivation after it).
+fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result<ParsedModel> {
     let mut arena = Arena::new();
+    arena.set_budget(budget);
     let param_items = d.parameters.as_ref().map_or(&[][..], |s| &s.body[..]);
     let coord_items = d.coordinates.as_ref().map_or(&[][..], |s| &s.body[..]);
     let param_syms: Vec<SymbolId> = param_items

@@ -17,7 +17,7 @@
 
 use crate::algebra::diff::Differentiator;
 use crate::algebra::eval::eval_matrix;
-use crate::algebra::expr::{Arena, Id, SymbolId};
+use crate::algebra::expr::{Arena, FxHashMap, Id, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{DeclarationError, Error, Location, Result};
 use crate::mechanics::model::{Coordinate, Parameter};
@@ -69,7 +69,7 @@ pub(crate) fn check_mass(
             }
         }
     }
-    let values: Vec<(SymbolId, f64)> = model
+    let values: FxHashMap<SymbolId, f64> = model
         .parameters
         .iter()
         .filter_map(|p| arena.as_symbol(p.symbol).map(|s| (s, p.default)))
@@ -81,7 +81,7 @@ pub(crate) fn check_mass(
         )
         .chain(arena.as_symbol(model.time).map(|s| (s, 0.0)))
         .collect();
-    let env = |s: SymbolId| values.iter().find(|v| v.0 == s).map(|v| v.1);
+    let env = |s: SymbolId| values.get(&s).copied();
     let mut m = match eval_matrix(arena, mass, &env) {
         Ok(m) if m.iter().all(|v| v.is_finite()) => m,
         // Undefined at the guesses (a singular position): nothing to test there.
@@ -157,6 +157,11 @@ fn negative_direction(a: &mut [f64], n: usize) -> Option<(usize, f64)> {
         for r in step + 1..n {
             let i = order[r];
             let l = a[i * n + k] / pivot;
+            // Rows not coupled to the pivot are unchanged: a banded or block-diagonal M
+            // (free particles, chains) costs what its couplings cost, not n^3.
+            if l == 0.0 {
+                continue;
+            }
             for &j in &order[step + 1..n] {
                 a[i * n + j] -= l * a[k * n + j];
             }

@@ -4,8 +4,8 @@
 //! Phi_q q'' = gamma.
 //!
 //! - M = d2T/dq'dq', derived once per upper-triangle entry and mirrored;
-//! - C by Khang's formula C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, formed
-//!   with the matrix calculus of [`crate::Matrix`];
+//! - C by Khang's formula C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, its
+//!   Kronecker products contracted over the nonzeros of dM/dq (where M_ij depends on q_k);
 //! - C q' as its own lean expression: per row k, the coefficient of each monomial
 //!   q_i' q_j' (i <= j) is collected first,
 //!   (C q')_k = sum_{i,j} (dM_ki/dq_j - 1/2 dM_ij/dq_k) q_i' q_j'
@@ -173,8 +173,17 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         None => d.gradient(arena, kinetic, &s.qd)?,
     };
     let mut mass = Matrix::zeros(arena, n, n);
+    // Only the rates each momentum depends on: M_ij = 0 where p_i is free of q_j'.
+    let rate_index: FxHashMap<SymbolId, usize> =
+        s.qd.iter().enumerate().map(|(j, &v)| (v, j)).collect();
+    let mut columns = Vec::new();
     for (i, &p) in momenta.iter().enumerate() {
-        for j in i..n {
+        columns.clear();
+        for v in d.symbols_of(arena, p)? {
+            columns.extend(rate_index.get(&v).filter(|&&j| j >= i));
+        }
+        columns.sort_unstable();
+        for &j in &columns {
             let mij = d.diff(arena, p, s.qd[j])?;
             mass.set(i, j, mij);
             mass.set(j, i, mij);
@@ -297,6 +306,12 @@ fn quadratic_form(arena: &mut Arena, mass: &Matrix, s: &Symbols) -> Id {
 /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T
 /// (Van Khang 2011). With this C only q'^T (M' - 2 C) q' = 0 holds; M' - 2 C is not
 /// skew-symmetric (the Christoffel C is).
+///
+/// The products are contracted entry by entry over the nonzeros of dM/dq only:
+/// C_ij = sum_k dM_ij/dq_k q_k' - 1/2 sum_k dM_jk/dq_i q_k', each sum over the k where the
+/// entry depends on that coordinate. The n x n^2 matrices are never formed, so the work is
+/// the number of such (entry, coordinate) pairs (2 n^2 for a chain in absolute angles, 0
+/// for an M free of q) plus the n^2 entries of C.
 fn khang_coriolis_matrix(
     arena: &mut Arena,
     d: &mut Differentiator,
@@ -304,49 +319,78 @@ fn khang_coriolis_matrix(
     s: &Symbols,
 ) -> Result<Matrix> {
     let n = s.q.len();
-    // M free of q (Cartesian or natural coordinates): dM/dq = 0 and C = 0, without the
-    // n x n^2 Kronecker matrices.
-    let mut constant = true;
-    'entries: for i in 0..n {
-        for j in i..n {
-            let symbols = d.symbols_of(arena, mass.get(i, j))?;
-            if s.q.iter().any(|q| symbols.contains(q)) {
-                constant = false;
-                break 'entries;
+    let deps = coordinate_dependencies(arena, d, mass, s)?;
+    check_kronecker_size(arena, n, deps.iter().map(Vec::len).sum())?;
+    // The passes run in the order of the dense products they replace (every derivative,
+    // then the first product row by row, the second, the scaling, the difference), so the
+    // expressions are created in the same order and print the same.
+    for i in 0..n {
+        for j in 0..n {
+            for &k in &deps[i * n + j] {
+                d.diff(arena, mass.get(i, j), s.q[k])?;
             }
         }
     }
-    if constant {
-        return Ok(Matrix::zeros(arena, n, n));
+    let zero = arena.int(0);
+    let mut acc: Vec<Vec<Id>> = vec![Vec::new(); n];
+    // (dM/dq)(I kron q')_ij = sum_k dM_ij/dq_k q_k'.
+    let mut first = vec![zero; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            for &k in &deps[i * n + j] {
+                let e = d.diff(arena, mass.get(i, j), s.q[k])?;
+                let v = arena.symbol_node(s.qd[k]);
+                acc[j].push(arena.mul2(e, v));
+            }
+        }
+        for (j, terms) in acc.iter_mut().enumerate() {
+            if !terms.is_empty() {
+                first[i * n + j] = arena.add(terms);
+                terms.clear();
+            }
+        }
     }
-    check_kronecker_size(n)?;
-    let dm = mass.khang_derivative(arena, d, &s.q)?;
-    let qd = Symbols::column(arena, &s.qd);
-    let id = Matrix::identity(arena, n);
-    let id_kron_qd = id.kron(arena, &qd)?;
-    let qd_kron_id = qd.kron(arena, &id)?;
-    let first = dm.mul(arena, &id_kron_qd)?;
-    let second = dm.mul(arena, &qd_kron_id)?;
+    // (dM/dq)(q' kron I)_ij = sum_k dM_ik/dq_j q_k'.
+    let mut second = vec![zero; n * n];
+    for i in 0..n {
+        for k in 0..n {
+            for &j in &deps[i * n + k] {
+                let e = d.diff(arena, mass.get(i, k), s.q[j])?;
+                let v = arena.symbol_node(s.qd[k]);
+                acc[j].push(arena.mul2(e, v));
+            }
+        }
+        for (j, terms) in acc.iter_mut().enumerate() {
+            if !terms.is_empty() {
+                second[i * n + j] = arena.add(terms);
+                terms.clear();
+            }
+        }
+    }
+    // C = first - 1/2 second^T.
     let half = arena.rational(1, 2)?;
-    let second = second.transpose()?.scale(arena, half)?;
-    first.sub(arena, &second)
+    let mut scaled = vec![zero; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let b = second[j * n + i];
+            if b != zero {
+                scaled[i * n + j] = arena.mul2(half, b);
+            }
+        }
+    }
+    let mut data = Vec::with_capacity(n * n);
+    for (&a, &b) in first.iter().zip(&scaled) {
+        data.push(if b == zero { a } else { arena.sub(a, b) });
+    }
+    Matrix::new(n, n, data)
 }
 
-/// Entries the derivation's Kronecker matrices (dM/dq, n x n^2) may hold: 2^27, about
-/// 134 million (n = 512), 512 MB of handles each and about 2 GB at the peak of the
-/// derivation. Raised by the environment variable
-/// `MECHANISM_MAX_ENTRIES` (read by the macro and the command-line tool alike).
-pub const MAX_KRONECKER_ENTRIES: usize = 1 << 27;
-
-/// [`Error::DerivationTooLarge`] when dM/dq of n coordinates has more than the allowed
-/// entries: without the check, 1000 coordinates asked for 10^9 entries (11 GB) and the
-/// operating system killed the compiler.
-fn check_kronecker_size(n: usize) -> Result<()> {
-    let limit = std::env::var("MECHANISM_MAX_ENTRIES")
-        .ok()
-        .and_then(|v| v.trim().parse::<usize>().ok())
-        .unwrap_or(MAX_KRONECKER_ENTRIES);
-    let entries = n.saturating_mul(n).saturating_mul(n);
+/// [`Error::DerivationTooLarge`] when dM/dq of n coordinates has more nonzero entries
+/// (`entries`, counted before any is formed) than the arena's [`crate::Budget::entries`].
+/// dM/dq is formed sparsely, only where M_ij depends on q_k: a closed chain in absolute
+/// angles has 2 n^2 such entries of its n^3.
+fn check_kronecker_size(arena: &Arena, n: usize, entries: usize) -> Result<()> {
+    let limit = arena.budget().entries;
     if entries > limit {
         return Err(Error::DerivationTooLarge {
             coordinates: n,

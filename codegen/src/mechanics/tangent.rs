@@ -8,7 +8,7 @@
 //! with a user's).
 
 use crate::algebra::diff::Differentiator;
-use crate::algebra::expr::{Id, SymbolId, SymbolKind};
+use crate::algebra::expr::{FxHashMap, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
@@ -69,14 +69,31 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
         residual.push(arena.add(&terms));
     }
     let mut d = Differentiator::new();
-    let mut stiffness = Vec::with_capacity(n * n);
-    let mut damping = Vec::with_capacity(n * n);
-    for &f in &residual {
-        for &s in &q {
-            stiffness.push(d.diff(arena, f, s)?);
+    let zero = arena.int(0);
+    let mut stiffness = vec![zero; n * n];
+    let mut damping = vec![zero; n * n];
+    // Each row is differentiated only by the symbols it reads: the work follows the
+    // nonzeros of K and D, not n^2. Within a row, every q before every q' (each in index
+    // order), the order in which the expressions have always been created.
+    let mut column: FxHashMap<SymbolId, (usize, usize)> = FxHashMap::default();
+    column.extend(q.iter().enumerate().map(|(k, &s)| (s, (0, k))));
+    column.extend(qd.iter().enumerate().map(|(k, &s)| (s, (1, k))));
+    let mut read: Vec<(usize, usize, SymbolId)> = Vec::new();
+    for (i, &f) in residual.iter().enumerate() {
+        read.clear();
+        for s in d.symbols_of(arena, f)? {
+            if let Some(&(kind, k)) = column.get(&s) {
+                read.push((kind, k, s));
+            }
         }
-        for &s in &qd {
-            damping.push(d.diff(arena, f, s)?);
+        read.sort_unstable();
+        for &(kind, k, s) in &read {
+            let target = if kind == 0 {
+                &mut stiffness
+            } else {
+                &mut damping
+            };
+            target[i * n + k] = d.diff(arena, f, s)?;
         }
     }
     Ok(ResidualTangent {

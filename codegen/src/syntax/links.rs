@@ -1,21 +1,18 @@
-//! What a `link` declares beyond its frame: the coordinate of its joint, and, for an open
-//! tree, the independent coordinates.
+//! What a `link` declares beyond its frame: the coordinate of its joint.
 //!
 //! - `joint = revolute(q1, [0, 0, 1]);` (or `continuous`, `prismatic`) declares the
 //!   coordinate `q1` unless `coordinates { .. }` already does (then its initial guess is
 //!   kept); a new one starts at 0.
-//! - A declaration with links and no constraint rows (no `constraints`, no `joints`) and no
-//!   `independent` section is an open tree: every coordinate is independent, at its initial
-//!   value, at rest.
 //!
-//! Both are rewrites of the syntax tree, so every later check sees ordinary coordinates.
+//! It is a rewrite of the syntax tree, so every later check sees ordinary coordinates (an
+//! open tree then needs no `independent`: `syntax::unconstrained`).
 
 use crate::number::Number;
 use crate::syntax::ast::Ast;
-use crate::syntax::bodies::{BodyItem, Joint, MOVING_JOINTS};
-use crate::syntax::declaration::{Declaration, IndependentItem, Item, Section};
+use crate::syntax::bodies::{BodyItem, MOVING_JOINTS};
+use crate::syntax::declaration::{Declaration, Item, Section};
 
-/// Adds the coordinates of the links' joints and, for an open tree, `independent`.
+/// Adds the coordinates of the links' joints.
 pub(crate) fn declare_link_coordinates(d: &mut Declaration) {
     let mut joints: Vec<(String, crate::error::Location)> = Vec::new();
     for item in &d.bodies.items {
@@ -52,26 +49,4 @@ pub(crate) fn declare_link_coordinates(d: &mut Declaration) {
             });
         }
     }
-    let rows = d.constraints.as_ref().is_some_and(|s| !s.body.is_empty())
-        || d.bodies
-            .items
-            .iter()
-            .any(|i| matches!(i, BodyItem::Joint(Joint::Helper(..) | Joint::Row(..))));
-    if rows || d.independent.is_some() || coordinates.body.is_empty() {
-        return;
-    }
-    let body = coordinates
-        .body
-        .iter()
-        .map(|c| IndependentItem {
-            name: c.name.clone(),
-            rate: false,
-            at: c.at,
-            value: c.value.clone(),
-        })
-        .collect();
-    d.independent = Some(Section {
-        at: coordinates.at,
-        body,
-    });
 }

@@ -25,3 +25,4 @@ pub(crate) mod expression;
 pub(crate) mod lex;
 pub(crate) mod links;
 pub(crate) mod spelling;
+pub(crate) mod unconstrained;

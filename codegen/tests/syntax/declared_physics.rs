@@ -220,26 +220,50 @@ fn many_coordinates(n: usize, term: impl Fn(usize) -> String) -> String {
     )
 }
 
+/// dM/dq is counted by its nonzeros (M_ij depending on q_k) before any is formed: 520
+/// coordinates each in its own diagonal entry make 520 of the dense 520^3 = 140.6 million,
+/// so they derive within the default budget, and a budget of 519 refuses them.
 #[test]
 fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
-    if std::env::var("MECHANISM_MAX_ENTRIES").is_ok() {
-        return;
-    }
-    // 520 coordinates whose M depends on them: dM/dq would have 520^3 = 140.6 million
-    // entries, beyond 2^27.
-    match derived(&many_coordinates(520, |i| format!("(1 + q{i}^2)"))) {
+    let text = many_coordinates(520, |i| format!("(1 + q{i}^2)"));
+    derived(&text).unwrap();
+    let budget = mechanism_codegen::Budget {
+        entries: 519,
+        ..Default::default()
+    };
+    let mut model = mechanism_codegen::parse_model_str_with(&text, budget).unwrap();
+    match derive(&mut model) {
         Err(Error::DerivationTooLarge {
             coordinates,
             entries,
             limit,
-        }) => {
-            assert_eq!(
-                (coordinates, entries, limit),
-                (520, 520 * 520 * 520, 1 << 27)
-            );
-        }
-        other => panic!("{:?}", other.map(|m| m.arena.len())),
+        }) => assert_eq!((coordinates, entries, limit), (520, 520, 519)),
+        other => panic!("{:?}", other.map(|e| e.n)),
     }
+}
+
+/// A derivation past its work budget stops with the figure, the budget and the variable
+/// that raises it, instead of running on.
+#[test]
+fn a_derivation_beyond_its_work_budget_stops() {
+    let text = many_coordinates(40, |i| format!("(1 + q{i}^2)"));
+    // The work of the whole derivation, then half of it as the budget.
+    let whole = derived(&text).unwrap().arena.effort().work;
+    let budget = mechanism_codegen::Budget {
+        work: whole / 2,
+        ..Default::default()
+    };
+    let mut model = mechanism_codegen::parse_model_str_with(&text, budget).unwrap();
+    let e = match derive(&mut model) {
+        Err(e) => e,
+        Ok(eqs) => panic!("derived {} coordinates within half its work", eqs.n),
+    };
+    let Error::WorkTooLarge { work, budget } = e else {
+        panic!("{e:?}");
+    };
+    assert!(work > budget && budget == whole / 2, "{work} of {budget}");
+    assert!(work < whole, "it stopped early: {work} of {whole}");
+    assert!(e.to_string().contains("MECHANISM_MAX_WORK="), "{e}");
 }
 
 #[test]
@@ -279,11 +303,60 @@ fn the_size_of_the_expressions_is_counted_and_checked() {
     a.add(&[x, y]);
     assert_eq!(a.size(), before + 3, "an existing node costs nothing");
     let _ = s;
-    assert!(a.check_size(a.size()).is_ok());
-    match a.check_size(a.size() - 1) {
+    let budget = |size: usize, work: u64| mechanism_codegen::Budget {
+        size,
+        work,
+        ..Default::default()
+    };
+    let effort = a.effort();
+    a.set_budget(budget(a.size(), effort.work));
+    assert!(a.check_budget().is_ok());
+    a.set_budget(budget(a.size() - 1, effort.work));
+    match a.check_budget() {
         Err(Error::ExpressionsTooLarge { size, budget }) => {
             assert_eq!((size, budget), (a.size(), a.size() - 1));
         }
         other => panic!("{other:?}"),
     }
+    // Work counts every constructor call, found or new: the second sum above cost work
+    // but no size.
+    a.set_budget(budget(a.size(), effort.work - 1));
+    match a.check_budget() {
+        Err(Error::WorkTooLarge { work, budget }) => {
+            assert_eq!((work, budget), (effort.work, effort.work - 1));
+        }
+        other => panic!("{other:?}"),
+    }
+    let before = a.effort().work;
+    a.add(&[x, y]);
+    assert_eq!(
+        a.effort().work,
+        before + 1,
+        "a found node costs one unit of work"
+    );
+}
+
+/// The progress hook hears the work at every PROGRESS_EVERY units, in order.
+#[test]
+fn a_long_derivation_reports_its_progress() {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static LAST: AtomicU64 = AtomicU64::new(0);
+    static CALLS: AtomicU64 = AtomicU64::new(0);
+    fn hear(e: mechanism_codegen::Effort) {
+        assert!(e.work > LAST.swap(e.work, Ordering::SeqCst), "work grows");
+        CALLS.fetch_add(1, Ordering::SeqCst);
+    }
+    let mut a = mechanism_codegen::Arena::new();
+    a.set_budget(mechanism_codegen::Budget {
+        progress: Some(hear),
+        ..Default::default()
+    });
+    let [x, ..] = a.coordinate("x");
+    for k in 0..(3u64 << 20) {
+        a.int(k as i64 % 7);
+    }
+    let _ = x;
+    let calls = CALLS.load(Ordering::SeqCst);
+    assert_eq!(calls, a.effort().work / mechanism_codegen::PROGRESS_EVERY);
+    assert!(calls >= 3, "{calls} reports");
 }

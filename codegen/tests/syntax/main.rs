@@ -11,3 +11,4 @@ mod parse_model_seed;
 mod pretty_equations;
 mod pretty_latex;
 mod pretty_roundtrip;
+mod unconstrained;

@@ -1,0 +1,43 @@
+//! `stage_times FILE.mech`: the wall time of each stage the command-line tool runs on one
+//! declaration (parse, derive, the tangent, the routines, the equations text), once each,
+//! printed one per line; the stage that dominates a large mechanism's derivation.
+
+use std::time::Instant;
+
+fn main() {
+    let Some(path) = std::env::args().nth(1) else {
+        eprintln!("usage: stage_times FILE.mech");
+        std::process::exit(2);
+    };
+    let source = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        eprintln!("stage_times: {path}: {e}");
+        std::process::exit(1);
+    });
+    let fail = |e: mechanism_codegen::Error| -> ! {
+        eprintln!("stage_times: {path}: {e}");
+        std::process::exit(1);
+    };
+    let clock = Instant::now();
+    let mut last = 0.0;
+    let mut lap = |stage: &str| {
+        let now = clock.elapsed().as_secs_f64();
+        println!("{stage:<10} {:8.3} s", now - last);
+        last = now;
+    };
+    let mut model = mechanism_codegen::parse_model_str(&source).unwrap_or_else(|e| fail(e));
+    lap("parse");
+    let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
+    lap("derive");
+    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
+    lap("tangent");
+    let routines =
+        mechanism_codegen::compile(&mut model, &eqs, &tangent).unwrap_or_else(|e| fail(e));
+    lap("compile");
+    let text = mechanism_codegen::equations_text(&model, &eqs);
+    lap("text");
+    println!(
+        "{} routines, {} bytes of text",
+        routines.iter().count(),
+        text.len()
+    );
+}
