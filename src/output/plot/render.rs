@@ -12,9 +12,12 @@ use super::axes::{
     Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
 };
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
+use super::title::draw_title;
 use crate::output::{OutputError, ensure_dir, write_atomically};
 
 pub(super) const FONT: &str = "sans-serif";
+/// DejaVu Sans, bundled (its licence: assets/fonts/DejaVu-LICENSE.txt).
+pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const WIDTH: u32 = 1000;
 /// MATLAB's default line colours.
 pub(super) const PALETTE: [RGBColor; 7] = [
@@ -31,8 +34,7 @@ pub(super) const PALETTE: [RGBColor; 7] = [
 pub(super) fn register_font() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
-        let bytes: &'static [u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
-        plotters::style::register_font(FONT, FontStyle::Normal, bytes)
+        plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES)
             .map_err(|_| "invalid bundled font".to_string())
     })
     .clone()
@@ -50,7 +52,7 @@ fn draw_panel<DB: DrawingBackend>(
     let y = if panel.log {
         decade_range(all())
     } else {
-        linear_range(all())
+        linear_range(all(), panel.scale)
     };
     let x_area = if panel.x_label { 62 } else { 36 };
     let (w, h) = area.dim_in_pixel();
@@ -197,7 +199,9 @@ fn draw_figure<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(&spec.title, (FONT, 26)).map_err(err)?;
+    // Where plotters' `titled` puts a 26 px title: 5 px down, the panels 30 px below that.
+    draw_title(&root, &spec.title, 26, 5, brush).map_err(err)?;
+    let root = root.margin(30, 0, 0, 0);
     let areas = root.split_evenly((spec.panels.len().max(1), 1));
     for (area, panel) in areas.iter().zip(&spec.panels) {
         draw_panel(area, panel, brush)?;
