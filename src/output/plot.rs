@@ -423,8 +423,8 @@ pub fn plot_coordinates(
 }
 
 /// The figures of a forward run that `figures` asks for, into `dir`: [`plot_coordinates`]
-/// (units from `units` or [`Unit::guess`]) and, unless [`Figures::None`], the constraint
-/// error ([`plot_constraint_error`] of `residuals`, one series per constraint row; without
+/// (units from `units` or [`Unit::guess`]) and, unless [`Figures::None`] or the mechanism
+/// has no constraint rows, the constraint error ([`plot_constraint_error`] of `residuals`, one series per constraint row; without
 /// them, the recorded |Phi|_inf). Returns every file written.
 pub fn plot_run(
     dir: &Path,
@@ -456,6 +456,10 @@ pub fn plot_run(
             .collect(),
     };
     let mut written = plot_coordinates(dir, &info.name, &series, figures)?;
+    // A mechanism without constraint rows (an open tree of links) has no error to draw.
+    if info.m() == 0 {
+        return Ok(written);
+    }
     let stem = dir.join(figure_stem(&info.name, Figure::ConstraintError));
     written.extend(match residuals {
         Some(r) => plot_constraint_error(&stem, &t, r)?,
