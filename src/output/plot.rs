@@ -14,6 +14,7 @@
 //! around a constant) is drawn constant.
 
 mod axes;
+mod font;
 mod overview;
 mod render;
 mod spec;

@@ -10,10 +10,11 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::axes::{ROUND_OFF, tick_label, time_range};
+use super::font::FONT;
 use super::pretty_name;
-use super::render::{FONT, register_font};
+use super::render::{Drawing, write_png_and_svg};
 use super::title::draw_title;
-use crate::output::{OutputError, Unit, ensure_dir, write_atomically};
+use crate::output::{OutputError, Unit};
 
 /// Least height of a labelled row (px): names are thinned to every k-th row below it.
 const LABEL_PITCH: f64 = 18.0;
@@ -32,7 +33,6 @@ pub fn plot_overview(
     q: &[Vec<f64>],
 ) -> Result<Vec<PathBuf>, OutputError> {
     let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
     if t.is_empty() || q.is_empty() || q.len() != names.len() || units.len() != names.len() {
         return Err(OutputError::invalid(
             png.display().to_string(),
@@ -56,25 +56,18 @@ pub fn plot_overview(
             ),
         ));
     }
-    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        ensure_dir(dir)?;
-    }
-    let plot_err = |path: &Path| {
-        let path = path.to_path_buf();
-        move |message: String| OutputError::Plot { path, message }
-    };
-    register_font().map_err(plot_err(&png))?;
     let map = HeatMap::new(names, units, t, q);
-    let size = (1000, map.height());
-    write_atomically(&png, |partial| {
-        let area = BitMapBackend::new(partial, size).into_drawing_area();
-        draw(area, &map, true).map_err(plot_err(&png))
-    })?;
-    write_atomically(&svg, |partial| {
-        let area = SVGBackend::new(partial, size).into_drawing_area();
-        draw(area, &map, false).map_err(plot_err(&svg))
-    })?;
-    Ok(vec![png, svg])
+    write_png_and_svg(stem, (1000, map.height()), &map)
+}
+
+impl Drawing for HeatMap<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: DrawingArea<DB, Shift>,
+        bitmap: bool,
+    ) -> Result<(), String> {
+        draw(area, self, bitmap)
+    }
 }
 
 /// The series scaled for colour: each row from its own minimum (0) to its maximum (1), or

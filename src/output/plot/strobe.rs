@@ -7,9 +7,10 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::render::{FONT, PALETTE, register_font};
+use super::font::FONT;
+use super::render::{Drawing, PALETTE, write_png_and_svg};
 use super::title::draw_title;
-use crate::output::{OutputError, Scene, ensure_dir, write_atomically};
+use crate::output::{OutputError, Scene};
 
 /// The plane the strobe figure is drawn in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -124,7 +125,6 @@ pub fn plot_strobe(
     instants: usize,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
     if scene.frames() == 0 || scene.points.is_empty() {
         return Err(OutputError::invalid(
             png.display().to_string(),
@@ -137,26 +137,34 @@ pub fn plot_strobe(
             "a drawn point is NaN or infinite",
         ));
     }
-    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        ensure_dir(dir)?;
-    }
-    let plot_err = |path: &Path| {
-        let path = path.to_path_buf();
-        move |message: String| OutputError::Plot { path, message }
-    };
-    register_font().map_err(plot_err(&png))?;
     let frame = Frame::new(scene, view);
     let size = (1000, frame.height);
-    // Written under temporary names and renamed when complete (see `output::atomic`).
-    write_atomically(&png, |partial| {
-        let area = BitMapBackend::new(partial, size).into_drawing_area();
-        draw(area, scene, &frame, (instants, true)).map_err(plot_err(&png))
-    })?;
-    write_atomically(&svg, |partial| {
-        let area = SVGBackend::new(partial, size).into_drawing_area();
-        draw(area, scene, &frame, (instants, false)).map_err(plot_err(&svg))
-    })?;
-    Ok(vec![png, svg])
+    write_png_and_svg(
+        stem,
+        size,
+        &Strobe {
+            scene,
+            frame: &frame,
+            instants,
+        },
+    )
+}
+
+/// The strobe figure as a [`Drawing`].
+struct Strobe<'a> {
+    scene: &'a Scene,
+    frame: &'a Frame,
+    instants: usize,
+}
+
+impl Drawing for Strobe<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: DrawingArea<DB, Shift>,
+        bitmap: bool,
+    ) -> Result<(), String> {
+        draw(area, self.scene, self.frame, (self.instants, bitmap))
+    }
 }
 
 /// The projection and the ranges of the figure: equal scales on both axes.

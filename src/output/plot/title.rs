@@ -14,7 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::render::{FONT, FONT_BYTES};
+use super::font::{FONT, FONT_BYTES};
 
 /// The x offset (px, from the start of the text) of each glyph's ink, and the text's width.
 pub(super) fn glyph_offsets(text: &str, size: f32) -> (Vec<(char, f32)>, f32) {
