@@ -29,7 +29,7 @@ legacy-evaluate = []
 legacy-controller = []
 
 [dependencies]
-mechanism = { path = "../..", features = ["builtin"] }
+mechanism = { package = "{package}", path = "../..", features = ["builtin"] }
 
 [[bin]]
 name = "harness"
@@ -67,8 +67,12 @@ def build(rev, native=False, log=print):
     if os.path.exists(crate):
         shutil.rmtree(crate)
     shutil.copytree(os.path.join(ROOT, "benches", "harness", "src"), os.path.join(crate, "src"))
+    # The root package was `mechanism` before it became `mechanism-dynamics` (the library's
+    # import name is `mechanism` either way).
+    with open(os.path.join(src, "Cargo.toml")) as f:
+        package = "mechanism-dynamics" if 'name = "mechanism-dynamics"' in f.read() else "mechanism"
     with open(os.path.join(crate, "Cargo.toml"), "w") as f:
-        f.write(MANIFEST)
+        f.write(MANIFEST.replace("{package}", package))
     shutil.copy(os.path.join(src, "Cargo.lock"), os.path.join(crate, "Cargo.lock"))
     features = []
     with open(os.path.join(src, "src", "system", "mechanism.rs")) as f:

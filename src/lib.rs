@@ -4,23 +4,92 @@
 //! Lagrange equations with multipliers derived at build time as specialised, allocation-free
 //! Rust, then assemble, simulate and plot it.
 //!
-//! The folders follow the data: [`system`](crate::System) (the mechanism as the solvers see
-//! it: the compiled [`Mechanism`], the run-time [`System`], the interpreter route),
-//! [`linalg`] (the factorisations), the algorithms that only read a system (kinematics,
-//! dynamics, inverse dynamics, linearisation, stabilisation, mobility), [`integrators`],
-//! the simulation driver and its [`Trajectory`], and [`output`] (CSV, summary, plots). The
-//! command-line tool is a separate binary on top of this API. `ARCHITECTURE.md` draws the
-//! whole path.
+//! ```text
+//! M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),      Phi(q, t) = 0
+//! ```
+//!
+//! The package is `mechanism-dynamics` (the name `mechanism` on crates.io belongs to an
+//! unrelated crate); the library keeps the import name `mechanism`, the one the generated
+//! code and every example use.
+//!
+//! ## Declare, simulate, embed
+//!
+//! A pendulum of length l in Cartesian coordinates, the rod a constraint; simulated with
+//! the run-time solvers, then stepped in a loop of your own with the `no_std` fixed-size
+//! solvers, as a controller would:
+//!
+//! ```
+//! use mechanism::prelude::*;
+//!
+//! // 1. Declare. The equations are derived when this compiles; see `language` for the
+//! //    whole declaration language.
+//! mechanism! {
+//!     /// A point mass on a rod of length l, x right and y up.
+//!     pub struct Pendulum;
+//!     parameters { m = 1.0; l = 1.0; g = 9.81; }   // kg, m, m/s^2
+//!     coordinates { x = 0.6; y = -0.8; }          // initial guesses: the lower branch
+//!     independent { x = 0.6; }                     // released from rest at x = 0.6 m
+//!     kinetic = 1/2*m*(der(x)^2 + der(y)^2);
+//!     potential = m*g*y;
+//!     constraints { x^2 + y^2 - l^2; }
+//! }
+//!
+//! fn main() -> Result<(), Box<dyn std::error::Error>> {
+//!     // 2. Simulate: assembled from `independent`, DOP853, the loop closed by projection.
+//!     let system = Compiled::new(Pendulum::default());
+//!     let options = SimulationOptions { t_end: 2.0, ..SimulationOptions::default() };
+//!     let trajectory = simulate(&system, &options)?;
+//!     let end = trajectory.last().expect("samples");
+//!     let (x, y) = (end.q[0], end.q[1]);
+//!     assert!((x * x + y * y - 1.0).abs() < 1e-12); // the rod keeps its length
+//!
+//!     // 3. Embed: the generated code in your own loop (no allocation; works without std):
+//!     //    RK4 steps of 1 ms, each projected back onto the constraints.
+//!     let model = Pendulum::default();
+//!     let q = Coordinates::from([0.6, -0.8]);
+//!     let mut state = State { t: 0.0, q, qd: Velocities::zeros() };
+//!     let stepper = FixedStep::new(1e-3);
+//!     for _ in 0..2000 {
+//!         stepper.step(&model, &mut state)?;
+//!     }
+//!     // Energy is conserved (T + Pi = m g y(0)), and both routes reach the same place.
+//!     let energy = model.kinetic_energy(&state.q, &state.qd) + model.potential_energy(&state.q);
+//!     assert!((energy - 9.81 * -0.8).abs() < 1e-8);
+//!     assert!((state.q[0] - x).abs() < 1e-6 && (state.q[1] - y).abs() < 1e-6);
+//!     Ok(())
+//! }
+//! ```
+//!
+//! The same declaration in a file is `mechanism!(file = "pendulum.mech");`, and
+//! [`Interpreted`](crate#features) derives a `.mech` at run time. The command-line tool
+//! (`cargo run --release -- simulate FILE.mech`) writes the trajectory, a summary, the
+//! figures and an animation page.
+//!
+//! ## Where things are
+//!
+//! - [`language`]: the declaration language, its grammar, sections and functions.
+//! - [`Mechanism`]: what `mechanism!` emits (static sizes, one method per derived
+//!   quantity); [`System`] is the run-time face the solvers read, [`Compiled`] adapts one to
+//!   the other.
+//! - [`simulate`], [`inverse_dynamics`], [`linearize`], [`mobility`], [`assemble`]: the
+//!   algorithms; [`integrators`] and [`linalg`] underneath; [`Trajectory`] the result.
+//! - [`fixed`]: the `no_std` KKT solve and fixed step; [`math`]: the real functions the
+//!   generated code calls.
+//! - [`output`]: CSV, `summary.json`, figures and the animation page.
+//!
+//! The command-line tool is a separate binary on top of this API. `ARCHITECTURE.md` draws
+//! the whole path.
 //!
 //! ## Features
 //!
 //! Without default features the crate is `#![no_std]` and allocation-free: the generated
-//! code ([`mechanism!`], [`Mechanism`]), the real functions it calls ([`math`]), and the
+//! code ([`mechanism!`], [`Mechanism`]), the real functions it calls (`math`), and the
 //! fixed-size solvers in [`fixed`] (the KKT solve for q'' and lambda, one fixed step with
-//! projection). `std` adds the run-time library (the [`System`] face, the adaptive
+//! projection). `std` adds the run-time library (the `System` face, the adaptive
 //! integrators, simulation, inverse dynamics, linearisation); `interpreter` derives
-//! mechanisms from text at run time; `builtin` compiles the mechanisms of `mechanisms/`;
-//! `files`, `plots`, `parallel`, `progress` and `cli` serve the command-line tool.
+//! mechanisms from text at run time (`Interpreted`); `builtin` compiles the mechanisms of
+//! `mechanisms/`; `files`, `plots`, `parallel`, `progress` and `cli` serve the command-line
+//! tool.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![warn(missing_docs)]
 
@@ -33,6 +102,7 @@ mod error;
 pub mod fixed;
 #[cfg(feature = "std")]
 pub mod integrators;
+pub mod language;
 #[cfg(feature = "std")]
 mod limits;
 #[cfg(feature = "std")]
@@ -93,6 +163,8 @@ pub use crate::system::{
 pub use crate::system::{
     Compiled, ConstraintRow, Drawing, DrawnPoint, Evaluation, System, SystemInfo, Tangent,
 };
+/// The declaration language is documented in [`language`]; what the expansion implements
+/// is [`Mechanism`].
 pub use mechanism_macros::mechanism;
 /// The real functions the code generated by [`mechanism!`] calls (`sin_cos`, `sqrt`, `powi`,
 /// ...): std's with the `std` feature, libm's without.

@@ -22,6 +22,8 @@ mod outputs;
 mod ownership;
 #[path = "cli/run_values.rs"]
 mod run_values;
+#[path = "cli/scale.rs"]
+mod scale;
 #[path = "cli/streams.rs"]
 mod streams;
 

@@ -24,6 +24,9 @@ pub enum Source {
         path: PathBuf,
         /// Whether the file is a URDF, whose declaration text was written by the importer.
         urdf: bool,
+        /// The declaration text (the file's, or the importer's for a URDF): an error quotes
+        /// its line.
+        text: String,
     },
 }
 
@@ -49,7 +52,12 @@ impl Declaration {
                 let span = location.map_or_else(Span::call_site, |l| self.spans.span(l));
                 syn::Error::new(span, message)
             }
-            Source::File { literal, urdf, .. } => file_error(literal, *urdf, location, message),
+            Source::File {
+                literal,
+                urdf,
+                text,
+                ..
+            } => file_error(literal, (*urdf, text), location, message),
         }
     }
 }
@@ -268,12 +276,13 @@ fn parse_text(literal: LitStr, path: PathBuf, text: &str, urdf: bool) -> syn::Re
                 literal,
                 path,
                 urdf,
+                text: text.to_string(),
             },
             krate: TokenStream::new(),
         }),
         Err(errors) => {
             Err(combine(errors.iter().map(|e| {
-                file_error(&literal, urdf, e.location(), &message(e))
+                file_error(&literal, (urdf, text), e.location(), &message(e))
             })))
         }
     }
@@ -282,15 +291,22 @@ fn parse_text(literal: LitStr, path: PathBuf, text: &str, urdf: bool) -> syn::Re
 /// An error in a file: at the literal, prefixed with `file:line:column:`, or for a URDF
 /// (whose declaration text the importer wrote, so the URDF's lines do not apply) with
 /// `file: in the imported declaration, line L, column C:` (`mechanism import` writes that
-/// text to read).
+/// text to read); then the line of `text` it is in, with a caret under the column, as
+/// rustc quotes a line:
+///
+/// ```text
+/// broken.mech:8:20: parse error: expected a number, a name or `(`, found `;`
+/// 8 | potential = m*g*y +;
+///   |                    ^
+/// ```
 fn file_error(
     literal: &LitStr,
-    urdf: bool,
+    (urdf, text): (bool, &str),
     location: Option<Location>,
     message: &str,
 ) -> syn::Error {
     let file = literal.value();
-    let text = match (location, urdf) {
+    let mut out = match (location, urdf) {
         (Some(l), false) => format!("{file}:{}:{}: {message}", l.line, l.column),
         (Some(l), true) => format!(
             "{file}: in the imported declaration (`mechanism import {file}`), line {}, column {}: {message}",
@@ -298,7 +314,25 @@ fn file_error(
         ),
         (None, _) => format!("{file}: {message}"),
     };
-    syn::Error::new(literal.span(), text)
+    if let Some(quote) = location.and_then(|l| quote_line(text, l)) {
+        out.push('\n');
+        out.push_str(&quote);
+    }
+    syn::Error::new(literal.span(), out)
+}
+
+/// Line `l.line` of `text` (1-based) after its number, and a caret under column `l.column`
+/// (1-based, in characters; tabs kept so the caret lines up); `None` past the text's end.
+fn quote_line(text: &str, l: Location) -> Option<String> {
+    let line = text.lines().nth(l.line.checked_sub(1)?)?.trim_end();
+    let number = l.line.to_string();
+    let pad = " ".repeat(number.len());
+    let indent: String = line
+        .chars()
+        .take(l.column.saturating_sub(1))
+        .map(|c| if c == '\t' { '\t' } else { ' ' })
+        .collect();
+    Some(format!("{number} | {line}\n{pad} | {indent}^"))
 }
 
 /// The location a codegen error carries, if any.
@@ -315,6 +349,23 @@ pub fn message(error: &Error) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_error_quotes_its_line_with_a_caret_under_the_column() {
+        let text = "parameters { g = 9.81; }\n\tpotential = m*g*;\n";
+        let at = |line, column| Location {
+            line,
+            column,
+            token: None,
+        };
+        // Column 17 is the `;` (the tab is one character).
+        assert_eq!(
+            quote_line(text, at(2, 17)).unwrap(),
+            "2 | \tpotential = m*g*;\n  | \t               ^"
+        );
+        assert_eq!(quote_line(text, at(3, 1)), None);
+        assert_eq!(quote_line(text, at(0, 1)), None);
+    }
 
     /// The importer's test arm, from this crate's manifest folder.
     const ARM: &str = "../codegen/tests/urdf/arm.urdf";

@@ -9,7 +9,8 @@
 //!   method bodies;
 //! - `expand`: the struct and the trait impl, `quote!` only.
 //!
-//! See the `mechanism` crate for the declaration language and the trait it implements.
+//! See the `mechanism` crate (package `mechanism-dynamics`) for the declaration language
+//! (its module `language`) and the trait it implements (`Mechanism`).
 
 mod ast;
 mod check;
@@ -30,6 +31,17 @@ use proc_macro::TokenStream;
 /// the robot's name in CamelCase) are optional. A URDF the importer refuses is one error at
 /// the path, `robots/arm.urdf:12:3: <joint name="x">: message`. The expansion is a struct
 /// with one `pub f64` field per parameter and an implementation of `mechanism::Mechanism`.
+///
+/// The declaration language (grammar, every section and function, what is refused) is the
+/// reference page [`mechanism::language`](https://docs.rs/mechanism-dynamics/latest/mechanism/language/index.html);
+/// the README's "Declaring a mechanism" teaches it by example. An error inside a `.mech`
+/// file is reported at the path with the file's line and column and that line quoted:
+///
+/// ```text
+/// error: broken.mech:8:20: parse error: expected a number, a name or `(`, found `;`
+///        8 | potential = m*g*y +;
+///          |                    ^
+/// ```
 #[proc_macro]
 pub fn mechanism(input: TokenStream) -> TokenStream {
     expand::expand(input.into())

@@ -95,9 +95,43 @@ pub struct CommonArgs {
     /// xy, xz, yz or oblique.
     #[arg(long, value_enum, default_value_t = ViewArg::Auto)]
     pub view: ViewArg,
-    /// Instants superimposed in the strobe figure, evenly spaced over the run (1 to 100).
+    /// Instants superimposed in the strobe figure, evenly spaced over the first period (or
+    /// revolution) of the first independent coordinate when it has one, else over the run
+    /// (1 to 100).
     #[arg(long, default_value_t = 12, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100))]
     pub strobe: u32,
+    /// Time-series figures: auto (one per coordinate up to 12 coordinates, else the
+    /// overview), all (one per coordinate), overview (every coordinate in one heat map) or
+    /// none; the constraint error (simulate) and driving torque (inverse) come with all but
+    /// none.
+    #[arg(long, value_enum, default_value_t = FiguresArg::Auto)]
+    pub figures: FiguresArg,
+}
+
+/// Which time-series figures a run writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FiguresArg {
+    /// One per coordinate up to 12 coordinates, else the overview.
+    Auto,
+    /// One figure per coordinate.
+    All,
+    /// Every coordinate over time in one heat map.
+    Overview,
+    /// No time-series figures.
+    None,
+}
+
+impl FiguresArg {
+    /// The figure set for a mechanism of `n` coordinates.
+    pub fn resolve(self, n: usize) -> mechanism::output::Figures {
+        use mechanism::output::Figures;
+        match self {
+            Self::Auto => Figures::auto(n),
+            Self::All => Figures::All,
+            Self::Overview => Figures::Overview,
+            Self::None => Figures::None,
+        }
+    }
 }
 
 /// View planes of the strobe figure.

@@ -13,10 +13,10 @@ use super::stdio::print;
 use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::Unit;
-use mechanism::output::plot::{figure_stem, plot_coordinate};
+use mechanism::output::plot::figure_stem;
 use mechanism::output::{
-    Figure, InverseSummary, InverseTable, OutputError, SUMMARY_FILE, plot_driving_torque,
-    write_inverse_csv, write_inverse_summary,
+    CoordinateSeries, Figure, Figures, InverseSummary, InverseTable, OutputError, SUMMARY_FILE,
+    plot_coordinates, plot_driving_torque, write_inverse_csv, write_inverse_summary,
 };
 use mechanism::{Drive, System, parse_drive};
 use mechanism::{inverse_dynamics, sample_times};
@@ -75,7 +75,8 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     };
     let parameters = std::mem::take(&mut known.parameters);
     let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
-    let written = write_data(&table, out, &loaded.key).and_then(|()| {
+    let figures = a.common.figures.resolve(info.n());
+    let written = write_data(&table, out, &loaded.key, figures).and_then(|()| {
         let n = info.n();
         let rows = &table.rows;
         let drawing = write_drawing(system, &a.common, out.staging(), rows.len(), |i| {
@@ -97,7 +98,7 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
             "{name}: max |tau| = {peak:.6e} over {samples} samples"
         );
     }
-    let _ = writeln!(text, "wrote {}", out.displayed().join(", "));
+    let _ = writeln!(text, "{}", out.wrote());
     loaded.source.clear();
     let summarized = |e: CliError| Failure {
         stage: "output",
@@ -131,24 +132,29 @@ fn drive(system: &dyn System, text: &str) -> Result<Drive, CliError> {
     parse_drive(system, text).map_err(|e| CliError::Argument(format!("--drive: {e}")))
 }
 
-/// inverse.csv, one figure per coordinate and the driving-torque figure.
-fn write_data(table: &InverseTable, out: &mut RunDir, key: &str) -> Result<(), OutputError> {
+/// inverse.csv, the coordinate figures `figures` asks for and the driving-torque figure.
+fn write_data(
+    table: &InverseTable,
+    out: &mut RunDir,
+    key: &str,
+    figures: Figures,
+) -> Result<(), OutputError> {
     let csv = out.file("inverse.csv");
     write_inverse_csv(&csv, table)?;
     out.wrote_data(csv);
-    let t = table.times();
-    for (i, name) in table.coordinates.iter().enumerate() {
-        let (q, qd) = (table.positions(i), table.rates(i));
-        let stem = out.file(&figure_stem(key, Figure::Coordinate(name)));
-        out.wrote_figures(plot_coordinate(
-            &stem,
-            name,
-            Unit::guess(name),
-            &t,
-            &q,
-            &qd,
-        )?);
+    if figures == Figures::None {
+        return Ok(());
     }
+    let t = table.times();
+    let n = table.coordinates.len();
+    let series = CoordinateSeries {
+        names: &table.coordinates,
+        units: table.coordinates.iter().map(|c| Unit::guess(c)).collect(),
+        t: &t,
+        q: (0..n).map(|i| table.positions(i)).collect(),
+        qd: (0..n).map(|i| table.rates(i)).collect(),
+    };
+    out.wrote_figures(plot_coordinates(out.staging(), key, &series, figures)?);
     let stem = out.file(&figure_stem(key, Figure::DrivingTorque));
     out.wrote_figures(plot_driving_torque(&stem, table, Unit::guess)?);
     Ok(())

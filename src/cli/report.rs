@@ -22,9 +22,10 @@ pub fn is_seed(key: &str, system: &dyn System) -> bool {
 }
 
 /// Formats the run summary: the mobility, the consistent initial state (with the paper's
-/// printed values and their constraint residual for the seed), the maxima, the counters and
-/// the singular configurations passed.
-pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[String]) -> String {
+/// printed values and their constraint residual for the seed; past [`TABLE_LIMIT`]
+/// coordinates only where to find it), the maxima, the counters, the singular
+/// configurations passed and the line `wrote` (what was written where).
+pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, wrote: &str) -> String {
     let mut s = String::new();
     let mob = &summary.mobility;
     let _ = writeln!(
@@ -44,15 +45,28 @@ pub fn summary_text(key: &str, system: &dyn System, summary: &Summary, files: &[
     }
     initial_state_lines(&mut s, key, system, summary);
     run_lines(&mut s, summary);
-    let _ = writeln!(s, "wrote {}", files.join(", "));
+    let _ = writeln!(s, "{wrote}");
     s
 }
+
+/// Most coordinates whose initial state the terminal shows; a larger mechanism's table is
+/// in `summary.json` only.
+pub const TABLE_LIMIT: usize = 12;
 
 /// The consistent initial state, with the paper's printed values and their constraint
 /// residual for the seed.
 fn initial_state_lines(s: &mut String, key: &str, system: &dyn System, summary: &Summary) {
     let info = system.info();
     let seed = is_seed(key, system);
+    if info.n() > TABLE_LIMIT {
+        let _ = writeln!(
+            *s,
+            "consistent initial state of the {} coordinates (positions by Newton on Phi = 0, \
+             rates from Phi_q q' = -Phi_t): in summary.json, consistent_initial_state",
+            info.n()
+        );
+        return;
+    }
     let _ = writeln!(
         *s,
         "consistent initial state (positions by Newton on Phi = 0, rates from Phi_q q' = -Phi_t):"

@@ -87,12 +87,15 @@ impl RunDir {
             .collect()
     }
 
-    /// Every file of the run as it will be in the output folder, as printed.
-    pub fn displayed(&self) -> Vec<String> {
-        self.names()
-            .iter()
-            .map(|n| self.dir().join(n).display().to_string())
-            .collect()
+    /// The line that says what the run wrote: the folder and how many files (their list is
+    /// `summary.json`'s `files`; a large mechanism's would fill the terminal).
+    pub fn wrote(&self) -> String {
+        let count = self.names().len();
+        let files = if count == 1 { "file" } else { "files" };
+        format!(
+            "wrote {count} {files} to {} (listed in summary.json)",
+            self.dir().display()
+        )
     }
 
     /// Swaps the staged results in when the summary is staged, else leaves the previous

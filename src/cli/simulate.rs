@@ -2,7 +2,7 @@
 //! trajectory.csv, summary.json and the figures, print a summary.
 
 use super::CliError;
-use super::args::{CommonArgs, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
+use super::args::{CommonArgs, FiguresArg, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
 use super::drawing::write_drawing;
 use super::load::load;
 use super::physical::check_assembled;
@@ -17,7 +17,7 @@ use mechanism::System;
 use mechanism::Trajectory;
 use mechanism::integrators::{IntegratorOptions, Method};
 use mechanism::output::{
-    OutputError, RunSettings, SUMMARY_FILE, Summary, plot_trajectory, write_summary,
+    Figures, OutputError, RunSettings, SUMMARY_FILE, Summary, plot_run, write_summary,
     write_trajectory_csv,
 };
 use mechanism::{AssemblyOptions, assemble_from};
@@ -41,6 +41,7 @@ pub fn default_args() -> SimulateArgs {
             no_animation: false,
             view: ViewArg::Auto,
             strobe: 12,
+            figures: FiguresArg::Auto,
         },
         integrator: IntegratorArg::Dop853,
         rtol: 1e-10,
@@ -214,7 +215,7 @@ fn write_results(
         error,
         summarized: true,
     };
-    let text = summary_text(key, system, &summary, &out.displayed());
+    let text = summary_text(key, system, &summary, &out.wrote());
     print(&text).map_err(|e| summarized("output", Box::new(e)))?;
     match (failure, written) {
         (_, Err(e)) => Err(summarized("output", Box::new(e.into()))),
@@ -231,7 +232,7 @@ fn write_results(
     }
 }
 
-/// trajectory.csv and, with two samples or more, the figures.
+/// trajectory.csv and, with two samples or more, the figures `--figures` asks for.
 fn write_data(
     system: &dyn System,
     trajectory: &Trajectory,
@@ -241,14 +242,11 @@ fn write_data(
     let csv = out.file("trajectory.csv");
     write_trajectory_csv(&csv, trajectory)?;
     out.wrote_data(csv);
-    if trajectory.len() >= 2 {
+    let figures = common.figures.resolve(system.info().n());
+    if trajectory.len() >= 2 && figures != Figures::None {
         let res = residuals(system, trajectory);
-        out.wrote_figures(plot_trajectory(
-            out.staging(),
-            trajectory,
-            None,
-            Some(&res),
-        )?);
+        let written = plot_run(out.staging(), trajectory, None, Some(&res), figures)?;
+        out.wrote_figures(written);
     }
     let drawing = write_drawing(system, common, out.staging(), trajectory.len(), |i| {
         let s = trajectory.sample(i);

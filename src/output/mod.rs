@@ -6,7 +6,8 @@
 //!   the shortest decimal representation that parses back to the same `f64` bit for bit.
 //! - [`summary`]: [`Summary`], serialised to `summary.json`, with the maxima of the
 //!   constraint residuals and of the energy balance error ([`TrajectoryMaxima`]).
-//! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5 and the driving torque).
+//! - [`plot`]: PNG and SVG figures (seed Figures 3.1–3.5, the driving torque, the overview
+//!   of a large mechanism, the strobe figure), as many as [`Figures`] asks for.
 //!
 //! - The output folder belongs to one run at a time: [`FolderLock`] (a lock file held for
 //!   the run), [`Staging`] (the run writes apart; its results replace the previous ones
@@ -52,14 +53,15 @@ pub use self::lock::{FolderLock, LOCK_FILE};
 pub use self::outcome::Outcome;
 #[cfg(feature = "plots")]
 pub use self::plot::{
-    Figure, View, figure_stem, plot_constraint_error, plot_coordinate, plot_driving_torque,
-    plot_strobe, plot_trajectory, strobe_frames,
+    CoordinateSeries, Figure, Figures, MAX_LEGEND, PER_COORDINATE_LIMIT, View, figure_stem,
+    plot_constraint_error, plot_coordinate, plot_coordinate_scaled, plot_coordinates,
+    plot_driving_torque, plot_overview, plot_run, plot_strobe, plot_trajectory, strobe_frames,
 };
 #[cfg(feature = "files")]
 pub use self::previous::{
     SUMMARY_FILE, SUMMARY_FORMAT, SUMMARY_FORMAT_VERSION, is_ours, remove_previous_results,
 };
-pub use self::scene::{Scene, SceneCoordinate, ScenePoint};
+pub use self::scene::{Cycle, MAX_VALUES, Scene, SceneCoordinate, ScenePoint};
 #[cfg(feature = "files")]
 pub use self::staging::{STAGING_FOLDER, Staging};
 #[cfg(feature = "files")]

@@ -22,8 +22,9 @@ pub const SUMMARY_FORMAT: &str = "mechanism-summary";
 /// The `format_version` key of every summary we write: 1 since the mark was introduced.
 pub const SUMMARY_FORMAT_VERSION: u64 = 1;
 
-/// Removes from `dir` the results of the run before ([`previous_results`], the summary
-/// included) and returns the paths removed. Only regular files are removed.
+/// Removes from `dir` the results of the run before (the files its `summary.json` lists,
+/// when that summary is ours: [`is_ours`]; the summary included) and returns the paths
+/// removed. Only regular files are removed.
 pub fn remove_previous_results(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     let mut names = previous_results(dir);
     if is_ours(&dir.join(SUMMARY_FILE)) {

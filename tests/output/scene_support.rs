@@ -60,5 +60,6 @@ pub fn four_bar_scene(frames: usize) -> Scene {
             values: th,
         }],
         decimation: 1,
+        driver: None,
     }
 }

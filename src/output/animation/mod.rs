@@ -3,9 +3,10 @@
 //! pan and zoom, play, pause, speed and a time slider, traces of chosen points, and the
 //! coordinate plots with a cursor that follows the animation.
 //!
-//! The page draws a [`Scene`] built with at most [`MAX_FRAMES`] frames: a long run is
-//! decimated (every k-th sample, k = ceil(samples / (MAX_FRAMES - 1)), and always the last),
-//! so the page stays under about 1.5 MB whatever the run's length.
+//! The page draws a [`Scene`] built with at most [`MAX_FRAMES`] frames and at most
+//! [`MAX_VALUES`](super::MAX_VALUES) numbers: a long run, or a large mechanism's, is
+//! decimated (every k-th sample, and always the last), so the page stays under about 1.5 MB
+//! whatever the run's length and the mechanism's size.
 
 use std::path::Path;
 

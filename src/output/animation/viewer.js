@@ -45,7 +45,8 @@
   const size = Math.max(...extent, 1e-9);
 
   // Camera: yaw about world z, then pitch; the initial view looks along the axis in
-  // which the motion is thinnest (a planar mechanism is seen face on).
+  // which the motion is thinnest (a planar mechanism is seen face on), zoomed so that every
+  // point of every frame, with its ground symbol and label, stays inside the canvas.
   const camera = { yaw: 0, pitch: 0, zoom: 1, panX: 0, panY: 0 };
   function resetCamera() {
     const thin = extent.indexOf(Math.min(...extent));
@@ -56,8 +57,23 @@
       // Spatial motion, thick in every direction: a three-quarter view shows depth.
       Object.assign(camera, { yaw: 0.6, pitch: 0.45 });
     }
+    // Margins (px) for the symbols drawn around a point: a label above and to the right,
+    // a ground triangle and hatching below.
+    const [left, right, top, bottom] = [20, 90, 30, 32];
+    let fit = Infinity;
+    const s0 = scaleAt(1);
+    for (let f = 0; f < frames; f++) {
+      for (let i = 0; i < np; i++) {
+        const [px, py] = project(at(f, i));
+        const dx = (px - view.width / 2) / s0, dy = (py - view.height / 2) / s0;
+        if (dx > 1e-12) fit = Math.min(fit, (view.width / 2 - right) / dx);
+        if (dx < -1e-12) fit = Math.min(fit, (view.width / 2 - left) / -dx);
+        if (dy > 1e-12) fit = Math.min(fit, (view.height / 2 - bottom) / dy);
+        if (dy < -1e-12) fit = Math.min(fit, (view.height / 2 - top) / -dy);
+      }
+    }
+    camera.zoom = Number.isFinite(fit) && fit > 0 ? fit / s0 : 1;
   }
-  resetCamera();
 
   // World point -> canvas pixel. With yaw = pitch = 0 the screen shows x to the right and
   // z up (looking along +y); pitch = pi/2 looks down from +z (x right, y up).
@@ -68,9 +84,15 @@
     const u = cy * x + sy * y; // screen right
     const w = -sy * x + cy * y; // depth before pitch
     const v = cp * z + sp * w; // screen up
-    const s = (0.8 * Math.min(view.width, view.height) / size) * camera.zoom;
+    const s = scaleAt(camera.zoom);
     return [view.width / 2 + camera.panX + s * u, view.height / 2 + camera.panY - s * v];
   }
+
+  // Pixels per metre at `zoom`.
+  function scaleAt(zoom) {
+    return (0.8 * Math.min(view.width, view.height) / size) * zoom;
+  }
+  resetCamera();
 
   let time = times.length ? times[0] : 0;
   let playing = false;
@@ -147,9 +169,28 @@
       const same = labels.find((l) => Math.abs(l[0] - px) < 0.5 && Math.abs(l[1] - py) < 0.5);
       if (same) same[2] += " = " + p.name; else labels.push([px, py, p.name]);
     });
+    // A label whose box would overlap one already drawn is left out (a chain of 40 loops
+    // would print its 160 names on top of each other).
     ctx.fillStyle = "#444";
-    labels.forEach(([px, py, text]) => ctx.fillText(text, px + 8, py - 8));
+    const drawn = [];
+    labels.forEach(([px, py, text]) => {
+      const box = [px + 8, py - 21, px + 8 + ctx.measureText(text).width, py - 8];
+      const clash = drawn.some((b) => box[0] < b[2] + 4 && b[0] < box[2] + 4 && box[1] < b[3] + 2 && b[1] < box[3] + 2);
+      if (clash) return;
+      drawn.push(box);
+      ctx.fillText(text, px + 8, py - 8);
+    });
   }
+
+  // The magnitude of each unit's values across the mechanism: a coordinate whose spread is
+  // below 1e-12 of it is round-off around a constant and is drawn flat.
+  const unitScale = {};
+  scene.coordinates.forEach((c) => {
+    const m = Math.max(...c.values.map(Math.abs).filter(Number.isFinite), 0);
+    unitScale[c.unit] = Math.max(unitScale[c.unit] || 0, m);
+  });
+  // A value for an axis: 4 significant digits, 0 for round-off below `tiny`.
+  const axisValue = (v, tiny) => (Math.abs(v) <= tiny ? "0" : Number(v.toPrecision(4)).toString());
 
   // Coordinate plots: drawn once into an image, then the cursor on top at every frame.
   const plots = scene.coordinates.map((c) => {
@@ -158,7 +199,14 @@
     canvas.height = 120;
     document.getElementById("plots").appendChild(canvas);
     const g = canvas.getContext("2d");
-    const ymin = Math.min(...c.values), ymax = Math.max(...c.values);
+    let ymin = Math.min(...c.values), ymax = Math.max(...c.values);
+    const tiny = 1e-12 * Math.max(unitScale[c.unit], Math.abs(ymin), Math.abs(ymax));
+    if (ymax - ymin <= tiny) {
+      // Constant to round-off: centred, with +-10 % of the unit's scale around it.
+      const mid = Math.abs(ymin + ymax) / 2 <= tiny ? 0 : (ymin + ymax) / 2;
+      const pad = Math.max(0.1 * Math.abs(mid), 0.1 * unitScale[c.unit], 1e-3);
+      [ymin, ymax] = [mid - pad, mid + pad];
+    }
     const span = ymax - ymin || 1;
     const t0 = times[0], t1 = times[frames - 1] || 1;
     const x = (t) => 50 + ((t - t0) / (t1 - t0 || 1)) * (canvas.width - 60);
@@ -170,8 +218,8 @@
     g.fillStyle = "#333";
     g.font = "12px system-ui, sans-serif";
     g.fillText(c.name + (c.unit ? " (" + c.unit + ")" : ""), 54, 12);
-    g.fillText(ymax.toPrecision(4), 2, 20);
-    g.fillText(ymin.toPrecision(4), 2, canvas.height - 20);
+    g.fillText(axisValue(ymax, tiny), 2, 20);
+    g.fillText(axisValue(ymin, tiny), 2, canvas.height - 20);
     g.fillText("t (s)", canvas.width - 40, canvas.height - 4);
     g.strokeStyle = "#1f77b4";
     g.lineWidth = 1.5;

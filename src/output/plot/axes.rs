@@ -25,8 +25,16 @@ pub(super) fn superscript(n: i32) -> String {
     }
 }
 
-/// Range of the finite values in `ys`, padded by 5 %, never empty.
-pub(super) fn linear_range<'a>(ys: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+/// Differences below this fraction of a figure's scale are round-off: a series that varies
+/// by no more is drawn as a constant (16 digits carry about 1e-16; a solve loses a few).
+pub(super) const ROUND_OFF: f64 = 1e-12;
+
+/// Range of the finite values in `ys`, padded by 5 %, never empty. `scale` is the magnitude
+/// of the quantity across the whole mechanism (the largest |q| of the same unit, say): a
+/// series whose spread is at most [`ROUND_OFF`] of it (or of its own magnitude) is drawn
+/// constant, centred in a range of +-10 % of `scale` (at least +-1e-3), so the round-off of
+/// a coordinate that stays at 0 is not magnified to full height.
+pub(super) fn linear_range<'a>(ys: impl Iterator<Item = &'a f64>, scale: f64) -> (f64, f64) {
     let (lo, hi) = ys
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
@@ -36,16 +44,23 @@ pub(super) fn linear_range<'a>(ys: impl Iterator<Item = &'a f64>) -> (f64, f64) 
         return (-1.0, 1.0);
     }
     let span = hi - lo;
-    if span <= 1e-12 * lo.abs().max(hi.abs()) || span == 0.0 {
-        let pad = (0.1 * lo.abs()).max(1e-3);
-        return (lo - pad, hi + pad);
+    let magnitude = lo.abs().max(hi.abs()).max(scale.abs());
+    if span <= ROUND_OFF * magnitude || span == 0.0 {
+        let mid = 0.5 * (lo + hi);
+        let mid = if mid.abs() <= ROUND_OFF * magnitude {
+            0.0
+        } else {
+            mid
+        };
+        let pad = (0.1 * mid.abs()).max(0.1 * scale.abs()).max(1e-3);
+        return (mid - pad, mid + pad);
     }
     (lo - 0.05 * span, hi + 0.05 * span)
 }
 
 /// From the first to the last finite time, exactly (padded only when they coincide).
 pub(super) fn time_range(t: &[f64]) -> (f64, f64) {
-    let (lo, hi) = linear_range(std::iter::empty());
+    let (lo, hi) = linear_range(std::iter::empty(), 0.0);
     let finite = || t.iter().copied().filter(|v| v.is_finite());
     match (finite().next(), finite().next_back()) {
         (Some(a), Some(b)) if b > a => (a, b),
@@ -221,5 +236,32 @@ impl Ranged for Decades {
 
     fn range(&self) -> std::ops::Range<f64> {
         self.lo..self.hi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::linear_range;
+
+    #[test]
+    fn round_off_around_a_constant_is_drawn_constant() {
+        // Bricard's az1: 0 +- 1e-15 in a mechanism of metre size.
+        let noise = [1e-15, -2e-15, 0.0, 1.5e-15];
+        let (lo, hi) = linear_range(noise.iter(), 1.0);
+        assert_eq!((lo, hi), (-0.1, 0.1));
+        // Without a scale to compare with, the same values are the data: drawn at full height.
+        let (lo, hi) = linear_range(noise.iter(), 0.0);
+        assert!(hi - lo < 1e-14);
+        // A constant away from zero keeps its value in the middle.
+        let (lo, hi) = linear_range([2.0, 2.0 + 1e-13].iter(), 1.0);
+        assert!((0.5 * (lo + hi) - 2.0).abs() < 1e-12 && hi - lo >= 0.4);
+    }
+
+    #[test]
+    fn a_real_motion_fills_the_axis() {
+        // 1e-9 m of motion is far above round-off at metre scale: drawn at full height.
+        let ys = [0.0, 1e-9];
+        let (lo, hi) = linear_range(ys.iter(), 1.0);
+        assert!((hi - lo - 1.1e-9).abs() < 1e-18, "{lo} {hi}");
     }
 }

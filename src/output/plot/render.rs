@@ -2,7 +2,6 @@
 //! to PNG and SVG.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::Ranged;
@@ -11,10 +10,11 @@ use plotters::prelude::*;
 use super::axes::{
     Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
 };
+use super::font::{FONT, register_font};
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
+use super::title::draw_title;
 use crate::output::{OutputError, ensure_dir, write_atomically};
 
-pub(super) const FONT: &str = "sans-serif";
 const WIDTH: u32 = 1000;
 /// MATLAB's default line colours.
 pub(super) const PALETTE: [RGBColor; 7] = [
@@ -26,17 +26,6 @@ pub(super) const PALETTE: [RGBColor; 7] = [
     RGBColor(77, 190, 238),
     RGBColor(162, 20, 47),
 ];
-
-/// Registers the bundled DejaVu Sans as plotters' `sans-serif`, once per process.
-pub(super) fn register_font() -> Result<(), String> {
-    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
-    DONE.get_or_init(|| {
-        let bytes: &'static [u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
-        plotters::style::register_font(FONT, FontStyle::Normal, bytes)
-            .map_err(|_| "invalid bundled font".to_string())
-    })
-    .clone()
-}
 
 /// Draws one panel into `area`.
 fn draw_panel<DB: DrawingBackend>(
@@ -50,7 +39,7 @@ fn draw_panel<DB: DrawingBackend>(
     let y = if panel.log {
         decade_range(all())
     } else {
-        linear_range(all())
+        linear_range(all(), panel.scale)
     };
     let x_area = if panel.x_label { 62 } else { 36 };
     let (w, h) = area.dim_in_pixel();
@@ -197,7 +186,9 @@ fn draw_figure<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(&spec.title, (FONT, 26)).map_err(err)?;
+    // Where plotters' `titled` puts a 26 px title: 5 px down, the panels 30 px below that.
+    draw_title(&root, &spec.title, 26, 5, brush).map_err(err)?;
+    let root = root.margin(30, 0, 0, 0);
     let areas = root.split_evenly((spec.panels.len().max(1), 1));
     for (area, panel) in areas.iter().zip(&spec.panels) {
         draw_panel(area, panel, brush)?;
@@ -205,14 +196,59 @@ fn draw_figure<DB: DrawingBackend>(
     root.present().map_err(err)
 }
 
-/// Checks the figure's data and writes it as `<stem>.png` and `<stem>.svg`.
-pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, OutputError> {
+/// What a figure draws on either backend: `bitmap` says which (the title's glyphs and the
+/// 3 px lines are placed by hand on a bitmap).
+pub(super) trait Drawing {
+    /// Draws the figure on `area`.
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: DrawingArea<DB, Shift>,
+        bitmap: bool,
+    ) -> Result<(), String>;
+}
+
+impl Drawing for Spec<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: DrawingArea<DB, Shift>,
+        bitmap: bool,
+    ) -> Result<(), String> {
+        draw_figure(area, self, bitmap)
+    }
+}
+
+/// Writes `drawing` as `<stem>.png` and `<stem>.svg` of `size` px, each whole or not at all,
+/// creating the folder; returns their paths.
+pub(super) fn write_png_and_svg(
+    stem: &Path,
+    size: (u32, u32),
+    drawing: &impl Drawing,
+) -> Result<Vec<PathBuf>, OutputError> {
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
     let plot_err = |path: &Path| {
         let path = path.to_path_buf();
         move |message: String| OutputError::Plot { path, message }
     };
+    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
+        ensure_dir(dir)?;
+    }
+    register_font().map_err(plot_err(&png))?;
+    // Each backend writes its file when the drawing is presented and is dropped before
+    // the rename: plotters picks the format from the temporary's extension.
+    write_atomically(&png, |partial| {
+        let area = BitMapBackend::new(partial, size).into_drawing_area();
+        drawing.draw(area, true).map_err(plot_err(&png))
+    })?;
+    write_atomically(&svg, |partial| {
+        let area = SVGBackend::new(partial, size).into_drawing_area();
+        drawing.draw(area, false).map_err(plot_err(&svg))
+    })?;
+    Ok(vec![png, svg])
+}
+
+/// Checks the figure's data and writes it as `<stem>.png` and `<stem>.svg`.
+pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, OutputError> {
     for panel in &spec.panels {
         if panel.t.is_empty() || panel.lines.iter().any(|l| l.y.len() != panel.t.len()) {
             let msg = format!(
@@ -220,31 +256,9 @@ pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, Outpu
                 panel.t.len(),
                 panel.lines.iter().map(|l| l.y.len()).collect::<Vec<_>>()
             );
+            let png = stem.with_extension("png");
             return Err(OutputError::invalid(png.display().to_string(), msg));
         }
     }
-    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        ensure_dir(dir)?;
-    }
-    register_font().map_err(plot_err(&png))?;
-    let size = (WIDTH, spec.height);
-    // Each backend writes its file when the drawing is presented and is dropped before
-    // the rename: plotters picks the format from the temporary's extension.
-    write_atomically(&png, |partial| {
-        draw_figure(
-            BitMapBackend::new(partial, size).into_drawing_area(),
-            spec,
-            true,
-        )
-        .map_err(plot_err(&png))
-    })?;
-    write_atomically(&svg, |partial| {
-        draw_figure(
-            SVGBackend::new(partial, size).into_drawing_area(),
-            spec,
-            false,
-        )
-        .map_err(plot_err(&svg))
-    })?;
-    Ok(vec![png, svg])
+    write_png_and_svg(stem, (WIDTH, spec.height), spec)
 }

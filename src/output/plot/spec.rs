@@ -19,6 +19,9 @@ pub(super) struct Panel<'a> {
     pub(super) x_label: bool,
     /// y holds log10 of the data; axis ticks at whole decades.
     pub(super) log: bool,
+    /// Magnitude of the quantity across the mechanism: a spread below 1e-12 of it is
+    /// round-off and drawn constant (`axes::linear_range`); unused on a log axis.
+    pub(super) scale: f64,
 }
 
 /// A figure: a title over panels stacked vertically.

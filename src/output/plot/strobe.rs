@@ -7,8 +7,10 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::render::{FONT, PALETTE, register_font};
-use crate::output::{OutputError, Scene, ensure_dir, write_atomically};
+use super::font::FONT;
+use super::render::{Drawing, PALETTE, write_png_and_svg};
+use super::title::draw_title;
+use crate::output::{OutputError, Scene};
 
 /// The plane the strobe figure is drawn in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -36,25 +38,39 @@ pub struct Projection {
     pub right: [f64; 3],
     /// World direction drawn upwards.
     pub up: [f64; 3],
-    /// Axis descriptions (`x`, `z`; `horizontal`, `vertical` for the oblique view).
+    /// Axis descriptions (`x`, `z`; for the oblique view, which has no world axis along
+    /// the screen, what the distances are measured along; the figure adds an x, y, z triad).
     pub names: (&'static str, &'static str),
+    /// No world axis lies along the screen: the figure draws an x, y, z triad.
+    pub oblique: bool,
 }
 
 impl View {
     /// The projection for `scene`.
     pub fn projection(self, scene: &Scene) -> Projection {
-        let plane = |right, up, names| Projection { right, up, names };
+        let plane = |right, up, names| Projection {
+            right,
+            up,
+            names,
+            oblique: false,
+        };
         match self {
             View::Xy => plane([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], ("x", "y")),
             View::Xz => plane([1.0, 0.0, 0.0], [0.0, 0.0, 1.0], ("x", "z")),
             View::Yz => plane([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], ("y", "z")),
             View::Oblique => {
                 let (az, el) = ((-50.0_f64).to_radians(), 25.0_f64.to_radians());
-                plane(
-                    [-az.sin(), az.cos(), 0.0],
-                    [-az.cos() * el.sin(), -az.sin() * el.sin(), el.cos()],
-                    ("horizontal", "vertical"),
-                )
+                Projection {
+                    oblique: true,
+                    ..plane(
+                        [-az.sin(), az.cos(), 0.0],
+                        [-az.cos() * el.sin(), -az.sin() * el.sin(), el.cos()],
+                        (
+                            "across the view from azimuth −50°, elevation 25°",
+                            "up the view",
+                        ),
+                    )
+                }
             }
             View::Auto => {
                 let extent = extents(scene);
@@ -82,9 +98,11 @@ fn extents(scene: &Scene) -> [f64; 3] {
     [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]]
 }
 
-/// The frames shown: `instants` evenly spaced over the scene (first and last included).
+/// The frames shown: `instants` evenly spaced (first and last included) over the first
+/// revolution or period of the driving coordinate ([`Scene::cycle`]) when the scene has one,
+/// else over the whole scene.
 pub fn strobe_frames(scene: &Scene, instants: usize) -> Vec<usize> {
-    let f = scene.frames();
+    let f = scene.cycle().map_or(scene.frames(), |c| c.end + 1);
     match (f, instants) {
         (0, _) | (_, 0) => vec![],
         (_, 1) => vec![f - 1],
@@ -107,7 +125,6 @@ pub fn plot_strobe(
     instants: usize,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let png = stem.with_extension("png");
-    let svg = stem.with_extension("svg");
     if scene.frames() == 0 || scene.points.is_empty() {
         return Err(OutputError::invalid(
             png.display().to_string(),
@@ -120,26 +137,34 @@ pub fn plot_strobe(
             "a drawn point is NaN or infinite",
         ));
     }
-    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        ensure_dir(dir)?;
-    }
-    let plot_err = |path: &Path| {
-        let path = path.to_path_buf();
-        move |message: String| OutputError::Plot { path, message }
-    };
-    register_font().map_err(plot_err(&png))?;
     let frame = Frame::new(scene, view);
     let size = (1000, frame.height);
-    // Written under temporary names and renamed when complete (see `output::atomic`).
-    write_atomically(&png, |partial| {
-        let area = BitMapBackend::new(partial, size).into_drawing_area();
-        draw(area, scene, &frame, instants).map_err(plot_err(&png))
-    })?;
-    write_atomically(&svg, |partial| {
-        let area = SVGBackend::new(partial, size).into_drawing_area();
-        draw(area, scene, &frame, instants).map_err(plot_err(&svg))
-    })?;
-    Ok(vec![png, svg])
+    write_png_and_svg(
+        stem,
+        size,
+        &Strobe {
+            scene,
+            frame: &frame,
+            instants,
+        },
+    )
+}
+
+/// The strobe figure as a [`Drawing`].
+struct Strobe<'a> {
+    scene: &'a Scene,
+    frame: &'a Frame,
+    instants: usize,
+}
+
+impl Drawing for Strobe<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: DrawingArea<DB, Shift>,
+        bitmap: bool,
+    ) -> Result<(), String> {
+        draw(area, self.scene, self.frame, (self.instants, bitmap))
+    }
 }
 
 /// The projection and the ranges of the figure: equal scales on both axes.
@@ -194,7 +219,7 @@ fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     scene: &Scene,
     frame: &Frame,
-    instants: usize,
+    (instants, bitmap): (usize, bool),
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
@@ -203,16 +228,22 @@ fn draw<DB: DrawingBackend>(
         scene.times[frames[0]],
         scene.times[*frames.last().unwrap_or(&0)],
     );
+    let span = match scene.cycle() {
+        Some(c) => format!("first {} of {}, ", c.kind, c.coordinate),
+        None => String::new(),
+    };
     let title = format!(
-        "{}: {} instants, t = {} to {} s (darker = later)",
+        "{}: {} instants, {span}t = {} to {} s (darker = later)",
         scene.name,
         frames.len(),
         round(t0),
         round(t1)
     );
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 24))
+    draw_title(&root, &title, 24, 20, bitmap).map_err(err)?;
+    let body = root.margin(44, 0, 0, 0);
+    let mut chart = ChartBuilder::on(&body)
         .margin(20)
+        .margin_top(4)
         .x_label_area_size(50)
         .y_label_area_size(80)
         .build_cartesian_2d(frame.u.0..frame.u.1, frame.v.0..frame.v.1)
@@ -284,18 +315,12 @@ fn draw<DB: DrawingBackend>(
             .map_err(err)?;
     }
     // Point names at the last instant; points that coincide (the two halves of a joint)
-    // share one label, "B1 = A2".
-    let mut labels: Vec<((f64, f64), String)> = Vec::new();
-    for (i, p) in scene.points.iter().enumerate() {
-        let at = frame.project(scene.position(f, i));
-        let close = |q: &(f64, f64)| {
-            (q.0 - at.0).hypot(q.1 - at.1) <= 1e-9 * (1.0 + at.0.abs() + at.1.abs())
-        };
-        match labels.iter_mut().find(|(q, _)| close(q)) {
-            Some((_, text)) => *text = format!("{text} = {}", p.name),
-            None => labels.push((at, p.name.clone())),
-        }
-    }
+    // share one label, "B1 = A2"; a label that would overlap one already placed is left out.
+    let labels = thin_labels(scene, f, |p| {
+        let at = frame.project(p);
+        let px = chart.backend_coord(&at);
+        (at, (f64::from(px.0), f64::from(px.1)))
+    });
     chart
         .draw_series(
             labels
@@ -303,7 +328,73 @@ fn draw<DB: DrawingBackend>(
                 .map(|(at, text)| EmptyElement::at(at) + Text::new(text, (8, -22), (FONT, 18))),
         )
         .map_err(err)?;
+    if frame.projection.oblique {
+        draw_triad(&root, &frame.projection).map_err(err)?;
+    }
     root.present().map_err(err)
+}
+
+/// A label: where its point is in the chart, its pixel, its text.
+type Label = ((f64, f64), (f64, f64), String);
+
+/// The labels of the points at frame `f`: coinciding points joined ("B1 = A2"), then only
+/// those whose text box (18 px text, about 10 px a character) overlaps no label kept
+/// before it. `place` gives a point's chart position and its pixel.
+fn thin_labels(
+    scene: &Scene,
+    f: usize,
+    place: impl Fn([f64; 3]) -> ((f64, f64), (f64, f64)),
+) -> Vec<((f64, f64), String)> {
+    let mut joined: Vec<Label> = Vec::new();
+    for (i, p) in scene.points.iter().enumerate() {
+        let (at, px) = place(scene.position(f, i));
+        let close = |q: &(f64, f64)| {
+            (q.0 - at.0).hypot(q.1 - at.1) <= 1e-9 * (1.0 + at.0.abs() + at.1.abs())
+        };
+        match joined.iter_mut().find(|(q, _, _)| close(q)) {
+            Some((_, _, text)) => *text = format!("{text} = {}", p.name),
+            None => joined.push((at, px, p.name.clone())),
+        }
+    }
+    // The text box right of and above its point: x from 8 px right over its width, 18 px
+    // high; two boxes clash when they come within 4 px of each other both ways.
+    let span = |px: (f64, f64), text: &str| (px.0, px.0 + 10.0 * text.chars().count() as f64);
+    let mut kept: Vec<Label> = Vec::new();
+    for (at, px, text) in joined {
+        let (a0, a1) = span(px, &text);
+        let overlaps = kept.iter().any(|(_, q, other)| {
+            let (b0, b1) = span(*q, other);
+            a0 < b1 + 4.0 && b0 < a1 + 4.0 && (px.1 - q.1).abs() < 22.0
+        });
+        if !overlaps {
+            kept.push((at, px, text));
+        }
+    }
+    kept.into_iter().map(|(at, _, text)| (at, text)).collect()
+}
+
+/// The world axes x, y, z as seen in an oblique view: three 40 px arrows from the lower
+/// left corner, each with its name.
+fn draw_triad<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    projection: &Projection,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (_, h) = root.dim_in_pixel();
+    let origin = (150, h as i32 - 120);
+    for (k, name) in ["x", "y", "z"].into_iter().enumerate() {
+        let (u, v) = (projection.right[k], projection.up[k]);
+        let tip = (
+            origin.0 + (40.0 * u).round() as i32,
+            origin.1 - (40.0 * v).round() as i32,
+        );
+        root.draw(&PathElement::new(vec![origin, tip], BLACK.stroke_width(2)))?;
+        let label = (
+            origin.0 + (52.0 * u).round() as i32 - 5,
+            origin.1 - (52.0 * v).round() as i32 - 9,
+        );
+        root.draw(&Text::new(name, label, (FONT, 18)))?;
+    }
+    Ok(())
 }
 
 /// An axis label: 3 significant decimals at most, and never `-0`.
