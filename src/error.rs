@@ -116,6 +116,27 @@ pub enum Error {
         /// Rank of Phi_q restricted to the dependent columns.
         rank: usize,
     },
+    /// More independent coordinates given than the mechanism has degrees of freedom: the
+    /// constraints fix the rest of them. Refused whether the values agree with the
+    /// constraints or not; when every coordinate is given, `violated` names the rows they
+    /// break (`constraint 2 by 3.0e-1`), i.e. which values conflict.
+    #[error(
+        "`independent` gives {} coordinates ({}), but the mechanism has {degrees_of_freedom} \
+         degree(s) of freedom: the constraints fix the other {}{}; give {degrees_of_freedom} \
+         of them and let the assembly find the rest",
+        given.len(), given.join(", "), given.len() - degrees_of_freedom,
+        if violated.is_empty() { String::new() } else {
+            format!(", and these values break {}", violated.join(", "))
+        }
+    )]
+    OverSpecified {
+        /// The coordinates given.
+        given: Vec<String>,
+        /// The degrees of freedom, n - rank Phi_q.
+        degrees_of_freedom: usize,
+        /// The constraint rows the values break, with their residuals (all coordinates given).
+        violated: Vec<String>,
+    },
     /// A drive that the constraints and the drives before it already fix: its driving
     /// force is not determined (more drives than degrees of freedom, or a drive on a
     /// coordinate the loop closure fixes).
@@ -133,6 +154,47 @@ pub enum Error {
         drives_given: usize,
         /// Degrees of freedom of the undriven mechanism (n - rank Phi_q).
         degrees_of_freedom: usize,
+    },
+    /// A prescribed motion leaves the positions the mechanism can reach: after the samples
+    /// up to `t_last` were solved, no configuration satisfies the constraints with the
+    /// drives' values at t (Newton's residual |Phi|_inf stays at `residual`, above the
+    /// assembly tolerance). Raised instead of a singular configuration, a conflict of the
+    /// drives or a Newton failure when the residual left shows the drives out of reach.
+    #[error(
+        "the prescribed motion leaves the positions the mechanism can reach at t = {t} s: no \
+         configuration satisfies the constraints with {values} (|Phi|_inf stays at \
+         {residual:.3e}){}; keep the drive within the mechanism's reach",
+        match t_last { Some(s) => format!("; the last sample solved is at t = {s} s, where \
+         the mechanism was at or near the edge of its reach"), None => " at the start, from \
+         the declared guesses".to_string() }
+    )]
+    DriveOutOfReach {
+        /// Time of the sample that cannot be solved (s).
+        t: f64,
+        /// The last sample solved (s), `None` at the first sample.
+        t_last: Option<f64>,
+        /// The drives' values there, `x = 1.01, ...`.
+        values: String,
+        /// |Phi|_inf where Newton stopped.
+        residual: f64,
+    },
+    /// A drive's rate f' jumps at t (a kink of f, e.g. `abs(t - 0.5)`): its acceleration
+    /// and the driving force are infinite there (an impulse), whether t falls on a sample or
+    /// between two ([`crate::algorithms::kink`] has the test).
+    #[error(
+        "the drive of {coordinate} has a kink at t = {t} s: its rate jumps from {before} to \
+         {after}, so its acceleration and the driving force are infinite there; smooth the \
+         drive (blend the two pieces over a short interval)"
+    )]
+    DriveKink {
+        /// The driven coordinate.
+        coordinate: String,
+        /// Where the rate jumps (s).
+        t: f64,
+        /// The rate just before.
+        before: f64,
+        /// The rate just after.
+        after: f64,
     },
     /// The adaptive step size fell below the smallest allowed value.
     #[error(
@@ -196,7 +258,54 @@ pub enum Error {
         /// The step limit.
         max_steps: usize,
     },
-    /// The motion diverged: after an accepted step a coordinate or a rate is NaN, infinite
+    /// A fixed step (RK4, HHT) too large for the motion: within one step the states left
+    /// the constraints so far (|Phi|_inf = `residual` at t, at a step's end, a stage or a
+    /// sample of the dense output between two step ends) that the projection (or HHT's
+    /// Newton iteration) could not bring them back.
+    #[error(
+        "the fixed step h = {h:e} s of {method} is too large for this motion: at t = {t} s \
+         its state lies |Phi|_inf = {residual:.3e} off the constraints, too far for the \
+         projection to close them; choose a smaller --step, or an adaptive method (dopri5, \
+         dop853) that sizes its steps"
+    )]
+    StepTooLarge {
+        /// Time of the failed projection (s).
+        t: f64,
+        /// The step (s).
+        h: f64,
+        /// The method, `rk4` or `hht`.
+        method: &'static str,
+        /// |Phi|_inf where the projection stopped.
+        residual: f64,
+    },
+    /// The time span is too long for the step size the motion needs: the mean of the last
+    /// 100 accepted steps, h, is steady (at least a tenth of the mean step of the whole
+    /// run, so it has not collapsed), yet the steps still needed, (t_end - t) / h, plus those
+    /// taken exceed 10 times the step limit. The output rate does not set the step: the
+    /// motion does. Tested like [`Error::StepSizeCollapse`], from the 1000th step on.
+    #[error(
+        "the time span is too long for this motion: its steps are a steady h = {h:.3e} s \
+         (mean of the last 100; {h_run:.3e} s over the whole run), so reaching t_end = \
+         {t_end} s from t = {t} s would take about {steps_needed:.1e} more steps, more than \
+         10 times the limit of {max_steps} (the output rate does not set the step); shorten \
+         --t-end, or check the parameters if a step this small is unexpected"
+    )]
+    SpanTooLong {
+        /// Time reached (s).
+        t: f64,
+        /// The end time (s).
+        t_end: f64,
+        /// Mean size of the last 100 accepted steps (s).
+        h: f64,
+        /// Mean size of all accepted steps (s).
+        h_run: f64,
+        /// (t_end - t) / h.
+        steps_needed: f64,
+        /// The step limit.
+        max_steps: usize,
+    },
+    /// The motion diverged: after an accepted step (or at a stage of a step, where an entry
+    /// of the equations overflowed) a coordinate or a rate is NaN, infinite
     /// or beyond 1e12 times its scale at the start (positions: the largest of 1,
     /// |q(t0)|_inf and |q'(t0)|_inf (t_end - t0); rates: the larger of 1 and
     /// |q'(t0)|_inf). A factor of 1e12 leaves every physical range and 12 of the 16 digits

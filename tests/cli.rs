@@ -10,6 +10,8 @@ use assert_cmd::Command;
 mod conventions;
 #[path = "cli/declarations.rs"]
 mod declarations;
+#[path = "cli/diagnoses.rs"]
+mod diagnoses;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
 #[path = "cli/import.rs"]

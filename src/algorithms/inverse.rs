@@ -42,6 +42,7 @@ use crate::algorithms::finite;
 use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
+use crate::algorithms::kink;
 use crate::error::Error;
 use crate::limits::check_output_memory;
 use crate::linalg::RowBasis;
@@ -79,6 +80,8 @@ pub struct InverseDynamics {
     lambda: Vec<f64>,
     /// Newton options of the position solve.
     pub assembly: AssemblyOptions,
+    /// The time of the last sample solved.
+    t_last: Option<f64>,
 }
 
 impl InverseDynamics {
@@ -105,6 +108,7 @@ impl InverseDynamics {
             gamma: vec![0.0; m + k],
             lambda: vec![0.0; m + k],
             assembly,
+            t_last: None,
         })
     }
 
@@ -114,9 +118,21 @@ impl InverseDynamics {
         let (n, m, k) = (info.n(), info.m(), self.fixed.len());
         let mut qd = vec![0.0; n];
         let mut fdd = vec![0.0; k];
+        self.check_kinks(info, t)?;
         self.prescribe(info, t, &mut qd, &mut fdd)?;
-        self.check_drives(system, t)?;
-        solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly)?;
+        let conflict = self.check_drives(system, t);
+        let solved = match conflict {
+            // A drive that was independent at the previous sample and is not now: the
+            // mechanism is at a fold of its reach; solved anyway below to tell a dead point
+            // it passes from a drive out of reach.
+            Err(e) if self.t_last.is_none() => return Err(e),
+            _ => solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly),
+        };
+        if let Err(e) = solved {
+            return Err(self.out_of_reach(system, t).unwrap_or(e));
+        }
+        conflict?;
+        self.t_last = Some(t);
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
         system.evaluate(t, &self.q, &qd, &mut self.eval);
         self.assemble(info, (t, &qd), &fdd)?;
@@ -130,6 +146,43 @@ impl InverseDynamics {
             qdd,
             driving: self.lambda[m..].iter().map(|l| -l).collect(),
             lambda: self.lambda[..m].to_vec(),
+        })
+    }
+
+    /// The kinks of the drives since the last sample (or at t, for the first).
+    fn check_kinks(&self, info: &SystemInfo, t: f64) -> Result<(), Error> {
+        for d in &self.drives {
+            let name = &info.coordinates[d.coordinate];
+            match self.t_last {
+                Some(a) => kink::check_kink(d, name, a, t)?,
+                None => kink::check_kink_at(d, name, t)?,
+            }
+        }
+        Ok(())
+    }
+
+    /// [`Error::DriveOutOfReach`] when the position solve at t left |Phi|_inf above 1e3
+    /// times the assembly tolerance (1e-7 m by default): Newton found no configuration
+    /// with the drives' values, rather than one it could not resolve (a dead point).
+    fn out_of_reach(&self, system: &dyn System, t: f64) -> Option<Error> {
+        let info = system.info();
+        let mut phi = vec![0.0; info.m()];
+        system.constraints(t, &self.q, &mut phi);
+        let residual = crate::linalg::inf_norm(&phi);
+        if !residual.is_finite() || residual <= 1e3 * self.assembly.tolerance {
+            return None;
+        }
+        let values = self
+            .drives
+            .iter()
+            .map(|d| format!("{} = {}", info.coordinates[d.coordinate], (d.f)(t)[0]))
+            .collect::<Vec<_>>()
+            .join(", ");
+        Some(Error::DriveOutOfReach {
+            t,
+            t_last: self.t_last,
+            values,
+            residual,
         })
     }
 
@@ -277,8 +330,9 @@ const SAMPLE_OVERHEAD: usize = 5 * (24 + 16);
 /// Inverse dynamics at each of `times` (in order). More samples than
 /// [`crate::MAX_OUTPUT_BYTES`] can hold are refused before any work
 /// ([`Error::TooMuchOutput`]). The error of the first failing sample is
-/// returned, e.g. [`Error::SingularConfiguration`] where the prescribed motion drives the
-/// mechanism through a dead point it cannot pass.
+/// returned, e.g. [`Error::DriveOutOfReach`] where the prescribed motion takes the mechanism
+/// beyond its reach (past a dead point it cannot pass), [`Error::DriveKink`] where a drive's
+/// rate jumps.
 pub fn inverse_dynamics(
     system: &dyn System,
     drives: Vec<Drive>,

@@ -408,6 +408,7 @@ pub fn assemble_from(
         q[ind.coordinate] = ind.position;
         qd[ind.coordinate] = ind.velocity;
     }
+    over_specified(system, t, independent, &q, options)?;
     solve_positions(system, t, &fixed, &mut q, options).map_err(|e| match e {
         // At assembly there is no motion to be singular: Newton stopped where the loops
         // cannot be closed.
@@ -420,6 +421,45 @@ pub fn assemble_from(
         q,
         qd,
         qdd: vec![0.0; info.n()],
+    })
+}
+
+/// [`Error::OverSpecified`] when more coordinates are given than the mechanism's degrees
+/// of freedom (n minus the rank of Phi_q at `q`, the guesses with the given values),
+/// naming the constraint rows the values violate when every coordinate is given.
+fn over_specified(
+    system: &dyn System,
+    t: f64,
+    independent: &[Independent],
+    q: &[f64],
+    options: &AssemblyOptions,
+) -> Result<(), Error> {
+    let info = system.info();
+    if independent.len() <= info.n().saturating_sub(info.m()) {
+        return Ok(()); // within Grubler's count: never more than the degrees of freedom
+    }
+    let Ok(mob) = crate::algorithms::mobility::mobility(system, t, q) else {
+        return Ok(()); // a non-finite Jacobian: left to the assembly to name
+    };
+    if independent.len() <= mob.degrees_of_freedom {
+        return Ok(());
+    }
+    let mut violated = Vec::new();
+    if independent.len() == info.n() {
+        let mut phi = vec![0.0; info.m()];
+        system.constraints(t, q, &mut phi);
+        violated = (0..info.m())
+            .filter(|&r| phi[r].is_nan() || phi[r].abs() > options.tolerance)
+            .map(|r| format!("{} by {:.3e}", info.constraint_label(r), phi[r]))
+            .collect();
+    }
+    Err(Error::OverSpecified {
+        given: independent
+            .iter()
+            .map(|i| info.coordinates[i.coordinate].clone())
+            .collect(),
+        degrees_of_freedom: mob.degrees_of_freedom,
+        violated,
     })
 }
 

@@ -6,7 +6,8 @@
 //!   velocity and acceleration levels;
 //! - [`dynamics`]: q'' and lambda at one instant from the augmented system, by LU or by the
 //!   augmented Lagrangian iteration ([`augmented_lagrangian`]) where Phi_q loses rank;
-//! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s;
+//! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s, whose
+//!   kinks are found between samples ([`kink`]);
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
@@ -22,6 +23,7 @@ pub(crate) mod dynamics;
 pub(crate) mod finite;
 pub(crate) mod inverse;
 pub(crate) mod kinematics;
+pub(crate) mod kink;
 pub(crate) mod linearize;
 pub(crate) mod mobility;
 pub(crate) mod stabilization;

@@ -51,6 +51,18 @@ pub enum Method {
     },
 }
 
+impl Method {
+    /// The method's name as the command line spells it: `rk4`, `dopri5`, `dop853`, `hht`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Rk4 { .. } => "rk4",
+            Method::Dopri5 => "dopri5",
+            Method::Dop853 => "dop853",
+            Method::Hht { .. } => "hht",
+        }
+    }
+}
+
 /// How the adaptive methods choose the next step after an accepted one.
 ///
 /// With err_n the scaled error norm of step n (accepted when <= 1), h_n its size and k = 1/8

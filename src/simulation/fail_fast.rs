@@ -45,17 +45,21 @@ pub(crate) struct FailFast {
     position_limit: f64,
     rate_limit: f64,
     max_steps: usize,
+    /// The start time of the run (s).
+    start: f64,
 }
 
 impl FailFast {
-    /// The tests for a run from (q0, q0') at t0 to t_end within `max_steps` accepted steps.
-    pub(crate) fn new(q0: &[f64], qd0: &[f64], span: f64, max_steps: usize) -> Self {
+    /// The tests for a run from (q0, q0') at t0 to t0 + span within `max_steps` accepted
+    /// steps.
+    pub(crate) fn new(q0: &[f64], qd0: &[f64], t0: f64, span: f64, max_steps: usize) -> Self {
         let (q_scale, v_scale) = (crate::linalg::inf_norm(q0), crate::linalg::inf_norm(qd0));
         Self {
             recent: [0.0; WINDOW],
             position_limit: DIVERGENCE_FACTOR * 1f64.max(q_scale).max(v_scale * span),
             rate_limit: DIVERGENCE_FACTOR * 1f64.max(v_scale),
             max_steps,
+            start: t0,
         }
     }
 
@@ -88,6 +92,19 @@ impl FailFast {
         let allowed = COLLAPSE_FACTOR * self.max_steps as f64;
         // h = 0 (no progress at all) projects infinitely many steps; NaN cannot pass.
         if !(steps as f64 + steps_needed <= allowed) {
+            // A step as large as a tenth of the run's mean has not collapsed: the span is
+            // too long for the step the motion needs.
+            let h_run = (t - self.start) / steps as f64;
+            if h >= 0.1 * h_run && h > 0.0 {
+                return Err(Error::SpanTooLong {
+                    t,
+                    t_end,
+                    h,
+                    h_run,
+                    steps_needed,
+                    max_steps: self.max_steps,
+                });
+            }
             return Err(Error::StepSizeCollapse {
                 t,
                 h,
@@ -130,21 +147,51 @@ mod tests {
     #[test]
     fn a_steady_step_passes_and_a_collapsed_one_stops() {
         // 1e-3 s steps over 10 s need 1e4 steps: fine within 1e5.
-        let mut ok = FailFast::new(&[0.0], &[0.0], 10.0, 100_000);
+        let mut ok = FailFast::new(&[0.0], &[0.0], 0.0, 10.0, 100_000);
         for k in 1..=2000 {
             ok.after_step(k, k as f64 * 1e-3, 10.0).expect("steady");
         }
-        // 1e-9 s steps over 10 s need 1e10: stopped at the first test, after MIN_STEPS.
-        let mut bad = FailFast::new(&[0.0], &[0.0], 10.0, 100_000);
-        let err = (1..=2000)
-            .find_map(|k| bad.after_step(k, k as f64 * 1e-9, 10.0).err())
+        // 1000 steps of 1e-3 s, then of 1e-9 s: once the last 100 are all 1e-9 s (step
+        // 1100) the rest needs about 1e10 steps, and 1e-9 s is far below the run's mean
+        // (1 s / 1100): a collapse.
+        let mut bad = FailFast::new(&[0.0], &[0.0], 0.0, 10.0, 100_000);
+        let time = |k: usize| {
+            if k <= 1000 {
+                k as f64 * 1e-3
+            } else {
+                1.0 + (k - 1000) as f64 * 1e-9
+            }
+        };
+        let (k, err) = (1..=2000)
+            .find_map(|k| bad.after_step(k, time(k), 10.0).err().map(|e| (k, e)))
             .expect("collapse");
+        assert_eq!(k, 1100);
         match err {
             Error::StepSizeCollapse {
                 h, steps_needed, ..
             } => {
                 assert!((h / 1e-9 - 1.0).abs() < 1e-6, "{h}");
-                assert!((steps_needed / 1e10 - 1.0).abs() < 1e-6, "{steps_needed}");
+                assert!((steps_needed / 9e9 - 1.0).abs() < 1e-6, "{steps_needed}");
+            }
+            other => panic!("{other}"),
+        }
+    }
+
+    #[test]
+    fn a_steady_step_over_a_span_too_long_is_named_as_such() {
+        // A steady 1e-3 s over 1e9 s needs 1e12 steps: stopped after MIN_STEPS, as a span
+        // too long, not a collapse (the step is the run's mean).
+        let mut long = FailFast::new(&[0.0], &[0.0], 0.0, 1e9, 100_000);
+        let err = (1..=2000)
+            .find_map(|k| long.after_step(k, k as f64 * 1e-3, 1e9).err())
+            .expect("too long");
+        match err {
+            Error::SpanTooLong {
+                h, h_run, t_end, ..
+            } => {
+                assert!((h / 1e-3 - 1.0).abs() < 1e-9, "{h}");
+                assert!((h_run / 1e-3 - 1.0).abs() < 1e-9, "{h_run}");
+                assert_eq!(t_end, 1e9);
             }
             other => panic!("{other}"),
         }
@@ -153,7 +200,7 @@ mod tests {
     #[test]
     fn divergence_is_relative_to_the_starting_scale() {
         let names = vec!["x".to_string()];
-        let f = FailFast::new(&[2.0], &[3.0], 10.0, 1000);
+        let f = FailFast::new(&[2.0], &[3.0], 0.0, 10.0, 1000);
         // Positions may reach 1e12 * max(1, 2, 3 * 10); rates 1e12 * 3.
         f.check_state(&[2.9e13], &[2.9e12], &names, 1.0)
             .expect("inside");

@@ -28,7 +28,8 @@ use crate::simulation::fail_fast::FailFast;
 use crate::simulation::options::{InitialState, RESERVED_SAMPLES, SimulationOptions};
 use crate::simulation::singular::SingularWatch;
 use crate::simulation::stepper::{
-    REUSE_AFTER_PROJECTION, Rhs, StateBuffers, StepControl, Stepper, projection_size,
+    REUSE_AFTER_PROJECTION, Rhs, StageProjection, StateBuffers, StepControl, Stepper,
+    projection_size,
 };
 use crate::simulation::trajectory::Trajectory;
 use crate::system::System;
@@ -87,6 +88,8 @@ pub struct Simulator<'a> {
     stepper: Stepper,
     dynamics: Dynamics,
     projector: Projector,
+    /// The projection of the stage states (redundant rows only: see [`StageProjection`]).
+    stage: Option<StageProjection>,
     /// Output samples: the next one's index, how many in all, and the trajectory.
     next_output: usize,
     outputs: usize,
@@ -148,6 +151,7 @@ impl<'a> Simulator<'a> {
         let fail_fast = FailFast::new(
             &y[..n],
             &y[n..2 * n],
+            t0,
             options.t_end - t0,
             options.integrator.max_steps,
         );
@@ -155,7 +159,11 @@ impl<'a> Simulator<'a> {
         // very long; beyond that the buffer grows as it fills.
         let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
         let mut trajectory = Trajectory::with_capacity(info.clone(), reserve);
-        trajectory.mobility = Some(mobility(system, t0, &y[..n])?);
+        let mob = mobility(system, t0, &y[..n])?;
+        let stage = (options.stabilization == Stabilization::Projection
+            && !mob.redundant_rows.is_empty())
+        .then(|| StageProjection::new(Projector::new(info), n));
+        trajectory.mobility = Some(mob);
         let stepper = make_stepper(system, options, t0, &y, &dynamics)?;
         let mut sim = Self {
             system,
@@ -166,6 +174,7 @@ impl<'a> Simulator<'a> {
             stepper,
             dynamics,
             projector,
+            stage,
             next_output: 1,
             outputs,
             trajectory,
@@ -199,6 +208,7 @@ impl<'a> Simulator<'a> {
                         system: self.system,
                         dynamics: &mut self.dynamics,
                         n: self.n,
+                        onto: self.stage.as_mut(),
                     };
                     rhs.rhs(self.clock.t, &self.state.y, rk.k1_mut())?;
                 }
@@ -209,6 +219,7 @@ impl<'a> Simulator<'a> {
                     system: self.system,
                     dynamics: &mut self.dynamics,
                     n: self.n,
+                    onto: self.stage.as_mut(),
                 };
                 rhs.rhs(self.clock.t, &self.state.y, rk.k1_mut())?;
                 if let Some(h) = io.h_initial {
@@ -293,6 +304,37 @@ impl<'a> Simulator<'a> {
     /// events inside it and applies the stabilisation. Returns false when finished.
     /// Allocates nothing (apart from event and passage records, which are rare).
     pub fn step(&mut self) -> Result<bool, Error> {
+        self.step_unnamed().map_err(|e| self.name_failure(e))
+    }
+
+    /// The failure of a step under the name of its cause: a fixed step (RK4, HHT) whose
+    /// states the projection or HHT's Newton cannot bring back onto the constraints is
+    /// [`Error::StepTooLarge`] (it left them that far within one step); a non-finite entry
+    /// evaluated at a state beyond the divergence bounds is [`Error::Diverged`] (the
+    /// entry overflowed because the state had).
+    fn name_failure(&self, e: Error) -> Error {
+        let names = &self.system.info().coordinates;
+        match (e, self.options.integrator.method) {
+            (
+                Error::NewtonDidNotConverge { t, residual, .. },
+                Method::Rk4 { h } | Method::Hht { h, .. },
+            ) => Error::StepTooLarge {
+                t,
+                h,
+                method: self.options.integrator.method.name(),
+                residual,
+            },
+            (Error::NonFiniteTerm { term, value, t, q }, _) => {
+                match self.fail_fast.check_state(&q, &[], names, t) {
+                    Err(diverged) => diverged,
+                    Ok(()) => Error::NonFiniteTerm { term, value, t, q },
+                }
+            }
+            (e, _) => e,
+        }
+    }
+
+    fn step_unnamed(&mut self) -> Result<bool, Error> {
         if self.clock.finished {
             return Ok(false);
         }
@@ -358,8 +400,25 @@ impl<'a> Simulator<'a> {
                         system: self.system,
                         dynamics: &mut self.dynamics,
                         n,
+                        onto: self.stage.as_mut(),
                     };
-                    let err = rk.attempt(&mut rhs, t, &state.y, h, &mut state.y_new, tol)?;
+                    let err = match rk.attempt(&mut rhs, t, &state.y, h, &mut state.y_new, tol) {
+                        Ok(err) => err,
+                        // A stage that cannot be evaluated (a non-finite entry, a
+                        // projection or solve failing far from the last state) rejects the
+                        // step like an error norm above 1: a smaller step takes its stages
+                        // closer. A failure that persists down to h_min is returned.
+                        Err(e) if rk.adaptive() && is_trial_failure(&e) => {
+                            self.trajectory.stats.rejected_steps += 1;
+                            self.clock.rejected_last = true;
+                            self.clock.h = h * 0.2;
+                            if self.clock.h < io.h_min {
+                                return Err(e);
+                            }
+                            continue;
+                        }
+                        Err(e) => return Err(e),
+                    };
                     if !rk.adaptive() {
                         rk.finish(&mut rhs, t, &state.y_new, h)?;
                         return Ok(h);
@@ -491,6 +550,7 @@ impl<'a> Simulator<'a> {
                     system: self.system,
                     dynamics: &mut self.dynamics,
                     n,
+                    onto: self.stage.as_mut(),
                 };
                 rhs.rhs(t_new, &self.state.y, rk.k1_mut())?;
             }
@@ -542,6 +602,7 @@ impl<'a> Simulator<'a> {
                         system: self.system,
                         dynamics: &mut self.dynamics,
                         n: self.n,
+                        onto: self.stage.as_mut(),
                     };
                     rk.prepare_dense(&mut rhs, self.clock.t, &self.state.y, &self.state.y_new, h)?;
                 }
@@ -652,6 +713,19 @@ impl<'a> Simulator<'a> {
         }
         Ok(())
     }
+}
+
+/// Failures of a trial step that a smaller step may avoid (see
+/// [`Simulator::step`]): an entry of the equations or a solve that is not finite, a
+/// projection that does not converge, a motion that is undetermined there.
+fn is_trial_failure(e: &Error) -> bool {
+    matches!(
+        e,
+        Error::NonFiniteTerm { .. }
+            | Error::NonFinite { .. }
+            | Error::NewtonDidNotConverge { .. }
+            | Error::UndeterminedMotion { .. }
+    )
 }
 
 /// Parameters finite; t_end > t_start, output_rate > 0, rtol > 0 and atol >= 0 finite.

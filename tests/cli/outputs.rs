@@ -135,7 +135,7 @@ fn a_nan_in_a_constraint_is_named_and_recorded() {
 fn a_run_that_stops_midway_replaces_the_previous_results_with_its_own() {
     let dir = out_dir("stale-midway");
     let before = successful_run(&dir);
-    // g = 1e23: the step size collapses after the first sample.
+    // g = 1e23: the step is far too small for the span; the run stops after the first sample.
     let o = mechanism(&[
         "simulate",
         "planar_four_bar",
@@ -145,7 +145,7 @@ fn a_run_that_stops_midway_replaces_the_previous_results_with_its_own() {
         dir.to_str().unwrap(),
     ]);
     assert_one_line_error(&o, "results up to t = 0 s");
-    assert_failed_cleanly(&dir, &before, "integration", "step size collapsed");
+    assert_failed_cleanly(&dir, &before, "integration", "time span is too long");
     // Its own trajectory (the one sample at t = 0) replaces the old one; one sample draws
     // no figure, so the old figures are gone.
     let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();

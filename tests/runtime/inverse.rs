@@ -111,10 +111,11 @@ fn round_trip_reproduces_the_prescribed_motion() {
 }
 
 /// The locking four-bar (l2 + l3 < l1 + d) driven at 1 rad/s from th1 = pi/2 reaches its
-/// dead point cos th1* = -0.625 (t* = 0.675 s) and cannot go on: a typed singular
-/// configuration error near t*, not NaN.
+/// dead point cos th1* = -0.625 (t* = 0.675 s), the edge of the crank's reach, and cannot
+/// go on: the first sample past t* is out of reach, a typed error naming it (not NaN, and
+/// not a singular configuration: no configuration exists there at all).
 #[test]
-fn four_bar_driven_through_a_dead_point_reports_a_singular_configuration() {
+fn four_bar_driven_past_its_dead_point_reports_the_drive_out_of_reach() {
     let s = FourBar::locking();
     let drive = Drive::new(0, |t| [PI / 2.0 + t, 1.0, 0.0]);
     let err = inverse_dynamics(
@@ -126,12 +127,20 @@ fn four_bar_driven_through_a_dead_point_reports_a_singular_configuration() {
     .unwrap_err();
     println!("{err}");
     match err {
-        Error::SingularConfiguration { t, q, condition } => {
+        Error::DriveOutOfReach {
+            t,
+            t_last: Some(t_last),
+            residual,
+            ..
+        } => {
+            // The samples are 0.01 s apart: the last one solved before t*, the failing one
+            // after it.
             let t_star = (-0.625f64).acos() - PI / 2.0;
-            assert!((t - t_star).abs() < 0.02, "t = {t}, dead point at {t_star}");
-            assert!(q.iter().all(|v| v.is_finite()) && condition > 1.0);
+            assert!(t_last < t_star && t_star < t, "{t_last} < {t_star} < {t}");
+            assert!((t - t_last - 0.01).abs() < 1e-12, "{t_last}, {t}");
+            assert!(residual.is_finite() && residual > 1e-7, "{residual:e}");
         }
-        other => panic!("expected SingularConfiguration, got {other:?}"),
+        other => panic!("expected DriveOutOfReach, got {other:?}"),
     }
     // A drive on a coordinate that does not exist is a typed error too.
     assert!(matches!(

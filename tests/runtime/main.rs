@@ -25,3 +25,4 @@ mod overconstrained;
 mod pendulum;
 mod portable_math;
 mod systems;
+mod tolerance_sweep;
