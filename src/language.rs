@@ -155,7 +155,8 @@
 //! negative mass, an inertia that is not symmetric or breaks the triangle inequality, an
 //! `orientation` that is not a rotation, and `der(y)` in `independent` for a `y` the section
 //! does not set. Derivations have a budget (2^24 expression nodes, `MECHANISM_MAX_SIZE`;
-//! 2^27 entries of dM/dq, `MECHANISM_MAX_ENTRIES`); see RELIABILITY.md.
+//! 2^27 nonzero entries of dM/dq, `MECHANISM_MAX_ENTRIES`; 2^31 units of work,
+//! `MECHANISM_MAX_WORK`); see RELIABILITY.md.
 //!
 //! ## What the macro emits
 //!

@@ -1,6 +1,7 @@
 //! `stage_times FILE.mech`: the wall time of each stage the command-line tool runs on one
 //! declaration (parse, derive, the tangent, the routines, the equations text), once each,
-//! printed one per line; the stage that dominates a large mechanism's derivation.
+//! printed one per line (the stage that dominates a large mechanism's derivation), then the
+//! arena's work and size (`mechanism_codegen::Effort`).
 
 use std::time::Instant;
 

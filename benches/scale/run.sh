@@ -1,0 +1,26 @@
+#!/bin/sh
+# Derivation at scale (issue 28): user CPU time and peak memory of `mechanism equations`
+# (parse, derive, the interpreter's routines for the mobility, the text) on the closed
+# N-bar chain and on N free coordinates. Usage: benches/scale/run.sh [chain sizes] [free sizes]
+# from the repository root, after `cargo build --release`.
+set -eu
+here=$(dirname "$0")
+bin=${MECHANISM:-target/release/mechanism}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+chains=${1:-"50 100 200"}
+frees=${2:-"1000 2000 5000"}
+echo "| mechanism | N | user CPU (s) | peak memory (MB) |"
+echo "|---|---|---|---|"
+for n in $chains; do
+    python3 "$here/closed_chain.py" "$n" > "$tmp/chain$n.mech"
+    MECHANISM_MAX_INPUT_BYTES=100000000 /usr/bin/time -f "%U %M" -o "$tmp/t" "$bin" equations "$tmp/chain$n.mech" > /dev/null 2>&1
+    read -r user kb < "$tmp/t"
+    echo "| closed chain | $n | $user | $((kb / 1024)) |"
+done
+for n in $frees; do
+    python3 "$here/free_coordinates.py" "$n" > "$tmp/free$n.mech"
+    /usr/bin/time -f "%U %M" -o "$tmp/t" "$bin" equations "$tmp/free$n.mech" > /dev/null 2>&1
+    read -r user kb < "$tmp/t"
+    echo "| free coordinates | $n | $user | $((kb / 1024)) |"
+done
