@@ -24,4 +24,5 @@ mod non_finite;
 mod overconstrained;
 mod pendulum;
 mod portable_math;
+mod sparsity;
 mod systems;
