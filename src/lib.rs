@@ -157,11 +157,12 @@ pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
 #[cfg(feature = "interpreter")]
 pub use crate::system::Interpreted;
 pub use crate::system::{
-    Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
+    Accelerations, Coordinates, EvaluationSlices, Independent, Mechanism, Multipliers,
+    StaticEvaluation, StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
-    Compiled, ConstraintRow, Drawing, DrawnPoint, Evaluation, System, SystemInfo, Tangent,
+    Compiled, ConstraintRow, Drawing, DrawnPoint, Evaluation, Sparsity, System, SystemInfo, Tangent,
 };
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].

@@ -476,12 +476,25 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
         kinetic_energy,
         potential_energy,
         evaluate_into,
+        evaluate_sparse_into,
+        constraint_jacobian_sparse_into,
+        sparsity: (mass_pattern, jacobian_pattern),
         residual_tangent,
         draw_points,
         equations,
         ..
     } = g;
     let robotics = crate::robotics::methods(krate, n, g);
+    let as_u32 = |p: &[(usize, usize)], col: bool| -> Vec<u32> {
+        p.iter()
+            .map(|&(i, j)| u32::try_from(if col { j } else { i }).unwrap_or(u32::MAX))
+            .collect()
+    };
+    let (mass_rows, mass_cols) = (as_u32(mass_pattern, false), as_u32(mass_pattern, true));
+    let (jac_rows, jac_cols) = (
+        as_u32(jacobian_pattern, false),
+        as_u32(jacobian_pattern, true),
+    );
     quote! {
     fn mass_matrix(&self, q: &#sv<f64, #n>) -> #sm<f64, #n, #n> {
         #mass_matrix
@@ -539,6 +552,29 @@ fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> Tok
             return unsafe { self.__evaluate_into_avx2(t, q, qd, out) };
         }
         #evaluate_into
+    }
+    const SPARSITY: ::core::option::Option<#krate::StaticSparsity> =
+        ::core::option::Option::Some(#krate::StaticSparsity {
+            mass: &[#((#mass_rows, #mass_cols)),*],
+            jacobian: &[#((#jac_rows, #jac_cols)),*],
+        });
+    fn evaluate_sparse_into(
+        &self,
+        t: f64,
+        q: &#sv<f64, #n>,
+        qd: &#sv<f64, #n>,
+        out: &mut #krate::EvaluationSlices<'_>,
+    ) -> bool {
+        #evaluate_sparse_into
+    }
+    fn constraint_jacobian_sparse_into(
+        &self,
+        t: f64,
+        q: &#sv<f64, #n>,
+        phi_q: &mut [f64],
+        phi_t: &mut [f64],
+    ) -> bool {
+        #constraint_jacobian_sparse_into
     }
     fn equations() -> &'static str {
         #equations

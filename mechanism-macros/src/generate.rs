@@ -27,6 +27,9 @@ use crate::ast::{self, Declaration};
 /// stores for a large sparse Phi_q).
 const FILL_ZEROS_ABOVE: usize = 32;
 
+/// (row, column) pairs of a matrix's structural nonzeros, row-major.
+pub type Pattern = Vec<(usize, usize)>;
+
 /// The bodies of the trait methods and the equations text.
 pub struct Generated {
     /// `mass_matrix(&self, q)`.
@@ -56,6 +59,14 @@ pub struct Generated {
     pub evaluate_into: TokenStream,
     /// The same body calling `math::avx2` (for the copy compiled with AVX2).
     pub evaluate_into_avx2: TokenStream,
+    /// `evaluate_sparse_into(&self, t, q, qd, out)`: the same program, M and Phi_q written
+    /// into column-major slices at their structural pattern only.
+    pub evaluate_sparse_into: TokenStream,
+    /// `constraint_jacobian_sparse_into(&self, t, q, phi_q, phi_t)`: Phi_q at its pattern
+    /// (column-major slice), Phi_t.
+    pub constraint_jacobian_sparse_into: TokenStream,
+    /// The structural nonzeros of M and of Phi_q, row-major (`Routines::sparsity`).
+    pub sparsity: (Pattern, Pattern),
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
     /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
@@ -108,6 +119,12 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             potential_energy: b.scalar(Role::Potential)?,
             evaluate_into: b.evaluate_into(false)?,
             evaluate_into_avx2: b.evaluate_into(true)?,
+            evaluate_sparse_into: b.evaluate_sparse_into()?,
+            constraint_jacobian_sparse_into: b.constraint_jacobian_sparse_into(eqs.n, eqs.m)?,
+            sparsity: (
+                routines.sparsity(EvaluationOutput::Mass)?.entries,
+                routines.sparsity(EvaluationOutput::PhiQ)?.entries,
+            ),
             residual_tangent: b.tangent(eqs.n)?,
             draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
@@ -387,6 +404,93 @@ impl Bodies<'_> {
             #body
             out.kinetic = kinetic[0];
             out.potential = potential[0];
+        })
+    }
+
+    /// The combined evaluation into the caller's `EvaluationSlices`: M and Phi_q at their
+    /// structural pattern only (column-major), every entry of the vectors, after a check of
+    /// the slices' lengths (false when one differs, so no index can panic).
+    fn evaluate_sparse_into(&self) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(Role::Evaluation)?;
+        let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
+            .iter()
+            .map(|o| {
+                let vector = |name| OutputTarget::Vector {
+                    name,
+                    zeroed: false,
+                };
+                match o {
+                    EvaluationOutput::Mass => OutputTarget::ColumnMajor {
+                        name: quote!(out.mass),
+                    },
+                    EvaluationOutput::PhiQ => OutputTarget::ColumnMajor {
+                        name: quote!(out.phi_q),
+                    },
+                    EvaluationOutput::CoriolisForces => vector(quote!(out.coriolis)),
+                    EvaluationOutput::Gravity => vector(quote!(out.gravity)),
+                    EvaluationOutput::Forces => vector(quote!(out.forces)),
+                    EvaluationOutput::Phi => vector(quote!(out.phi)),
+                    EvaluationOutput::PhiT => vector(quote!(out.phi_t)),
+                    EvaluationOutput::Gamma => vector(quote!(out.gamma)),
+                    EvaluationOutput::Kinetic => vector(quote!(kinetic)),
+                    EvaluationOutput::Potential => vector(quote!(potential)),
+                }
+            })
+            .collect();
+        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let cache = self.cache_read(program);
+        // Phi (m x 1) is the fifth output.
+        let m = program.outputs().get(4).map_or(0, |o| o.rows);
+        let n = self.model.coordinates.len();
+        Ok(quote! {
+            if !out.fits(#n, #m) {
+                return false;
+            }
+            #cache
+            let mut kinetic = [0.0_f64; 1];
+            let mut potential = [0.0_f64; 1];
+            #body
+            *out.kinetic = kinetic[0];
+            *out.potential = potential[0];
+            true
+        })
+    }
+
+    /// Phi_q into the column-major slice `phi_q` at its structural pattern and Phi_t into
+    /// `phi_t`, from the programs of their two roles (each in its own block), after a check
+    /// of the slices' lengths.
+    fn constraint_jacobian_sparse_into(
+        &self,
+        n: usize,
+        m: usize,
+    ) -> mechanism_codegen::Result<TokenStream> {
+        let (jacobian, bindings) = self.routine(Role::ConstraintJacobian)?;
+        let targets = [OutputTarget::ColumnMajor {
+            name: quote!(phi_q),
+        }];
+        let jacobian_body = emit_body(jacobian, &bindings, &targets)?.tokens;
+        let jacobian_cache = self.cache_read(jacobian);
+        let (time, bindings) = self.routine(Role::ConstraintTimeDerivative)?;
+        let targets = [OutputTarget::Vector {
+            name: quote!(phi_t),
+            zeroed: false,
+        }];
+        let time_body = emit_body(time, &bindings, &targets)?.tokens;
+        let time_cache = self.cache_read(time);
+        let len = m * n;
+        Ok(quote! {
+            if phi_q.len() != #len || phi_t.len() != #m {
+                return false;
+            }
+            {
+                #jacobian_cache
+                #jacobian_body
+            }
+            {
+                #time_cache
+                #time_body
+            }
+            true
         })
     }
 

@@ -37,7 +37,7 @@ use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
 use crate::algorithms::finite;
 use crate::error::Error;
 use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis, inf_norm, max_nan};
-use crate::system::{Evaluation, System, SystemInfo};
+use crate::system::{Evaluation, Sparsity, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
 /// LU route hands the solve to the augmented Lagrangian route (where LU would lose more than
@@ -80,6 +80,10 @@ pub struct Dynamics {
     last_augmented: bool,
     /// False after a [`Dynamics::solve_accelerations`] that skipped the multipliers.
     multipliers_current: bool,
+    /// The system's structural pattern of M and Phi_q, taken on the first solve when it has
+    /// one: the large-system route and the finiteness check then read it instead of the
+    /// dense matrices.
+    sparsity: Option<Sparsity>,
     /// Solves left before the LU route is tried again.
     skip_lu: usize,
     /// Condition-estimate limit of the LU route (default [`DEFAULT_CONDITION_LIMIT`]).
@@ -113,6 +117,7 @@ impl Dynamics {
             force: vec![0.0; n],
             last_augmented: false,
             multipliers_current: true,
+            sparsity: None,
             skip_lu: 0,
             condition_limit: DEFAULT_CONDITION_LIMIT,
             augmented_solves: 0,
@@ -168,10 +173,20 @@ impl Dynamics {
         self.evaluations += 1;
         if !self.specialised {
             self.specialised = true;
-            if let Some(solver) = system.null_space_solver()
+            // The null-space route serves small systems only: a large one never asks for
+            // its static-size solver (whose storage grows with n^2).
+            if n + m <= LU_MAX_ORDER
+                && let Some(solver) = system.null_space_solver()
                 && solver.dims() == (n, m)
             {
                 self.null_space = solver;
+            }
+            if let Some(s) = system.sparsity()
+                && (s.n, s.m) == (n, m)
+            {
+                self.augmented.fix(&s.mass, &s.jacobian);
+                self.basis.fix(&s.jacobian);
+                self.sparsity = Some(s.clone());
             }
         }
         system.evaluate(t, q, qd, &mut self.eval);
@@ -248,7 +263,11 @@ impl Dynamics {
         // Passes that the compiler can vectorise (no early exit).
         let all_finite = |v: &[f64]| v.iter().fold(true, |ok, x| ok & x.is_finite());
         let e = &self.eval;
-        if all_finite(e.mass.as_slice()) & all_finite(e.phi_q.as_slice()) & all_finite(&self.sol) {
+        let matrices = match &self.sparsity {
+            Some(s) => s.all_finite(e),
+            None => all_finite(e.mass.as_slice()) & all_finite(e.phi_q.as_slice()),
+        };
+        if matrices & all_finite(&self.sol) {
             return Ok(());
         }
         Err(finite::evaluation_error(
@@ -383,9 +402,20 @@ impl Dynamics {
         let e = &self.eval;
         self.basis.factor(&e.phi_q);
         if self.last_augmented {
-            for i in 0..n {
-                let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * self.sol[j]).sum();
-                self.direction[i] = self.force[i] - mx;
+            match &self.sparsity {
+                // M q'' over M's pattern only (the other entries are zero).
+                Some(s) => {
+                    self.direction.copy_from_slice(&self.force);
+                    for &(i, j) in &s.mass {
+                        self.direction[i] -= e.mass[(i, j)] * self.sol[j];
+                    }
+                }
+                None => {
+                    for i in 0..n {
+                        let mx: f64 = (0..n).map(|j| e.mass[(i, j)] * self.sol[j]).sum();
+                        self.direction[i] = self.force[i] - mx;
+                    }
+                }
             }
             let (_, lambda) = self.sol.split_at_mut(n);
             self.basis
@@ -438,6 +468,19 @@ impl Dynamics {
     /// |Phi_q q' + Phi_t|_inf at the last solve.
     pub fn velocity_constraint_error(&self, qd: &[f64]) -> f64 {
         let e = &self.eval;
+        if let Some(s) = &self.sparsity {
+            // Phi_q q' over Phi_q's pattern (row-major) only.
+            let mut worst = 0.0f64;
+            let mut entries = s.jacobian.iter().peekable();
+            for r in 0..self.m {
+                let mut v = e.phi_t[r];
+                while let Some(&(_, j)) = entries.next_if(|(row, _)| *row == r) {
+                    v += e.phi_q[(r, j)] * qd[j];
+                }
+                worst = max_nan(worst, v.abs());
+            }
+            return worst;
+        }
         (0..self.m).fold(0.0, |a, r| {
             let v: f64 = e.phi_t[r] + (0..self.n).map(|j| e.phi_q[(r, j)] * qd[j]).sum::<f64>();
             max_nan(a, v.abs())

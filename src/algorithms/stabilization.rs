@@ -53,7 +53,6 @@ pub enum Stabilization {
 /// Preallocated workspace for the projections; allocates nothing after [`Projector::new`].
 #[derive(Clone, Debug)]
 pub struct Projector {
-    n: usize,
     m: usize,
     phi: Vec<f64>,
     phi_t: Vec<f64>,
@@ -76,7 +75,6 @@ impl Projector {
     pub fn new(info: &SystemInfo) -> Self {
         let (n, m) = (info.n(), info.m());
         Self {
-            n,
             m,
             phi: vec![0.0; m],
             phi_t: vec![0.0; m],
@@ -89,6 +87,21 @@ impl Projector {
             accept: 1e-12,
             max_iterations: 20,
         }
+    }
+
+    /// Fixes the row spans of Phi_q from its structural nonzeros (see
+    /// [`RowSpans::fix`]): no scan of the dense Jacobian per projection.
+    pub fn fix(&mut self, pattern: &[(usize, usize)]) {
+        self.spans.fix(pattern);
+    }
+
+    /// [`check_jacobian`] of the last Phi_q; with fixed spans it reads the spans only,
+    /// unless one of their entries is not finite.
+    fn check_jacobian(&self, system: &dyn System, t: f64, q: &[f64]) -> Result<(), Error> {
+        if self.spans.is_fixed() && self.spans.all_finite(&self.phi_q) {
+            return Ok(());
+        }
+        check_jacobian(&self.phi_q, system.info(), t, q)
     }
 
     fn factor_gram(&mut self, t: f64) -> Result<(), Error> {
@@ -171,7 +184,7 @@ impl Projector {
             prev = r;
             if !stale {
                 system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
-                check_jacobian(&self.phi_q, system.info(), t, q)?;
+                self.check_jacobian(system, t, q)?;
                 self.factor_gram(t)?;
             }
             self.z.copy_from_slice(&self.phi);
@@ -192,12 +205,12 @@ impl Projector {
             return Ok(());
         }
         system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
-        check_jacobian(&self.phi_q, system.info(), t, q)?;
+        self.check_jacobian(system, t, q)?;
         check_rows("Phi_t", &self.phi_t, system.info(), t, q)?;
         self.factor_gram(t)?;
         for i in 0..self.m {
-            self.z[i] =
-                self.phi_t[i] + (0..self.n).map(|k| self.phi_q[(i, k)] * qd[k]).sum::<f64>();
+            let span = self.spans.span(i);
+            self.z[i] = self.phi_t[i] + span.map(|k| self.phi_q[(i, k)] * qd[k]).sum::<f64>();
         }
         self.correct(qd);
         Ok(())

@@ -127,6 +127,9 @@ impl<'a> Simulator<'a> {
             dynamics.baumgarte = Some((alpha, beta));
         }
         let mut projector = Projector::new(info);
+        if let Some(s) = system.sparsity() {
+            projector.fix(&s.jacobian);
+        }
         let mut y = vec![0.0; 2 * n + 1];
         y[..n].copy_from_slice(&q);
         y[n..2 * n].copy_from_slice(&qd);

@@ -75,6 +75,9 @@ impl SingularWatch {
             armed: true,
             threshold: 1e-3,
         };
+        if let Some(s) = system.sparsity() {
+            w.basis.fix(&s.jacobian);
+        }
         w.measure(system, t0, q0);
         for r in 0..m {
             w.redundant[r] = w.basis.is_redundant(r);

@@ -6,6 +6,7 @@ use super::drawing::Drawing;
 use super::dynamic::{Evaluation, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
+use super::sparsity::Sparsity;
 use crate::linalg::{FixedNullSpace, NullSpaceSolve};
 
 /// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.
@@ -14,6 +15,8 @@ pub struct Compiled<T, const N: usize, const M: usize> {
     /// The compiled mechanism (its fields are the parameters).
     pub mechanism: T,
     info: SystemInfo,
+    /// The run-time copy of `T::SPARSITY`.
+    sparsity: Option<Sparsity>,
 }
 
 impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
@@ -39,9 +42,20 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                 .collect(),
             drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
         };
-        Self { mechanism, info }
+        let sparsity = T::SPARSITY.map(|s| Sparsity::from_static(N, M, &s));
+        Self {
+            mechanism,
+            info,
+            sparsity,
+        }
     }
 }
+
+/// Entries of M and Phi_q together above which [`Compiled`] evaluates through
+/// [`Mechanism::evaluate_sparse_into`] (no zeroing or copying of the dense matrices) rather
+/// than `evaluate_into` and a copy: a 20 x 20 system's copy is already larger than its
+/// evaluation's nonzeros.
+const SPARSE_ABOVE: usize = 400;
 
 fn to_static<const N: usize>(x: &[f64]) -> SVector<f64, N> {
     SVector::<f64, N>::from_fn(|i, _| x[i])
@@ -60,6 +74,19 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         self.mechanism.set_parameter(index, value)
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
+        // With a pattern, M and Phi_q of a large mechanism are written in place at their
+        // nonzeros only; a small one takes `evaluate_into` (its AVX2 copy) and the copy.
+        if N * (N + M) > SPARSE_ABOVE
+            && self.sparsity.is_some()
+            && self.mechanism.evaluate_sparse_into(
+                t,
+                &to_static(q),
+                &to_static(qd),
+                &mut out.slices(),
+            )
+        {
+            return;
+        }
         let mut e = StaticEvaluation::<N, M>::zeros();
         self.mechanism
             .evaluate_into(t, &to_static(q), &to_static(qd), &mut e);
@@ -80,8 +107,19 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
     }
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
         let qs = to_static(q);
+        if N * M > SPARSE_ABOVE
+            && self.sparsity.is_some()
+            && self
+                .mechanism
+                .constraint_jacobian_sparse_into(t, &qs, phi_q.as_mut_slice(), phi_t)
+        {
+            return;
+        }
         phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
         phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
+    }
+    fn sparsity(&self) -> Option<&Sparsity> {
+        self.sparsity.as_ref()
     }
     fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
         Some(Box::new(FixedNullSpace::<N, M>::default()))

@@ -4,6 +4,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::info::SystemInfo;
+use super::sparsity::Sparsity;
 use crate::linalg::NullSpaceSolve;
 
 /// Caller-owned buffers for one evaluation of a [`System`] (sizes n and m fixed at creation).
@@ -59,11 +60,21 @@ pub trait System: Send + Sync {
     fn parameter_values(&self, out: &mut [f64]);
     /// Sets parameter `index`; returns false when out of range.
     fn set_parameter(&mut self, index: usize, value: f64) -> bool;
-    /// Everything at (t, q, q'): see [`Evaluation`].
+    /// Everything at (t, q, q'): see [`Evaluation`]. A system with a [`System::sparsity`]
+    /// may write M and Phi_q at their pattern only: `out` must then come from
+    /// [`Evaluation::zeros`] and be written by this system alone.
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation);
+    /// The structural pattern of M and Phi_q (entries outside it are zero at every state),
+    /// which the large-system solvers read instead of scanning the dense matrices; `None`
+    /// (the default) when unknown.
+    fn sparsity(&self) -> Option<&Sparsity> {
+        None
+    }
     /// Phi(q, t) into `phi` (length m).
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
-    /// Phi_q (m x n) and Phi_t (m) at (q, t).
+    /// Phi_q (m x n) and Phi_t (m) at (q, t). As in [`System::evaluate`], a system with a
+    /// [`System::sparsity`] may write Phi_q at its pattern only (`phi_q` made zero once and
+    /// written by this system alone).
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
     /// World positions of the drawn points of [`SystemInfo::drawing`] at (t, q), 3 values per
     /// point into `out` (see [`crate::Mechanism::draw_points`]); nothing by default.

@@ -18,6 +18,8 @@ use mechanism_codegen::{
 use nalgebra::DMatrix;
 
 use crate::system::routine::{Routine, Values};
+use crate::system::scatter::{EvaluationScatter, matrix_scatter, write_matrix};
+use crate::system::sparsity::Sparsity;
 use crate::system::{
     ConstraintRow, Drawing, DrawnPoint, Evaluation, Independent, System, SystemInfo, Tangent,
 };
@@ -33,10 +35,16 @@ pub struct Interpreted {
     parameter_cache: Routine,
     /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi ([`Role::Evaluation`]).
     full: Routine,
+    /// The structural pattern of M and Phi_q ([`mechanism_codegen::Routines::sparsity`]).
+    sparsity: Sparsity,
+    /// Where `full`'s outputs go: M and Phi_q at their pattern only.
+    scatter: EvaluationScatter,
     /// Phi ([`Role::Constraints`]).
     phi: Routine,
     /// Phi_q ([`Role::ConstraintJacobian`]).
     jacobian: Routine,
+    /// Where `jacobian`'s structural nonzeros go in a column-major Phi_q.
+    jacobian_scatter: Vec<(usize, usize)>,
     /// Phi_t ([`Role::ConstraintTimeDerivative`]).
     time_derivative: Routine,
     /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
@@ -112,12 +120,35 @@ impl Interpreted {
             Some(_) => Some(routine(Role::Draw, 3 * model.drawing.points.len())?),
             None => None,
         };
+        let sparsity = Sparsity {
+            n,
+            m,
+            mass: routines.sparsity(EvaluationOutput::Mass)?.entries,
+            jacobian: routines.sparsity(EvaluationOutput::PhiQ)?.entries,
+        };
+        let full = routine(Role::Evaluation, full_len)?;
+        // `full` has full_len outputs (checked above), all that the scatter reads.
+        let scatter = EvaluationScatter::new(&full, &sparsity).ok_or(Error::OutputCount {
+            what: "evaluation outputs",
+            given: full_len,
+            outputs: 0,
+        })?;
+        let jacobian = routine(Role::ConstraintJacobian, m * n)?;
+        let jacobian_scatter =
+            matrix_scatter(&jacobian, 0, (m, n), &sparsity.jacobian).ok_or(Error::OutputCount {
+                what: "constraint Jacobian outputs",
+                given: m * n,
+                outputs: 0,
+            })?;
         let mut interpreted = Self {
             draw,
             parameter_cache: routine(Role::ParameterCache, routines.cache_len())?,
-            full: routine(Role::Evaluation, full_len)?,
+            full,
+            sparsity,
+            scatter,
             phi: routine(Role::Constraints, m)?,
-            jacobian: routine(Role::ConstraintJacobian, m * n)?,
+            jacobian,
+            jacobian_scatter,
             time_derivative: routine(Role::ConstraintTimeDerivative, m)?,
             tangent: routine(Role::Tangent, 2 * n * n)?,
             cache: vec![0.0; routines.cache_len()],
@@ -198,31 +229,16 @@ impl System for Interpreted {
     }
 
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
-        let (n, m) = (self.info.n(), self.info.m());
         let values = Values {
             qd,
             ..self.at(t, q)
         };
-        self.full.run(&values, |v| {
-            let mut k = 0;
-            for o in EvaluationOutput::ORDER {
-                let (rows, cols) = o.shape(n, m);
-                let v = &v[k..k + rows * cols];
-                match o {
-                    EvaluationOutput::Mass => copy_block(v, n, n, &mut out.mass),
-                    EvaluationOutput::CoriolisForces => out.coriolis.copy_from_slice(v),
-                    EvaluationOutput::Gravity => out.gravity.copy_from_slice(v),
-                    EvaluationOutput::Forces => out.forces.copy_from_slice(v),
-                    EvaluationOutput::Phi => out.phi.copy_from_slice(v),
-                    EvaluationOutput::PhiQ => copy_block(v, m, n, &mut out.phi_q),
-                    EvaluationOutput::PhiT => out.phi_t.copy_from_slice(v),
-                    EvaluationOutput::Gamma => out.gamma.copy_from_slice(v),
-                    EvaluationOutput::Kinetic => out.kinetic = v[0],
-                    EvaluationOutput::Potential => out.potential = v[0],
-                }
-                k += rows * cols;
-            }
-        });
+        self.full
+            .execute(&values, |registers| self.scatter.write(registers, out));
+    }
+
+    fn sparsity(&self) -> Option<&Sparsity> {
+        Some(&self.sparsity)
     }
 
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
@@ -240,9 +256,11 @@ impl System for Interpreted {
     }
 
     fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        let (n, m) = (self.info.n(), self.info.m());
         let at = self.at(t, q);
-        self.jacobian.run(&at, |v| copy_block(v, m, n, phi_q));
+        // Phi_q at its structural nonzeros only (the others stay zero; see System::sparsity).
+        self.jacobian.execute(&at, |registers| {
+            write_matrix(&self.jacobian_scatter, registers, phi_q.as_mut_slice());
+        });
         self.time_derivative.run(&at, |v| phi_t.copy_from_slice(v));
     }
 

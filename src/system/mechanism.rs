@@ -12,6 +12,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::sparsity::{EvaluationSlices, StaticSparsity};
+
 /// q, the N coordinates of a mechanism with static sizes (lengths in m, angles in rad).
 pub type Coordinates<const N: usize> = SVector<f64, N>;
 /// q', the rates of the coordinates.
@@ -195,6 +197,38 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
         out: &mut StaticEvaluation<N, M>,
     ) {
         *out = self.evaluate(t, q, qd);
+    }
+    /// The structural nonzeros of M and Phi_q (see [`StaticSparsity`]); `None` for a
+    /// hand-written impl that does not provide [`Mechanism::evaluate_sparse_into`].
+    const SPARSITY: Option<StaticSparsity> = None;
+
+    /// [`Mechanism::evaluate_into`] into run-time buffers, writing M and Phi_q at
+    /// [`Mechanism::SPARSITY`] only (the caller keeps their other entries at zero: no
+    /// zeroing or copying of the dense matrices per call) and every entry of the vectors.
+    /// Returns false, writing nothing, when a slice does not have the length of n = `N`
+    /// coordinates and m = `M` rows, or when the impl does not provide it (the default).
+    fn evaluate_sparse_into(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        out: &mut EvaluationSlices<'_>,
+    ) -> bool {
+        let _ = (t, q, qd, out);
+        false
+    }
+    /// Phi_q (column-major, M N entries) written at [`Mechanism::SPARSITY`] only (the
+    /// caller keeps the other entries at zero) and Phi_t (M entries). Returns false, writing
+    /// nothing, for slices of other lengths or when not provided (the default).
+    fn constraint_jacobian_sparse_into(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        phi_q: &mut [f64],
+        phi_t: &mut [f64],
+    ) -> bool {
+        let _ = (t, q, phi_q, phi_t);
+        false
     }
     /// Brings values cached from the parameters up to date (the emitted code caches the
     /// parameter-only subexpressions; `set_parameter` refreshes them itself, a change

@@ -29,6 +29,9 @@ mod mechanism;
 mod registers;
 #[cfg(feature = "interpreter")]
 pub(crate) mod routine;
+#[cfg(feature = "interpreter")]
+mod scatter;
+mod sparsity;
 
 #[cfg(feature = "std")]
 pub use compiled::Compiled;
@@ -43,3 +46,6 @@ pub use interpreted::Interpreted;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
 };
+#[cfg(feature = "std")]
+pub use sparsity::Sparsity;
+pub use sparsity::{EvaluationSlices, StaticSparsity};

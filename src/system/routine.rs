@@ -77,13 +77,43 @@ impl Routine {
     /// the thread's first evaluation) allocates: a non-finite value reaches the outputs it
     /// affects, where the solvers' finiteness checks report it with t and q.
     pub(crate) fn run<R>(&self, values: &Values<'_>, sink: impl FnOnce(&[f64]) -> R) -> R {
-        let (registers, outputs) = (self.tape.register_len(), self.tape.output_len());
+        self.run_with(values, true, |regs, out| {
+            let _ = regs;
+            sink(out)
+        })
+    }
+
+    /// [`Routine::run`] handing `sink` the register file itself, without copying the
+    /// outputs: output entry k is at [`Routine::output_slot`]`(k)` of it.
+    pub(crate) fn execute<R>(&self, values: &Values<'_>, sink: impl FnOnce(&[f64]) -> R) -> R {
+        self.run_with(values, false, |regs, _| sink(regs))
+    }
+
+    /// The register-file slot of output entry `k` after [`Routine::execute`].
+    pub(crate) fn output_slot(&self, k: usize) -> Option<usize> {
+        self.tape.output_slot(k)
+    }
+
+    /// Loads the inputs, runs the tape (copying its outputs when `copy`) and calls `sink`
+    /// with the register file and the outputs (empty unless copied).
+    fn run_with<R>(
+        &self,
+        values: &Values<'_>,
+        copy: bool,
+        sink: impl FnOnce(&[f64], &[f64]) -> R,
+    ) -> R {
+        let registers = self.tape.register_len();
+        let outputs = if copy { self.tape.output_len() } else { 0 };
         with_registers(registers, outputs, |regs, out| {
             for &(slot, source) in &self.inputs {
                 regs[slot] = values.get(source);
             }
-            self.tape.run(regs, out);
-            sink(out)
+            if copy {
+                self.tape.run(regs, out);
+            } else {
+                self.tape.execute(regs);
+            }
+            sink(regs, out)
         })
     }
 }

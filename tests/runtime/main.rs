@@ -24,5 +24,6 @@ mod non_finite;
 mod overconstrained;
 mod pendulum;
 mod portable_math;
+mod sparsity;
 mod systems;
 mod tolerance_sweep;

@@ -7,7 +7,9 @@ use nalgebra::SVector;
 
 /// The paths the generated code uses, with the math of a build without std.
 pub mod runtime {
-    pub use mechanism::{__private, Independent, Mechanism, StaticEvaluation};
+    pub use mechanism::{
+        __private, EvaluationSlices, Independent, Mechanism, StaticEvaluation, StaticSparsity,
+    };
 
     /// What `mechanism::math` is without the `std` feature.
     pub mod math {

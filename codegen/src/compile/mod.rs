@@ -14,6 +14,9 @@
 //! 4. the symbol-source table (`sources.rs`), with one [`Source::Cache`] per cache slot;
 //! 5. the check that every symbol each program reads has a source its role provides.
 //!
+//! The structural pattern of M and Phi_q ([`Sparsity`], `sparsity.rs`) is read off the
+//! evaluation program afterwards, for both back ends.
+//!
 //! The macro emits its methods from [`Routines`] (through `emit`) and the interpreter builds
 //! its tapes from them (through `Tape`): both run the same programs, so they compute the
 //! same bits. Imports: `algebra`, `mechanics` and `program`; nothing here knows `emit`.
@@ -21,6 +24,7 @@
 pub(crate) mod passes;
 pub(crate) mod role;
 pub(crate) mod sources;
+pub(crate) mod sparsity;
 
 use std::fmt::Write as _;
 
@@ -33,6 +37,8 @@ use crate::program::hoist::hoist_parameters;
 
 pub use role::Role;
 pub use sources::{Source, Sources};
+pub use sparsity::Sparsity;
+pub(crate) use sparsity::structural_zero;
 
 /// The compiled routines of one mechanism: a program per role, the parameter cache, and
 /// where each symbol they read comes from.

@@ -34,6 +34,7 @@ use proc_macro2::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenS
 use quote::{ToTokens, TokenStreamExt, quote};
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
+use crate::compile::structural_zero;
 use crate::emit::lanes;
 use crate::error::{Error, Result};
 use crate::program::cse::Program;
@@ -116,10 +117,25 @@ pub enum OutputTarget {
         /// Skip entries equal to 0.
         zeroed: bool,
     },
+    /// `name[i + j * rows] = value;` for each entry of the structural pattern
+    /// ([`crate::Sparsity`]) only: a column-major slice (the storage of a run-time matrix)
+    /// that the caller keeps at zero on the structural zeros, which are never written.
+    ColumnMajor {
+        /// The slice place expression.
+        name: TokenStream,
+    },
     /// The value of a 1 x 1 output is the body's tail expression (at most one per body).
     Return,
     /// Not emitted: instructions only this output needs are left out.
     Skip,
+}
+
+/// How a written output entry is indexed.
+#[derive(Clone, Copy)]
+enum Layout {
+    Matrix,
+    Vector,
+    ColumnMajor,
 }
 
 /// An emitted body with its operation counts.
@@ -323,26 +339,32 @@ impl Emitter<'_> {
     fn writes(&self, p: &Program, targets: &[&OutputTarget]) -> Writes {
         let mut w = Writes::default();
         for (o, t) in p.outputs().iter().zip(targets) {
-            let (name, zeroed, matrix) = match t {
-                OutputTarget::Matrix { name, zeroed } => (name, *zeroed, true),
-                OutputTarget::Vector { name, zeroed } => (name, *zeroed, false),
+            let (name, zeroed, layout) = match t {
+                OutputTarget::Matrix { name, zeroed } => (name, *zeroed, Layout::Matrix),
+                OutputTarget::Vector { name, zeroed } => (name, *zeroed, Layout::Vector),
+                OutputTarget::ColumnMajor { name } => (name, true, Layout::ColumnMajor),
                 _ => continue,
             };
             for (k, &v) in o.entries.iter().enumerate() {
-                if zeroed && v == Operand::Const(0.0) {
+                if zeroed && structural_zero(v) {
                     continue;
                 }
                 let value = self.operand(v);
                 let cols = o.cols.max(1);
-                let (i, j) = (
-                    Literal::usize_unsuffixed(k / cols),
-                    Literal::usize_unsuffixed(k % cols),
-                );
-                let k = Literal::usize_unsuffixed(k);
-                let write = if matrix {
-                    quote!(#name[(#i, #j)] = #value;)
-                } else {
-                    quote!(#name[#k] = #value;)
+                let (i, j) = (k / cols, k % cols);
+                let write = match layout {
+                    Layout::Matrix => {
+                        let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
+                        quote!(#name[(#i, #j)] = #value;)
+                    }
+                    Layout::Vector => {
+                        let k = Literal::usize_unsuffixed(k);
+                        quote!(#name[#k] = #value;)
+                    }
+                    Layout::ColumnMajor => {
+                        let k = Literal::usize_unsuffixed(i + j * o.rows);
+                        quote!(#name[#k] = #value;)
+                    }
                 };
                 match v {
                     Operand::Reg(r) => w.after.entry(r.0).or_default().extend(write),

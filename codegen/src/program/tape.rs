@@ -263,6 +263,25 @@ impl Tape {
     /// # Panics
     /// When `registers` is shorter than [`Tape::register_len`] (a caller sizes it once).
     pub fn run(&self, registers: &mut [f64], out: &mut [f64]) {
+        self.execute(registers);
+        for (o, &slot) in out.iter_mut().zip(&self.outputs) {
+            *o = registers[slot as usize];
+        }
+    }
+
+    /// The register-file slot that holds output entry `k` after [`Tape::execute`] (entries
+    /// numbered as [`Tape::run`] writes them), or `None` past the last.
+    pub fn output_slot(&self, k: usize) -> Option<usize> {
+        self.outputs.get(k).map(|&s| s as usize)
+    }
+
+    /// [`Tape::run`] without copying the outputs: afterwards output entry k is in
+    /// `registers[output_slot(k)]`, for a caller that reads a few of many outputs (the
+    /// structural nonzeros of a large M).
+    ///
+    /// # Panics
+    /// When `registers` is shorter than [`Tape::register_len`].
+    pub fn execute(&self, registers: &mut [f64]) {
         let r = registers;
         r[..self.constants.len()].copy_from_slice(&self.constants);
         for op in &self.ops {
@@ -294,9 +313,6 @@ impl Tape {
                     r[t as usize] = mul_add(x, r[b as usize], z);
                 }
             }
-        }
-        for (o, &slot) in out.iter_mut().zip(&self.outputs) {
-            *o = r[slot as usize];
         }
     }
 }
