@@ -94,11 +94,14 @@ pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
 pub use mechanics::lagrange::{Route, derive, derive_with};
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
-pub use mechanics::tangent::{ResidualTangent, residual_tangent};
+pub use mechanics::tangent::{
+    ConstraintTangent, ResidualTangent, constraint_tangent, residual_tangent,
+};
 pub use mechanics::tree::{Link, LinkJoint};
 pub use number::Number;
 pub use pipeline::{
-    SpannedError, check_parameter_values, parse_declaration, parse_declaration_str, parse_model_str,
+    SpannedError, check_parameter_values, parse_declaration, parse_declaration_str,
+    parse_model_str, parse_model_str_with,
 };
 pub use print::latex::equations_latex;
 pub use print::text::{equations_text, to_text};

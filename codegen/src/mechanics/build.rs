@@ -10,7 +10,7 @@ use crate::error::{Constant, DeclarationError, Error, Location, Result};
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 use crate::mechanics::resolve::{ArenaResolver, resolve};
 use crate::syntax::ast::Ast;
-use crate::syntax::declaration::{Declaration, Item};
+use crate::syntax::declaration::{Declaration, Item, Row, Section};
 
 /// Locations of the parts of a declaration that [`Model`] does not record, and the spans of
 /// all tokens, so later stages (derivation, the macro) can point at the user's text.
@@ -117,7 +117,12 @@ pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Resu
         Some(p) => resolve_at(&mut arena, &p.body)?,
         None => arena.int(0),
     };
-    let constraints = build_constraints(&mut arena, d)?;
+    let constraints = build_constraints(&mut arena, d.constraints.as_ref(), "constraint")?;
+    let velocity_constraints = build_constraints(
+        &mut arena,
+        d.velocity_constraints.as_ref(),
+        "velocity constraint",
+    )?;
     let (forces, force_entries) = build_forces(&mut arena, d, &coordinates)?;
     let spans = ModelSpans {
         tokens: Vec::new(),
@@ -144,6 +149,7 @@ pub(crate) fn build_with_values(d: &Declaration, values: &[(&str, f64)]) -> Resu
         kinetic_location: kinetic_at,
         potential,
         constraints,
+        velocity_constraints,
         forces,
         drawing: Default::default(),
         links: Vec::new(),
@@ -281,10 +287,15 @@ fn build_independent(
     Ok(independent)
 }
 
-/// The constraint rows lhs - rhs, in declaration order.
-fn build_constraints(arena: &mut Arena, d: &Declaration) -> Result<Vec<Constraint>> {
+/// The rows lhs - rhs of a `constraints` (or `velocity_constraints`) section, in declaration
+/// order, each labelled `{label} k` after its statement k.
+fn build_constraints(
+    arena: &mut Arena,
+    section: Option<&Section<Vec<Row>>>,
+    label: &str,
+) -> Result<Vec<Constraint>> {
     let mut constraints = Vec::new();
-    for row in d.constraints.iter().flat_map(|s| &s.body) {
+    for row in section.iter().flat_map(|s| &s.body) {
         let lhs = resolve_at(arena, &row.lhs)?;
         let expr = match &row.rhs {
             Some(r) => {
@@ -296,7 +307,7 @@ fn build_constraints(arena: &mut Arena, d: &Declaration) -> Result<Vec<Constrain
         constraints.push(Constraint {
             expr,
             location: row.at,
-            joint: format!("constraint {}", row.statement),
+            joint: format!("{label} {}", row.statement),
             component: row.component.clone(),
         });
     }

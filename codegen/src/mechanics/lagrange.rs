@@ -29,6 +29,7 @@ use crate::error::{Error, Result};
 use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::model::Model;
+use crate::mechanics::nonholonomic::append_velocity_rows;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
@@ -259,9 +260,10 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
             operation: o.to_string(),
         });
     }
-    Ok(Equations {
+    let mut eqs = Equations {
         n,
         m,
+        velocity_rows: 0,
         mass,
         coriolis_matrix,
         coriolis_forces,
@@ -275,7 +277,9 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         potential,
         inverse_dynamics,
         frames,
-    })
+    };
+    append_velocity_rows(model, &mut eqs)?;
+    Ok(eqs)
 }
 
 /// 1/2 q'^T M q', each pair once: sum_i 1/2 M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j'.
@@ -404,7 +408,7 @@ fn is_quadratic_form(
 
 /// `id` with each symbol of `map` replaced by its image, rebuilt with the canonical
 /// constructors (children first).
-fn substitute(
+pub(crate) fn substitute(
     arena: &mut Arena,
     d: &mut Differentiator,
     id: Id,
