@@ -89,9 +89,10 @@ pub use compile::{Role, Routines, Source, Sources, compile};
 pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
+pub use mechanics::derivation::{derive, derive_with};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
-pub use mechanics::lagrange::{Route, derive, derive_with};
+pub use mechanics::lagrange::Route;
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{

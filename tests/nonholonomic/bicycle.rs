@@ -171,3 +171,15 @@ fn weave_and_capsize_speeds_to_1e_9() {
         "capsize speed {capsize}"
     );
 }
+
+#[test]
+fn mobility_counts_positions_and_velocities_apart() {
+    let system = load("whipple_bicycle", &[]);
+    let s = assemble_with(&system, &[("thR", 5.0 / REAR_RADIUS)]);
+    let mob = mechanism::mobility(&system, 0.0, &s.q).unwrap();
+    // 9 coordinates, 2 contact heights, 4 sliding rows (the paper: a 7-dimensional
+    // configuration space and 3 velocity degrees of freedom).
+    assert_eq!((mob.n, mob.m, mob.rank), (9, 6, 6));
+    assert_eq!(mob.position_degrees_of_freedom, 7);
+    assert_eq!(mob.degrees_of_freedom, 3);
+}

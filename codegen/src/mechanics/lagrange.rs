@@ -29,7 +29,6 @@ use crate::error::{Error, Result};
 use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::model::Model;
-use crate::mechanics::nonholonomic::append_velocity_rows;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
@@ -260,7 +259,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
             operation: o.to_string(),
         });
     }
-    let mut eqs = Equations {
+    Ok(Equations {
         n,
         m,
         velocity_rows: 0,
@@ -277,9 +276,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         potential,
         inverse_dynamics,
         frames,
-    };
-    append_velocity_rows(model, &mut eqs)?;
-    Ok(eqs)
+    })
 }
 
 /// 1/2 q'^T M q', each pair once: sum_i 1/2 M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j'.

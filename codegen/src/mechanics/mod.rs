@@ -23,6 +23,7 @@ pub(crate) mod body_checks;
 pub(crate) mod body_model;
 pub(crate) mod build;
 pub(crate) mod check;
+pub(crate) mod derivation;
 pub(crate) mod drawing;
 pub(crate) mod equations;
 pub(crate) mod joints;
