@@ -18,6 +18,9 @@
 //! | `planar_four_bar_bodies` | [`PlanarFourBarBodies`] | 18 | 20 | the four-bar with bodies and spatial revolutes (rank 17) |
 //! | `panda`                | [`Panda`]             | 7 | 0 | Franka Panda arm, imported from its URDF (fingers locked) |
 //! | `five_bar`             | [`FiveBar`]           | 4 | 2 | five-bar parallel leg, declared with link frames |
+//! | `whipple_bicycle`      | [`WhippleBicycle`]    | 9 | 6 | the benchmark bicycle (2 position, 4 velocity rows) |
+//! | `rolling_disc`         | [`RollingDisc`]       | 6 | 3 | thin disc rolling on the ground (1 + 2 rows) |
+//! | `chaplygin_sleigh`     | [`ChaplyginSleigh`]   | 3 | 1 | knife edge: one velocity row    |
 
 use crate::{Compiled, System};
 
@@ -43,6 +46,9 @@ crate::mechanism!(
 );
 crate::mechanism!(crate = crate, file = "mechanisms/panda.mech");
 crate::mechanism!(crate = crate, file = "mechanisms/five_bar.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/whipple_bicycle.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/rolling_disc.mech");
+crate::mechanism!(crate = crate, file = "mechanisms/chaplygin_sleigh.mech");
 
 /// The snake_case names of the compiled-in mechanisms (their file stems under
 /// `mechanisms/`), in the order of the table above.
@@ -61,6 +67,9 @@ pub fn builtin_names() -> &'static [&'static str] {
         "planar_four_bar_bodies",
         "panda",
         "five_bar",
+        "whipple_bicycle",
+        "rolling_disc",
+        "chaplygin_sleigh",
     ]
 }
 
@@ -81,6 +90,9 @@ pub fn builtin(name: &str) -> Option<Box<dyn System>> {
         "planar_four_bar_bodies" => Box::new(Compiled::new(PlanarFourBarBodies::default())),
         "panda" => Box::new(Compiled::new(Panda::default())),
         "five_bar" => Box::new(Compiled::new(FiveBar::default())),
+        "whipple_bicycle" => Box::new(Compiled::new(WhippleBicycle::default())),
+        "rolling_disc" => Box::new(Compiled::new(RollingDisc::default())),
+        "chaplygin_sleigh" => Box::new(Compiled::new(ChaplyginSleigh::default())),
         _ => return None,
     };
     Some(system)
@@ -105,6 +117,9 @@ pub fn builtin_source(name: &str) -> Option<&'static str> {
         "planar_four_bar_bodies" => include_str!("../mechanisms/planar_four_bar_bodies.mech"),
         "panda" => include_str!("../mechanisms/panda.mech"),
         "five_bar" => include_str!("../mechanisms/five_bar.mech"),
+        "whipple_bicycle" => include_str!("../mechanisms/whipple_bicycle.mech"),
+        "rolling_disc" => include_str!("../mechanisms/rolling_disc.mech"),
+        "chaplygin_sleigh" => include_str!("../mechanisms/chaplygin_sleigh.mech"),
         _ => return None,
     })
 }

@@ -396,6 +396,21 @@ pub enum Error {
         /// The allowed range, in words.
         allowed: &'static str,
     },
+    /// A linearisation requested at a state that is not a steady motion.
+    #[error(
+        "the state is not a steady motion: {reason}; linearise at an equilibrium or a steady \
+         motion (q'' = 0, the moving coordinates cyclic)"
+    )]
+    NotSteady {
+        /// What is not steady.
+        reason: String,
+    },
+    /// A linearisation that cannot be formed (no exact tangents, dependent rows).
+    #[error("cannot linearise: {reason}")]
+    Linearization {
+        /// Why.
+        reason: String,
+    },
     /// A vector given with the wrong number of entries.
     #[error("{what} has {got} entries; the mechanism has {expected}")]
     WrongLength {

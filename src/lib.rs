@@ -135,6 +135,8 @@ pub use crate::algorithms::mobility::{Mobility, mobility};
 #[cfg(feature = "std")]
 pub use crate::algorithms::stabilization::{Projector, Stabilization};
 #[cfg(feature = "std")]
+pub use crate::algorithms::steady::{SteadyLinearization, SteadyOptions, linearize_steady};
+#[cfg(feature = "std")]
 pub use crate::error::Error;
 #[cfg(feature = "std")]
 pub use crate::integrators::{IntegratorOptions, Method, StepController};
@@ -162,7 +164,8 @@ pub use crate::system::{
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
-    Compiled, ConstraintRow, Drawing, DrawnPoint, Evaluation, Sparsity, System, SystemInfo, Tangent,
+    Compiled, ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Sparsity, System,
+    SystemInfo, Tangent,
 };
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].

@@ -154,6 +154,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         kinetic_location: Location::default(),
         potential,
         constraints,
+        velocity_constraints: Vec::new(),
         forces: vec![zero; n],
         drawing: Default::default(),
         links: Vec::new(),

@@ -92,17 +92,21 @@ pub use compile::{Role, Routines, Source, Sources, Sparsity, compile};
 pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
+pub use mechanics::derivation::{derive, derive_with};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
-pub use mechanics::lagrange::{Route, derive, derive_with};
+pub use mechanics::lagrange::Route;
 pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 pub use mechanics::resolve::parse_expr;
-pub use mechanics::tangent::{ResidualTangent, residual_tangent};
+pub use mechanics::tangent::{
+    ConstraintTangent, ResidualTangent, constraint_tangent, residual_tangent,
+};
 pub use mechanics::tree::{Link, LinkJoint};
 pub use number::Number;
 pub use pipeline::{
     SpannedError, check_parameter_values, parse_declaration, parse_declaration_str,
-    parse_declaration_str_with, parse_declaration_with, parse_model_str, parse_model_str_with,
+    parse_declaration_str_with, parse_declaration_with, parse_model_str, parse_model_str_at,
+    parse_model_str_with,
 };
 pub use print::latex::equations_latex;
 pub use print::text::{equations_text, to_text};

@@ -165,6 +165,21 @@ pub fn parse_model_str_with(text: &str, budget: Budget) -> Result<Model, Error> 
     declare(&toks, budget).map(|p| p.model).map_err(first)
 }
 
+/// [`parse_model_str`] with the parameters and coordinates named in `values` (name, value)
+/// at those values instead of their declared defaults and initial guesses: the values that
+/// depend on them (later defaults, the `independent` values such as `der(w) = v/r`) follow.
+///
+/// # Errors
+/// As [`parse_model_str`].
+pub fn parse_model_str_at(text: &str, values: &[(&str, f64)]) -> Result<Model, Error> {
+    let toks = tokens_from_str(text)?;
+    let d = declaration(&toks)?;
+    if let Some(e) = check(&d).into_iter().next() {
+        return Err(e);
+    }
+    build_with_values(&d, values).map(|p| p.model)
+}
+
 fn first<E>(errors: Vec<E>) -> E
 where
     E: From<Error>,

@@ -42,6 +42,7 @@ struct Tables {
     independent: Vec<TokenStream>,
     row_joints: Vec<String>,
     row_components: Vec<String>,
+    velocity_rows: usize,
 }
 
 impl Tables {
@@ -58,10 +59,13 @@ impl Tables {
                 quote!(#krate::Independent { coordinate: #k, position: #position, velocity: #velocity })
             })
             .collect();
+        // The position rows, then the velocity rows (the order of the stacked Phi_q).
+        let rows = || model.constraints.iter().chain(&model.velocity_constraints);
         Tables {
             name: Ident::new(&model.name, Span::call_site()),
             n: model.coordinates.len(),
-            m: model.constraints.len(),
+            m: model.constraints.len() + model.velocity_constraints.len(),
+            velocity_rows: model.velocity_constraints.len(),
             p: model.parameters.len(),
             fields: (model.parameters.iter())
                 .map(|p| Ident::new(&p.name, Span::call_site()))
@@ -74,12 +78,8 @@ impl Tables {
             coordinate_names: model.coordinates.iter().map(|c| c.name.clone()).collect(),
             guesses: model.coordinates.iter().map(|c| float(c.guess)).collect(),
             independent,
-            row_joints: model.constraints.iter().map(|c| c.joint.clone()).collect(),
-            row_components: model
-                .constraints
-                .iter()
-                .map(|c| c.component.clone())
-                .collect(),
+            row_joints: rows().map(|c| c.joint.clone()).collect(),
+            row_components: rows().map(|c| c.component.clone()).collect(),
         }
     }
 }
@@ -338,6 +338,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
         independent,
         row_joints,
         row_components,
+        velocity_rows,
         ..
     } = t;
     let indices: Vec<usize> = (0..*p).collect();
@@ -356,6 +357,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
             const INDEPENDENT: &'static [#krate::Independent] = &[#(#independent),*];
             const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] =
                 &[#((#row_joints, #row_components)),*];
+            const VELOCITY_ROWS: usize = #velocity_rows;
             #drawing
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {

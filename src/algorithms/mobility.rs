@@ -10,7 +10,9 @@
 //! [`RowBasis`] (a row is redundant when its distance to the span of the rows before it is
 //! below 1e-6 of its norm). The multipliers of the rows on which the null space of Phi_q^T
 //! is nonzero are not unique: only their combination Phi_q^T lambda (the constraint forces
-//! on the coordinates) is.
+//! on the coordinates) is. With velocity rows A q' + a = 0 (the last rows of Phi_q), the
+//! degrees of freedom in positions, n - rank of the position rows, exceed those in
+//! velocities (the Whipple bicycle: 7 and 3).
 
 use nalgebra::DMatrix;
 
@@ -28,8 +30,11 @@ pub struct Mobility {
     pub m: usize,
     /// Rank of Phi_q at the configuration.
     pub rank: usize,
-    /// Degrees of freedom n - rank.
+    /// Degrees of freedom n - rank (in velocities: the velocity rows count).
     pub degrees_of_freedom: usize,
+    /// Degrees of freedom in positions, n - rank of the position rows (the velocity rows
+    /// A q' + a = 0 restrict the rates only); equal to `degrees_of_freedom` without them.
+    pub position_degrees_of_freedom: usize,
     /// Grübler's count n - m (every row taken as independent).
     pub grubler: i64,
     /// Rows that repeat rows before them (in row order), m - rank of them.
@@ -62,11 +67,18 @@ pub fn mobility(system: &dyn System, t: f64, q: &[f64]) -> Result<Mobility, Erro
     check_jacobian(&phi_q, info, t, q)?;
     let mut basis = RowBasis::new(m, n);
     let rank = basis.factor(&phi_q);
+    let p = info.position_rows();
+    let position_rank = if p == m {
+        rank
+    } else {
+        RowBasis::new(p, n).factor(&phi_q.rows(0, p).into_owned())
+    };
     Ok(Mobility {
         n,
         m,
         rank,
         degrees_of_freedom: n - rank,
+        position_degrees_of_freedom: n - position_rank,
         grubler: n as i64 - m as i64,
         redundant_rows: (0..m).filter(|&r| basis.is_redundant(r)).collect(),
         indeterminate_rows: basis.indeterminate_rows(),

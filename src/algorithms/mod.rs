@@ -9,6 +9,8 @@
 //! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s, whose
 //!   kinks are found between samples ([`kink`]);
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
+//! - [`steady`]: the tangent dynamics about a steady motion in minimal variables (velocity
+//!   constraints too), with exact derivatives;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
 //! - [`finite`]: which entry of the equations is NaN or infinite, named for the user.
@@ -27,3 +29,4 @@ pub(crate) mod kink;
 pub(crate) mod linearize;
 pub(crate) mod mobility;
 pub(crate) mod stabilization;
+pub(crate) mod steady;

@@ -47,6 +47,10 @@ pub enum Command {
     /// Inverse dynamics: the driving force needed for a prescribed motion, and the joint reactions.
     #[command(after_help = EXIT_CODES)]
     Inverse(InverseArgs),
+    /// Linearise about an equilibrium or a steady motion (cyclic coordinates at constant
+    /// rates) in minimal variables: print the eigenvalues, write linearization.json.
+    #[command(after_help = EXIT_CODES)]
+    Linearize(LinearizeArgs),
     /// Convert a URDF robot description into a .mech declaration.
     ///
     /// One link block per URDF link, parents first; revolute, continuous, prismatic and
@@ -54,6 +58,24 @@ pub enum Command {
     /// <dynamics> damping and friction are not imported.
     #[command(after_help = EXIT_CODES)]
     Import(ImportArgs),
+}
+
+/// `mechanism linearize` options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LinearizeArgs {
+    /// A built-in mechanism name (see `mechanism list`) or a path to a .mech file.
+    pub mechanism: String,
+    /// Override a parameter's declared default, e.g. `--set v=4` (repeatable); the declared
+    /// initial values that depend on it follow.
+    #[arg(long = "set", value_name = "PARAM=VALUE")]
+    pub set: Vec<String>,
+    /// Initial value of an independent coordinate or of its rate (`--init 'der(phi)=3'`):
+    /// the state linearised about.
+    #[arg(long = "init", value_name = "COORD=VALUE")]
+    pub init: Vec<String>,
+    /// Output folder for linearization.json (default: `out/<mechanism>`).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 /// Options shared by `simulate` and `inverse`.

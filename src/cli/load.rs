@@ -72,6 +72,34 @@ pub fn load(spec: &str) -> Result<Loaded, CliError> {
     }
 }
 
+/// Loads `spec` like [`load`], always through the interpreter route, with the parameters
+/// named in `values` set before the model is built (so the declared independent values
+/// that depend on them follow) and the constraint rows' tangents compiled
+/// ([`Interpreted::for_linearization`]), for `linearize`.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_for_linearization(spec: &str, values: &[(&str, f64)]) -> Result<Loaded, CliError> {
+    let path = Path::new(spec);
+    let (source, key) = if is_file_spec(spec) {
+        let source = read_input(path)
+            .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
+        (source, file_key(path))
+    } else {
+        let source = builtin_source(spec).ok_or_else(|| {
+            CliError::Mechanism(format!(
+                "unknown mechanism `{spec}`; available: {} (or a path to a .mech file)",
+                builtin_names().join(", ")
+            ))
+        })?;
+        (source.to_string(), spec.to_string())
+    };
+    let system = mechanism_codegen::parse_model_str_at(&source, values)
+        .and_then(Interpreted::for_linearization)
+        .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
+    Ok(Loaded::new(Box::new(system), spec, key, source))
+}
+
 /// True when `spec` names a `.mech` file rather than a built-in mechanism.
 pub fn is_file_spec(spec: &str) -> bool {
     spec.ends_with(".mech") || Path::new(spec).is_file()

@@ -1,5 +1,6 @@
 //! The `mechanism` command-line tool: argument parsing, loading a mechanism by name or
-//! file, and the `list`, `equations`, `simulate`, `inverse` and `import` commands.
+//! file, and the `list`, `equations`, `simulate`, `inverse`, `linearize` and `import`
+//! commands.
 //!
 //! Exit status ([`args::EXIT_CODES`], printed by `--help`): 0 success; 1 a failed run or
 //! invalid input; 2 a usage error (an unknown option, a missing argument, a value that is
@@ -13,6 +14,7 @@ mod equations;
 mod import;
 mod input;
 mod inverse;
+mod linearize;
 mod load;
 mod physical;
 #[cfg(feature = "progress")]
@@ -127,5 +129,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Simulate(a)) => simulate::run(&a),
         Some(Command::Inverse(a)) => inverse::run(&a),
         Some(Command::Import(a)) => import::run(&a),
+        Some(Command::Linearize(a)) => linearize::run(&a),
     }
 }

@@ -40,6 +40,7 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                     None => ConstraintRow::unnamed(k),
                 })
                 .collect(),
+            velocity_rows: T::VELOCITY_ROWS,
             drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
         };
         let sparsity = T::SPARSITY.map(|s| Sparsity::from_static(N, M, &s));

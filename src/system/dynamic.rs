@@ -106,6 +106,47 @@ pub trait System: Send + Sync {
         let _ = (t, q, qd, qdd, lambda, out);
         None
     }
+
+    /// Exact tangents of the constraint rows for linearisation (see [`ConstraintTangent`]):
+    /// with w = Phi_q q' + Phi_t and R = Phi_q q'' - gamma, `out.velocity` = dw/dq,
+    /// `out.stiffness` = dR/dq and `out.damping` = dR/dq' (m x n), at (t, q, q', q'').
+    /// `None` when not provided (the default; [`crate::Interpreted`] provides them for a
+    /// mechanism with velocity constraints).
+    fn constraint_tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut ConstraintTangent,
+    ) -> Option<()> {
+        let _ = (t, q, qd, qdd, out);
+        None
+    }
+}
+
+/// The constraint rows' tangents (see [`System::constraint_tangent`]): the linearised
+/// constraints are `velocity` dq + Phi_q dq' = 0 and
+/// `stiffness` dq + `damping` dq' + Phi_q dq'' = 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintTangent {
+    /// d(Phi_q q' + Phi_t)/dq, m x n.
+    pub velocity: DMatrix<f64>,
+    /// d(Phi_q q'' - gamma)/dq, m x n.
+    pub stiffness: DMatrix<f64>,
+    /// d(Phi_q q'' - gamma)/dq', m x n.
+    pub damping: DMatrix<f64>,
+}
+
+impl ConstraintTangent {
+    /// Zero matrices for m rows and n coordinates.
+    pub fn zeros(m: usize, n: usize) -> Self {
+        Self {
+            velocity: DMatrix::zeros(m, n),
+            stiffness: DMatrix::zeros(m, n),
+            damping: DMatrix::zeros(m, n),
+        }
+    }
 }
 
 /// dF/dq and dF/dq' of the dynamic residual F = M q'' + C q' + g - tau + Phi_q^T lambda

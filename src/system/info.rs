@@ -57,6 +57,9 @@ pub struct SystemInfo {
     pub constraints: usize,
     /// Where each constraint row comes from, in row order (m entries).
     pub constraint_rows: Vec<ConstraintRow>,
+    /// How many of the m rows (the last ones) are velocity constraints A q' + a = 0: rows
+    /// of Phi_q (A) and Phi_t (a) with Phi = 0, not integrable to positions.
+    pub velocity_rows: usize,
     /// The declared picture (`draw { .. }`); empty when the declaration has none.
     pub drawing: Drawing,
 }
@@ -69,6 +72,10 @@ impl SystemInfo {
     /// Number of constraint rows m.
     pub fn m(&self) -> usize {
         self.constraints
+    }
+    /// Number of position rows Phi(q, t) = 0: m minus the velocity rows.
+    pub fn position_rows(&self) -> usize {
+        self.constraints.saturating_sub(self.velocity_rows)
     }
     /// Index of the coordinate called `name`.
     pub fn coordinate_index(&self, name: &str) -> Option<usize> {

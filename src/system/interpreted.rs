@@ -13,7 +13,7 @@
 //! [`Routines`]: mechanism_codegen::Routines
 
 use mechanism_codegen::{
-    Equations, Error, EvaluationOutput, Model, Role, compile, residual_tangent,
+    Equations, Error, EvaluationOutput, Model, Role, compile, constraint_tangent, residual_tangent,
 };
 use nalgebra::DMatrix;
 
@@ -21,7 +21,8 @@ use crate::system::routine::{Routine, Values};
 use crate::system::scatter::{EvaluationScatter, matrix_scatter, write_matrix};
 use crate::system::sparsity::Sparsity;
 use crate::system::{
-    ConstraintRow, Drawing, DrawnPoint, Evaluation, Independent, System, SystemInfo, Tangent,
+    ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Independent, System,
+    SystemInfo, Tangent,
 };
 
 /// A mechanism interpreted from its declaration.
@@ -50,6 +51,9 @@ pub struct Interpreted {
     /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
     /// ([`Role::Tangent`]).
     tangent: Routine,
+    /// D, R_q, R_q' of the constraint rows, for a model with velocity constraints
+    /// ([`Role::ConstraintTangent`]).
+    constraint_tangent: Option<Routine>,
     /// The drawn points' positions (3 per point), when the declaration draws
     /// ([`Role::Draw`]).
     draw: Option<Routine>,
@@ -104,8 +108,27 @@ impl Interpreted {
     /// parameter or coordinate entry is not a symbol, [`Error::MissingValue`] for equations
     /// that read a symbol the model does not declare, [`Error::OutputCount`] for equations
     /// whose sizes are not n and m.
-    pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, Error> {
-        let tangent = residual_tangent(&mut model, &eqs)?;
+    pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, Error> {
+        Self::build(model, eqs, false)
+    }
+
+    /// [`Interpreted::from_model`] with the constraint rows' tangents compiled for every
+    /// constrained mechanism ([`System::constraint_tangent`], which
+    /// [`crate::linearize_steady`] needs), not only for one with velocity constraints. Its
+    /// routines then differ from the macro's by that one role.
+    ///
+    /// # Errors
+    /// As [`Interpreted::from_model`].
+    pub fn for_linearization(mut model: Model) -> Result<Self, Error> {
+        let eqs = mechanism_codegen::derive(&mut model)?;
+        Self::build(model, eqs, true)
+    }
+
+    fn build(mut model: Model, eqs: Equations, linearization: bool) -> Result<Self, Error> {
+        let mut tangent = residual_tangent(&mut model, &eqs)?;
+        if linearization && eqs.m > 0 && tangent.constraints.is_none() {
+            tangent.constraints = Some(constraint_tangent(&mut model, &eqs)?);
+        }
         let routines = compile(&mut model, &eqs, &tangent)?;
         let (n, m) = (model.coordinates.len(), eqs.m);
         let full_len = EvaluationOutput::ORDER
@@ -140,8 +163,13 @@ impl Interpreted {
                 given: m * n,
                 outputs: 0,
             })?;
+        let constraint_tangent = match routines.get(Role::ConstraintTangent) {
+            Some(_) => Some(routine(Role::ConstraintTangent, 3 * m * n)?),
+            None => None,
+        };
         let mut interpreted = Self {
             draw,
+            constraint_tangent,
             parameter_cache: routine(Role::ParameterCache, routines.cache_len())?,
             full,
             sparsity,
@@ -290,6 +318,31 @@ impl System for Interpreted {
             Some(())
         })
     }
+
+    fn constraint_tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut ConstraintTangent,
+    ) -> Option<()> {
+        let (n, m) = (self.info.n(), self.info.m());
+        let values = Values {
+            qd,
+            qdd,
+            ..self.at(t, q)
+        };
+        self.constraint_tangent.as_ref()?.run(&values, |v| {
+            if !v.iter().all(|x| x.is_finite()) {
+                return None;
+            }
+            copy_block(v, m, n, &mut out.velocity);
+            copy_block(&v[m * n..], m, n, &mut out.stiffness);
+            copy_block(&v[2 * m * n..], m, n, &mut out.damping);
+            Some(())
+        })
+    }
 }
 
 /// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
@@ -309,9 +362,11 @@ fn system_info(model: &Model, m: usize) -> SystemInfo {
             })
             .collect(),
         constraints: m,
+        velocity_rows: model.velocity_constraints.len(),
         constraint_rows: model
             .constraints
             .iter()
+            .chain(&model.velocity_constraints)
             .enumerate()
             .map(|(k, c)| {
                 if c.joint.is_empty() {

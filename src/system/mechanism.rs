@@ -136,6 +136,9 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     /// [`super::ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
     /// for hand-written impls ([`super::Compiled::new`] then names the rows `row 1`, `row 2`, ..).
     const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] = &[];
+    /// How many of the M rows (the last ones) are velocity constraints A q' + a = 0 (their
+    /// Phi is 0, their Jacobian row A, their Phi_t a); 0 for a holonomic mechanism.
+    const VELOCITY_ROWS: usize = 0;
     /// The points of the declared drawing (`draw { .. }`), in order: name, and whether it is
     /// a ground point. Empty when the declaration draws nothing.
     const DRAW_POINTS: &'static [(&'static str, bool)] = &[];

@@ -38,7 +38,7 @@ pub use compiled::Compiled;
 #[cfg(feature = "std")]
 pub use drawing::{Drawing, DrawnPoint};
 #[cfg(feature = "std")]
-pub use dynamic::{Evaluation, System, Tangent};
+pub use dynamic::{ConstraintTangent, Evaluation, System, Tangent};
 #[cfg(feature = "std")]
 pub use info::{ConstraintRow, SystemInfo};
 #[cfg(feature = "interpreter")]

@@ -508,6 +508,7 @@ fn unnamed_rows_are_numbered() {
         independent: vec![],
         constraints: 2,
         constraint_rows: (0..2).map(ConstraintRow::unnamed).collect(),
+        velocity_rows: 0,
         drawing: Default::default(),
     };
     assert_eq!(info.constraint_label(0), "row 1");

@@ -6,14 +6,15 @@
 
 use mechanism::Interpreted;
 use mechanism::builtin::{
-    Bricard, CartesianPendulum, ClosedChain4, FiveBar, NFourBar40, Panda, PlanarFourBar,
-    PlanarFourBarBodies, PlanarSliderCrank, SpatialCrankSlider, SpatialCrankSliderRigid,
-    SpatialFourBar, SpatialFourBarBodies, builtin_names, builtin_source,
+    Bricard, CartesianPendulum, ChaplyginSleigh, ClosedChain4, FiveBar, NFourBar40, Panda,
+    PlanarFourBar, PlanarFourBarBodies, PlanarSliderCrank, RollingDisc, SpatialCrankSlider,
+    SpatialCrankSliderRigid, SpatialFourBar, SpatialFourBarBodies, WhippleBicycle, builtin_names,
+    builtin_source,
 };
 use mechanism_codegen::{Role, Source, compile, derive, parse_model_str, residual_tangent};
 
 /// The fingerprint `mechanism!` emitted for each library mechanism, by file stem.
-const EMITTED: [(&str, u64); 13] = [
+const EMITTED: [(&str, u64); 16] = [
     ("spatial_crank_slider", SpatialCrankSlider::__ROUTINES),
     ("planar_four_bar", PlanarFourBar::__ROUTINES),
     ("spatial_four_bar", SpatialFourBar::__ROUTINES),
@@ -30,6 +31,9 @@ const EMITTED: [(&str, u64); 13] = [
     ("planar_four_bar_bodies", PlanarFourBarBodies::__ROUTINES),
     ("panda", Panda::__ROUTINES),
     ("five_bar", FiveBar::__ROUTINES),
+    ("whipple_bicycle", WhippleBicycle::__ROUTINES),
+    ("rolling_disc", RollingDisc::__ROUTINES),
+    ("chaplygin_sleigh", ChaplyginSleigh::__ROUTINES),
 ];
 
 #[test]
@@ -63,6 +67,10 @@ fn macro_and_interpreter_come_from_one_routines() {
         assert_eq!(routines.fingerprint(), emitted, "{name}: compiled again");
 
         let mut roles: Vec<Role> = Role::compiled(&eqs, &model.drawing);
+        // The constraint rows' tangent follows for a mechanism with velocity rows.
+        if eqs.velocity_rows > 0 {
+            roles.push(Role::ConstraintTangent);
+        }
         roles.push(Role::ParameterCache);
         let compiled: Vec<Role> = routines.iter().map(|(role, _)| role).collect();
         assert_eq!(compiled, roles, "{name}: one program per role, in order");

@@ -131,6 +131,7 @@ fn awkward_values_round_trip() {
     let info = SystemInfo {
         constraints: 1,
         constraint_rows: vec![ConstraintRow::unnamed(0)],
+        velocity_rows: 0,
         drawing: Default::default(),
         ..info("awkward")
     };

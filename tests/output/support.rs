@@ -33,6 +33,7 @@ pub fn info(name: &str) -> SystemInfo {
         }],
         constraints: 3,
         constraint_rows: (0..3).map(ConstraintRow::unnamed).collect(),
+        velocity_rows: 0,
         drawing: Default::default(),
     }
 }

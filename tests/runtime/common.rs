@@ -27,6 +27,7 @@ fn info(
         independent,
         constraints: m,
         constraint_rows: (0..m).map(ConstraintRow::unnamed).collect(),
+        velocity_rows: 0,
         drawing: Default::default(),
     }
 }

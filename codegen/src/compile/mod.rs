@@ -83,7 +83,10 @@ pub struct Routines {
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
-    let roles = Role::compiled(eqs, &model.drawing);
+    let mut roles = Role::compiled(eqs, &model.drawing);
+    if tangent.constraints.is_some() {
+        roles.push(Role::ConstraintTangent);
+    }
     let mut programs = Vec::with_capacity(roles.len());
     for &role in &roles {
         let outputs = role.outputs(&mut model.arena, &model.drawing, eqs, tangent)?;

@@ -41,6 +41,11 @@ pub enum Role {
     /// dF/dq and dF/dq' of the residual F = M q'' + C q' + g + Phi_q^T lambda - tau (two
     /// n x n outputs): `residual_tangent`.
     Tangent,
+    /// The constraint rows' tangents D, R_q, R_q' (three m x n outputs, see
+    /// [`crate::ConstraintTangent`]), for linearisation; compiled (after the roles of
+    /// [`Role::compiled`]) when the tangent carries them: for a model with velocity
+    /// constraints, or on request. The interpreter runs it; the macro emits no method for it.
+    ConstraintTangent,
     /// M (n x n) and the bias b = C q' + g - tau (n x 1) in one program: `mass_and_bias`.
     MassAndBias,
     /// M q'' + C q' + g - tau (n x 1): `inverse_dynamics`.
@@ -80,6 +85,7 @@ impl Role {
             Role::MassAndBias,
             Role::InverseDynamics,
         ];
+
         roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
         roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
         if !drawing.points.is_empty() {
@@ -97,7 +103,10 @@ impl Role {
             (Role::ParameterCache, s) => matches!(s, Source::Parameter(_)),
             (_, Source::Parameter(_) | Source::Cache(_)) => true,
             (_, Source::Time | Source::Coordinate(_) | Source::Rate(_)) => true,
-            (Role::Tangent | Role::InverseDynamics, Source::Acceleration(_)) => true,
+            (
+                Role::Tangent | Role::InverseDynamics | Role::ConstraintTangent,
+                Source::Acceleration(_),
+            ) => true,
             (Role::Tangent, Source::Multiplier(_)) => true,
             _ => false,
         }
@@ -128,6 +137,11 @@ impl Role {
             Role::Potential => vec![Matrix::column(vec![eqs.potential])],
             Role::Evaluation => eqs.evaluation_outputs(),
             Role::Tangent => vec![tangent.stiffness.clone(), tangent.damping.clone()],
+            Role::ConstraintTangent => tangent
+                .constraints
+                .iter()
+                .flat_map(|c| [c.velocity.clone(), c.stiffness.clone(), c.damping.clone()])
+                .collect(),
             Role::MassAndBias => {
                 let bias = eqs
                     .coriolis_forces

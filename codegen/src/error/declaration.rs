@@ -128,6 +128,32 @@ pub enum DeclarationError {
         /// The row, 1-based.
         row: usize,
     },
+    /// A velocity constraint whose coefficient of a rate depends on the rates.
+    #[error(
+        "velocity constraint {row} is not linear in the rates: its coefficient of {rate} depends on the rates (write A(q, t) der(q) + a(q, t) = 0)"
+    )]
+    VelocityNotLinear {
+        /// The row, 1-based, among the velocity constraints.
+        row: usize,
+        /// `der(x)` whose coefficient depends on the rates.
+        rate: String,
+    },
+    /// `rolling(B, ..)` where B is not a body with an orientation.
+    #[error(
+        "argument 1 of `rolling` must be the name of a body with an orientation (the wheel); `{found}` is not one"
+    )]
+    RollingNeedsBody {
+        /// The argument as written.
+        found: String,
+    },
+    /// A wheel whose axis is vertical at the initial guesses.
+    #[error(
+        "the axis of the wheel `{body}` is vertical at the initial guesses: its contact point with the ground z = 0 is undefined (tilt the axis, or change the guesses)"
+    )]
+    RollingAxisVertical {
+        /// The wheel body.
+        body: String,
+    },
     /// `der(..)` in a body section.
     #[error(
         "`{function}(..)` cannot appear in a body, point, spring or joint: they are position-level (functions of q and t)"

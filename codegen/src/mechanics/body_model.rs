@@ -17,6 +17,7 @@ use crate::mechanics::joints::{
 };
 use crate::mechanics::links::{LinkContext, build_link};
 use crate::mechanics::model::{Constraint, Model};
+use crate::mechanics::rolling::{Wheel, rolling_rows, tilt_squared_at};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::ast::Ast;
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
@@ -194,6 +195,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
     let mut scope = Scope::default();
     let mut system = BodySystem::default();
     let mut rows: Vec<Constraint> = Vec::new();
+    let mut velocity_rows: Vec<Constraint> = Vec::new();
     for name in model
         .parameters
         .iter()
@@ -212,6 +214,7 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
         .iter()
         .filter_map(|c| model.arena.as_symbol(c.q))
         .collect();
+    let coordinate_symbols = moving.clone();
     moving.extend(model.arena.as_symbol(model.time));
     let mut drawing = None;
     let mut links: Vec<crate::mechanics::tree::Link> = Vec::new();
@@ -312,6 +315,18 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
                 links.push(built.link);
                 orientations.push(built.orientation);
             }
+            BodyItem::Joint(Joint::Helper(h, args, at)) if h == "rolling" => {
+                let cx = RollingContext {
+                    scope: &scope,
+                    bodies: &system.bodies,
+                    q: &coordinate_symbols,
+                    time: arena.as_symbol(model.time),
+                    at_guesses: &at_guesses,
+                };
+                let [height, slip_x, slip_y] = rolling_statement(arena, args, *at, &cx)?;
+                rows.push(height);
+                velocity_rows.extend([slip_x, slip_y]);
+            }
             BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
             BodyItem::Draw(d) => {
                 if drawing.is_some() {
@@ -341,7 +356,83 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
     model.links = links;
     add_body_terms(model, &system)?;
     model.constraints.extend(rows);
+    model.velocity_constraints.extend(velocity_rows);
     Ok(())
+}
+
+/// What a `rolling` statement reads: the names, the bodies so far, the coordinate and time
+/// symbols and the values at the initial guesses.
+struct RollingContext<'a> {
+    scope: &'a Scope,
+    bodies: &'a [Body],
+    q: &'a [SymbolId],
+    time: Option<SymbolId>,
+    at_guesses: &'a [(SymbolId, f64)],
+}
+
+/// `rolling(B, a, r)` (see [`crate::mechanics::rolling`]): the contact-height row, then the
+/// two sliding rows (velocity level), labelled with the statement and `z`, `x`, `y`.
+fn rolling_statement(
+    arena: &mut Arena,
+    args: &[Ast],
+    at: Location,
+    cx: &RollingContext<'_>,
+) -> Result<[Constraint; 3]> {
+    let body = match &args[0] {
+        Ast::Name(n, _) => cx
+            .bodies
+            .iter()
+            .find(|b| &b.name == n && b.orientation.is_some()),
+        _ => None,
+    };
+    let Some(body) = body else {
+        let kind = DeclarationError::RollingNeedsBody {
+            found: args[0].text(),
+        };
+        return Err(declaration(kind, args[0].location()));
+    };
+    let m = vector_value(arena, &args[1], cx.scope)?;
+    let axis = vec3(&m, helper_argument("rolling", 2), args[1].location())?;
+    let m = vector_value(arena, &args[2], cx.scope)?;
+    let radius = scalar(&m, helper_argument("rolling", 3), args[2].location())?;
+    let Some(orientation) = &body.orientation else {
+        unreachable!("the body was found with an orientation");
+    };
+    let wheel = Wheel {
+        centre: &body.position,
+        orientation,
+        axis: &axis,
+        radius,
+    };
+    let built = rolling_rows(arena, &wheel, cx.q, cx.time)?;
+    // NaN counts as vertical: the contact is undefined there too.
+    if !tilt_squared_at(arena, &built, cx.at_guesses).is_some_and(|v| v > 1e-12) {
+        let kind = DeclarationError::RollingAxisVertical {
+            body: body.name.clone(),
+        };
+        return Err(declaration(kind, args[1].location()));
+    }
+    let written: Vec<String> = args.iter().map(Ast::text).collect();
+    let joint = format!("rolling({})", written.join(", "));
+    let row = |expr, component: &str| Constraint {
+        expr,
+        location: at,
+        joint: joint.clone(),
+        component: component.to_string(),
+    };
+    Ok([
+        row(built.height, "z"),
+        row(built.slip[0], "x"),
+        row(built.slip[1], "y"),
+    ])
+}
+
+/// The quantity "argument `index` of `helper`".
+fn helper_argument(helper: &str, index: usize) -> Quantity {
+    Quantity::HelperArgument {
+        helper: helper.to_string(),
+        index,
+    }
 }
 
 /// Where `name` is declared as a body, point or axis.

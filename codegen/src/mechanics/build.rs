@@ -11,7 +11,7 @@ use crate::error::{Constant, DeclarationError, Error, Location, Result};
 use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
 use crate::mechanics::resolve::{ArenaResolver, resolve};
 use crate::syntax::ast::Ast;
-use crate::syntax::declaration::{Declaration, Item};
+use crate::syntax::declaration::{Declaration, Item, Row, Section};
 
 /// Locations of the parts of a declaration that [`Model`] does not record, and the spans of
 /// all tokens, so later stages (derivation, the macro) can point at the user's text.
@@ -124,7 +124,12 @@ fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result
         Some(p) => resolve_at(&mut arena, &p.body)?,
         None => arena.int(0),
     };
-    let constraints = build_constraints(&mut arena, d)?;
+    let constraints = build_constraints(&mut arena, d.constraints.as_ref(), "constraint")?;
+    let velocity_constraints = build_constraints(
+        &mut arena,
+        d.velocity_constraints.as_ref(),
+        "velocity constraint",
+    )?;
     let (forces, force_entries) = build_forces(&mut arena, d, &coordinates)?;
     let spans = ModelSpans {
         tokens: Vec::new(),
@@ -151,6 +156,7 @@ fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result
         kinetic_location: kinetic_at,
         potential,
         constraints,
+        velocity_constraints,
         forces,
         drawing: Default::default(),
         links: Vec::new(),
@@ -288,10 +294,15 @@ fn build_independent(
     Ok(independent)
 }
 
-/// The constraint rows lhs - rhs, in declaration order.
-fn build_constraints(arena: &mut Arena, d: &Declaration) -> Result<Vec<Constraint>> {
+/// The rows lhs - rhs of a `constraints` (or `velocity_constraints`) section, in declaration
+/// order, each labelled `{label} k` after its statement k.
+fn build_constraints(
+    arena: &mut Arena,
+    section: Option<&Section<Vec<Row>>>,
+    label: &str,
+) -> Result<Vec<Constraint>> {
     let mut constraints = Vec::new();
-    for row in d.constraints.iter().flat_map(|s| &s.body) {
+    for row in section.iter().flat_map(|s| &s.body) {
         let lhs = resolve_at(arena, &row.lhs)?;
         let expr = match &row.rhs {
             Some(r) => {
@@ -303,7 +314,7 @@ fn build_constraints(arena: &mut Arena, d: &Declaration) -> Result<Vec<Constrain
         constraints.push(Constraint {
             expr,
             location: row.at,
-            joint: format!("constraint {}", row.statement),
+            joint: format!("{label} {}", row.statement),
             component: row.component.clone(),
         });
     }

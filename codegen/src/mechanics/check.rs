@@ -35,6 +35,9 @@ enum Context {
     Potential,
     /// The i-th constraint row (1-based) Phi_i(q, t).
     Constraint(usize),
+    /// A velocity constraint row A(q, t) q' + a(q, t): rates allowed (linearity is checked
+    /// on the built expression, `mechanics::nonholonomic`).
+    VelocityConstraint,
     /// A generalised force tau(t, q, q').
     Force,
 }
@@ -208,6 +211,11 @@ fn check_expressions(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>
         check_expression(&row.lhs, Context::Constraint(i + 1), scope, errors);
         if let Some(rhs) = &row.rhs {
             check_expression(rhs, Context::Constraint(i + 1), scope, errors);
+        }
+    }
+    for row in d.velocity_constraints.iter().flat_map(|s| &s.body) {
+        for side in std::iter::once(&row.lhs).chain(&row.rhs) {
+            check_expression(side, Context::VelocityConstraint, scope, errors);
         }
     }
     for f in d.forces.iter().flat_map(|s| &s.body) {
@@ -392,7 +400,9 @@ fn check_independent(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>
 /// knows the rank); with m > n there is nothing to check here.
 fn check_degrees_of_freedom(d: &Declaration, scope: &Scope<'_>, errors: &mut Vec<Error>) {
     let n = scope.coordinates.len();
-    let m = d.constraints.as_ref().map_or(0, |s| s.body.len()) + d.bodies.constraint_rows();
+    let m = d.constraints.as_ref().map_or(0, |s| s.body.len())
+        + d.velocity_constraints.as_ref().map_or(0, |s| s.body.len())
+        + d.bodies.constraint_rows();
     if n == 0 || m > n {
         return;
     }

@@ -1,7 +1,8 @@
 //! The derived equations of motion, ready for emission or evaluation.
 //!
 //! M(q) q'' + C(q, q') q' + g(q) + Phi_q^T lambda = tau(t, q, q'),  Phi(q, t) = 0,
-//! Phi_q q'' = gamma.
+//! Phi_q q'' = gamma; velocity constraints A q' + a = 0 are further rows of Phi_q (A),
+//! Phi_t (a) and gamma, with Phi = 0 there.
 
 use crate::algebra::expr::Id;
 use crate::algebra::matrix::Matrix;
@@ -11,8 +12,11 @@ use crate::algebra::matrix::Matrix;
 pub struct Equations {
     /// Number of coordinates n.
     pub n: usize,
-    /// Number of constraint rows m.
+    /// Number of constraint rows m: the position rows, then `velocity_rows` velocity rows.
     pub m: usize,
+    /// How many of the m rows (the last ones) are velocity constraints A q' + a = 0
+    /// (`mechanics::nonholonomic`): their Phi is 0, their Phi_q row A, their Phi_t a.
+    pub velocity_rows: usize,
     /// M = d2T/dq'dq' (n x n).
     pub mass: Matrix,
     /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (n x n).

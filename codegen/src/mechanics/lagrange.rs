@@ -271,6 +271,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     Ok(Equations {
         n,
         m,
+        velocity_rows: 0,
         mass,
         coriolis_matrix,
         coriolis_forces,
@@ -448,7 +449,7 @@ fn is_quadratic_form(
 
 /// `id` with each symbol of `map` replaced by its image, rebuilt with the canonical
 /// constructors (children first).
-fn substitute(
+pub(crate) fn substitute(
     arena: &mut Arena,
     d: &mut Differentiator,
     id: Id,

@@ -107,6 +107,9 @@ pub struct Model {
     pub potential: Id,
     /// Constraint rows Phi(q, t).
     pub constraints: Vec<Constraint>,
+    /// Velocity constraint rows A(q, t) q' + a(q, t) = 0 (`velocity_constraints`, the
+    /// sliding rows of `rolling`): expressions linear in the rates.
+    pub velocity_constraints: Vec<Constraint>,
     /// Generalised forces tau(t, q, q'), one per coordinate (0 where none is declared).
     pub forces: Vec<Id>,
     /// The declared drawing (`draw { .. }`), empty when there is none.

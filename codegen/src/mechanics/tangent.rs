@@ -8,7 +8,7 @@
 //! with a user's).
 
 use crate::algebra::diff::Differentiator;
-use crate::algebra::expr::{FxHashMap, Id, SymbolId, SymbolKind};
+use crate::algebra::expr::{Arena, FxHashMap, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
@@ -23,6 +23,23 @@ pub struct ResidualTangent {
     pub damping: Matrix,
     /// The symbols `lambda[1]`..`lambda[m]` the matrices read.
     pub lambda: Vec<SymbolId>,
+    /// The tangents of the constraint rows, for linearisation; derived only for a model
+    /// with velocity constraints (`Equations::velocity_rows` > 0).
+    pub constraints: Option<ConstraintTangent>,
+}
+
+/// The tangents of the stacked constraint rows at the velocity and acceleration levels:
+/// with w = Phi_q q' + Phi_t (zero along every motion) and R = Phi_q q'' - gamma (likewise),
+/// the linearised constraints are D dq + Phi_q dq' = 0 and
+/// R_q dq + R_q' dq' + Phi_q dq'' = 0.
+#[derive(Clone, Debug)]
+pub struct ConstraintTangent {
+    /// D = dw/dq (m x n).
+    pub velocity: Matrix,
+    /// R_q = dR/dq (m x n).
+    pub stiffness: Matrix,
+    /// R_q' = dR/dq' (m x n).
+    pub damping: Matrix,
 }
 
 /// Name of the symbol standing for multiplier k (0-based) in [`ResidualTangent`].
@@ -41,18 +58,8 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
         .map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free))
         .collect();
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
-    let symbol = |id, what: &str, name: &str| {
-        arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
-            role: format!("{what}`{name}`"),
-        })
-    };
-    let q = (model.coordinates.iter())
-        .map(|c| symbol(c.q, "coordinate ", &c.name))
-        .collect::<Result<Vec<SymbolId>>>()?;
-    let qd = (model.coordinates.iter())
-        .map(|c| symbol(c.qd, "the rate of coordinate ", &c.name))
-        .collect::<Result<Vec<SymbolId>>>()?;
-    let qdd: Vec<Id> = model.coordinates.iter().map(|c| c.qdd).collect();
+    let (q, qd, qdd) = motion_symbols(model)?;
+    let arena = &mut model.arena;
     let mut residual = Vec::with_capacity(n);
     for i in 0..n {
         let mut terms = Vec::with_capacity(2 * n + m + 3);
@@ -96,6 +103,11 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
             target[i * n + k] = d.diff(arena, f, s)?;
         }
     }
+    let constraints = if eqs.velocity_rows > 0 {
+        Some(rows_tangent(arena, &mut d, eqs, &q, &qd, &qdd)?)
+    } else {
+        None
+    };
     Ok(ResidualTangent {
         stiffness: Matrix {
             rows: n,
@@ -108,5 +120,85 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
             data: damping,
         },
         lambda,
+        constraints,
+    })
+}
+
+/// The coordinate and rate symbols of `model` and its acceleration nodes.
+fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id>)> {
+    let arena = &model.arena;
+    let symbol = |id, what: &str, name: &str| {
+        arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
+            role: format!("{what}`{name}`"),
+        })
+    };
+    let q = (model.coordinates.iter())
+        .map(|c| symbol(c.q, "coordinate ", &c.name))
+        .collect::<Result<Vec<SymbolId>>>()?;
+    let qd = (model.coordinates.iter())
+        .map(|c| symbol(c.qd, "the rate of coordinate ", &c.name))
+        .collect::<Result<Vec<SymbolId>>>()?;
+    let qdd: Vec<Id> = model.coordinates.iter().map(|c| c.qdd).collect();
+    Ok((q, qd, qdd))
+}
+
+/// The [`ConstraintTangent`] of the rows of `eqs`, for a model without velocity rows too
+/// (where [`residual_tangent`] leaves it out): put it in `ResidualTangent::constraints` before
+/// compiling to have [`crate::Role::ConstraintTangent`] compiled (linearisation).
+///
+/// # Errors
+/// [`Error::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
+/// errors.
+pub fn constraint_tangent(model: &mut Model, eqs: &Equations) -> Result<ConstraintTangent> {
+    let (q, qd, qdd) = motion_symbols(model)?;
+    rows_tangent(
+        &mut model.arena,
+        &mut Differentiator::new(),
+        eqs,
+        &q,
+        &qd,
+        &qdd,
+    )
+}
+
+/// D, R_q and R_q' of [`ConstraintTangent`] for the rows of `eqs`.
+fn rows_tangent(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    eqs: &Equations,
+    q: &[SymbolId],
+    qd: &[SymbolId],
+    qdd: &[Id],
+) -> Result<ConstraintTangent> {
+    let (n, m) = (eqs.n, eqs.m);
+    let mut velocity = Vec::with_capacity(m * n);
+    let mut stiffness = Vec::with_capacity(m * n);
+    let mut damping = Vec::with_capacity(m * n);
+    for r in 0..m {
+        let mut w = vec![eqs.phi_t.get(r, 0)];
+        let mut acc = vec![arena.neg(eqs.gamma.get(r, 0))];
+        for j in 0..n {
+            let rate = arena.symbol_node(qd[j]);
+            w.push(arena.mul2(eqs.phi_q.get(r, j), rate));
+            acc.push(arena.mul2(eqs.phi_q.get(r, j), qdd[j]));
+        }
+        let (w, acc) = (arena.add(&w), arena.add(&acc));
+        for &s in q {
+            velocity.push(d.diff(arena, w, s)?);
+            stiffness.push(d.diff(arena, acc, s)?);
+        }
+        for &s in qd {
+            damping.push(d.diff(arena, acc, s)?);
+        }
+    }
+    let matrix = |data| Matrix {
+        rows: m,
+        cols: n,
+        data,
+    };
+    Ok(ConstraintTangent {
+        velocity: matrix(velocity),
+        stiffness: matrix(stiffness),
+        damping: matrix(damping),
     })
 }

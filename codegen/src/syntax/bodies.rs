@@ -33,6 +33,8 @@
 //!               | "revolute" "(" P "," Q "," a "," b ")"      5 rows: P - Q, a parallel to b
 //!               | "prismatic" "(" P "," Q "," a "," b ")"     5 rows
 //!               | "distance" "(" P "," Q "," L ")"            1 row: |P - Q|^2 - L^2
+//!               | "rolling" "(" BODY "," a "," r ")"          thin wheel on z = 0: 1 row (the
+//!                                                              contact height), 2 velocity rows
 //!               | vexpr ["=" vexpr]                           one row per entry (B = C: 3 rows)
 //! ```
 //! `vexpr` is the vector expression language of [`crate::syntax::expression`] (points, axes and bodies
@@ -173,6 +175,8 @@ impl Bodies {
                 BodyItem::Joint(Joint::Helper(h, _, _)) => match h.as_str() {
                     "spherical" => 3,
                     "distance" => 1,
+                    // The contact height, and the contact point's two ground velocities.
+                    "rolling" => 3,
                     _ => 5,
                 },
                 BodyItem::Joint(Joint::Row(lhs, _, _)) => {

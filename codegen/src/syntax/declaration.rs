@@ -9,6 +9,7 @@
 //!              | "kinetic" "=" expr ";"
 //!              | "potential" "=" expr ";"
 //!              | "constraints" "{" (row ";")* "}"
+//!              | "velocity_constraints" "{" (row ";")* "}"     A(q, t) q' + a(q, t) = 0
 //!              | "forces" "{" (NAME ":" expr ";")* "}"
 //! row         := expr ["=" expr] | vector ["=" vector]
 //! vector      := "[" expr ("," expr)* "]"
@@ -31,6 +32,7 @@ pub(crate) const SECTIONS: &[&str] = &[
     "kinetic",
     "potential",
     "constraints",
+    "velocity_constraints",
     "forces",
 ];
 
@@ -118,6 +120,8 @@ pub(crate) struct Declaration {
     pub(crate) potential: Option<Section<Ast>>,
     /// `constraints { .. }`, vector rows expanded.
     pub(crate) constraints: Option<Section<Vec<Row>>>,
+    /// `velocity_constraints { .. }`, vector rows expanded: rows linear in the rates der(q).
+    pub(crate) velocity_constraints: Option<Section<Vec<Row>>>,
     /// `forces { .. }`.
     pub(crate) forces: Option<Section<Vec<Force>>>,
     /// `body`, `gravity`, `point`, `axis`, `spring`, `damper` and `joints` (parse_bodies.rs).
@@ -296,9 +300,14 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
             }
             *slot = Some(Section { at, body });
         }
-        "constraints" => {
+        "constraints" | "velocity_constraints" => {
             let rows = block(c, row)?;
-            if d.constraints.is_some() {
+            let slot = if keyword == "constraints" {
+                &mut d.constraints
+            } else {
+                &mut d.velocity_constraints
+            };
+            if slot.is_some() {
                 return Err(duplicate_section(keyword, at));
             }
             let mut body = Vec::new();
@@ -310,7 +319,7 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                     body.push(row);
                 }
             }
-            d.constraints = Some(Section { at, body });
+            *slot = Some(Section { at, body });
         }
         "forces" => {
             let body = block(c, |c| {

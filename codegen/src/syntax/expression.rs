@@ -68,10 +68,11 @@ const VECTOR_FUNCTIONS: &[(&str, usize)] = &[
     ("revolute", 4),
     ("prismatic", 4),
     ("distance", 3),
+    ("rolling", 3),
 ];
 
 /// Joint helpers: parsed as calls, valid only as statements of `joints`.
-pub(crate) const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance"];
+pub(crate) const HELPERS: &[&str] = &["spherical", "revolute", "prismatic", "distance", "rolling"];
 
 /// The arity of the function `name` in `language`, if it has one.
 fn arity(language: Language, name: &str) -> Option<usize> {

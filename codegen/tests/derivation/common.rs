@@ -295,6 +295,7 @@ pub fn bare_model(
                 component: String::new(),
             })
             .collect(),
+        velocity_constraints: vec![],
         forces: vec![zero; coords.len()],
         drawing: Default::default(),
         links: Vec::new(),

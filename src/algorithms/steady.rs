@@ -1,0 +1,342 @@
+//! Linearisation about an equilibrium or a steady motion in minimal variables, with exact
+//! derivatives: for mechanisms with position rows Phi(q, t) = 0 and velocity rows
+//! A(q, t) q' + a(q, t) = 0 (the last `velocity_rows` rows of the stacked G = [Phi_q; A]).
+//!
+//! A steady motion has q'' = 0: every coordinate at rest or moving at a constant rate, and
+//! each moving coordinate cyclic (the equations do not depend on it), so the linearisation
+//! does not change along the motion. About it, with the residual
+//! F = M q'' + C q' + g - tau + G^T lambda and the constraint residuals w = G q' + b (b the
+//! stacked [Phi_t; a]) and R = G q'' - gamma, the tangent dynamics are
+//!
+//! ```text
+//! [M  G^T] [dq''    ]     [F_q dq + F_q' dq']
+//! [G  0  ] [dlambda ] = - [R_q dq + R_q' dq']        (dq'' = Q dq + V dq')
+//! ```
+//!
+//! with F_q, F_q' from [`System::tangent`] and R_q, R_q', D = w_q from
+//! [`System::constraint_tangent`], all derived symbolically by codegen (no finite
+//! differences). The motion stays on the linearised constraints
+//! Phi_q dq = 0 (position rows) and D dq + G dq' = 0 (all rows), so it is parametrised by the
+//! minimal variables: independent coordinates dq_i (n - p of them, p the position rows) and
+//! independent speeds du (n - m): dq = P dq_i, dq' = V_q dq_i + V_u du, the dependent ones
+//! from the pivot columns of Phi_q and of G. The state matrix of z = [dq_i; du] is
+//!
+//! ```text
+//! z' = S z,   S = [ rows i of (V_q, V_u)          ]
+//!                 [ rows u of Q (P, 0) + V (V_q, V_u) ]
+//! ```
+//!
+//! A variable whose column of S is zero (a cyclic or ignorable coordinate) or whose row is
+//! zero (a conserved speed) contributes a structural zero eigenvalue:
+//! det(sI - S) = s det(sI - S') with its row and column removed (expanding along that
+//! column or row), and S' may have zero rows or columns of its own (the yaw angle's column
+//! holds only the rates of the ground position). Those are reported apart from the rest.
+
+use nalgebra::{Complex, DMatrix};
+
+use crate::algorithms::dynamics::Dynamics;
+use crate::error::Error;
+use crate::linalg::inf_norm;
+use crate::system::{ConstraintTangent, System, Tangent};
+
+/// Tolerances of [`linearize_steady`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SteadyOptions {
+    /// The state is steady when |q''|_inf <= this * (1 + |q'|_inf^2).
+    pub steady_tolerance: f64,
+    /// A column (of S, or of the equations for a moving coordinate) is zero when its
+    /// largest entry is at most this times (1 + the largest entry of its matrix).
+    pub zero_tolerance: f64,
+    /// A pivot column is independent when its distance to the span of those before it is
+    /// above this times its norm.
+    pub rank_tolerance: f64,
+}
+
+impl Default for SteadyOptions {
+    fn default() -> Self {
+        Self {
+            steady_tolerance: 1e-9,
+            zero_tolerance: 1e-10,
+            rank_tolerance: 1e-8,
+        }
+    }
+}
+
+/// The linearisation of a steady motion in minimal variables (module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SteadyLinearization {
+    /// The names of the state variables z: the independent coordinates, then `der(name)`
+    /// for the independent speeds.
+    pub variables: Vec<String>,
+    /// The independent coordinates (indices into q).
+    pub coordinates: Vec<usize>,
+    /// The independent speeds (indices into q').
+    pub speeds: Vec<usize>,
+    /// S, with z' = S z.
+    pub state: DMatrix<f64>,
+    /// The eigenvalues of S.
+    pub eigenvalues: Vec<Complex<f64>>,
+    /// The variables (indices into `variables`) whose column or row of S is zero: each
+    /// gives a structural zero eigenvalue.
+    pub structural: Vec<usize>,
+    /// The eigenvalues of S without the structural variables (S with their rows and
+    /// columns removed): the eigenvalues that are not structural zeros.
+    pub reduced: Vec<Complex<f64>>,
+}
+
+/// Linearises `system` about the steady state (q, q') at time t (module docs); (q, q') must
+/// satisfy the constraints (assembled).
+///
+/// # Errors
+/// [`Error::NotSteady`] when q'' is not zero or a moving coordinate is not cyclic;
+/// [`Error::Linearization`] when the system provides no exact tangents (a compiled
+/// mechanism without velocity rows: build it with [`crate::Interpreted::for_linearization`])
+/// or its constraint rows are dependent; the errors of [`Dynamics::solve`].
+pub fn linearize_steady(
+    system: &dyn System,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    options: &SteadyOptions,
+) -> Result<SteadyLinearization, Error> {
+    let info = system.info();
+    let (n, m, p) = (info.n(), info.m(), info.position_rows());
+    for (what, x) in [("q", q), ("qd", qd)] {
+        if x.len() != n {
+            return Err(Error::WrongLength {
+                what,
+                expected: n,
+                got: x.len(),
+            });
+        }
+    }
+    let mut dynamics = Dynamics::new(info);
+    dynamics.solve(system, t, q, qd)?;
+    let qdd = dynamics.accelerations().to_vec();
+    let lambda = dynamics.multipliers().to_vec();
+    let mass = dynamics.evaluation().mass.clone();
+    let g = dynamics.evaluation().phi_q.clone();
+    let limit = options.steady_tolerance * (1.0 + inf_norm(qd).powi(2));
+    if let Some(j) = (0..n).find(|&j| qdd[j].abs() > limit) {
+        return Err(Error::NotSteady {
+            reason: format!("der2({}) = {:e}, not zero", info.coordinates[j], qdd[j]),
+        });
+    }
+    let mut tangent = Tangent::zeros(n);
+    system
+        .tangent(t, q, qd, &qdd, &lambda, &mut tangent)
+        .ok_or_else(|| no_tangent("the dynamic residual"))?;
+    let mut rows = ConstraintTangent::zeros(m, n);
+    if m > 0 {
+        system
+            .constraint_tangent(t, q, qd, &qdd, &mut rows)
+            .ok_or_else(|| no_tangent("the constraint rows"))?;
+    }
+    // [Q V] from the linearised augmented system.
+    let kkt = DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
+        (true, true) => mass[(i, j)],
+        (true, false) => g[(j - n, i)],
+        (false, true) => g[(i - n, j)],
+        (false, false) => 0.0,
+    });
+    let rhs = DMatrix::from_fn(n + m, 2 * n, |i, j| -match (i < n, j < n) {
+        (true, true) => tangent.stiffness[(i, j)],
+        (true, false) => tangent.damping[(i, j - n)],
+        (false, true) => rows.stiffness[(i - n, j)],
+        (false, false) => rows.damping[(i - n, j - n)],
+    });
+    let solution = kkt.lu().solve(&rhs).ok_or_else(|| Error::Linearization {
+        reason: "the augmented matrix [M G^T; G 0] is singular (dependent constraint rows)"
+            .to_string(),
+    })?;
+    let qv = solution.rows(0, n).into_owned();
+    check_cyclic(info, qd, &qv, &rows.velocity, &g, p, options)?;
+
+    // Minimal variables: dependent coordinates from Phi_q, dependent speeds from G.
+    let declared: Vec<usize> = info.independent.iter().map(|i| i.coordinate).collect();
+    let preference = |first: &[usize]| -> Vec<usize> {
+        let mut order: Vec<usize> = first.to_vec();
+        order.extend((0..n).filter(|j| !first.contains(j) && !declared.contains(j)));
+        let rest: Vec<usize> = (0..n).filter(|j| !order.contains(j)).collect();
+        order.extend(rest);
+        order
+    };
+    let position_rows = g.rows(0, p).into_owned();
+    let dep_q = pivot_columns(&position_rows, &preference(&[]), options.rank_tolerance)?;
+    let dep_u = pivot_columns(&g, &preference(&dep_q), options.rank_tolerance)?;
+    let ind_q: Vec<usize> = (0..n).filter(|j| !dep_q.contains(j)).collect();
+    let ind_u: Vec<usize> = (0..n).filter(|j| !dep_u.contains(j)).collect();
+    let (ni, nu) = (ind_q.len(), ind_u.len());
+    let d = ni + nu;
+
+    // dq = P dq_i.
+    let mut top = DMatrix::zeros(n, d);
+    for (k, &j) in ind_q.iter().enumerate() {
+        top[(j, k)] = 1.0;
+    }
+    if p > 0 {
+        let phi_dep = columns(&position_rows, &dep_q);
+        let phi_ind = columns(&position_rows, &ind_q);
+        let x = solve(&phi_dep, &(-phi_ind))?;
+        for (r, &j) in dep_q.iter().enumerate() {
+            for k in 0..ni {
+                top[(j, k)] = x[(r, k)];
+            }
+        }
+    }
+    // dq' = V_q dq_i + V_u du, from D dq + G dq' = 0.
+    let mut bottom = DMatrix::zeros(n, d);
+    for (k, &j) in ind_u.iter().enumerate() {
+        bottom[(j, ni + k)] = 1.0;
+    }
+    if m > 0 {
+        let known = &rows.velocity * &top + columns(&g, &ind_u) * bottom.select_rows(&ind_u);
+        let x = solve(&columns(&g, &dep_u), &(-known))?;
+        for (r, &j) in dep_u.iter().enumerate() {
+            for k in 0..d {
+                bottom[(j, k)] = x[(r, k)];
+            }
+        }
+    }
+    let accelerations = qv.columns(0, n) * &top + qv.columns(n, n) * &bottom;
+    let state = DMatrix::from_fn(d, d, |i, j| {
+        if i < ni {
+            bottom[(ind_q[i], j)]
+        } else {
+            accelerations[(ind_u[i - ni], j)]
+        }
+    });
+    let mut variables: Vec<String> = ind_q.iter().map(|&j| info.coordinates[j].clone()).collect();
+    variables.extend(
+        ind_u
+            .iter()
+            .map(|&j| format!("der({})", info.coordinates[j])),
+    );
+    let largest = state.amax();
+    let zero = options.zero_tolerance * (1.0 + largest);
+    // Removing one structural variable can make another's row or column zero (psi's
+    // column holds the rates of x and y only): repeat until none is found.
+    let mut kept: Vec<usize> = (0..d).collect();
+    loop {
+        let sub = state.select_rows(&kept).select_columns(&kept);
+        let found: Vec<usize> = (0..kept.len())
+            .filter(|&j| sub.column(j).amax() <= zero || sub.row(j).amax() <= zero)
+            .map(|j| kept[j])
+            .collect();
+        if found.is_empty() {
+            break;
+        }
+        kept.retain(|j| !found.contains(j));
+    }
+    let structural: Vec<usize> = (0..d).filter(|j| !kept.contains(j)).collect();
+    let reduced_matrix = state.select_rows(&kept).select_columns(&kept);
+    Ok(SteadyLinearization {
+        variables,
+        coordinates: ind_q,
+        speeds: ind_u,
+        eigenvalues: state
+            .clone()
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect(),
+        reduced: reduced_matrix
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect(),
+        state,
+        structural,
+    })
+}
+
+fn no_tangent(what: &str) -> Error {
+    Error::Linearization {
+        reason: format!(
+            "the system provides no exact tangent of {what} (build it with Interpreted::for_linearization)"
+        ),
+    }
+}
+
+/// Each coordinate moving at a nonzero rate must be cyclic: its columns of [Q V]'s Q part,
+/// of D and of the position rows of G zero.
+fn check_cyclic(
+    info: &crate::system::SystemInfo,
+    qd: &[f64],
+    qv: &DMatrix<f64>,
+    velocity: &DMatrix<f64>,
+    g: &DMatrix<f64>,
+    p: usize,
+    options: &SteadyOptions,
+) -> Result<(), Error> {
+    let n = info.n();
+    let largest = qv.amax().max(velocity.amax()).max(g.amax());
+    let limit = options.zero_tolerance * (1.0 + largest);
+    let moving = options.steady_tolerance * (1.0 + inf_norm(qd));
+    for j in (0..n).filter(|&j| qd[j].abs() > moving) {
+        let column = (0..n)
+            .map(|i| qv[(i, j)].abs())
+            .chain((0..velocity.nrows()).map(|r| velocity[(r, j)].abs()))
+            .chain((0..p).map(|r| g[(r, j)].abs()))
+            .fold(0.0, f64::max);
+        if column > limit {
+            return Err(Error::NotSteady {
+                reason: format!(
+                    "`{}` moves (rate {:e}) but the equations depend on it (it is not cyclic)",
+                    info.coordinates[j], qd[j]
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The columns of `a` picked greedily in `order`, each independent of those before it
+/// (Gram-Schmidt, twice), until rank(a) = rows of them are found.
+fn pivot_columns(a: &DMatrix<f64>, order: &[usize], tolerance: f64) -> Result<Vec<usize>, Error> {
+    let rows = a.nrows();
+    let mut basis: Vec<nalgebra::DVector<f64>> = Vec::with_capacity(rows);
+    let mut picked = Vec::with_capacity(rows);
+    for &j in order {
+        if picked.len() == rows {
+            break;
+        }
+        let column = a.column(j).into_owned();
+        let norm = column.norm();
+        if norm == 0.0 {
+            continue;
+        }
+        let mut r = column;
+        for _ in 0..2 {
+            for b in &basis {
+                let c = b.dot(&r);
+                r -= b * c;
+            }
+        }
+        let rn = r.norm();
+        if rn > tolerance * norm {
+            basis.push(r / rn);
+            picked.push(j);
+        }
+    }
+    if picked.len() < rows {
+        return Err(Error::Linearization {
+            reason: format!(
+                "the constraint rows have rank {} < {rows}: remove the dependent rows",
+                picked.len()
+            ),
+        });
+    }
+    picked.sort_unstable();
+    Ok(picked)
+}
+
+fn columns(a: &DMatrix<f64>, cols: &[usize]) -> DMatrix<f64> {
+    a.select_columns(cols)
+}
+
+fn solve(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, Error> {
+    a.clone().lu().solve(b).ok_or_else(|| Error::Linearization {
+        reason: "the dependent columns of the constraint rows are singular".to_string(),
+    })
+}

@@ -1,0 +1,10 @@
+//! Velocity constraints: rolling wheels, the Whipple bicycle benchmark, the rolling disc and
+//! the Chaplygin sleigh, through the interpreter route (the bicycle through `mechanism!` too).
+
+mod bicycle;
+mod bicycle_run;
+mod common;
+mod disc;
+mod errors;
+mod macro_route;
+mod sleigh;
