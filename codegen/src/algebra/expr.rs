@@ -983,15 +983,17 @@ impl Arena {
         Ok(self.func_raw(f, x))
     }
 
-    /// k when `x` is exactly k pi/2 for an integer k (`pi`, `-pi/2`, `3*pi/2`, written
-    /// with exact rational coefficients; a float coefficient is not exact and never counts).
+    /// k when `x` is exactly k pi/2 for an integer k (`pi`, `-pi/2`, `3*pi/2`; a float
+    /// coefficient counts when twice it is a whole number, as `-1.0*pi` or `0.5*pi`: such a
+    /// float is exact, and the printed form `-pi` reads back as the rational -1).
     fn half_pi_multiple(&self, x: Id) -> Option<i64> {
         match self.node(x) {
             Node::Pi => Some(2),
             Node::Mul(fs) if fs.len() == 2 && matches!(self.node(fs[1]), Node::Pi) => {
                 let c = self.as_number(fs[0])?;
                 if c.is_float() {
-                    return None;
+                    let twice = 2.0 * c.to_f64();
+                    return (twice.fract() == 0.0 && twice.abs() < 9.0e15).then_some(twice as i64);
                 }
                 c.checked_mul(Number::int(2))?.as_integer()
             }
