@@ -36,9 +36,12 @@ fn main() {
     lap("compile");
     let text = mechanism_codegen::equations_text(&model, &eqs);
     lap("text");
+    let effort = model.arena.effort();
     println!(
-        "{} routines, {} bytes of text",
+        "{} routines, {} bytes of text; work {}, size {}",
         routines.iter().count(),
-        text.len()
+        text.len(),
+        effort.work,
+        effort.size
     );
 }

@@ -1,5 +1,5 @@
-//! A declaration without constraint rows (no `constraints`, no `joints` rows, no helper
-//! joints) and without an `independent` section: every coordinate is independent, at its
+//! A declaration without constraint rows (no `constraints`, no `velocity_constraints`, no
+//! `joints` rows, no helper joints) and without an `independent` section: every coordinate is independent, at its
 //! initial value, at rest. With m = 0 there is nothing to solve for, so the n - m = n
 //! degrees of freedom are the coordinates themselves (an open tree of links, particles in a
 //! field, a chain in relative angles).
@@ -13,6 +13,9 @@ use crate::syntax::declaration::{Declaration, IndependentItem, Section};
 /// no constraint rows and no `independent` section.
 pub(crate) fn independent_when_unconstrained(d: &mut Declaration) {
     let rows = d.constraints.as_ref().is_some_and(|s| !s.body.is_empty())
+        || d.velocity_constraints
+            .as_ref()
+            .is_some_and(|s| !s.body.is_empty())
         || d.bodies
             .items
             .iter()

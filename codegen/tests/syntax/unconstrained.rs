@@ -51,3 +51,17 @@ fn a_constrained_declaration_still_needs_independent_and_lists_few_candidates() 
     );
     assert!(text.len() < 400, "{} bytes: {text}", text.len());
 }
+
+/// Velocity rows are rows: a sleigh-like declaration with one velocity row and no
+/// `independent` is asked for the n - m coordinates whose rates are free, not handed an
+/// `independent` it never wrote that names every coordinate.
+#[test]
+fn velocity_rows_count_as_rows() {
+    let text = particles(3, "velocity_constraints { der(q1) - der(q2); }");
+    let e = parse_model_str(&text).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("n - m = 3 - 1 = 2 degrees of freedom but `independent` sets 0 (none)"),
+        "{text}"
+    );
+}
