@@ -13,7 +13,8 @@
 //! [`Routines`]: mechanism_codegen::Routines
 
 use mechanism_codegen::{
-    Equations, Error, EvaluationOutput, Model, Role, compile, constraint_tangent, residual_tangent,
+    Equations, Error, EvaluationOutput, Model, Role, compile_interpreted, constraint_tangent,
+    residual_tangent,
 };
 use nalgebra::DMatrix;
 
@@ -60,7 +61,6 @@ pub struct Interpreted {
     /// The fingerprint of the routines the tapes run
     /// ([`mechanism_codegen::Routines::fingerprint`]).
     routines: u64,
-    equations_text: String,
 }
 
 impl std::fmt::Debug for Interpreted {
@@ -129,7 +129,7 @@ impl Interpreted {
         if linearization && eqs.m > 0 && tangent.constraints.is_none() {
             tangent.constraints = Some(constraint_tangent(&mut model, &eqs)?);
         }
-        let routines = compile(&mut model, &eqs, &tangent)?;
+        let routines = compile_interpreted(&mut model, &eqs, &tangent)?;
         let (n, m) = (model.coordinates.len(), eqs.m);
         let full_len = EvaluationOutput::ORDER
             .iter()
@@ -183,7 +183,6 @@ impl Interpreted {
             parameters: model.parameters.iter().map(|p| p.default).collect(),
             routines: routines.fingerprint(),
             info: system_info(&model, m),
-            equations_text: mechanism_codegen::equations_text(&model, &eqs),
         };
         interpreted.refresh_cache();
         Ok(interpreted)
@@ -206,11 +205,6 @@ impl Interpreted {
         let cache = &mut self.cache;
         self.parameter_cache
             .run(&values, |v| cache.copy_from_slice(v));
-    }
-
-    /// The derived equations as readable text (the same text `mechanism!` embeds).
-    pub fn equations_text(&self) -> &str {
-        &self.equations_text
     }
 
     /// The values of an evaluation at (t, q) with the current parameters.

@@ -31,8 +31,9 @@ fn main() {
     lap("derive");
     let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
     lap("tangent");
-    let routines =
-        mechanism_codegen::compile(&mut model, &eqs, &tangent).unwrap_or_else(|e| fail(e));
+    // The interpreter's routines, as the command-line tool compiles them.
+    let routines = mechanism_codegen::compile_interpreted(&mut model, &eqs, &tangent)
+        .unwrap_or_else(|e| fail(e));
     lap("compile");
     let text = mechanism_codegen::equations_text(&model, &eqs);
     lap("text");

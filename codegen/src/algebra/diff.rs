@@ -167,7 +167,14 @@ impl Differentiator {
             Node::Num(_) | Node::Pi => arena.int(0),
             Node::Sym(s) => arena.int(i64::from(s == sym)),
             Node::Add(ts) => {
-                let ds: Vec<Id> = ts.iter().map(|&t| self.child(arena, t, sym)).collect();
+                // Only the terms that depend on `sym`: the others' derivatives are zeros
+                // the sum would drop (a row of a large residual reads each coordinate in
+                // a few of its terms).
+                let ds: Vec<Id> = ts
+                    .iter()
+                    .filter(|&&t| self.deps.contains(t, sym))
+                    .map(|&t| self.child(arena, t, sym))
+                    .collect();
                 arena.add(&ds)
             }
             Node::Mul(fs) => {

@@ -28,6 +28,7 @@ pub(crate) mod sparsity;
 
 use std::fmt::Write as _;
 
+use crate::algebra::expr::SymbolId;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
@@ -83,12 +84,38 @@ pub struct Routines {
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
-    let mut roles = Role::compiled(eqs, &model.drawing);
-    if tangent.constraints.is_some() {
-        roles.push(Role::ConstraintTangent);
-    }
+    let roles = Role::compiled(eqs, &model.drawing, tangent.constraints.is_some());
+    compile_roles(model, eqs, tangent, &roles)
+}
+
+/// The routines of [`Role::interpreted`] only: what the interpreter runs, without the
+/// single outputs, robotics roles and frames that only the macro emits (on a large
+/// mechanism they are half of the stage's work). These roles come first in
+/// [`Role::compiled`] and hoisting numbers cache slots in role order, so every program
+/// here equals the program of the same role in [`compile`]'s routines, and the parameter
+/// cache computes the first [`Routines::cache_len`] slots of that one, with the same
+/// instructions.
+///
+/// # Errors
+/// As [`compile`].
+pub fn compile_interpreted(
+    model: &mut Model,
+    eqs: &Equations,
+    tangent: &ResidualTangent,
+) -> Result<Routines> {
+    let roles = Role::interpreted(&model.drawing, tangent.constraints.is_some());
+    compile_roles(model, eqs, tangent, &roles)
+}
+
+/// The stage's steps (module docs) for `roles`, in their order.
+fn compile_roles(
+    model: &mut Model,
+    eqs: &Equations,
+    tangent: &ResidualTangent,
+    roles: &[Role],
+) -> Result<Routines> {
     let mut programs = Vec::with_capacity(roles.len());
-    for &role in &roles {
+    for &role in roles {
         let outputs = role.outputs(&mut model.arena, &model.drawing, eqs, tangent)?;
         let outputs: Vec<_> = outputs.iter().collect();
         programs.push(Program::new(&model.arena, &outputs)?);
@@ -96,7 +123,7 @@ pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) ->
     let all: Vec<&Program> = programs.iter().collect();
     let hoisted = hoist_parameters(&mut model.arena, &all)?;
     let sources = Sources::new(model, &tangent.lambda, &hoisted.slots)?;
-    let mut programs: Vec<(Role, Program)> = roles.into_iter().zip(hoisted.programs).collect();
+    let mut programs: Vec<(Role, Program)> = roles.iter().copied().zip(hoisted.programs).collect();
     programs.push((Role::ParameterCache, hoisted.cache));
     for (role, program) in &programs {
         check_sources(*role, program, &sources)?;
@@ -153,6 +180,43 @@ impl Routines {
     /// [`Role::ParameterCache`] program's one output).
     pub fn cache_len(&self) -> usize {
         self.cache_len
+    }
+
+    /// These routines cut down to `roles` (kept in their order here): their programs, the
+    /// parameter cache computing only the slots they read (the first ones, when `roles`
+    /// begin [`Role::compiled`] as [`Role::interpreted`] do) and the source table without
+    /// the other slots. For [`Role::interpreted`], what [`compile_interpreted`] returns.
+    pub fn restricted(&self, roles: &[Role]) -> Routines {
+        let programs: Vec<(Role, Program)> = self
+            .programs
+            .iter()
+            .filter(|(r, _)| roles.contains(r))
+            .cloned()
+            .collect();
+        let slot = |s: SymbolId| match self.sources.get(s) {
+            Some(Source::Cache(k)) => Some(k),
+            _ => None,
+        };
+        let cache_len = programs
+            .iter()
+            .flat_map(|(_, p)| p.symbols().iter().filter_map(|(s, _)| slot(*s)))
+            .map(|k| k + 1)
+            .max()
+            .unwrap_or(0);
+        let mut programs = programs;
+        if let Some(cache) = self.get(Role::ParameterCache) {
+            programs.push((Role::ParameterCache, cache.first_rows(cache_len)));
+        }
+        let sources = self
+            .sources
+            .iter()
+            .filter(|&(_, source)| !matches!(source, Source::Cache(k) if k >= cache_len))
+            .collect();
+        Routines {
+            programs,
+            sources,
+            cache_len,
+        }
     }
 
     /// A 64-bit FNV-1a hash of the roles, their programs (instructions, outputs, symbols)

@@ -42,9 +42,9 @@ pub enum Role {
     /// n x n outputs): `residual_tangent`.
     Tangent,
     /// The constraint rows' tangents D, R_q, R_q' (three m x n outputs, see
-    /// [`crate::ConstraintTangent`]), for linearisation; compiled (after the roles of
-    /// [`Role::compiled`]) when the tangent carries them: for a model with velocity
-    /// constraints, or on request. The interpreter runs it; the macro emits no method for it.
+    /// [`crate::ConstraintTangent`]), for linearisation; compiled (after the tangent)
+    /// when the tangent carries them: for a model with velocity constraints, or on
+    /// request. The interpreter runs it; the macro emits no method for it.
     ConstraintTangent,
     /// M (n x n) and the bias b = C q' + g - tau (n x 1) in one program: `mass_and_bias`.
     MassAndBias,
@@ -63,34 +63,49 @@ pub enum Role {
 }
 
 impl Role {
-    /// The roles compiled for equations `eqs` and a model's `drawing`, in compilation order (the
-    /// order in which hoisting numbers the cache slots): the eleven single outputs, the
-    /// evaluation, the tangent, the robotics roles, the frames, the drawing. The parameter
-    /// cache, made from all of them, is not in the list.
-    pub fn compiled(eqs: &Equations, drawing: &Drawing) -> Vec<Role> {
+    /// The roles the interpreter runs, in compilation order: the evaluation, the
+    /// constraint rows, the tangent, the constraint rows' tangent when `constraint_tangent`,
+    /// the drawing for a model that draws. They are the first roles of
+    /// [`Role::compiled`], so hoisting numbers their cache slots alike in both lists and
+    /// their programs are the same (see [`crate::compile_interpreted`]).
+    pub fn interpreted(drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
         let mut roles = vec![
+            Role::Evaluation,
+            Role::Constraints,
+            Role::ConstraintJacobian,
+            Role::ConstraintTimeDerivative,
+            Role::Tangent,
+        ];
+        if constraint_tangent {
+            roles.push(Role::ConstraintTangent);
+        }
+        if !drawing.points.is_empty() {
+            roles.push(Role::Draw);
+        }
+        roles
+    }
+
+    /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
+    /// order (the order in which hoisting numbers the cache slots): the roles of
+    /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics
+    /// roles and the frames. The parameter cache, made from all of them, is not in the
+    /// list.
+    pub fn compiled(eqs: &Equations, drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
+        let mut roles = Role::interpreted(drawing, constraint_tangent);
+        roles.extend([
             Role::Mass,
             Role::CoriolisMatrix,
             Role::CoriolisForces,
             Role::Gravity,
             Role::Forces,
-            Role::Constraints,
-            Role::ConstraintJacobian,
-            Role::ConstraintTimeDerivative,
             Role::Gamma,
             Role::Kinetic,
             Role::Potential,
-            Role::Evaluation,
-            Role::Tangent,
             Role::MassAndBias,
             Role::InverseDynamics,
-        ];
-
+        ]);
         roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
         roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
-        if !drawing.points.is_empty() {
-            roles.push(Role::Draw);
-        }
         roles
     }
 

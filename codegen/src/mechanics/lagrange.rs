@@ -3,7 +3,9 @@
 //! M(q) q'' + C(q, q') q' + g(q) + Phi_q^T lambda = tau(t, q, q'),   Phi(q, t) = 0,
 //! Phi_q q'' = gamma.
 //!
-//! - M = d2T/dq'dq', derived once per upper-triangle entry and mirrored;
+//! - M = d2T/dq'dq', upper triangle mirrored: read off the momenta dT/dq' as linear forms
+//!   in the rates (`mass_matrix.rs`), or differentiated entry by entry where a momentum is
+//!   not of that form;
 //! - C by Khang's formula C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, its
 //!   Kronecker products contracted over the nonzeros of dM/dq (where M_ij depends on q_k);
 //! - C q' as its own lean expression: per row k, the coefficient of each monomial
@@ -28,6 +30,7 @@ use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
+use crate::mechanics::mass_matrix::mass_from_momenta;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 
@@ -172,12 +175,19 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         Some(_) => Vec::new(),
         None => d.gradient(arena, kinetic, &s.qd)?,
     };
-    let mut mass = Matrix::zeros(arena, n, n);
+    // M from the momenta read as linear forms in the rates (mass_matrix.rs), or, for a
+    // momentum not of that form, by differentiation.
+    let linear = match &tree {
+        Some(_) => None,
+        None => mass_from_momenta(arena, &mut d, &momenta, &s.qd)?,
+    };
+    let by_forms = linear.is_some();
+    let mut mass = linear.unwrap_or_else(|| Matrix::zeros(arena, n, n));
     // Only the rates each momentum depends on: M_ij = 0 where p_i is free of q_j'.
     let rate_index: FxHashMap<SymbolId, usize> =
         s.qd.iter().enumerate().map(|(j, &v)| (v, j)).collect();
     let mut columns = Vec::new();
-    for (i, &p) in momenta.iter().enumerate() {
+    for (i, &p) in momenta.iter().enumerate().filter(|_| !by_forms) {
         columns.clear();
         for v in d.symbols_of(arena, p)? {
             columns.extend(rate_index.get(&v).filter(|&&j| j >= i));

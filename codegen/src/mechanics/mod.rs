@@ -30,6 +30,7 @@ pub(crate) mod joints;
 pub(crate) mod kinetic_form;
 pub(crate) mod lagrange;
 pub(crate) mod links;
+pub(crate) mod mass_matrix;
 pub(crate) mod model;
 pub(crate) mod nonholonomic;
 pub(crate) mod recursive;

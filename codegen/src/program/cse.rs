@@ -49,6 +49,26 @@ impl Program {
         p
     }
 
+    /// This program with its first output cut to its first `rows` entries (a column:
+    /// the parameter cache's first slots) and every other output dropped, dead
+    /// instructions removed.
+    pub(crate) fn first_rows(&self, rows: usize) -> Program {
+        let entries = self
+            .outputs
+            .first()
+            .map(|o| o.entries[..rows.min(o.entries.len())].to_vec())
+            .unwrap_or_default();
+        let column = Output {
+            rows: entries.len(),
+            cols: 1,
+            entries,
+        };
+        let mut p = compact(&self.instrs, vec![column], &self.symbols);
+        let used = p.read_symbols();
+        p.symbols.retain(|(s, _)| used.contains(s));
+        p
+    }
+
     /// The instructions and the outputs, taken apart (for the next pass).
     pub(crate) fn into_parts(self) -> (Vec<Instr>, Vec<Output>) {
         (self.instrs, self.outputs)

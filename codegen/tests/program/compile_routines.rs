@@ -5,7 +5,7 @@
 
 use mechanism_codegen::{
     Equations, Matrix, Model, Program, ResidualTangent, Role, Routines, Source, Tape, compile,
-    derive, parse_model_str, residual_tangent,
+    compile_interpreted, derive, parse_model_str, residual_tangent,
 };
 
 const FIVE_BAR: &str = include_str!("../../../mechanisms/five_bar.mech");
@@ -117,4 +117,43 @@ fn compiling_twice_gives_the_same_routines() {
     let (_, _, _, second) = compiled();
     assert_eq!(first, second);
     assert_eq!(first.fingerprint(), second.fingerprint());
+}
+
+/// The interpreter's routines are the macro's cut down to the roles it runs, for every
+/// library mechanism: the same programs role by role, the same cache instructions for
+/// the slots they read, the same sources.
+#[test]
+fn the_interpreted_routines_are_the_compiled_ones_cut_down() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(dir).expect("the library folder") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_none_or(|e| e != "mech") {
+            continue;
+        }
+        let source = std::fs::read_to_string(&path).expect("readable");
+        let routines = |interpreted: bool| {
+            let mut model = parse_model_str(&source).expect("parses");
+            let eqs = derive(&mut model).expect("derives");
+            let tangent = residual_tangent(&mut model, &eqs).expect("a tangent");
+            let roles = Role::interpreted(&model.drawing, tangent.constraints.is_some());
+            let routines = if interpreted {
+                compile_interpreted(&mut model, &eqs, &tangent)
+            } else {
+                compile(&mut model, &eqs, &tangent)
+            };
+            (routines.expect("compiles"), roles)
+        };
+        let (all, roles) = routines(false);
+        let (interpreted, _) = routines(true);
+        let cut = all.restricted(&roles);
+        assert_eq!(interpreted, cut, "{}", path.display());
+        assert_eq!(interpreted.fingerprint(), cut.fingerprint());
+        // The macro-only roles are really left out, and the cache is a proper prefix
+        // only where they hoist values of their own.
+        assert!(interpreted.get(Role::Mass).is_none());
+        assert!(interpreted.cache_len() <= all.cache_len());
+        checked += 1;
+    }
+    assert!(checked >= 16, "{checked} library mechanisms");
 }

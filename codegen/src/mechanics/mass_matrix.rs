@@ -1,0 +1,371 @@
+//! M = dp/dq' read off the momenta p = dT/dq' as linear forms in the rates.
+//!
+//! Differentiating p_i by q_j' for every pair (i, j) walks all of p_i once per column: in a
+//! closed chain of n bars in absolute angles p_i has a term per bar k >= i, each the
+//! product of a rate-free factor r_ki and the bar's velocity L_k (a linear form in the
+//! rates), so the walk creates n^3 product nodes for n^2 entries. Here each term is read
+//! once instead: p_i = sum_k c_k r_ki L_k with L_k = sum_j d_kj s_kj q_j' (c, d numbers; r,
+//! s rate-free monomials) gives
+//!
+//! M_ij = sum_k (c_k d_kj) r_ki s_kj,
+//!
+//! accumulated numerically per pair of monomials (r, s). Each linear form L_k is decomposed
+//! once and shared by every momentum that reads it, so the nodes created are those of the
+//! entries and of the decompositions (n^2 in the chain); the n^3 part is an addition of
+//! numbers per (i, j, k).
+//!
+//! The result is the canonical sum of the same terms as the term-by-term derivative
+//! (exact for rational coefficients; for float coefficients the groups are summed first,
+//! which can change the last bit). A momentum that is not linear in the rates in this
+//! form (a rate inside a function or a power, a product of two rate-dependent factors)
+//! makes the whole matrix fall back to differentiation, which also reports what is wrong
+//! with such a kinetic energy.
+
+use std::rc::Rc;
+
+use crate::algebra::diff::Differentiator;
+use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
+use crate::algebra::matrix::Matrix;
+use crate::error::Result;
+use crate::number::Number;
+
+/// A linear form in the rates: (rate index j, coefficient d, rate-free monomial s) per
+/// term, s = `None` for 1.
+type LinearForm = Rc<Vec<(usize, Number, Option<Id>)>>;
+
+/// The upper-triangle accumulation of one row: per column j, per monomial pair (r, s), the
+/// summed coefficient, in order of first appearance.
+type RowGroups = FxHashMap<(usize, Option<Id>, Option<Id>), usize>;
+
+/// M (n x n, symmetric, upper triangle computed and mirrored) from the momenta
+/// `momenta[i]` = dT/dq_i' by linear forms, or `None` when some momentum is not of that
+/// form (the caller then differentiates).
+///
+/// # Errors
+/// What [`Differentiator::symbols_of`] reports for an id not in `arena`.
+pub(crate) fn mass_from_momenta(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    momenta: &[Id],
+    rates: &[SymbolId],
+) -> Result<Option<Matrix>> {
+    let n = momenta.len();
+    let mut reader = LinearReader::new(arena, rates);
+    let mut mass = Matrix::zeros(arena, n, n);
+    let mut groups: RowGroups = FxHashMap::default();
+    let mut sums: Vec<(usize, Option<Id>, Option<Id>, Number)> = Vec::new();
+    for (i, &p) in momenta.iter().enumerate() {
+        groups.clear();
+        sums.clear();
+        let terms: Vec<Id> = match arena.node(p) {
+            Node::Add(ts) => ts.to_vec(),
+            _ => vec![p],
+        };
+        for t in terms {
+            let Some((c, r, form)) = reader.term(arena, d, t)? else {
+                return Ok(None);
+            };
+            for &(j, dj, s) in form.iter().filter(|(j, ..)| *j >= i) {
+                let Some(cd) = c.checked_mul(dj) else {
+                    return Ok(None);
+                };
+                match groups.get(&(j, r, s)) {
+                    Some(&g) => match sums[g].3.checked_add(cd) {
+                        Some(v) => sums[g].3 = v,
+                        None => return Ok(None),
+                    },
+                    None => {
+                        groups.insert((j, r, s), sums.len());
+                        sums.push((j, r, s, cd));
+                    }
+                }
+            }
+        }
+        // Columns in increasing order, each entry's terms in order of first appearance:
+        // the order in which the term-by-term derivative creates them.
+        sums.sort_by_key(|g| g.0);
+        let mut k = 0;
+        while k < sums.len() {
+            let j = sums[k].0;
+            let mut entry = Vec::new();
+            while k < sums.len() && sums[k].0 == j {
+                let (_, r, s, coef) = sums[k];
+                let mut factors = vec![arena.number(coef)];
+                factors.extend(r);
+                factors.extend(s);
+                entry.push(arena.mul(&factors));
+                k += 1;
+            }
+            let mij = arena.add(&entry);
+            mass.set(i, j, mij);
+            mass.set(j, i, mij);
+        }
+    }
+    Ok(Some(mass))
+}
+
+/// Reads terms and linear forms in the rates, each linear form once.
+struct LinearReader {
+    /// The rate index of each symbol, by [`SymbolId::index`].
+    rate_of: Vec<Option<usize>>,
+    /// Whether each symbol is a rate.
+    is_rate: Vec<bool>,
+    /// The decomposition of every linear form read so far (`None`: not linear).
+    forms: FxHashMap<Id, Option<LinearForm>>,
+}
+
+impl LinearReader {
+    fn new(arena: &Arena, rates: &[SymbolId]) -> Self {
+        let mut rate_of = vec![None; arena.symbols().len()];
+        let mut is_rate = vec![false; arena.symbols().len()];
+        for (j, r) in rates.iter().enumerate() {
+            rate_of[r.index()] = Some(j);
+            is_rate[r.index()] = true;
+        }
+        Self {
+            rate_of,
+            is_rate,
+            forms: FxHashMap::default(),
+        }
+    }
+
+    /// Whether `id` depends on a rate.
+    fn has_rate(&self, arena: &Arena, d: &mut Differentiator, id: Id) -> Result<bool> {
+        Ok(d.symbols_of(arena, id)?
+            .iter()
+            .any(|s| self.is_rate.get(s.index()).copied().unwrap_or(false)))
+    }
+
+    /// A term of a momentum as c * r * L: its coefficient, its rate-free monomial r and
+    /// its linear form L (empty for a rate-free term). `None` when the term is not of
+    /// that form.
+    fn term(
+        &mut self,
+        arena: &mut Arena,
+        d: &mut Differentiator,
+        t: Id,
+    ) -> Result<Option<(Number, Option<Id>, LinearForm)>> {
+        let (c, factors) = match arena.node(t) {
+            Node::Num(_) => return Ok(Some((Number::int(0), None, Rc::default()))),
+            Node::Mul(fs) => match arena.as_number(fs[0]) {
+                Some(c) => (c, fs[1..].to_vec()),
+                None => (Number::int(1), fs.to_vec()),
+            },
+            _ => (Number::int(1), vec![t]),
+        };
+        let mut linear = None;
+        let mut rest = Vec::with_capacity(factors.len());
+        for f in factors {
+            if !self.has_rate(arena, d, f)? {
+                rest.push(f);
+            } else if linear.is_none() {
+                linear = Some(f);
+            } else {
+                return Ok(None);
+            }
+        }
+        let Some(l) = linear else {
+            return Ok(Some((c, None, Rc::default())));
+        };
+        let Some(form) = self.form(arena, d, l)? else {
+            return Ok(None);
+        };
+        let r = match rest.len() {
+            0 => None,
+            1 => Some(rest[0]),
+            _ => Some(arena.mul(&rest)),
+        };
+        Ok(Some((c, r, form)))
+    }
+
+    /// The decomposition of `id` (which depends on a rate) as a linear form, once per node.
+    fn form(
+        &mut self,
+        arena: &mut Arena,
+        d: &mut Differentiator,
+        id: Id,
+    ) -> Result<Option<LinearForm>> {
+        if let Some(f) = self.forms.get(&id) {
+            return Ok(f.clone());
+        }
+        let form = match arena.node(id).clone() {
+            Node::Sym(x) => self
+                .rate_of
+                .get(x.index())
+                .copied()
+                .flatten()
+                .map(|j| Rc::new(vec![(j, Number::int(1), None)])),
+            Node::Add(ts) => {
+                let mut all = Vec::new();
+                let mut linear = true;
+                for t in ts.iter() {
+                    match self.term(arena, d, *t)? {
+                        Some((c, r, inner)) => {
+                            for &(j, dj, s) in inner.iter() {
+                                let Some(cd) = c.checked_mul(dj) else {
+                                    linear = false;
+                                    break;
+                                };
+                                all.push((j, cd, monomial(arena, r, s)));
+                            }
+                        }
+                        None => linear = false,
+                    }
+                    if !linear {
+                        break;
+                    }
+                }
+                linear.then(|| Rc::new(by_rate(arena, all)))
+            }
+            Node::Mul(_) => match self.term(arena, d, id)? {
+                Some((c, r, inner)) => {
+                    let mut all = Vec::with_capacity(inner.len());
+                    for &(j, dj, s) in inner.iter() {
+                        match c.checked_mul(dj) {
+                            Some(cd) => all.push((j, cd, monomial(arena, r, s))),
+                            None => return Ok(None),
+                        }
+                    }
+                    Some(Rc::new(all))
+                }
+                None => None,
+            },
+            _ => None,
+        };
+        self.forms.insert(id, form.clone());
+        Ok(form)
+    }
+}
+
+/// The terms of a linear form with one term per rate: the terms of a rate that occurs
+/// more than once are summed (their canonical sum, split into coefficient and rest), as
+/// the derivative of the form by that rate is.
+fn by_rate(
+    arena: &mut Arena,
+    all: Vec<(usize, Number, Option<Id>)>,
+) -> Vec<(usize, Number, Option<Id>)> {
+    let mut first: FxHashMap<usize, usize> = FxHashMap::default();
+    let mut repeated = false;
+    for (k, &(j, ..)) in all.iter().enumerate() {
+        repeated |= first.insert(j, k).is_some();
+    }
+    if !repeated {
+        return all;
+    }
+    let mut order: Vec<usize> = Vec::new();
+    let mut parts: FxHashMap<usize, Vec<Id>> = FxHashMap::default();
+    for &(j, c, s) in &all {
+        let mut factors = vec![arena.number(c)];
+        factors.extend(s);
+        let term = arena.mul(&factors);
+        parts
+            .entry(j)
+            .or_insert_with(|| {
+                order.push(j);
+                Vec::new()
+            })
+            .push(term);
+    }
+    let mut merged = Vec::with_capacity(order.len());
+    for j in order {
+        let sum = arena.add(&parts[&j]);
+        match arena.split_coefficient(sum) {
+            (c, _) if c.is_zero() => {}
+            (c, rest) => merged.push((j, c, rest)),
+        }
+    }
+    merged
+}
+
+/// The product r * s of two optional rate-free monomials.
+fn monomial(arena: &mut Arena, r: Option<Id>, s: Option<Id>) -> Option<Id> {
+    match (r, s) {
+        (None, s) => s,
+        (r, None) => r,
+        (Some(r), Some(s)) => Some(arena.mul(&[r, s])),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::parse_model_str;
+
+    /// M differentiated entry by entry, d p_i / d q_j' for j >= i (the fallback route).
+    fn differentiated(
+        arena: &mut Arena,
+        d: &mut Differentiator,
+        p: &[Id],
+        qd: &[SymbolId],
+    ) -> Matrix {
+        let n = p.len();
+        let mut mass = Matrix::zeros(arena, n, n);
+        for (i, &pi) in p.iter().enumerate() {
+            for (j, &qj) in qd.iter().enumerate().skip(i) {
+                let e = d.diff(arena, pi, qj).unwrap();
+                mass.set(i, j, e);
+                mass.set(j, i, e);
+            }
+        }
+        mass
+    }
+
+    /// Both routes on one declaration: `Some(true)` when the linear forms applied and gave
+    /// the very same canonical entries, `None` when they did not apply.
+    fn routes_agree(source: &str) -> Option<bool> {
+        let mut model = parse_model_str(source).unwrap();
+        let qd: Vec<SymbolId> = model
+            .coordinates
+            .iter()
+            .map(|c| model.arena.as_symbol(c.qd).unwrap())
+            .collect();
+        let arena = &mut model.arena;
+        let mut d = Differentiator::new();
+        let p = d.gradient(arena, model.kinetic, &qd).unwrap();
+        let by_forms = mass_from_momenta(arena, &mut d, &p, &qd).unwrap()?;
+        let by_diff = differentiated(arena, &mut d, &p, &qd);
+        Some(by_forms.data == by_diff.data)
+    }
+
+    #[test]
+    fn every_library_mechanism_gets_the_entries_differentiation_gets() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms");
+        let mut applied = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "mech") {
+                continue;
+            }
+            let source = std::fs::read_to_string(&path).unwrap();
+            if let Some(same) = routes_agree(&source) {
+                assert!(same, "{}: the two routes differ", path.display());
+                applied += 1;
+            }
+        }
+        // Every declaration of the library has a kinetic energy quadratic in the rates.
+        assert!(
+            applied >= 15,
+            "linear forms applied to {applied} mechanisms"
+        );
+    }
+
+    #[test]
+    fn a_rate_inside_a_function_or_a_power_falls_back() {
+        let head = "pub struct X; coordinates { x = 0.1; y = 0.2; } independent { x = 0.1; \
+                    der(x) = 0; y = 0.2; der(y) = 0; }";
+        for kinetic in [
+            "cos(der(x)) + der(y)^2",
+            "der(x)^4 + der(y)^2",
+            "der(x)^2*der(y)^2",
+        ] {
+            let source = format!("{head} kinetic = {kinetic}; potential = 0;");
+            assert_eq!(routes_agree(&source), None, "{kinetic}");
+        }
+        // A rate repeated inside one linear form, and a product of two forms.
+        let source = format!(
+            "{head} kinetic = 1/2*(der(x)*cos(x) + der(x)*sin(y) + 2*der(y))^2 \
+             + 3*(der(x) + x*der(y))*(der(y) - y*der(x)); potential = 0;"
+        );
+        assert_eq!(routes_agree(&source), Some(true));
+    }
+}
