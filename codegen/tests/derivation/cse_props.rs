@@ -89,7 +89,8 @@ proptest! {
     /// Op counts: the whole program is the sum over its instructions (a fused multiply-add
     /// counts as a multiplication and an addition); each output's count is
     /// at most the total; outputs together count shared instructions once; restricting the
-    /// program to some outputs keeps their values and counts.
+    /// program to some outputs keeps their values and counts; built alone, an output has
+    /// the same values within rounding.
     #[test]
     fn op_counts_and_restriction(es in proptest::collection::vec(ast(), 2..6), x in point()) {
         let Some((a, col, row)) = outputs(&es) else { return Ok(()) };
@@ -106,8 +107,11 @@ proptest! {
         let r = p.restrict(&[1]).unwrap();
         prop_assert_eq!(r.op_counts(), c1);
         prop_assert_eq!(r.outputs().len(), 1);
+        // Built alone, the same output may cost fewer operations than its restriction: the
+        // passes decide by the readers a value has (a product fused into the one sum that
+        // reads it, factored or derived form), and the other output's readers are gone.
+        // Only the values are the same.
         let alone = Program::new(&a, &[&row]).unwrap();
-        prop_assert_eq!(alone.op_counts(), c1, "restriction = a program built for that output alone");
         let mut tp = Tape::new(&p);
         let mut t1 = Tape::new(&r);
         let mut t2 = Tape::new(&alone);
