@@ -67,6 +67,9 @@ def build(rev, native=False, log=print):
     if os.path.exists(crate):
         shutil.rmtree(crate)
     shutil.copytree(os.path.join(ROOT, "benches", "harness", "src"), os.path.join(crate, "src"))
+    # The harness reads its mechanisms from `mechanisms/` beside its manifest (a link to
+    # benches/mechanisms, so that its package holds them).
+    os.symlink(os.path.join("..", "mechanisms"), os.path.join(crate, "mechanisms"))
     # The root package was `mechanism` before it became `mechanism-dynamics` (the library's
     # import name is `mechanism` either way).
     with open(os.path.join(src, "Cargo.toml")) as f:

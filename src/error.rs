@@ -454,6 +454,40 @@ pub enum Error {
         /// The limit.
         limit: usize,
     },
+    /// A velocity constraint row A_j q' + a_j = 0 that is a combination of the rows above it
+    /// (A_j = c^T B, a_j = c^T b at the assembled configuration): it restricts nothing, like
+    /// the time derivative of a position row or a repeated row (`algorithms::velocity_rows`).
+    #[error(
+        "the velocity row `{row}` is redundant at t = {t} s: it is a combination of \
+         {} (a time derivative of position rows, or a repeat), so it restricts no rate; \
+         remove it, or declare an integrable row as a position constraint", of.join(", ")
+    )]
+    VelocityRowRedundant {
+        /// Time (s).
+        t: f64,
+        /// The velocity row, by label.
+        row: String,
+        /// The rows above it that it combines, by label.
+        of: Vec<String>,
+    },
+    /// A velocity constraint row whose A_j is a combination c^T B of the rows above it but
+    /// whose a_j is not the same combination of theirs: d = a_j - c^T b != 0, and no rates
+    /// satisfy all of them (`algorithms::velocity_rows`).
+    #[error(
+        "the velocity row `{row}` contradicts {} at t = {t} s: its rates are a \
+         combination of theirs but its right-hand side differs by {mismatch:.3e}, so no \
+         rates satisfy all of them; remove it or make it agree", of.join(", ")
+    )]
+    VelocityRowContradicts {
+        /// Time (s).
+        t: f64,
+        /// The velocity row, by label.
+        row: String,
+        /// The rows above it whose combination it contradicts, by label.
+        of: Vec<String>,
+        /// d = a_j - c^T b (in the row's units).
+        mismatch: f64,
+    },
     /// A start state given as consistent is not: Phi or Phi_q q' + Phi_t is above 1e-8.
     #[error(
         "the given initial state is not consistent: |Phi| = {residual:e}, \

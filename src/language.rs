@@ -61,6 +61,7 @@
 //!              | "kinetic" "=" expr ";"
 //!              | "potential" "=" expr ";"
 //!              | "constraints" "{" (row ";")* "}"
+//!              | "velocity_constraints" "{" (row ";")* "}"
 //!              | "forces" "{" (NAME ":" expr ";")* "}"
 //!              | body_section
 //! row         := expr ["=" expr] | vector ["=" vector]
@@ -93,10 +94,11 @@
 //!               | "point" NAME "=" vexpr | "axis" NAME "=" vexpr
 //! joint        := "spherical" "(" P "," Q ")" | "revolute" "(" P "," Q "," a "," b ")"
 //!               | "prismatic" "(" P "," Q "," a "," b ")" | "distance" "(" P "," Q "," L ")"
+//!               | "rolling" "(" B "," a "," r ")"
 //!               | vexpr ["=" vexpr]
 //! ```
 //!
-//! Sections come in any order, each of the first seven at most once; every statement of a
+//! Sections come in any order, each of the first eight at most once; every statement of a
 //! block ends with `;` (the last one too). `vexpr` is an expression of the vector language:
 //! the same operators, plus `[..]` columns (`[[..], [..], [..]]` by rows), components
 //! `P.x`, `P.y`, `P.z`, the matrix product for `*`, and the vector functions below.
@@ -112,6 +114,7 @@
 //! | `kinetic = ...;` | T(q, q', t), a quadratic form in the rates `der(x)` with M positive semi-definite (optional with bodies) |
 //! | `potential = ...;` | Pi(q, t) (optional; no rates) |
 //! | `constraints { f; lhs = rhs; [a, b] = [c, d]; }` | holonomic rows Phi(q, t) = 0: `lhs = rhs` is lhs - rhs, a vector equation is one row per component. Redundant rows are allowed |
+//! | `velocity_constraints { -sin(theta)*der(x) + cos(theta)*der(y); }` | velocity rows A(q, t) q' + a(q, t) = 0, linear in the rates `der(x)` (a row that is not is refused at the row), not integrable to positions: wheels, skates, knife edges. Stacked under the position rows of Phi_q, Phi_t and gamma. A row that is a combination of the rows above it at the assembled state is refused at assembly: redundant, or contradicting them |
 //! | `forces { phi: tau0*sin(Omega*t); }` | generalised forces tau(t, q, q') on named coordinates (optional) |
 //! | `gravity = [0, 0, -g];` | the gravity vector for bodies and links |
 //! | `point P = [..];`, `axis a = [..];` | a world point in q, t and the parameters (ground when it depends on neither q nor t), a world direction |
@@ -119,7 +122,7 @@
 //! | `link NAME { .. }` | a frame of a kinematic tree, as in URDF: `parent` (default `world`), `joint` (`revolute(q, axis)`, `continuous`, `prismatic`, `fixed`; the joint declares its coordinate), `xyz`, `rpy` (joint frame in the parent, R = rot_z(yaw) rot_y(pitch) rot_x(roll)), `limit`, `velocity_limit`, `effort_limit` (kept for reference), `mass`, `com`, `com_rpy`, `inertia` (about the com), link-frame `point`s and `axis`es |
 //! | `spring NAME { between = P, Q; stiffness = k; free_length = L0; }` | a linear spring: Pi += k/2 (\|P - Q\| - L0)^2 |
 //! | `damper NAME { between = P, Q; coefficient = c; }` | a linear damper along P - Q: its generalised forces |
-//! | `joints { .. }` | constraint rows between points and axes: `spherical(P, Q)` (3 rows, P = Q), `revolute(P, Q, a, b)` (5 rows: P = Q, a parallel to b), `prismatic(P, Q, a, b)` (5 rows), `distance(P, Q, L)` (1 row, \|P - Q\|^2 = L^2), or any vector equation `P = Q;`, `P.z = 0;` |
+//! | `joints { .. }` | constraint rows between points and axes: `spherical(P, Q)` (3 rows, P = Q), `revolute(P, Q, a, b)` (5 rows: P = Q, a parallel to b), `prismatic(P, Q, a, b)` (5 rows), `distance(P, Q, L)` (1 row, \|P - Q\|^2 = L^2), `rolling(B, a, r)` (a thin wheel, body B of radius r with axle a, rolling on z = 0: its contact height as a position row and the contact point's x and y velocity as two velocity rows; refused when the axle is vertical at the guesses), or any vector equation `P = Q;`, `P.z = 0;` |
 //! | `draw { line O, A, B; trace B; }` | the picture: polylines through named points and the points whose paths are traced (the animation page and the strobe figure); a point that moves with neither q nor t is drawn as ground |
 //!
 //! With bodies, links or springs, T, Pi, M, the spring potentials and the damper forces are

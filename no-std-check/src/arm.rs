@@ -6,7 +6,7 @@ use mechanism::nalgebra::{SMatrix, SVector};
 use mechanism::{Mechanism, mechanism};
 
 mechanism!(
-    urdf = "../mechanisms/urdf/panda.urdf",
+    urdf = "mechanisms/urdf/panda.urdf",
     lock = ["panda_finger_joint1", "panda_finger_joint2"]
 );
 

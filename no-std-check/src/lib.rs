@@ -6,7 +6,7 @@
 use mechanism::fixed::{FixedError, FixedStep, KktSolution, State, kkt_solve};
 use mechanism::{Coordinates, Mechanism, Velocities, mechanism};
 
-mechanism!(file = "../mechanisms/spatial_crank_slider.mech");
+mechanism!(file = "mechanisms/spatial_crank_slider.mech");
 
 /// The crank-slider assembled near its declared guess, the crank turning at about `rate`
 /// rad/s (guess and rate projected onto the constraints).

@@ -20,6 +20,7 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::algorithms::finite::{check_jacobian, check_rows};
+use crate::algorithms::velocity_rows::check_velocity_rows;
 use crate::error::Error;
 use crate::linalg::{inf_norm, least_squares, numerical_rank};
 use crate::system::{Evaluation, Independent, System, SystemInfo};
@@ -381,10 +382,12 @@ fn solve_dependent(
 
 /// Consistent initial state from independent coordinates: q_k = position, q_k' = velocity
 /// for each entry of `independent`; the rest by Newton from `guess` (positions), then
-/// Phi_q q' = -Phi_t (velocities). Redundant constraint rows are accepted (see
-/// [`crate::mobility()`]); the independent set must determine the others. Where the
-/// constraints cannot be closed from the guesses the error is
-/// [`Error::ConstraintsUnsatisfiable`], naming the rows left with a residual.
+/// Phi_q q' = -Phi_t (velocities). Redundant position rows are accepted (see
+/// [`crate::mobility()`]); a velocity row that is a combination of the rows above it is
+/// not ([`Error::VelocityRowRedundant`], [`Error::VelocityRowContradicts`]); the
+/// independent set must determine the others. Where the constraints cannot be closed from
+/// the guesses the error is [`Error::ConstraintsUnsatisfiable`], naming the rows left with
+/// a residual.
 pub fn assemble_from(
     system: &dyn System,
     t: f64,
@@ -415,6 +418,7 @@ pub fn assemble_from(
         Error::SingularConfiguration { q: stuck, .. } => unsatisfiable(system, t, stuck),
         other => other,
     })?;
+    check_velocity_rows(system, t, &q, options.rank_tolerance)?;
     solve_velocities(system, t, &q, &fixed, &mut qd, options)?;
     Ok(KinematicState {
         t,

@@ -13,6 +13,7 @@
 //!   constraints too), with exact derivatives;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
+//! - [`velocity_rows`]: velocity rows that repeat or contradict the rows above them;
 //! - [`finite`]: which entry of the equations is NaN or infinite, named for the user.
 //!
 //! Invariant: no file-system or terminal I/O, and nothing allocates inside the functions
@@ -30,3 +31,4 @@ pub(crate) mod linearize;
 pub(crate) mod mobility;
 pub(crate) mod stabilization;
 pub(crate) mod steady;
+pub(crate) mod velocity_rows;

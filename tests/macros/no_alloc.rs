@@ -8,8 +8,8 @@ use std::hint::black_box;
 
 use mechanism::Mechanism;
 use mechanism::builtin::{
-    CartesianPendulum, ClosedChain4, FiveBar, Panda, PlanarFourBar, PlanarSliderCrank,
-    SpatialCrankSlider, SpatialFourBar,
+    CartesianPendulum, ChaplyginSleigh, ClosedChain4, FiveBar, Panda, PlanarFourBar,
+    PlanarSliderCrank, RollingDisc, SpatialCrankSlider, SpatialFourBar, WhippleBicycle,
 };
 use nalgebra::SVector;
 
@@ -33,6 +33,11 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(mech.potential_energy(&q));
     black_box(mech.parameter(0));
     black_box(mech.evaluate(black_box(t), &q, &qd));
+    // The caller-buffer form the solvers call (with velocity rows: their A, a and gamma
+    // among the rows of Phi_q, Phi_t and gamma).
+    let mut e = mechanism::StaticEvaluation::<N, M>::zeros();
+    mech.evaluate_into(t, &q, &qd, &mut e);
+    black_box(&e);
     // The robotics methods (every frame of a declaration with links).
     black_box(mech.mass_and_bias(t, &q, &qd));
     black_box(mech.inverse_dynamics(t, &q, &qd, &qd));
@@ -67,4 +72,9 @@ fn emitted_methods_do_not_allocate() {
     assert_eq!(count::<CartesianPendulum, 2, 1>(), 0, "cartesian_pendulum");
     assert_eq!(count::<Panda, 7, 0>(), 0, "panda");
     assert_eq!(count::<FiveBar, 4, 2>(), 0, "five_bar");
+    // Velocity constraints: the rolling rows of the bicycle and the disc, the sleigh's
+    // knife edge.
+    assert_eq!(count::<WhippleBicycle, _, _>(), 0, "whipple_bicycle");
+    assert_eq!(count::<RollingDisc, _, _>(), 0, "rolling_disc");
+    assert_eq!(count::<ChaplyginSleigh, _, _>(), 0, "chaplygin_sleigh");
 }

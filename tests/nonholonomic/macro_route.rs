@@ -75,13 +75,18 @@ fn cost_of_the_generated_bicycle() {
     }
     let per_call = start.elapsed().as_secs_f64() / calls as f64;
     println!(
-        "whipple_bicycle: derivation (parse, derive, tangents, compile) {derivation:.3} s, evaluation program {} operations, evaluate_into {:.2} us (test profile)",
+        "whipple_bicycle: derivation (parse, derive, tangents, compile) {derivation:.3} s, evaluation program {} operations, evaluate_into {:.2} us ({} profile)",
         routines
             .program(mechanism_codegen::Role::Evaluation)
             .unwrap()
             .op_counts()
             .total(),
-        per_call * 1e6
+        per_call * 1e6,
+        if cfg!(debug_assertions) {
+            "test"
+        } else {
+            "release"
+        }
     );
     assert!(out.mass.iter().all(|v| v.is_finite()));
 }

@@ -4,6 +4,7 @@
 mod bicycle;
 mod bicycle_run;
 mod common;
+mod dependent_rows;
 mod disc;
 mod errors;
 mod macro_route;

@@ -1,12 +1,15 @@
 //! The step loop allocates nothing: a counting global allocator (counting only on this
 //! test's thread, while armed) sees zero allocations over hundreds of steps after warm-up,
 //! for every integrator and stabilisation, on the compiled and the interpreted routes (a
-//! step that records a singular passage allocates that record, and is not counted).
+//! step that records a singular passage allocates that record, and is not counted), with
+//! velocity constraints too (the bicycle); and the constraint rows' tangent of the
+//! linearisation.
 
 use crate::common::{CrankSlider, FourBar};
 use mechanism::builtin::builtin_source;
 use mechanism::{
-    IntegratorOptions, Interpreted, Method, SimulationOptions, Simulator, Stabilization, System,
+    ConstraintTangent, IntegratorOptions, Interpreted, Method, SimulationOptions, Simulator,
+    Stabilization, System, assemble,
 };
 
 fn allocations_in_steps(
@@ -94,9 +97,20 @@ fn step_loop_allocates_nothing() {
     let chain = mechanism::builtin::builtin("n_four_bar").unwrap();
     let chain_interpreted: &dyn System =
         &Interpreted::from_source(builtin_source("n_four_bar").unwrap()).unwrap();
+    // Velocity constraints: the Whipple bicycle's rolling rows, compiled and interpreted
+    // (A q' + a among the rows of the projection and of the KKT solve).
+    let bicycle = mechanism::builtin::builtin("whipple_bicycle").unwrap();
+    let bicycle_interpreted: &dyn System =
+        &Interpreted::from_source(builtin_source("whipple_bicycle").unwrap()).unwrap();
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
+            (bicycle.as_ref(), Method::Dop853, Stabilization::Projection),
+            (
+                bicycle_interpreted,
+                Method::Dop853,
+                Stabilization::Projection,
+            ),
             (chain.as_ref(), Method::Dop853, Stabilization::Projection),
             (chain_interpreted, Method::Dop853, Stabilization::Projection),
             (interpreted, Method::Dopri5, Stabilization::Projection),
@@ -135,4 +149,34 @@ fn step_loop_allocates_nothing() {
         );
         assert_eq!(n, 0, "{} {method:?} {stab:?}", s.info().name);
     }
+}
+
+#[test]
+fn the_constraint_tangent_allocates_nothing() {
+    // The linearisation's exact tangent of the rows (velocity rows too), on the
+    // interpreter's tapes, after the register file has grown on a first call.
+    let model =
+        mechanism_codegen::parse_model_str(builtin_source("whipple_bicycle").unwrap()).unwrap();
+    let system = Interpreted::for_linearization(model).unwrap();
+    let (n, m) = (system.info().n(), system.info().m());
+    let s = assemble(&system, 0.0, &Default::default()).unwrap();
+    let qdd = vec![0.1; n];
+    let mut out = ConstraintTangent::zeros(m, n);
+    assert!(
+        system
+            .constraint_tangent(0.0, &s.q, &s.qd, &qdd, &mut out)
+            .is_some()
+    );
+    let before = mechanism_test_support::allocations();
+    for k in 0..100 {
+        let t = 0.01 * f64::from(k);
+        assert!(
+            system
+                .constraint_tangent(t, &s.q, &s.qd, &qdd, &mut out)
+                .is_some()
+        );
+    }
+    assert_eq!(mechanism_test_support::allocations() - before, 0);
+    // The rows' tangent is not all zero: the rolling rows depend on the configuration.
+    assert!(out.velocity.iter().any(|v| *v != 0.0));
 }

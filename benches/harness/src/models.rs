@@ -8,9 +8,9 @@ use crate::json_list;
 use crate::simulate::{reference, simulate_runs};
 use crate::timing::{Inputs, time_eval, time_solve};
 
-mechanism::mechanism!(file = "../mechanisms/closed_chain_8.mech");
-mechanism::mechanism!(file = "../mechanisms/closed_chain_16.mech");
-mechanism::mechanism!(file = "../mechanisms/closed_chain_32.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_8.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_16.mech");
+mechanism::mechanism!(file = "mechanisms/closed_chain_32.mech");
 
 /// The model names, in table order.
 pub const NAMES: [&str; 6] = ["seed", "four_bar", "rssr", "chain8", "chain16", "chain32"];

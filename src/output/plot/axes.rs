@@ -175,9 +175,23 @@ pub(super) fn place_legend(
     (SeriesLabelPosition::UpperRight, (y.0, hi.max(y.1)))
 }
 
-/// Tick label with as many decimals as the axis span needs (`60`, `6.2`, `0.125`), and
-/// exponent form for very small or large magnitudes.
+/// Tick label with up to 6 decimals (`60`, `6.2`, `0.125`), and exponent form for very
+/// small or large magnitudes: [`tick_label_spanning`] for an axis of span 1.
 pub(super) fn tick_label(v: &f64) -> String {
+    tick_label_spanning(*v, 1.0)
+}
+
+/// Tick label on an axis of span `span` with at most 8 labels, so at least `span / 8`
+/// apart: with d = 1 - floor(log10(span / 8)) decimals (at least 6, at most 15) neighbouring
+/// labels differ (`0.0999995` and `0.1` on a span of 4e-6, where 6 decimals print both as
+/// `0.1`); trailing zeros dropped; exponent form for very small or large magnitudes.
+pub(super) fn tick_label_spanning(v: f64, span: f64) -> String {
+    let step = span / 8.0;
+    let decimals = if step > 0.0 && step.is_finite() {
+        (1.0 - step.log10().floor()).clamp(6.0, 15.0) as usize
+    } else {
+        6
+    };
     let a = v.abs();
     if a < 1e-12 {
         return "0".to_string();
@@ -188,7 +202,7 @@ pub(super) fn tick_label(v: &f64) -> String {
         let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
         return format!("{mantissa}e{exp}").replace('-', "−");
     }
-    let s = format!("{v:.6}");
+    let s = format!("{v:.decimals$}");
     s.trim_end_matches('0')
         .trim_end_matches('.')
         .replace('-', "−")
@@ -241,7 +255,39 @@ impl Ranged for Decades {
 
 #[cfg(test)]
 mod tests {
-    use super::linear_range;
+    use super::{linear_range, tick_label, tick_label_spanning};
+
+    #[test]
+    fn neighbouring_ticks_of_a_narrow_axis_read_differently() {
+        // The rolling disc's centre height: 0.0999967 to 0.100001 m, ticks 5e-7 apart.
+        let span = 0.100_001 - 0.099_996_7;
+        let ticks = [
+            0.099_997,
+            0.099_997_5,
+            0.099_998,
+            0.099_998_5,
+            0.099_999,
+            0.1,
+        ];
+        let labels: Vec<String> = ticks
+            .iter()
+            .map(|&v| tick_label_spanning(v, span))
+            .collect();
+        assert_eq!(
+            labels,
+            [
+                "0.099997",
+                "0.0999975",
+                "0.099998",
+                "0.0999985",
+                "0.099999",
+                "0.1"
+            ]
+        );
+        // A span of metres keeps the short labels.
+        assert_eq!(tick_label(&0.125), "0.125");
+        assert_eq!(tick_label_spanning(2.5, 10.0), "2.5");
+    }
 
     #[test]
     fn round_off_around_a_constant_is_drawn_constant() {

@@ -8,7 +8,8 @@ use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
 use super::axes::{
-    Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label, time_range,
+    Decades, decade_label, decade_range, linear_range, place_legend, thin, tick_label,
+    tick_label_spanning, time_range,
 };
 use super::font::{FONT, register_font};
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
@@ -71,8 +72,10 @@ fn draw_panel<DB: DrawingBackend>(
             .map_err(err)?;
         let mut mesh = chart.configure_mesh();
         style_mesh(&mut mesh, panel);
+        let span = y.1 - y.0;
+        let label = |v: &f64| tick_label_spanning(*v, span);
         mesh.y_labels(8)
-            .y_label_formatter(&tick_label)
+            .y_label_formatter(&label)
             .max_light_lines(0)
             .draw()
             .map_err(err)?;

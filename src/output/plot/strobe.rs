@@ -259,9 +259,12 @@ fn draw<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick(*v))
         .draw()
         .map_err(err)?;
-    // Paths of the traced points over the whole scene, thin and grey.
+    // Paths of the traced points over the span of the instants (the title's t0 to t1: one
+    // revolution or period when there is one), thin and grey.
+    let shown = frames[0]..=*frames.last().unwrap_or(&0);
     for &i in &scene.traces {
-        let path: Vec<(f64, f64)> = (0..scene.frames())
+        let path: Vec<(f64, f64)> = shown
+            .clone()
             .map(|f| frame.project(scene.position(f, i)))
             .collect();
         chart
