@@ -72,7 +72,7 @@
 //!   quantity); [`System`] is the run-time face the solvers read, [`Compiled`] adapts one to
 //!   the other.
 //! - [`simulate`], [`inverse_dynamics`], [`linearize`], [`mobility`], [`assemble`]: the
-//!   algorithms; [`integrators`] and [`linalg`] underneath; [`Trajectory`] the result.
+//!   algorithms; [`integrators`] underneath; [`Trajectory`] the result.
 //! - [`fixed`]: the `no_std` KKT solve and fixed step; [`math`]: the real functions the
 //!   generated code calls.
 //! - [`output`]: CSV, `summary.json`, figures and the animation page.
@@ -106,15 +106,13 @@ pub mod language;
 #[cfg(feature = "std")]
 mod limits;
 #[cfg(feature = "std")]
-pub mod linalg;
+mod linalg;
 #[cfg(feature = "std")]
 pub mod output;
 #[cfg(feature = "std")]
 mod simulation;
 mod system;
 
-#[cfg(feature = "std")]
-pub use crate::algorithms::augmented_lagrangian::{AugmentedLagrangian, DEFAULT_PENALTY};
 #[cfg(feature = "interpreter")]
 pub use crate::algorithms::drive::{DriveError, parse_drive};
 #[cfg(feature = "std")]
@@ -133,7 +131,7 @@ pub use crate::algorithms::linearize::{Linearization, linearize};
 #[cfg(feature = "std")]
 pub use crate::algorithms::mobility::{Mobility, mobility};
 #[cfg(feature = "std")]
-pub use crate::algorithms::stabilization::{Projector, Stabilization};
+pub use crate::algorithms::stabilization::Stabilization;
 #[cfg(feature = "std")]
 pub use crate::algorithms::steady::{SteadyLinearization, SteadyOptions, linearize_steady};
 #[cfg(feature = "std")]
@@ -198,8 +196,11 @@ pub mod prelude {
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
+/// Not API: what generated code and the [`System`] trait's hidden hook name.
 #[doc(hidden)]
 pub mod __private {
+    #[cfg(feature = "std")]
+    pub use crate::linalg::NullSpaceSolve;
     pub use nalgebra::ArrayStorage;
     pub use nalgebra::{SMatrix, SVector};
 }

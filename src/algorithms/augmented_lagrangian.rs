@@ -290,6 +290,7 @@ impl AugmentedLagrangian {
     }
 
     /// Entries below the diagonal in the envelope of N at the last solve.
+    #[cfg(test)]
     pub fn profile(&self) -> usize {
         self.matrix.profile()
     }

@@ -146,8 +146,7 @@ impl Dynamics {
     }
 
     /// [`Dynamics::solve`] for q'' only, as an integrator's stages need it: the null-space
-    /// route then skips the multipliers (their n m + m^2 operations; in the seed's profile
-    /// the null-space solve fell from 14 % to 4 % of the simulation), and
+    /// route then skips the multipliers (their n m + m^2 operations), and
     /// [`Dynamics::multipliers`] must not be read until the next
     /// [`Dynamics::solve`]. Same errors.
     pub(crate) fn solve_accelerations(

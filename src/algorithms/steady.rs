@@ -37,7 +37,7 @@ use nalgebra::{Complex, DMatrix};
 use crate::algorithms::dynamics::Dynamics;
 use crate::error::Error;
 use crate::linalg::inf_norm;
-use crate::system::{ConstraintTangent, System, Tangent};
+use crate::system::{ConstraintTangent, System, SystemInfo, Tangent};
 
 /// Tolerances of [`linearize_steady`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,6 +100,60 @@ pub fn linearize_steady(
     options: &SteadyOptions,
 ) -> Result<SteadyLinearization, Error> {
     let info = system.info();
+    let n = info.n();
+    let (qv, rows, g) = tangent_dynamics(system, t, q, qd, options)?;
+    let minimal = minimal_variables(info, &g, &rows.velocity, options)?;
+    let (ind_q, ind_u) = (minimal.coordinates, minimal.speeds);
+    let (top, bottom) = (minimal.positions, minimal.rates);
+    let (ni, d) = (ind_q.len(), ind_q.len() + ind_u.len());
+    let accelerations = qv.columns(0, n) * &top + qv.columns(n, n) * &bottom;
+    let state = DMatrix::from_fn(d, d, |i, j| {
+        if i < ni {
+            bottom[(ind_q[i], j)]
+        } else {
+            accelerations[(ind_u[i - ni], j)]
+        }
+    });
+    let mut variables: Vec<String> = ind_q.iter().map(|&j| info.coordinates[j].clone()).collect();
+    variables.extend(
+        ind_u
+            .iter()
+            .map(|&j| format!("der({})", info.coordinates[j])),
+    );
+    let kept = kept_variables(&state, options.zero_tolerance);
+    let structural: Vec<usize> = (0..d).filter(|j| !kept.contains(j)).collect();
+    let reduced_matrix = state.select_rows(&kept).select_columns(&kept);
+    Ok(SteadyLinearization {
+        variables,
+        coordinates: ind_q,
+        speeds: ind_u,
+        eigenvalues: state
+            .clone()
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect(),
+        reduced: reduced_matrix
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect(),
+        state,
+        structural,
+    })
+}
+
+/// The tangent dynamics at the steady state (module docs): [Q V] (n x 2n, dq'' = Q dq +
+/// V dq') from the linearised augmented system, the constraint rows' tangents and
+/// G = Phi_q; checks that the state is steady and every moving coordinate cyclic.
+fn tangent_dynamics(
+    system: &dyn System,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    options: &SteadyOptions,
+) -> Result<(DMatrix<f64>, ConstraintTangent, DMatrix<f64>), Error> {
+    let info = system.info();
     let (n, m, p) = (info.n(), info.m(), info.position_rows());
     for (what, x) in [("q", q), ("qd", qd)] {
         if x.len() != n {
@@ -151,8 +205,29 @@ pub fn linearize_steady(
     })?;
     let qv = solution.rows(0, n).into_owned();
     check_cyclic(info, qd, &qv, &rows.velocity, &g, p, options)?;
+    Ok((qv, rows, g))
+}
 
-    // Minimal variables: dependent coordinates from Phi_q, dependent speeds from G.
+/// The minimal variables of the linearised motion: the independent coordinates and
+/// speeds (indices into q), dq = P dq_i (`positions`, n x d) and dq' = V_q dq_i + V_u du
+/// (`rates`, n x d), d the number of minimal variables.
+struct MinimalVariables {
+    coordinates: Vec<usize>,
+    speeds: Vec<usize>,
+    positions: DMatrix<f64>,
+    rates: DMatrix<f64>,
+}
+
+/// Dependent coordinates from the pivot columns of Phi_q, dependent speeds from those of
+/// G (declared independent coordinates kept independent where they can be), and the maps
+/// from the minimal variables to dq and dq' (D dq + G dq' = 0, D = `velocity`).
+fn minimal_variables(
+    info: &SystemInfo,
+    g: &DMatrix<f64>,
+    velocity: &DMatrix<f64>,
+    options: &SteadyOptions,
+) -> Result<MinimalVariables, Error> {
+    let (n, m, p) = (info.n(), info.m(), info.position_rows());
     let declared: Vec<usize> = info.independent.iter().map(|i| i.coordinate).collect();
     let preference = |first: &[usize]| -> Vec<usize> {
         let mut order: Vec<usize> = first.to_vec();
@@ -163,7 +238,7 @@ pub fn linearize_steady(
     };
     let position_rows = g.rows(0, p).into_owned();
     let dep_q = pivot_columns(&position_rows, &preference(&[]), options.rank_tolerance)?;
-    let dep_u = pivot_columns(&g, &preference(&dep_q), options.rank_tolerance)?;
+    let dep_u = pivot_columns(g, &preference(&dep_q), options.rank_tolerance)?;
     let ind_q: Vec<usize> = (0..n).filter(|j| !dep_q.contains(j)).collect();
     let ind_u: Vec<usize> = (0..n).filter(|j| !dep_u.contains(j)).collect();
     let (ni, nu) = (ind_q.len(), ind_u.len());
@@ -190,33 +265,29 @@ pub fn linearize_steady(
         bottom[(j, ni + k)] = 1.0;
     }
     if m > 0 {
-        let known = &rows.velocity * &top + columns(&g, &ind_u) * bottom.select_rows(&ind_u);
-        let x = solve(&columns(&g, &dep_u), &(-known))?;
+        let known = velocity * &top + columns(g, &ind_u) * bottom.select_rows(&ind_u);
+        let x = solve(&columns(g, &dep_u), &(-known))?;
         for (r, &j) in dep_u.iter().enumerate() {
             for k in 0..d {
                 bottom[(j, k)] = x[(r, k)];
             }
         }
     }
-    let accelerations = qv.columns(0, n) * &top + qv.columns(n, n) * &bottom;
-    let state = DMatrix::from_fn(d, d, |i, j| {
-        if i < ni {
-            bottom[(ind_q[i], j)]
-        } else {
-            accelerations[(ind_u[i - ni], j)]
-        }
-    });
-    let mut variables: Vec<String> = ind_q.iter().map(|&j| info.coordinates[j].clone()).collect();
-    variables.extend(
-        ind_u
-            .iter()
-            .map(|&j| format!("der({})", info.coordinates[j])),
-    );
-    let largest = state.amax();
-    let zero = options.zero_tolerance * (1.0 + largest);
-    // Removing one structural variable can make another's row or column zero (psi's
-    // column holds the rates of x and y only): repeat until none is found.
-    let mut kept: Vec<usize> = (0..d).collect();
+    Ok(MinimalVariables {
+        coordinates: ind_q,
+        speeds: ind_u,
+        positions: top,
+        rates: bottom,
+    })
+}
+
+/// The variables of S that are not structural: those left when every variable whose
+/// column or row of S is zero (largest entry at most `tolerance` (1 + max |S_ij|)) is
+/// removed. Removing one can make another's row or column zero (psi's column holds the
+/// rates of x and y only): repeated until none is found.
+fn kept_variables(state: &DMatrix<f64>, tolerance: f64) -> Vec<usize> {
+    let zero = tolerance * (1.0 + state.amax());
+    let mut kept: Vec<usize> = (0..state.ncols()).collect();
     loop {
         let sub = state.select_rows(&kept).select_columns(&kept);
         let found: Vec<usize> = (0..kept.len())
@@ -224,30 +295,10 @@ pub fn linearize_steady(
             .map(|j| kept[j])
             .collect();
         if found.is_empty() {
-            break;
+            return kept;
         }
         kept.retain(|j| !found.contains(j));
     }
-    let structural: Vec<usize> = (0..d).filter(|j| !kept.contains(j)).collect();
-    let reduced_matrix = state.select_rows(&kept).select_columns(&kept);
-    Ok(SteadyLinearization {
-        variables,
-        coordinates: ind_q,
-        speeds: ind_u,
-        eigenvalues: state
-            .clone()
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .collect(),
-        reduced: reduced_matrix
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .collect(),
-        state,
-        structural,
-    })
 }
 
 fn no_tangent(what: &str) -> Error {

@@ -9,14 +9,14 @@ use super::drawing::write_drawing;
 use super::load::{did_you_mean, load};
 use super::physical::apply_sets;
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::seed::figure_names;
 use super::stdio::print;
 use super::validate::{check_csv_size, check_span};
 use mechanism::AssemblyOptions;
 use mechanism::output::Unit;
-use mechanism::output::plot::figure_stem;
 use mechanism::output::{
-    CoordinateSeries, Figure, Figures, InverseSummary, InverseTable, OutputError, SUMMARY_FILE,
-    plot_coordinates, plot_driving_torque, write_inverse_csv, write_inverse_summary,
+    CoordinateSeries, Figure, FigureNames, Figures, InverseSummary, InverseTable, OutputError,
+    SUMMARY_FILE, plot_coordinates, plot_driving_torque, write_inverse_csv, write_inverse_summary,
 };
 use mechanism::{Drive, System, parse_drive};
 use mechanism::{inverse_dynamics, sample_times};
@@ -76,7 +76,8 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     let parameters = std::mem::take(&mut known.parameters);
     let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
     let figures = a.common.figures.resolve(info.n());
-    let written = write_data(&table, out, &loaded.key, figures).and_then(|()| {
+    let names = figure_names(&loaded.key, system);
+    let written = write_data(&table, out, &names, figures).and_then(|()| {
         let n = info.n();
         let rows = &table.rows;
         let drawing = write_drawing(system, &a.common, out.staging(), rows.len(), |i| {
@@ -136,7 +137,7 @@ fn drive(system: &dyn System, text: &str) -> Result<Drive, CliError> {
 fn write_data(
     table: &InverseTable,
     out: &mut RunDir,
-    key: &str,
+    names: &FigureNames,
     figures: Figures,
 ) -> Result<(), OutputError> {
     let csv = out.file("inverse.csv");
@@ -154,8 +155,8 @@ fn write_data(
         q: (0..n).map(|i| table.positions(i)).collect(),
         qd: (0..n).map(|i| table.rates(i)).collect(),
     };
-    out.wrote_figures(plot_coordinates(out.staging(), key, &series, figures)?);
-    let stem = out.file(&figure_stem(key, Figure::DrivingTorque));
+    out.wrote_figures(plot_coordinates(out.staging(), names, &series, figures)?);
+    let stem = out.file(&names.stem(Figure::DrivingTorque));
     out.wrote_figures(plot_driving_torque(&stem, table, Unit::guess)?);
     Ok(())
 }

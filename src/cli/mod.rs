@@ -24,6 +24,7 @@ mod progress;
 mod progress;
 mod report;
 mod run_dir;
+mod seed;
 mod simulate;
 mod stdio;
 mod validate;

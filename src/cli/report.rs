@@ -1,25 +1,12 @@
-//! The short summary `mechanism simulate` prints, and the seed paper's printed initial state.
+//! The short summary `mechanism simulate` prints (with the seed paper's printed initial
+//! state for its mechanism).
 
 use std::fmt::Write as _;
 
 use mechanism::System;
 use mechanism::output::Summary;
 
-/// The initial state the seed paper printed (Section 2.2): phi, beta, gamma, x_C. It
-/// violates the constraints by about 2 m: beta and gamma are swapped and x_C lost a
-/// decimal point (solving the constraints at phi = 0 gives beta = 0.463648,
-/// gamma = 0.841069, x_C = 0.2 m).
-pub const SEED_PRINTED: [(&str, f64); 4] = [
-    ("phi", 0.0),
-    ("beta", 0.841069),
-    ("gamma", 0.201082),
-    ("x_c", 2.0),
-];
-
-/// True for the seed mechanism's built-in name or struct name.
-pub fn is_seed(key: &str, system: &dyn System) -> bool {
-    key == "spatial_crank_slider" || system.info().name == "SpatialCrankSlider"
-}
+use super::seed::{SEED_PRINTED, is_seed};
 
 /// Formats the run summary: the mobility, the consistent initial state (with the paper's
 /// printed values and their constraint residual for the seed; past [`TABLE_LIMIT`]

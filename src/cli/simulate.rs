@@ -10,6 +10,7 @@ use super::physical::{apply_sets, initial_values};
 use super::progress::Progress;
 use super::report::summary_text;
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::seed::figure_names;
 use super::stdio::print;
 use super::validate::{check_csv_size, check_integrator, check_span};
 use mechanism::Stabilization;
@@ -202,7 +203,7 @@ fn write_results(
     let mut params = vec![0.0; system.info().parameters.len()];
     system.parameter_values(&mut params);
     let mut summary = Summary::new(trajectory, &params, settings).at("output")?;
-    let written = write_data(system, trajectory, out, common);
+    let written = write_data(system, trajectory, out, common, key);
     match (&failure, &written) {
         (_, Err(e)) => summary.outcome.failed_in("output", e),
         (Some(e), Ok(())) => summary.outcome.failed_in("integration", e),
@@ -238,6 +239,7 @@ fn write_data(
     trajectory: &Trajectory,
     out: &mut RunDir,
     common: &CommonArgs,
+    key: &str,
 ) -> Result<(), OutputError> {
     let csv = out.file("trajectory.csv");
     write_trajectory_csv(&csv, trajectory)?;
@@ -245,7 +247,8 @@ fn write_data(
     let figures = common.figures.resolve(system.info().n());
     if trajectory.len() >= 2 && figures != Figures::None {
         let res = residuals(system, trajectory);
-        let written = plot_run(out.staging(), trajectory, None, Some(&res), figures)?;
+        let names = figure_names(key, system);
+        let written = plot_run(out.staging(), trajectory, None, Some(&res), figures, &names)?;
         out.wrote_figures(written);
     }
     let drawing = write_drawing(system, common, out.staging(), trajectory.len(), |i| {

@@ -124,6 +124,16 @@ impl Default for IntegratorOptions {
     }
 }
 
+impl IntegratorOptions {
+    /// The local error tolerance of these options.
+    pub(crate) fn tolerance(&self) -> Tolerance {
+        Tolerance {
+            rtol: self.rtol,
+            atol: self.atol,
+        }
+    }
+}
+
 /// A first-order system y' = f(t, y) evaluated into a caller buffer.
 pub trait OdeRhs {
     /// Writes f(t, y) into `dy`.
@@ -241,17 +251,6 @@ impl Dense {
             }
             *o = acc;
         }
-    }
-}
-
-/// A [`RungeKutta`] stepper for `method` and a state of dimension `dim`
-/// (`None` for the implicit [`Method::Hht`]).
-pub fn explicit_stepper(method: Method, dim: usize) -> Option<Box<dyn RungeKutta>> {
-    match method {
-        Method::Rk4 { .. } => Some(Box::new(Rk4::new(dim))),
-        Method::Dopri5 => Some(Box::new(Dopri5::new(dim))),
-        Method::Dop853 => Some(Box::new(Dop853::new(dim))),
-        Method::Hht { .. } => None,
     }
 }
 

@@ -47,11 +47,6 @@ impl Envelope {
         }
     }
 
-    /// Order n.
-    pub fn dim(&self) -> usize {
-        self.n
-    }
-
     /// Sets every entry to zero and every envelope to the diagonal only. Only the entries
     /// inside the current envelope can be nonzero, so only those are cleared.
     pub fn clear(&mut self) {
@@ -72,6 +67,7 @@ impl Envelope {
     }
 
     /// Entries below the diagonal inside the envelope, sum_i (i - f_i).
+    #[cfg(test)]
     pub fn profile(&self) -> usize {
         self.first.iter().enumerate().map(|(i, f)| i - f).sum()
     }

@@ -45,6 +45,7 @@ impl Lu {
     }
 
     /// Copies `a` in and factors it (see [`Lu::factor`]).
+    #[cfg(test)]
     #[must_use]
     pub fn factor_from(&mut self, a: &DMatrix<f64>) -> bool {
         self.lu.copy_from(a);
@@ -60,11 +61,6 @@ impl Lu {
         let anorm = kernels::dispatch!(n, factor(a, n, piv));
         self.anorm = anorm.unwrap_or(f64::INFINITY);
         self.ok = anorm.is_some();
-        self.ok
-    }
-
-    /// True after a successful [`Lu::factor`].
-    pub fn is_factored(&self) -> bool {
         self.ok
     }
 

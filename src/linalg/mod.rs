@@ -28,5 +28,5 @@ pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
-pub use rows::{DEFAULT_RANK_TOLERANCE, RowBasis, RowSpans};
+pub use rows::{RowBasis, RowSpans};
 pub use svd::{least_squares, numerical_rank};

@@ -286,11 +286,6 @@ impl RowBasis {
         self.rank
     }
 
-    /// The rank found by the last [`RowBasis::factor`].
-    pub fn rank(&self) -> usize {
-        self.rank
-    }
-
     /// Whether row r was found redundant.
     pub fn is_redundant(&self, r: usize) -> bool {
         self.redundant[r]
@@ -300,15 +295,6 @@ impl RowBasis {
     /// (1 for a row orthogonal to them; 0 for an exact repeat or a zero row).
     pub fn independence(&self, r: usize) -> f64 {
         self.independence[r]
-    }
-
-    /// The smallest independence among the rows kept in the basis (1 when none): how close
-    /// the configuration is to losing rank.
-    pub fn weakest(&self) -> f64 {
-        (0..self.m)
-            .filter(|&r| !self.redundant[r])
-            .map(|r| self.independence[r])
-            .fold(1.0, f64::min)
     }
 
     /// Fills the null vectors z_d of A^T (one per redundant row) and factors Z^T Z.

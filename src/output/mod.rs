@@ -53,7 +53,7 @@ pub use self::lock::{FolderLock, LOCK_FILE};
 pub use self::outcome::Outcome;
 #[cfg(feature = "plots")]
 pub use self::plot::{
-    CoordinateSeries, Figure, Figures, MAX_LEGEND, PER_COORDINATE_LIMIT, View, figure_stem,
+    CoordinateSeries, Figure, FigureNames, Figures, MAX_LEGEND, PER_COORDINATE_LIMIT, View,
     plot_constraint_error, plot_coordinate, plot_coordinate_scaled, plot_coordinates,
     plot_driving_torque, plot_overview, plot_run, plot_strobe, plot_trajectory, strobe_frames,
 };

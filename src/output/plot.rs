@@ -6,7 +6,7 @@
 //! - [`plot_driving_torque`]: tau(t) of an inverse-dynamics run;
 //! - [`plot_overview`]: every coordinate of a large mechanism in one heat map of q over time;
 //! - [`plot_run`]: the figures of a forward run that [`Figures`] asks for, named by
-//!   [`figure_stem`] ([`plot_trajectory`]: all of them).
+//!   [`FigureNames`] ([`plot_trajectory`]: all of them).
 //!
 //! Each function writes `<stem>.png` and `<stem>.svg` and returns their paths. Figures stay
 //! readable at any size: past [`MAX_LEGEND`] series a figure draws their envelope instead of
@@ -65,7 +65,7 @@ impl Figures {
     }
 }
 
-/// Which figure, for [`figure_stem`].
+/// Which figure, for [`FigureNames`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Figure<'a> {
     /// q and dq/dt of the named coordinate.
@@ -78,30 +78,38 @@ pub enum Figure<'a> {
     Overview,
 }
 
-/// True for the seed paper's mechanism (`spatial_crank_slider`, `SpatialCrankSlider`, any case).
-fn is_seed(mechanism: &str) -> bool {
-    mechanism
-        .chars()
-        .filter(|&c| c != '_' && c != '-')
-        .flat_map(char::to_lowercase)
-        .eq("spatialcrankslider".chars())
+impl Figure<'_> {
+    /// The figure's own file name without extension: `<coordinate>`, `constraint_error`,
+    /// `driving_torque`, `coordinates` (the overview).
+    pub fn stem(self) -> String {
+        match self {
+            Figure::Coordinate(name) => name.to_string(),
+            Figure::ConstraintError => "constraint_error".to_string(),
+            Figure::DrivingTorque => "driving_torque".to_string(),
+            Figure::Overview => "coordinates".to_string(),
+        }
+    }
 }
 
-/// File name without extension: for the seed mechanism the paper's figure numbers
-/// (`fig_3_1_phi` .. `fig_3_4_x_c`, `fig_3_5_constraint_error`); otherwise `<coordinate>`,
-/// `constraint_error`; and `driving_torque` and `coordinates` (the overview) for any
-/// mechanism.
-pub fn figure_stem(mechanism: &str, figure: Figure<'_>) -> String {
-    const SEED: [&str; 4] = ["phi", "beta", "gamma", "x_c"];
-    match figure {
-        Figure::Coordinate(name) => match SEED.iter().position(|&s| s == name) {
-            Some(i) if is_seed(mechanism) => format!("fig_3_{}_{name}", i + 1),
-            _ => name.to_string(),
-        },
-        Figure::ConstraintError if is_seed(mechanism) => "fig_3_5_constraint_error".to_string(),
-        Figure::ConstraintError => "constraint_error".to_string(),
-        Figure::DrivingTorque => "driving_torque".to_string(),
-        Figure::Overview => "coordinates".to_string(),
+/// The file names (without extension) of a run's figures, chosen by the caller: each
+/// figure's own [`Figure::stem`] unless `renamed` gives it another (the command-line tool
+/// names the seed paper's figures after its numbers, `fig_3_1_phi` ..
+/// `fig_3_5_constraint_error`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FigureNames {
+    /// (own stem, file stem) pairs: the figure whose own stem is the first is written
+    /// under the second.
+    pub renamed: Vec<(String, String)>,
+}
+
+impl FigureNames {
+    /// The file name without extension of `figure`.
+    pub fn stem(&self, figure: Figure<'_>) -> String {
+        let own = figure.stem();
+        match self.renamed.iter().find(|(from, _)| *from == own) {
+            Some((_, to)) => to.clone(),
+            None => own,
+        }
     }
 }
 
@@ -350,14 +358,16 @@ pub fn plot_driving_torque(
     render(stem, &spec)
 }
 
-/// All figures of a forward run into `dir`: [`plot_run`] with [`Figures::All`].
+/// All figures of a forward run into `dir`, under their own names: [`plot_run`] with
+/// [`Figures::All`] and the default [`FigureNames`].
 pub fn plot_trajectory(
     dir: &Path,
     trajectory: &Trajectory,
     units: Option<&[Unit]>,
     residuals: Option<&[Vec<f64>]>,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    plot_run(dir, trajectory, units, residuals, Figures::All)
+    let names = FigureNames::default();
+    plot_run(dir, trajectory, units, residuals, Figures::All, &names)
 }
 
 /// The coordinates of a run as the figures read them: names, units, times, and q and q'
@@ -375,18 +385,17 @@ pub struct CoordinateSeries<'a> {
     pub qd: Vec<Vec<f64>>,
 }
 
-/// The coordinate figures `figures` asks for, into `dir`, named by [`figure_stem`] of
-/// `mechanism`: one per coordinate ([`Figures::All`], [`plot_coordinate_scaled`] with the
+/// The coordinate figures `figures` asks for, into `dir`, named by `names`: one per coordinate ([`Figures::All`], [`plot_coordinate_scaled`] with the
 /// scales the largest |q| and |q'| among coordinates of the same unit), the one
 /// [`plot_overview`] ([`Figures::Overview`]) or none. Returns the files written.
 pub fn plot_coordinates(
     dir: &Path,
-    mechanism: &str,
+    names: &FigureNames,
     series: &CoordinateSeries<'_>,
     figures: Figures,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let CoordinateSeries {
-        names,
+        names: coordinates,
         units,
         t,
         q,
@@ -395,8 +404,8 @@ pub fn plot_coordinates(
     match figures {
         Figures::None => Ok(vec![]),
         Figures::Overview => {
-            let stem = dir.join(figure_stem(mechanism, Figure::Overview));
-            plot_overview(&stem, names, units, t, q)
+            let stem = dir.join(names.stem(Figure::Overview));
+            plot_overview(&stem, coordinates, units, t, q)
         }
         Figures::All => {
             // The mechanism's scale of each unit: the largest |q| and |q'| of its coordinates.
@@ -405,8 +414,8 @@ pub fn plot_coordinates(
                 magnitude(same.flat_map(|(_, s)| s.iter()))
             };
             let mut written = Vec::new();
-            for (i, name) in names.iter().enumerate() {
-                let stem = dir.join(figure_stem(mechanism, Figure::Coordinate(name)));
+            for (i, name) in coordinates.iter().enumerate() {
+                let stem = dir.join(names.stem(Figure::Coordinate(name)));
                 let scales = (scale(units[i], q), scale(units[i], qd));
                 let (qi, qdi) = (q[i].as_slice(), qd[i].as_slice());
                 written.extend(plot_coordinate_scaled(
@@ -423,7 +432,8 @@ pub fn plot_coordinates(
     }
 }
 
-/// The figures of a forward run that `figures` asks for, into `dir`: [`plot_coordinates`]
+/// The figures of a forward run that `figures` asks for, into `dir`, named by `names`:
+/// [`plot_coordinates`]
 /// (units from `units` or [`Unit::guess`]) and, unless [`Figures::None`] or the mechanism
 /// has no constraint rows, the constraint error ([`plot_constraint_error`] of `residuals`, one series per constraint row; without
 /// them, the recorded |Phi|_inf). Returns every file written.
@@ -433,6 +443,7 @@ pub fn plot_run(
     units: Option<&[Unit]>,
     residuals: Option<&[Vec<f64>]>,
     figures: Figures,
+    names: &FigureNames,
 ) -> Result<Vec<PathBuf>, OutputError> {
     if figures == Figures::None {
         return Ok(vec![]);
@@ -456,12 +467,12 @@ pub fn plot_run(
             .map(|i| trajectory.samples().map(|s| s.qd[i]).collect())
             .collect(),
     };
-    let mut written = plot_coordinates(dir, &info.name, &series, figures)?;
+    let mut written = plot_coordinates(dir, names, &series, figures)?;
     // A mechanism without constraint rows (an open tree of links) has no error to draw.
     if info.m() == 0 {
         return Ok(written);
     }
-    let stem = dir.join(figure_stem(&info.name, Figure::ConstraintError));
+    let stem = dir.join(names.stem(Figure::ConstraintError));
     written.extend(match residuals {
         Some(r) => plot_constraint_error(&stem, &t, r)?,
         None => {

@@ -1,8 +1,10 @@
 //! Event functions g(t, q, q') whose sign changes end or mark a simulation, and the
-//! crossings found.
+//! crossings found, located by the Illinois variant of regula falsi ([`illinois`]).
 
 use std::fmt;
 use std::sync::Arc;
+
+use crate::error::Error;
 
 /// What to do when an event function changes sign.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -95,4 +97,46 @@ impl EventLog {
             *g = (ev.g)(t, q, qd);
         }
     }
+}
+
+/// The root of g on the step, as a fraction of it, by the Illinois variant of regula falsi
+/// (Dowell & Jarratt 1971) from g(0) = g0 and g(1) = g1 of opposite signs, to 4 eps of t;
+/// `g(c)` evaluates g at t0 + c h on the dense output.
+pub(crate) fn illinois(
+    g0: f64,
+    g1: f64,
+    h: f64,
+    t0: f64,
+    mut g: impl FnMut(f64) -> Result<f64, Error>,
+) -> Result<f64, Error> {
+    let (mut a, mut fa, mut b, mut fb) = (0.0f64, g0, 1.0f64, g1);
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if fb == 0.0 || (b - a) * h <= 4.0 * f64::EPSILON * (t0.abs() + h) {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = g(c)?;
+        if fc == 0.0 {
+            return Ok(c);
+        }
+        // Keep the bracket; halve the retained end's value when it is kept twice.
+        if (fc > 0.0) == (fb > 0.0) {
+            (b, fb) = (c, fc);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, fa) = (c, fc);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Ok(b)
 }

@@ -1,213 +1,118 @@
-//! The integrator as the simulation driver holds it: the right-hand side through the
-//! augmented system, the explicit Runge-Kutta or HHT stepper, and the step-size control
-//! state.
+//! The integrator as the simulation driver holds it: one [`Stepper`] per run, which owns
+//! its step-size control and its dense output, chosen once from the method
+//! ([`stepper_for`]).
+//!
+//! What enters each call: the run's [`Rhs`] and the state y = [q, q', W] the driver owns.
+//! What leaves: the accepted step's size and end state, and y anywhere inside that step.
+
+mod explicit;
+mod implicit;
 
 use crate::algorithms::dynamics::Dynamics;
-use crate::algorithms::stabilization::Projector;
 use crate::error::Error;
-use crate::integrators::{Dense, Hht, OdeRhs, RungeKutta, Tolerance};
+use crate::integrators::{Dop853, Dopri5, IntegratorOptions, Method, Rk4, Tolerance};
+use crate::simulation::rhs::Rhs;
 use crate::system::System;
 
-/// Largest projection, in units of the error tolerance (see [`projection_size`]), after
-/// which the next step of an adaptive method still starts from the last stage's f(y_new)
-/// instead of a new right-hand side at the projected state. 1: the projection moved y by no more than a
-/// local error the step-size control accepts, so the reused derivative is off by at most
-/// L times that (L the Lipschitz constant of f), and the next step's result by h L times
-/// it, below its own truncation error wherever the step is accurate (h L < 1). On the
-/// seed this saves one right-hand side of the 13 per accepted DOP853 step, with the same
-/// steps and a change of the result at 10 s a thousand times below its error.
-pub(crate) const REUSE_AFTER_PROJECTION: f64 = 1.0;
+use explicit::Explicit;
+use implicit::HhtStepper;
 
-/// max_i |y_i - before_i| / (atol + rtol max(|y_i|, |before_i|)) over the positions and
-/// rates: how far the projection moved the state, in units of the error tolerance.
-pub(crate) fn projection_size(y: &[f64], before: &[f64], tol: Tolerance) -> f64 {
-    y.iter()
-        .zip(before)
-        .fold(0.0, |m, (a, b)| m.max((a - b).abs() / tol.scale(*a, *b)))
-}
-
-/// The projection of every stage state onto Phi = 0 and Phi_q q' = -Phi_t, used when the
-/// constraints have redundant rows and the stabilisation is projection.
+/// A time stepper: step-size control, the steps and their continuous extension.
 ///
-/// Why: with a redundant row (Bricard's 30 rows of rank 29 on the constraint manifold),
-/// Phi_q off the manifold regains full rank with a smallest singular value proportional to
-/// the distance d from it, and the row's part of gamma is proportional to d too. Once d
-/// exceeds the rank tolerance of the augmented solve (1e-6 relative), the solve treats the
-/// row as independent and q'' gains a component of order 1 along the near-null direction:
-/// perturbing Bricard's state by 1e-6 changes q'' by 9e-6, by 1e-4 changes it by 1.8. A
-/// Runge-Kutta stage of a step at a loose tolerance lies that far off the manifold; its
-/// spurious acceleration throws the next stage further off, and at rtol = atol = 1e-6 the
-/// run grew to 1e77 within one step (at 1e-7 to 1e-9 it was instead held back by rejected
-/// steps: 30 to 48 % of them, more steps than at 1e-10). Evaluating f at the projected
-/// stage, f(P(y)), gives a right-hand side as smooth as the constraints near the manifold,
-/// equal to f on it, where the exact solution stays: the integrated solution is the same,
-/// and the error estimate measures the truncation error again.
-pub(crate) struct StageProjection {
-    projector: Projector,
-    q: Vec<f64>,
-    qd: Vec<f64>,
+/// Protocol: [`Stepper::start`] once at t0; then per step [`Stepper::advance`] (which
+/// retries rejected trials), [`Stepper::dense`] any number of times inside the accepted
+/// step, and [`Stepper::restart`] at its end (after the driver's projection, if any).
+/// Nothing allocates after [`stepper_for`].
+pub(crate) trait Stepper {
+    /// Checks the method's own options and returns the first step size, at most `span`;
+    /// evaluates f(t, y) where the method starts from it.
+    fn start(&mut self, rhs: &mut Rhs<'_>, t: f64, y: &[f64], span: f64) -> Result<f64, Error>;
+
+    /// Tries steps from (t, y), the last one ending at `t_end`, until one is accepted;
+    /// writes its end state into `y_new`, counts the rejected trials into `rejected` and
+    /// returns the accepted size.
+    fn advance(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        t_end: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        rejected: &mut usize,
+    ) -> Result<f64, Error>;
+
+    /// True when the driver may project the accepted state onto the constraints (false
+    /// for HHT, whose Newmark state (q, q', q'') projecting q' alone would break; its
+    /// positions satisfy Phi = 0 to its Newton tolerance).
+    fn projects(&self) -> bool;
+
+    /// Starts the next step from the accepted state (t, y); `moved` is the size of the
+    /// driver's projection of it ([`crate::simulation::rhs::projection_size`]), `None`
+    /// when it was not projected.
+    fn restart(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        y: &[f64],
+        moved: Option<f64>,
+    ) -> Result<(), Error>;
+
+    /// y(t + theta h), 0 <= theta <= 1, on the last accepted step from (t, y) to `y_new`,
+    /// into `out`; the continuous extension is built on the first call after a step.
+    fn dense(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        y: &[f64],
+        y_new: &[f64],
+        theta: f64,
+        out: &mut [f64],
+    ) -> Result<(), Error>;
+
+    /// Right-hand sides evaluated outside `rhs` (HHT's Newton iterations), for the run's
+    /// counters.
+    fn own_evaluations(&self) -> usize;
 }
 
-impl StageProjection {
-    /// A workspace for `n` coordinates and the projector of the system.
-    pub(crate) fn new(projector: Projector, n: usize) -> Self {
-        Self {
-            projector,
-            q: vec![0.0; n],
-            qd: vec![0.0; n],
+/// The stepper of `io.method` for the state `y` at `t0`, the error measured against `tol`
+/// (HHT starts from the accelerations and multipliers of the first solve, in `dynamics`).
+pub(crate) fn stepper_for(
+    system: &dyn System,
+    io: &IntegratorOptions,
+    tol: Tolerance,
+    t0: f64,
+    y: &[f64],
+    dynamics: &Dynamics,
+) -> Result<Box<dyn Stepper>, Error> {
+    let dim = y.len();
+    Ok(match io.method {
+        Method::Rk4 { h } => Box::new(Explicit::fixed(Box::new(Rk4::new(dim)), h, io, tol)),
+        Method::Dopri5 => Box::new(Explicit::adaptive(Box::new(Dopri5::new(dim)), 5.0, io, tol)),
+        Method::Dop853 => Box::new(Explicit::adaptive(Box::new(Dop853::new(dim)), 8.0, io, tol)),
+        Method::Hht { h, alpha } => {
+            Box::new(HhtStepper::new(system, h, alpha, io, t0, y, dynamics)?)
         }
+    })
+}
+
+/// A fixed step `h` checked positive, at most `span`.
+fn fixed_first_step(h: f64, span: f64) -> Result<f64, Error> {
+    // Written `!(h > 0.0)` on purpose: NaN must fail it.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    if !(h > 0.0) {
+        return Err(Error::InvalidOption {
+            option: "h",
+            value: h,
+            allowed: "a positive step in seconds",
+        });
     }
+    Ok(h.min(span))
 }
 
-/// y' = [q', q'', tau . q'] through the augmented system (at the projected state when
-/// `onto` is set: see [`StageProjection`]).
-pub(crate) struct Rhs<'s> {
-    pub(crate) system: &'s dyn System,
-    pub(crate) dynamics: &'s mut Dynamics,
-    pub(crate) n: usize,
-    pub(crate) onto: Option<&'s mut StageProjection>,
-}
-
-impl OdeRhs for Rhs<'_> {
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
-        let n = self.n;
-        let (q, qd) = match self.onto.as_deref_mut() {
-            Some(p) => {
-                p.q.copy_from_slice(&y[..n]);
-                p.qd.copy_from_slice(&y[n..2 * n]);
-                p.projector.project(self.system, t, &mut p.q, &mut p.qd)?;
-                (&p.q[..], &p.qd[..])
-            }
-            None => (&y[..n], &y[n..2 * n]),
-        };
-        self.dynamics.solve_accelerations(self.system, t, q, qd)?;
-        dy[..n].copy_from_slice(qd);
-        dy[n..2 * n].copy_from_slice(self.dynamics.accelerations());
-        dy[2 * n] = self.dynamics.power(qd);
-        Ok(())
-    }
-}
-
-/// The stepper of the chosen method.
-pub(crate) enum Stepper {
-    /// RK4, DOPRI5 or DOP853 (with error estimate and dense output).
-    Explicit(Box<dyn RungeKutta>),
-    /// HHT-alpha, with a cubic Hermite dense output from the step's end values.
-    Hht {
-        hht: Box<Hht>,
-        hermite: Dense,
-        f0: Vec<f64>,
-        f1: Vec<f64>,
-        power: f64,
-    },
-}
-
-/// Time and step-size control of a run.
-pub(crate) struct StepControl {
-    /// Current time (s).
-    pub(crate) t: f64,
-    /// Next step size to try (s).
-    pub(crate) h: f64,
-    /// Size of the last accepted step (s).
-    pub(crate) h_step: f64,
-    /// Error norm of the last accepted step (PI controller).
-    pub(crate) errold: f64,
-    /// The last attempt was rejected (no growth on the next).
-    pub(crate) rejected_last: bool,
-    /// Size and error norm of the last accepted step (the predictive controller's memory;
-    /// h_acc = 0 before the first).
-    pub(crate) h_acc: f64,
-    pub(crate) err_acc: f64,
-    /// The end time or a stopping event was reached.
-    pub(crate) finished: bool,
-}
-
-impl StepControl {
-    /// Control state at t0.
-    pub(crate) fn new(t0: f64) -> Self {
-        Self {
-            t: t0,
-            h: 0.0,
-            h_step: 0.0,
-            errold: 1e-4,
-            rejected_last: false,
-            h_acc: 0.0,
-            err_acc: 1e-2,
-            finished: false,
-        }
-    }
-
-    /// Gustafsson's predictive step factor h_new / h after accepting a step of size `h`
-    /// with error norm `err` (exponent `k`): 0.9 (h / h_acc) (err_acc / err^2)^k, or
-    /// infinite for the first step; then remembers h and err (see
-    /// [`crate::StepController`]).
-    pub(crate) fn predictive(&mut self, h: f64, err: f64, k: f64) -> f64 {
-        let err = err.max(1e-10);
-        let fac = if self.h_acc > 0.0 {
-            0.9 * (h / self.h_acc) * (self.err_acc / (err * err)).powf(k)
-        } else {
-            f64::INFINITY
-        };
-        self.h_acc = h;
-        self.err_acc = err.max(1e-2);
-        fac
-    }
-}
-
-/// The state vectors y = [q, q', W] the driver works on, allocated once.
-pub(crate) struct StateBuffers {
-    /// y at the current time.
-    pub(crate) y: Vec<f64>,
-    /// y at the end of the step being taken.
-    pub(crate) y_new: Vec<f64>,
-    /// y from the dense output (samples, events, passages).
-    pub(crate) y_dense: Vec<f64>,
-    /// Scratch for the starting-step estimate.
-    pub(crate) scratch: Vec<f64>,
-    /// The dense output of the last step is built.
-    pub(crate) dense_ready: bool,
-}
-
-impl StateBuffers {
-    /// Buffers initialised to `y`.
-    pub(crate) fn new(y: Vec<f64>) -> Self {
-        let dim = y.len();
-        Self {
-            y_new: y.clone(),
-            y_dense: y.clone(),
-            scratch: vec![0.0; 2 * dim],
-            y,
-            dense_ready: false,
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn projection_size_is_in_units_of_the_tolerance() {
-        let tol = Tolerance {
-            rtol: 1e-6,
-            atol: 1e-9,
-        };
-        // Scales 1e-9 + 1e-6 * 2 and 1e-9 + 1e-6 * 2e-9: moves of 1.0005e-6 (0.5 scales)
-        // and 2e-9 (just under 2 scales, the larger).
-        let before = [2.0, 0.0];
-        let y = [2.0 - 1.0005e-6, 2e-9];
-        let want = 2e-9 / (1e-9 + 1e-6 * 2e-9);
-        let s = projection_size(&y, &before, tol);
-        assert!(
-            (s - want).abs() <= 4.0 * f64::EPSILON * want,
-            "{s} vs {want}"
-        );
-        assert!(projection_size(&before, &before, tol) == 0.0);
-        // atol = 0 and an exact zero: no movement, not 0 / 0.
-        let pure = Tolerance {
-            rtol: 1e-6,
-            atol: 0.0,
-        };
-        assert_eq!(projection_size(&[0.0, 1.0], &[0.0, 1.0], pure), 0.0);
-    }
+/// The size of a trial step from t: the next size `h` capped at `h_max`, and cut to end at
+/// `t_end` when it reaches it to round-off (then also true: the run's last step).
+fn trial_step(h: f64, h_max: f64, t: f64, t_end: f64) -> (f64, bool) {
+    let h = h.min(h_max);
+    let last = t + h >= t_end - 1e-12 * t_end.abs().max(1.0);
+    if last { (t_end - t, true) } else { (h, false) }
 }

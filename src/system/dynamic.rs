@@ -81,10 +81,12 @@ pub trait System: Send + Sync {
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
         let _ = (t, q, out);
     }
-    /// A solver of the augmented system by the null space of Phi_q specialised to this
-    /// system's sizes ([`crate::linalg::FixedNullSpace`]: every loop with a constant trip
-    /// count), which [`crate::Dynamics`] asks for on its first solve; `None` (the default)
-    /// keeps the run-time-sized [`crate::linalg::NullSpace`]. [`crate::Compiled`] provides it.
+    /// Not API (hidden; the solvers' own hook): a solver of the augmented system by the
+    /// null space of Phi_q specialised to this system's static sizes (every loop with a
+    /// constant trip count), which [`crate::Dynamics`] asks for on its first solve; `None`
+    /// (the default) keeps the run-time-sized one. Only [`crate::Compiled`], where the sizes
+    /// are type parameters, provides it.
+    #[doc(hidden)]
     fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
         None
     }

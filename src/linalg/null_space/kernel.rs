@@ -165,9 +165,8 @@ fn eliminate(p: &mut Parts<'_>, n: usize, m: usize, phi_q: &[f64]) -> Option<f64
 
 /// [`eliminate`] for small static sizes on a local array: with every index a constant after
 /// unrolling and the row swaps written as selects, the values stay in registers, and the
-/// factors are stored once at the end. (Swapping rows in memory and reading them back as
-/// pairs stalled on store forwarding: in the seed's simulation a seventh of the
-/// factorisation's time sat on that one load.)
+/// factors are stored once at the end. Rows are never swapped in memory: a row written
+/// and read back as a pair stalls on store forwarding.
 #[inline(always)]
 // Indices, not iterators: the point is that each becomes a constant once unrolled.
 #[allow(clippy::needless_range_loop)]

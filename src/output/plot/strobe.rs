@@ -5,6 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
+use plotters::coord::cartesian::Cartesian2d;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::font::FONT;
@@ -224,22 +226,7 @@ fn draw<DB: DrawingBackend>(
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
     let frames = strobe_frames(scene, instants);
-    let (t0, t1) = (
-        scene.times[frames[0]],
-        scene.times[*frames.last().unwrap_or(&0)],
-    );
-    let span = match scene.cycle() {
-        Some(c) => format!("first {} of {}, ", c.kind, c.coordinate),
-        None => String::new(),
-    };
-    let title = format!(
-        "{}: {} instants, {span}t = {} to {} s (darker = later)",
-        scene.name,
-        frames.len(),
-        round(t0),
-        round(t1)
-    );
-    draw_title(&root, &title, 24, 20, bitmap).map_err(err)?;
+    draw_title(&root, &strobe_title(scene, &frames), 24, 20, bitmap).map_err(err)?;
     let body = root.margin(44, 0, 0, 0);
     let mut chart = ChartBuilder::on(&body)
         .margin(20)
@@ -259,64 +246,8 @@ fn draw<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick(*v))
         .draw()
         .map_err(err)?;
-    // Paths of the traced points over the span of the instants (the title's t0 to t1: one
-    // revolution or period when there is one), thin and grey.
-    let shown = frames[0]..=*frames.last().unwrap_or(&0);
-    for &i in &scene.traces {
-        let path: Vec<(f64, f64)> = shown
-            .clone()
-            .map(|f| frame.project(scene.position(f, i)))
-            .collect();
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                path,
-                RGBColor(150, 150, 150).stroke_width(1),
-            )))
-            .map_err(err)?;
-    }
-    let last = frames.len().saturating_sub(1).max(1) as f64;
-    for (k, &f) in frames.iter().enumerate() {
-        // Earliest at 15 % opacity, latest opaque.
-        let alpha = 0.15 + 0.85 * k as f64 / last;
-        for (l, line) in scene.lines.iter().enumerate() {
-            let colour = PALETTE[l % PALETTE.len()].mix(alpha);
-            let path: Vec<(f64, f64)> = line
-                .iter()
-                .map(|&i| frame.project(scene.position(f, i)))
-                .collect();
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    path,
-                    colour.stroke_width(4),
-                )))
-                .map_err(err)?;
-        }
-        let joints = scene.points.iter().enumerate().filter(|(_, p)| !p.ground);
-        chart
-            .draw_series(joints.map(|(i, _)| {
-                Circle::new(
-                    frame.project(scene.position(f, i)),
-                    4,
-                    BLACK.mix(alpha).stroke_width(2),
-                )
-            }))
-            .map_err(err)?;
-    }
-    // Ground points once (they do not move): a triangle under a circle.
+    draw_instants(&mut chart, scene, frame, &frames).map_err(err)?;
     let f = *frames.last().unwrap_or(&0);
-    for (i, _) in scene.points.iter().enumerate().filter(|(_, p)| p.ground) {
-        let at = frame.project(scene.position(f, i));
-        chart
-            .draw_series(std::iter::once(
-                EmptyElement::at(at)
-                    + Polygon::new(
-                        vec![(0, 0), (-11, 18), (11, 18)],
-                        RGBColor(170, 170, 170).filled(),
-                    )
-                    + Circle::new((0, 0), 5, BLACK.stroke_width(2)),
-            ))
-            .map_err(err)?;
-    }
     // Point names at the last instant; points that coincide (the two halves of a joint)
     // share one label, "B1 = A2"; a label that would overlap one already placed is left out.
     let labels = thin_labels(scene, f, |p| {
@@ -335,6 +266,86 @@ fn draw<DB: DrawingBackend>(
         draw_triad(&root, &frame.projection).map_err(err)?;
     }
     root.present().map_err(err)
+}
+
+/// The strobe figure's title: the mechanism, the instants and the span they cover.
+fn strobe_title(scene: &Scene, frames: &[usize]) -> String {
+    let (t0, t1) = (
+        scene.times[frames[0]],
+        scene.times[*frames.last().unwrap_or(&0)],
+    );
+    let span = match scene.cycle() {
+        Some(c) => format!("first {} of {}, ", c.kind, c.coordinate),
+        None => String::new(),
+    };
+    format!(
+        "{}: {} instants, {span}t = {} to {} s (darker = later)",
+        scene.name,
+        frames.len(),
+        round(t0),
+        round(t1)
+    )
+}
+
+/// The traced paths (thin, grey), the drawing at each of `frames` (earliest faintest) and
+/// the ground points once.
+fn draw_instants<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    scene: &Scene,
+    frame: &Frame,
+    frames: &[usize],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    // Paths of the traced points over the span of the instants (the title's t0 to t1: one
+    // revolution or period when there is one), thin and grey.
+    let shown = frames[0]..=*frames.last().unwrap_or(&0);
+    for &i in &scene.traces {
+        let path: Vec<(f64, f64)> = shown
+            .clone()
+            .map(|f| frame.project(scene.position(f, i)))
+            .collect();
+        chart.draw_series(std::iter::once(PathElement::new(
+            path,
+            RGBColor(150, 150, 150).stroke_width(1),
+        )))?;
+    }
+    let last = frames.len().saturating_sub(1).max(1) as f64;
+    for (k, &f) in frames.iter().enumerate() {
+        // Earliest at 15 % opacity, latest opaque.
+        let alpha = 0.15 + 0.85 * k as f64 / last;
+        for (l, line) in scene.lines.iter().enumerate() {
+            let colour = PALETTE[l % PALETTE.len()].mix(alpha);
+            let path: Vec<(f64, f64)> = line
+                .iter()
+                .map(|&i| frame.project(scene.position(f, i)))
+                .collect();
+            chart.draw_series(std::iter::once(PathElement::new(
+                path,
+                colour.stroke_width(4),
+            )))?;
+        }
+        let joints = scene.points.iter().enumerate().filter(|(_, p)| !p.ground);
+        chart.draw_series(joints.map(|(i, _)| {
+            Circle::new(
+                frame.project(scene.position(f, i)),
+                4,
+                BLACK.mix(alpha).stroke_width(2),
+            )
+        }))?;
+    }
+    // Ground points once (they do not move): a triangle under a circle.
+    let f = *frames.last().unwrap_or(&0);
+    for (i, _) in scene.points.iter().enumerate().filter(|(_, p)| p.ground) {
+        let at = frame.project(scene.position(f, i));
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(at)
+                + Polygon::new(
+                    vec![(0, 0), (-11, 18), (11, 18)],
+                    RGBColor(170, 170, 170).filled(),
+                )
+                + Circle::new((0, 0), 5, BLACK.stroke_width(2)),
+        ))?;
+    }
+    Ok(())
 }
 
 /// A label: where its point is in the chart, its pixel, its text.

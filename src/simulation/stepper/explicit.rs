@@ -1,0 +1,307 @@
+//! RK4, DOPRI5 and DOP853 as a [`Stepper`]: the Runge-Kutta method of
+//! [`crate::integrators`], the step-size control of the adaptive ones (Hairer's PI
+//! controller, optionally capped by Gustafsson's predictive step: [`StepController`]) and
+//! the method's own dense output.
+
+// Comparisons are written `!(x > 0.0)` on purpose: NaN must fail them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::{Stepper, fixed_first_step, trial_step};
+use crate::error::Error;
+use crate::integrators::{
+    IntegratorOptions, OdeRhs, RungeKutta, StepController, Tolerance, initial_step,
+};
+use crate::simulation::rhs::{REUSE_AFTER_PROJECTION, Rhs};
+
+/// Step-size control state of an adaptive method.
+struct StepControl {
+    /// Next step size to try (s).
+    h: f64,
+    /// Error norm of the last accepted step (PI controller).
+    errold: f64,
+    /// The last attempt was rejected (no growth on the next).
+    rejected_last: bool,
+    /// Size and error norm of the last accepted step (the predictive controller's memory;
+    /// h_acc = 0 before the first).
+    h_acc: f64,
+    err_acc: f64,
+}
+
+impl StepControl {
+    fn new() -> Self {
+        Self {
+            h: 0.0,
+            errold: 1e-4,
+            rejected_last: false,
+            h_acc: 0.0,
+            err_acc: 1e-2,
+        }
+    }
+
+    /// Gustafsson's predictive step factor h_new / h after accepting a step of size `h`
+    /// with error norm `err` (exponent `k`): 0.9 (h / h_acc) (err_acc / err^2)^k, or
+    /// infinite for the first step; then remembers h and err (see [`StepController`]).
+    fn predictive(&mut self, h: f64, err: f64, k: f64) -> f64 {
+        let err = err.max(1e-10);
+        let fac = if self.h_acc > 0.0 {
+            0.9 * (h / self.h_acc) * (self.err_acc / (err * err)).powf(k)
+        } else {
+            f64::INFINITY
+        };
+        self.h_acc = h;
+        self.err_acc = err.max(1e-2);
+        fac
+    }
+
+    /// After a step of size `h` with error norm `err` <= 1 is accepted: the next size
+    /// (unchanged when `last`), h_new = h clamp(0.9 err^-expo errold^beta, 0.2, growth),
+    /// capped by the predictive step and by 1 after a rejection.
+    fn accepted(
+        &mut self,
+        rk: &dyn RungeKutta,
+        controller: StepController,
+        h: f64,
+        err: f64,
+        last: bool,
+    ) {
+        let expo = rk.exponent();
+        let mut fac = 0.9 * err.max(1e-10).powf(-expo) * self.errold.powf(rk.pi_beta());
+        if controller == StepController::Predictive {
+            let k = expo + 0.2 * rk.pi_beta();
+            fac = fac.min(self.predictive(h, err, k));
+        }
+        fac = fac.clamp(0.2, rk.max_growth());
+        if self.rejected_last {
+            fac = fac.min(1.0);
+        }
+        self.errold = err.max(1e-4);
+        self.rejected_last = false;
+        if !last {
+            self.h = h * fac;
+        }
+    }
+
+    /// After a trial of size `h` is rejected with error norm `err` (> 1, or not finite):
+    /// the next trial's size, h max(0.9 err^-expo, 0.2) (0.2 h for an error norm that is
+    /// not finite).
+    fn rejected(&mut self, expo: f64, h: f64, err: f64) {
+        self.rejected_last = true;
+        let fac = if err.is_finite() {
+            (0.9 * err.powf(-expo)).max(0.2)
+        } else {
+            0.2
+        };
+        self.h = h * fac;
+    }
+}
+
+/// An explicit Runge-Kutta method with its step control and dense output.
+pub(super) struct Explicit {
+    rk: Box<dyn RungeKutta>,
+    /// The fixed step (RK4), or `None` for an adaptive method.
+    fixed: Option<f64>,
+    /// Order of the adaptive method's solution, for the starting step (8 or 5).
+    order: f64,
+    control: StepControl,
+    options: IntegratorOptions,
+    tol: Tolerance,
+    /// Size of the last accepted step, and whether its dense output is built.
+    h_step: f64,
+    dense_ready: bool,
+    /// Scratch for the starting-step estimate.
+    scratch: Vec<f64>,
+}
+
+impl Explicit {
+    /// A fixed-step method with step `h`.
+    pub(super) fn fixed(
+        rk: Box<dyn RungeKutta>,
+        h: f64,
+        options: &IntegratorOptions,
+        tol: Tolerance,
+    ) -> Self {
+        Self::new(rk, Some(h), 0.0, options, tol)
+    }
+
+    /// An adaptive method whose solution has order `order`.
+    pub(super) fn adaptive(
+        rk: Box<dyn RungeKutta>,
+        order: f64,
+        options: &IntegratorOptions,
+        tol: Tolerance,
+    ) -> Self {
+        Self::new(rk, None, order, options, tol)
+    }
+
+    fn new(
+        mut rk: Box<dyn RungeKutta>,
+        fixed: Option<f64>,
+        order: f64,
+        options: &IntegratorOptions,
+        tol: Tolerance,
+    ) -> Self {
+        let dim = rk.k1_mut().len();
+        Self {
+            rk,
+            fixed,
+            order,
+            control: StepControl::new(),
+            options: *options,
+            tol,
+            h_step: 0.0,
+            dense_ready: false,
+            scratch: vec![0.0; 2 * dim],
+        }
+    }
+}
+
+/// Failures of a trial step that a smaller step may avoid: an entry of the equations or a
+/// solve that is not finite, a projection that does not converge, a motion that is
+/// undetermined there.
+fn is_trial_failure(e: &Error) -> bool {
+    matches!(
+        e,
+        Error::NonFiniteTerm { .. }
+            | Error::NonFinite { .. }
+            | Error::NewtonDidNotConverge { .. }
+            | Error::UndeterminedMotion { .. }
+    )
+}
+
+impl Stepper for Explicit {
+    fn start(&mut self, rhs: &mut Rhs<'_>, t: f64, y: &[f64], span: f64) -> Result<f64, Error> {
+        if let Some(h) = self.fixed {
+            let h = fixed_first_step(h, span)?;
+            rhs.rhs(t, y, self.rk.k1_mut())?;
+            self.control.h = h;
+            return Ok(h);
+        }
+        let io = &self.options;
+        let h_max = io.h_max.unwrap_or(span).min(span);
+        rhs.rhs(t, y, self.rk.k1_mut())?;
+        let h = match io.h_initial {
+            Some(h) => h.min(h_max),
+            None => {
+                let f0 = self.rk.k1_mut().to_vec(); // before the loop: allowed
+                initial_step(
+                    rhs,
+                    t,
+                    y,
+                    &f0,
+                    self.order,
+                    self.tol,
+                    h_max,
+                    &mut self.scratch,
+                )?
+            }
+        };
+        self.control.h = h;
+        Ok(h)
+    }
+
+    fn advance(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        t_end: f64,
+        y: &[f64],
+        y_new: &mut [f64],
+        rejected: &mut usize,
+    ) -> Result<f64, Error> {
+        self.dense_ready = false;
+        let io = self.options;
+        let h_max = io.h_max.unwrap_or(f64::INFINITY);
+        let adaptive = self.rk.adaptive();
+        loop {
+            let (h, last) = trial_step(self.control.h, h_max, t, t_end);
+            let err = match self.rk.attempt(rhs, t, y, h, y_new, self.tol) {
+                Ok(err) => err,
+                // A stage that cannot be evaluated (a non-finite entry, a projection or
+                // solve failing far from the last state) rejects the step like an error
+                // norm above 1: a smaller step takes its stages closer. A failure that
+                // persists down to h_min is returned.
+                Err(e) if adaptive && is_trial_failure(&e) => {
+                    *rejected += 1;
+                    self.control.rejected_last = true;
+                    self.control.h = h * 0.2;
+                    if self.control.h < io.h_min {
+                        return Err(e);
+                    }
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            if !adaptive || (err <= 1.0 && err.is_finite()) {
+                self.rk.finish(rhs, t, y_new, h)?;
+                if adaptive {
+                    self.control
+                        .accepted(self.rk.as_ref(), io.controller, h, err, last);
+                }
+                self.h_step = h;
+                return Ok(h);
+            }
+            *rejected += 1;
+            self.control.rejected(self.rk.exponent(), h, err);
+            if self.control.h < io.h_min {
+                return Err(Error::StepSizeUnderflow {
+                    t,
+                    h: self.control.h,
+                });
+            }
+        }
+    }
+
+    fn projects(&self) -> bool {
+        true
+    }
+
+    fn restart(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        y: &[f64],
+        moved: Option<f64>,
+    ) -> Result<(), Error> {
+        // Only an adaptive method has an accepted local error to measure the projection
+        // against: RK4 (fixed step, rtol and atol unused) always evaluates afresh.
+        let reuse = match moved {
+            None => true,
+            Some(size) => self.rk.adaptive() && size <= REUSE_AFTER_PROJECTION,
+        };
+        if reuse {
+            // The step's last stage f(y_new) serves as the next step's first (FSAL). After
+            // a projection that moved y by at most the accepted local error, it differs
+            // from f(projected y) by at most L times that error; its position rows take
+            // the projected q' exactly.
+            self.rk.reuse_f_new();
+            if moved.is_some() {
+                let n = (y.len() - 1) / 2; // y = [q, q', W]
+                self.rk.k1_mut()[..n].copy_from_slice(&y[n..2 * n]);
+            }
+            Ok(())
+        } else {
+            rhs.rhs(t, y, self.rk.k1_mut())
+        }
+    }
+
+    fn dense(
+        &mut self,
+        rhs: &mut Rhs<'_>,
+        t: f64,
+        y: &[f64],
+        y_new: &[f64],
+        theta: f64,
+        out: &mut [f64],
+    ) -> Result<(), Error> {
+        if !self.dense_ready {
+            self.rk.prepare_dense(rhs, t, y, y_new, self.h_step)?;
+            self.dense_ready = true;
+        }
+        self.rk.dense(theta, out);
+        Ok(())
+    }
+
+    fn own_evaluations(&self) -> usize {
+        0
+    }
+}
