@@ -94,9 +94,14 @@ fn step_loop_allocates_nothing() {
     let chain = mechanism::builtin::builtin("n_four_bar").unwrap();
     let chain_interpreted: &dyn System =
         &Interpreted::from_source(builtin_source("n_four_bar").unwrap()).unwrap();
+    // A02 with N = 10 and every coupler row declared twice: the banded direct route with
+    // rows left out at every solve (the consistent gamma, the minimum-norm multipliers of
+    // the samples), and the projection on the coordinates' side (m > n).
+    let redundant_chain: &dyn System = &crate::banded_kkt::a02(10, true);
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
+            (redundant_chain, Method::Dop853, Stabilization::Projection),
             (chain.as_ref(), Method::Dop853, Stabilization::Projection),
             (chain_interpreted, Method::Dop853, Stabilization::Projection),
             (interpreted, Method::Dopri5, Stabilization::Projection),
