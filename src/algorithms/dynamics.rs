@@ -17,9 +17,17 @@
 //!   indicator was larger (or that route failed) and whose matrix is regular and well
 //!   conditioned (condition estimate <= `condition_limit`); after it fails, the next 64
 //!   solves go straight to the next route;
+//! - the **banded direct solve** ([`BandedKkt`]) for larger systems whose structural pattern
+//!   (`System::sparsity`) orders into a narrow band (b^2 <= n + m: chains, A02; or whose
+//!   independent rows do, when there are more rows than coordinates): the rank
+//!   of Phi_q found, gamma made consistent, the matrix with the independent rows factored
+//!   by banded LU, O(n + m) per solve; with redundant rows and through singular positions
+//!   too;
 //! - the **augmented Lagrangian** iteration ([`AugmentedLagrangian`]) otherwise: large
-//!   systems (factored inside their band), redundant constraint rows (the matrix above is
-//!   then singular although q'' is unique) and configurations near a singular one.
+//!   systems without a narrow band (factored inside their envelope), small ones with
+//!   redundant constraint rows (the matrix above is then singular although q'' is unique),
+//!   configurations near a singular one, and whatever the banded solve declines (a pivot
+//!   at round-off).
 //!
 //! An error is raised only where q'' itself is undetermined: M not positive definite on the
 //! null space of Phi_q ([`Error::UndeterminedMotion`]). With redundant rows lambda is not
@@ -34,6 +42,7 @@
 //! so the constraint (reaction) forces on the coordinates are -Phi_q^T lambda.
 
 use crate::algorithms::augmented_lagrangian::AugmentedLagrangian;
+use crate::algorithms::banded_kkt::BandedKkt;
 use crate::algorithms::finite;
 use crate::error::Error;
 use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis, inf_norm, max_nan};
@@ -72,12 +81,16 @@ pub struct Dynamics {
     since_estimate: usize,
     names: Vec<String>,
     augmented: AugmentedLagrangian,
+    /// The banded direct route, when the pattern orders into a narrow band.
+    banded: Option<BandedKkt>,
     basis: RowBasis,
     direction: Vec<f64>,
     /// Q = tau - C q' - g of the last augmented solve (for the multipliers), and whether the
     /// last solve took that route.
     force: Vec<f64>,
     last_augmented: bool,
+    /// Whether the last solve took the banded route (its multipliers are minimum-norm).
+    last_banded: bool,
     /// False after a [`Dynamics::solve_accelerations`] that skipped the multipliers.
     multipliers_current: bool,
     /// The system's structural pattern of M and Phi_q, taken on the first solve when it has
@@ -90,6 +103,8 @@ pub struct Dynamics {
     pub condition_limit: f64,
     /// Solves done by the augmented Lagrangian route.
     pub augmented_solves: usize,
+    /// Solves done by the banded direct route.
+    pub banded_solves: usize,
     /// Baumgarte (alpha, beta) in 1/s, or `None` for gamma_s = gamma.
     pub baumgarte: Option<(f64, f64)>,
     /// Number of augmented solves performed (right-hand-side evaluations).
@@ -112,15 +127,18 @@ impl Dynamics {
             since_estimate: usize::MAX,
             names: info.coordinates.clone(),
             augmented: AugmentedLagrangian::new(n, m),
+            banded: None,
             basis: RowBasis::new(m, n),
             direction: vec![0.0; n],
             force: vec![0.0; n],
             last_augmented: false,
+            last_banded: false,
             multipliers_current: true,
             sparsity: None,
             skip_lu: 0,
             condition_limit: DEFAULT_CONDITION_LIMIT,
             augmented_solves: 0,
+            banded_solves: 0,
             baumgarte: None,
             evaluations: 0,
         }
@@ -169,6 +187,7 @@ impl Dynamics {
     ) -> Result<(), Error> {
         let (n, m) = (self.n, self.m);
         self.multipliers_current = true;
+        self.last_banded = false;
         self.evaluations += 1;
         if !self.specialised {
             self.specialised = true;
@@ -185,6 +204,10 @@ impl Dynamics {
             {
                 self.augmented.fix(&s.mass, &s.jacobian);
                 self.basis.fix(&s.jacobian);
+                if n + m > LU_MAX_ORDER && m > 0 {
+                    let banded = BandedKkt::new(n, m, &s.mass, &s.jacobian);
+                    self.banded = (banded.is_banded() || m > n).then_some(banded);
+                }
                 self.sparsity = Some(s.clone());
             }
         }
@@ -214,7 +237,7 @@ impl Dynamics {
         if lu && self.last_augmented {
             self.skip_lu = LU_RETRY_AFTER;
         }
-        if self.last_augmented {
+        if self.last_augmented && !self.solve_banded() {
             self.solve_augmented(t, q)?;
         }
         if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {
@@ -352,6 +375,27 @@ impl Dynamics {
         true
     }
 
+    /// The banded direct route, with the right-hand side [Q; gamma_s] in `sol`: true (solved
+    /// in place, `last_augmented` cleared) when the system has that route and its LU
+    /// accepted every pivot; false (nothing solved) otherwise.
+    fn solve_banded(&mut self) -> bool {
+        let Some(banded) = &mut self.banded else {
+            return false;
+        };
+        let n = self.n;
+        let e = &self.eval;
+        let (rhs_q, rhs_g) = self.sol.split_at(n);
+        if banded.solve(&e.mass, &e.phi_q, rhs_q, rhs_g).is_err() {
+            return false;
+        }
+        self.banded_solves += 1;
+        self.last_banded = true;
+        self.sol[..n].copy_from_slice(banded.solution());
+        self.sol[n..].copy_from_slice(banded.multipliers());
+        self.last_augmented = false;
+        true
+    }
+
     /// The augmented Lagrangian route, with the right-hand side [Q; gamma_s] in `sol`.
     fn solve_augmented(&mut self, t: f64, q: &[f64]) -> Result<(), Error> {
         let n = self.n;
@@ -391,11 +435,12 @@ impl Dynamics {
     /// rows leave undetermined), written over [`Dynamics::multipliers`]. After the LU route
     /// (full rank) they are the LU multipliers; after the augmented Lagrangian route they are
     /// recovered from the constraint force Phi_q^T lambda = Q - M q'', which is accurate to
-    /// round-off (the iteration's own lambda carries the penalty's 1e6 eps).
+    /// round-off (the iteration's own lambda carries the penalty's 1e6 eps); the banded
+    /// route's are minimum-norm already.
     /// Allocates nothing.
     pub fn min_norm_multipliers(&mut self) -> &[f64] {
         let (n, m) = (self.n, self.m);
-        if m == 0 {
+        if m == 0 || self.last_banded {
             return &self.sol[n..];
         }
         let e = &self.eval;

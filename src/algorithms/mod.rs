@@ -4,8 +4,9 @@
 //!
 //! - [`kinematics`]: assembly and kinematic analysis, Phi(q, t) = 0 at the position,
 //!   velocity and acceleration levels;
-//! - [`dynamics`]: q'' and lambda at one instant from the augmented system, by LU or by the
-//!   augmented Lagrangian iteration ([`augmented_lagrangian`]) where Phi_q loses rank;
+//! - [`dynamics`]: q'' and lambda at one instant from the augmented system, by LU, by a
+//!   direct solve inside a band for large chains ([`banded_kkt`]), or by the augmented
+//!   Lagrangian iteration ([`augmented_lagrangian`]) where neither applies;
 //! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s, whose
 //!   kinks are found between samples ([`kink`]);
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
@@ -20,6 +21,7 @@
 //! an integrator step calls ([`dynamics::Dynamics::solve`], the projections).
 
 pub(crate) mod augmented_lagrangian;
+pub(crate) mod banded_kkt;
 #[cfg(feature = "interpreter")]
 pub(crate) mod drive;
 pub(crate) mod dynamics;

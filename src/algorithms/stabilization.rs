@@ -22,6 +22,14 @@
 //! no longer control (at a singular configuration Newton would otherwise jump branches).
 //! Redundant rows are consistent, so their residual lies in the controlled directions. The
 //! Gram matrix is formed from each row's nonzero span and factored inside its envelope.
+//! With more rows than coordinates (a redundant set: 1,000 copies of one row) the same
+//! correction is computed on the coordinates' side, n x n instead of m x m,
+//!
+//! ```text
+//! Phi_q^T (Phi_q Phi_q^T + mu I)^-1 = (Phi_q^T Phi_q + mu I)^-1 Phi_q^T,
+//! ```
+//!
+//! so a redundant set costs O(m) per correction for a fixed n, not O(m^3).
 
 use nalgebra::DMatrix;
 
@@ -59,6 +67,9 @@ pub struct Projector {
     phi_q: DMatrix<f64>,
     spans: RowSpans,
     gram: Envelope,
+    /// With m > n: Phi_q^T Phi_q + mu I (n x n) instead of the Gram matrix, and its
+    /// right-hand side.
+    normal: Option<(Envelope, Vec<f64>)>,
     z: Vec<f64>,
     /// Whether `gram` holds a factorisation (of the last velocity projection).
     factored: bool,
@@ -80,7 +91,8 @@ impl Projector {
             phi_t: vec![0.0; m],
             phi_q: DMatrix::zeros(m, n),
             spans: RowSpans::new(m),
-            gram: Envelope::new(m),
+            gram: Envelope::new(if m > n { 0 } else { m }),
+            normal: (m > n).then(|| (Envelope::new(n), vec![0.0; n])),
             z: vec![0.0; m],
             factored: false,
             tolerance: 1e-14,
@@ -107,8 +119,28 @@ impl Projector {
     fn factor_gram(&mut self, t: f64) -> Result<(), Error> {
         self.factored = false;
         self.spans.scan(&self.phi_q);
-        self.spans.gram(&self.phi_q, 0.0, &mut self.gram);
-        let scale = (0..self.m).fold(0.0f64, |a, i| max_nan(a, self.gram.get(i, i)));
+        // mu from the largest |row|^2, the largest diagonal entry of the Gram matrix.
+        let a = self.phi_q.as_slice();
+        let m = self.m;
+        let scale = (0..m).fold(0.0f64, |worst, r| {
+            let row: f64 = self
+                .spans
+                .span(r)
+                .map(|j| a[r + j * m] * a[r + j * m])
+                .sum();
+            max_nan(worst, row)
+        });
+        let gram = match &mut self.normal {
+            Some((normal, _)) => {
+                normal.clear();
+                self.spans.add_gram_transpose(&self.phi_q, 1.0, normal);
+                normal
+            }
+            None => {
+                self.spans.gram(&self.phi_q, 0.0, &mut self.gram);
+                &mut self.gram
+            }
+        };
         if !scale.is_finite() {
             return Err(Error::NonFinite {
                 what: "constraint Jacobian Phi_q in projection".into(),
@@ -117,10 +149,10 @@ impl Projector {
         }
         // A zero Jacobian (scale 0) gets the shift 1: no correction at all.
         let mu = if scale > 0.0 { GRAM_SHIFT * scale } else { 1.0 };
-        for i in 0..self.m {
-            self.gram.add(i, i, mu);
+        for i in 0..gram.dim() {
+            gram.add(i, i, mu);
         }
-        self.gram.factor(0.0).map_err(|_| Error::NonFinite {
+        gram.factor(0.0).map_err(|_| Error::NonFinite {
             what: "constraint Jacobian Phi_q in projection".into(),
             t,
         })?;
@@ -128,8 +160,17 @@ impl Projector {
         Ok(())
     }
 
-    /// Subtracts Phi_q^T (Phi_q Phi_q^T + mu I)^-1 r from x, with r in `self.z`.
+    /// Subtracts Phi_q^T (Phi_q Phi_q^T + mu I)^-1 r from x, with r in `self.z` (on the
+    /// coordinates' side when m > n, see the module docs).
     fn correct(&mut self, x: &mut [f64]) {
+        if let Some((normal, w)) = &mut self.normal {
+            self.spans.mul_transpose(&self.phi_q, &self.z, w);
+            normal.solve(w);
+            for (x, w) in x.iter_mut().zip(w.iter()) {
+                *x -= w;
+            }
+            return;
+        }
         self.gram.solve(&mut self.z);
         for r in 0..self.m {
             let zr = self.z[r];

@@ -58,6 +58,11 @@ impl Envelope {
         }
     }
 
+    /// The order n of the matrix.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
     /// Widens row i's envelope to start at column `col` (col <= i).
     #[inline]
     pub fn widen(&mut self, i: usize, col: usize) {
@@ -87,6 +92,7 @@ impl Envelope {
 
     /// The lower-triangle entry (i, j), j <= i (zero outside the envelope).
     #[inline]
+    #[cfg(test)]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         if j < self.first[i] {
             0.0

@@ -8,6 +8,9 @@
 //! - [`Envelope`]: Cholesky of a symmetric positive definite matrix inside its envelope (the
 //!   augmented Lagrangian's M + alpha Phi_q^T Phi_q, the projections' Gram matrices), O(n)
 //!   for banded chains;
+//! - [`BandLu`]: LU with partial pivoting inside a band, and [`BandOrder`], the reverse
+//!   Cuthill-McKee order that makes the KKT matrix of a chain banded (the direct solve of
+//!   large chains, O(n) for a bounded band);
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
 //! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop;
@@ -16,6 +19,8 @@
 //!
 //! Invariant: everything used inside an integrator step works in storage allocated once.
 
+mod band_lu;
+mod band_order;
 mod envelope;
 mod kernels;
 mod lu;
@@ -24,6 +29,8 @@ mod null_space;
 mod rows;
 mod svd;
 
+pub use band_lu::BandLu;
+pub use band_order::BandOrder;
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};

@@ -445,11 +445,11 @@ impl RowBasis {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// A deterministic generator of values in [-0.5, 0.5).
-    fn lcg(seed: &mut u64) -> f64 {
+    pub(in crate::linalg) fn lcg(seed: &mut u64) -> f64 {
         *seed = seed
             .wrapping_mul(6_364_136_223_846_793_005)
             .wrapping_add(1_442_695_040_888_963_407);

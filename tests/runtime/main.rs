@@ -9,6 +9,7 @@ static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Cou
 mod common;
 
 mod assembly;
+mod banded_kkt;
 mod closure;
 mod energy;
 mod fail_fast;

@@ -102,6 +102,10 @@ fn step_loop_allocates_nothing() {
     let bicycle = mechanism::builtin::builtin("whipple_bicycle").unwrap();
     let bicycle_interpreted: &dyn System =
         &Interpreted::from_source(builtin_source("whipple_bicycle").unwrap()).unwrap();
+    // A02 with N = 10 and every coupler row declared twice: the banded direct route with
+    // rows left out at every solve (the consistent gamma, the minimum-norm multipliers of
+    // the samples), and the projection on the coordinates' side (m > n).
+    let redundant_chain: &dyn System = &crate::banded_kkt::a02(10, true);
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
@@ -111,6 +115,7 @@ fn step_loop_allocates_nothing() {
                 Method::Dop853,
                 Stabilization::Projection,
             ),
+            (redundant_chain, Method::Dop853, Stabilization::Projection),
             (chain.as_ref(), Method::Dop853, Stabilization::Projection),
             (chain_interpreted, Method::Dop853, Stabilization::Projection),
             (interpreted, Method::Dopri5, Stabilization::Projection),

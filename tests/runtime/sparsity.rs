@@ -8,10 +8,10 @@ use mechanism::{Dynamics, Evaluation, Interpreted, System};
 use mechanism_codegen::{EvaluationOutput, compile, derive, eval_matrix, residual_tangent};
 
 /// A deterministic generator of values in [-1, 1) (64-bit LCG, top 53 bits).
-struct Lcg(u64);
+pub(crate) struct Lcg(pub(crate) u64);
 
 impl Lcg {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6_364_136_223_846_793_005)
@@ -123,7 +123,7 @@ fn evaluation_at_the_pattern_matches_the_dense_routes() {
 
 #[test]
 fn dynamics_with_the_pattern_matches_a_dense_kkt_solve() {
-    // The large-system route (augmented Lagrangian, spans fixed from the pattern) against
+    // The large-system route (the banded direct solve, ordered from the pattern) against
     // nalgebra's dense LU of [M Phi_q^T; Phi_q 0] at a regular state of A02, N = 40.
     let system = builtin(A02).unwrap();
     let (n, m) = (system.info().n(), system.info().m());
@@ -160,5 +160,5 @@ fn dynamics_with_the_pattern_matches_a_dense_kkt_solve() {
         let (got, want) = (d.accelerations()[i], x[i]);
         assert!((got - want).abs() < 1e-9, "q''[{i}] {got} vs {want}");
     }
-    assert!(d.augmented_solves > 0, "the large-system route was taken");
+    assert!(d.banded_solves > 0, "the large-system route was taken");
 }

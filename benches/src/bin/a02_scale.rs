@@ -7,7 +7,10 @@
 //!
 //! ```text
 //! cargo run --release -p mechanism-bench --bin a02_scale [-- [--tol R] [--repeats K] [N ...]]
+//! cargo run --release -p mechanism-bench --bin a02_scale -- --mech N > a02_N.mech
 //! ```
+//!
+//! (`--mech N` prints the declaration of one N and exits.)
 //!
 //! Defaults: R = 3e-7 (the loosest that keeps B0 within 1e-3 m for N = 10..80 in
 //! BENCHMARKS.md's A02 tables), K = 3 timed runs per route (median), N = 10 20 40 80 160 320.
@@ -43,6 +46,16 @@ fn args() -> Args {
                     .and_then(|v| v.parse().ok())
                     .filter(|v: &f64| *v > 0.0)
                     .unwrap_or_else(|| fail("--tol needs a positive number"));
+            }
+            "--mech" => {
+                // The declaration of one N, for the command-line tool (`mechanism simulate`).
+                let n = it
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .filter(|&v: &usize| v > 0)
+                    .unwrap_or_else(|| fail("--mech needs a positive integer"));
+                print!("{}", n_four_bar_source(n));
+                std::process::exit(0);
             }
             "--repeats" => {
                 out.repeats = it
@@ -80,7 +93,18 @@ fn options(n: usize, tol: f64) -> SimulationOptions {
     }
 }
 
-/// One route at one N: median wall time (s) of `repeats` runs, RHS per run, B0 error.
+/// CPU time this thread has run, in seconds (Linux: `/proc/thread-self/schedstat`, whose
+/// first field is the time on the CPU in ns); `None` elsewhere. On a machine shared with
+/// other work it is what the run itself cost, where the wall time also counts the waits
+/// for a core.
+fn thread_cpu() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// One route at one N: median time (s) of `repeats` runs (the thread's CPU time where the
+/// system reports it, else the wall time), RHS per run, B0 error.
 struct Measured {
     wall: f64,
     rhs: usize,
@@ -99,9 +123,13 @@ fn measure(n: usize, system: &dyn System, tol: f64, repeats: usize) -> Result<Me
     let mut walls = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats {
-        let start = Instant::now();
+        let (start, cpu) = (Instant::now(), thread_cpu());
         let tr = simulate(system, &opts).map_err(|e| e.to_string())?;
-        walls.push(start.elapsed().as_secs_f64());
+        let wall = start.elapsed().as_secs_f64();
+        walls.push(match (cpu, thread_cpu()) {
+            (Some(a), Some(b)) => b - a,
+            _ => wall,
+        });
         last = Some(tr);
     }
     walls.sort_by(f64::total_cmp);
@@ -128,10 +156,15 @@ fn main() {
     let args = args();
     let started = Instant::now();
     println!(
-        "A02 per right-hand side: {} s, DOP853 at rtol = atol = {:.0e}, projection, from the exact state; median of {} runs; load at start {}",
+        "A02 per right-hand side: {} s, DOP853 at rtol = atol = {:.0e}, projection, from the exact state; median of {} runs; {} time; load at start {}",
         a02::T_END,
         args.tol,
         args.repeats,
+        if thread_cpu().is_some() {
+            "CPU"
+        } else {
+            "wall"
+        },
         a02::load_average()
     );
     println!();

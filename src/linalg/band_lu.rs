@@ -1,0 +1,256 @@
+//! LU factorisation with partial pivoting of a banded matrix, in place in storage
+//! allocated once.
+//!
+//! A has kl nonzero diagonals below the main one and ku above it. Row interchanges widen U
+//! to kl + ku diagonals above the main one, never more, and L keeps kl below it (LAPACK's
+//! `dgbtf2`; Golub & Van Loan, Matrix Computations, 4th ed., sec. 4.3.5), so
+//!
+//! ```text
+//! P A = L U,    cost about 2 n kl (kl + ku) flops,    storage n (2 kl + ku + 1)
+//! ```
+//!
+//! which is linear in n for a fixed band: the constrained dynamics of a chain, its
+//! coordinates and constraint rows interleaved by [`super::BandOrder`]. Partial pivoting makes it backward stable for the
+//! indefinite KKT matrices whose diagonal is zero on the constraint rows.
+//!
+//! Storage: entry (i, j) of the band lives at `ab[kl + ku + i - j + j * ld]`, ld = 2 kl +
+//! ku + 1 (the first kl rows of each column hold the fill of U).
+
+/// A banded matrix and, after [`BandLu::factor`], its LU factors with row pivoting.
+/// Allocates nothing after [`BandLu::new`].
+#[derive(Clone, Debug)]
+pub struct BandLu {
+    /// Largest order and band widths the storage holds.
+    capacity: (usize, usize),
+    n: usize,
+    kl: usize,
+    ku: usize,
+    ab: Vec<f64>,
+    piv: Vec<usize>,
+}
+
+/// Why [`BandLu::factor`] failed: the pivot of column `column` was at most the tolerance
+/// times the largest entry of the matrix (or not finite), so A is singular to working
+/// precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SingularPivot {
+    /// The column whose pivot failed.
+    pub column: usize,
+}
+
+impl BandLu {
+    /// Storage for orders up to `n` with kl + ku at most `width` (each of them at most
+    /// `width`).
+    pub fn new(n: usize, width: usize) -> Self {
+        Self {
+            capacity: (n, width),
+            n: 0,
+            kl: 0,
+            ku: 0,
+            ab: vec![0.0; n * (3 * width + 1)],
+            piv: vec![0; n],
+        }
+    }
+
+    /// Starts a matrix of order n with kl sub- and ku superdiagonals, all zero. Returns
+    /// false (and changes nothing) when it does not fit the storage of [`BandLu::new`].
+    pub fn reset(&mut self, n: usize, kl: usize, ku: usize) -> bool {
+        let (cap_n, cap_w) = self.capacity;
+        if n > cap_n || kl + ku > cap_w {
+            return false;
+        }
+        (self.n, self.kl, self.ku) = (n, kl, ku);
+        let used = n * self.ld();
+        self.ab[..used].fill(0.0);
+        true
+    }
+
+    /// Order n of the current matrix.
+    #[cfg(test)]
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Leading dimension of the band storage, 2 kl + ku + 1.
+    #[inline]
+    fn ld(&self) -> usize {
+        2 * self.kl + self.ku + 1
+    }
+
+    /// Adds `v` to entry (i, j), which must lie in the band (j - ku <= i <= j + kl).
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(
+            i <= j + self.kl && j <= i + self.ku,
+            "({i}, {j}) off the band"
+        );
+        let ld = self.ld();
+        self.ab[self.kl + self.ku + i - j + j * ld] += v;
+    }
+
+    /// Factors in place: P A = L U. Fails with [`SingularPivot`] at the first pivot of
+    /// magnitude at most `tolerance` max |A_ij| (or not finite); the factor is then
+    /// unusable.
+    pub fn factor(&mut self, tolerance: f64) -> Result<(), SingularPivot> {
+        let (n, kl, ku, ld) = (self.n, self.kl, self.ku, self.ld());
+        let kv = kl + ku;
+        let scale = self.ab[..n * ld]
+            .iter()
+            .fold(0.0f64, |a, v| if v.abs() > a { v.abs() } else { a });
+        let threshold = tolerance * scale;
+        let ab = &mut self.ab;
+        // The last column of U touched so far (fill reaches kl + ku beyond the diagonal).
+        let mut ju = 0;
+        for j in 0..n {
+            let km = kl.min(n - 1 - j);
+            let col = j * ld + kv;
+            let mut jp = 0;
+            let mut best = ab[col].abs();
+            for p in 1..=km {
+                let v = ab[col + p].abs();
+                if v > best {
+                    (jp, best) = (p, v);
+                }
+            }
+            self.piv[j] = j + jp;
+            // `!(best > ..)` so that NaN fails too.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(best > threshold) || !best.is_finite() {
+                return Err(SingularPivot { column: j });
+            }
+            ju = ju.max((j + ku + jp).min(n - 1));
+            if jp != 0 {
+                // Swap rows j and j + jp in columns j..=ju.
+                for c in j..=ju {
+                    let base = c * ld + kv + j - c;
+                    ab.swap(base, base + jp);
+                }
+            }
+            let inv = 1.0 / ab[col];
+            for p in 1..=km {
+                ab[col + p] *= inv;
+            }
+            for c in j + 1..=ju {
+                let base = c * ld + kv + j - c;
+                let u = ab[base];
+                if u != 0.0 {
+                    for p in 1..=km {
+                        ab[base + p] -= ab[col + p] * u;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves A x = b in place after a successful [`BandLu::factor`].
+    pub fn solve(&self, b: &mut [f64]) {
+        let (n, kl, ld) = (self.n, self.kl, self.ld());
+        let kv = kl + self.ku;
+        let ab = &self.ab;
+        for j in 0..n {
+            let p = self.piv[j];
+            if p != j {
+                b.swap(p, j);
+            }
+            let bj = b[j];
+            if bj != 0.0 {
+                let col = j * ld + kv;
+                for k in 1..=kl.min(n - 1 - j) {
+                    b[j + k] -= ab[col + k] * bj;
+                }
+            }
+        }
+        for j in (0..n).rev() {
+            let col = j * ld + kv;
+            let x = b[j] / ab[col];
+            b[j] = x;
+            if x != 0.0 {
+                for i in j.saturating_sub(kv)..j {
+                    b[i] -= ab[col + i - j] * x;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::rows::tests::lcg;
+    use nalgebra::{DMatrix, DVector};
+
+    #[test]
+    fn banded_solves_match_nalgebra_lu_with_pivoting_needed() {
+        // Random bands with a zero main diagonal on every third row where both triangles
+        // are present (the constraint rows of a KKT matrix): no factorisation without row
+        // interchanges exists. A triangular band with a zero diagonal would be singular.
+        let mut seed = 0xba4du64;
+        for (n, kl, ku) in [(1, 0, 0), (7, 1, 2), (20, 3, 1), (40, 4, 4), (33, 0, 3)] {
+            let a = DMatrix::from_fn(n, n, |i, j| {
+                if i > j + kl || j > i + ku || (i == j && i % 3 == 2 && kl > 0 && ku > 0) {
+                    0.0
+                } else if i == j {
+                    2.0 + lcg(&mut seed)
+                } else {
+                    lcg(&mut seed)
+                }
+            });
+            let mut band = BandLu::new(n, kl + ku);
+            assert!(band.reset(n, kl, ku));
+            for i in 0..n {
+                for j in 0..n {
+                    if a[(i, j)] != 0.0 {
+                        band.add(i, j, a[(i, j)]);
+                    }
+                }
+            }
+            band.factor(1e-14).unwrap();
+            let b: Vec<f64> = (0..n).map(|_| lcg(&mut seed)).collect();
+            let want = a
+                .clone()
+                .lu()
+                .solve(&DVector::from_column_slice(&b))
+                .unwrap();
+            let mut x = b.clone();
+            band.solve(&mut x);
+            // Both are backward stable: they differ by about cond(A) eps |x|; the
+            // residual of ours is the sharper check, below 1e-13 |A| |x|.
+            let r = &a * DVector::from_column_slice(&x) - DVector::from_column_slice(&b);
+            let scale = a.amax() * x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(
+                r.amax() < 1e-13 * scale.max(1.0),
+                "n {n}: residual {}",
+                r.amax()
+            );
+            let cond = a.clone().svd(false, false).singular_values;
+            let cond = cond.max() / cond.min();
+            for i in 0..n {
+                assert!(
+                    (x[i] - want[i]).abs() < 1e-14 * cond * want.amax().max(1.0),
+                    "n {n} kl {kl} ku {ku}: x[{i}] {} vs {}",
+                    x[i],
+                    want[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_singular_band_is_refused_and_a_band_too_wide_does_not_fit() {
+        // Rows 1 and 2 equal: singular.
+        let a = [[1.0, 2.0, 0.0], [0.0, 1.0, 1.0], [0.0, 1.0, 1.0]];
+        let mut band = BandLu::new(3, 2);
+        assert!(band.reset(3, 1, 1));
+        for (i, row) in a.iter().enumerate() {
+            for (j, &v) in row.iter().enumerate() {
+                if v != 0.0 {
+                    band.add(i, j, v);
+                }
+            }
+        }
+        assert_eq!(band.factor(1e-14), Err(SingularPivot { column: 2 }));
+        assert!(!band.reset(3, 2, 1) && !band.reset(4, 1, 1));
+        assert_eq!(band.dim(), 3);
+    }
+}
