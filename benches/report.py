@@ -102,8 +102,10 @@ class Run:
         rows = [[name, f"{st['seconds']:.0f}", st["load_start"], st["load_end"], st.get("invocation", 1)]
                 for name, st in steps.items()]
         calls = run.get("invocations", [])
-        separate = (f" The steps ran in {len(calls)} invocations of `benches/run.py` (`--only`), the last ending "
-                    f"{calls[-1]['started']}; the duration is their sum." if len(calls) > 1 else "")
+        separate = (f" The steps ran in {len(calls)} invocations of `benches/run.py` (`--only`): "
+                    + "; ".join(f"{k + 1}. {', '.join(c['steps'])}, ended {c['started']}"
+                                + (f" at {c['commit']}" if c.get("commit") else "") for k, c in enumerate(calls))
+                    + "; the duration is their sum." if len(calls) > 1 else "")
         skipped = [f"{k}: {run[k + '_skipped']}" for k in ("mujoco", "robot") if run.get(k + "_skipped")]
         return "\n\n".join([
             "\n".join([
@@ -349,11 +351,11 @@ def main():
     with open(path) as f:
         text = f.read()
     for k, v in b.items():
-        pat = re.compile(rf"(<!-- generated: {re.escape(k)} -->\n).*?(\n<!-- end: {re.escape(k)} -->)", re.S)
+        pat = re.compile(rf"(<!-- generated: {re.escape(k)} -->\n).*?(<!-- end: {re.escape(k)} -->)", re.S)
         if not pat.search(text):
             print(f"report.py: BENCHMARKS.md has no block {k!r}", file=sys.stderr)
             continue
-        text = pat.sub(lambda mm: mm.group(1) + v + mm.group(2), text)
+        text = pat.sub(lambda mm: mm.group(1) + v + "\n" + mm.group(2), text)
     with open(path, "w") as f:
         f.write(text)
     print(f"wrote {path}")

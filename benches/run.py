@@ -279,7 +279,7 @@ def main():
                 json.dump(run, f, indent=1)
         run["load_end"] = rounds.load_avg()
         run["invocations"].append(dict(started=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-                                       steps=chosen, seconds=time.time() - started))
+                                       steps=chosen, seconds=time.time() - started, commit=run["commit"]))
         run["duration_s"] = sum(i["seconds"] for i in run["invocations"])
         with open(path, "w") as f:
             json.dump(run, f, indent=1)
