@@ -1,13 +1,15 @@
-"""The tables of BENCHMARKS.md from one run of `benches/run.sh`: target/bench-results/run.json
-(the interleaved rounds, profiles, controller study), the criterion estimates
-(target/criterion), simulation.md/json, baselines.json (SymPy derivation), mujoco.json,
+"""The generated tables of BENCHMARKS.md from one run of `benches/run.sh`, read from cargo's
+target directory (CARGO_TARGET_DIR when set): bench-results/run.json (the interleaved
+rounds, the profile, the controller study, the Panda, each step's duration), the criterion
+estimates (criterion/), simulation.md/json, baselines.json (SymPy derivation), mujoco.json,
 a02.md and compile_time.md. Standard library only.
 
     python3 benches/report.py           # print every generated block
     python3 benches/report.py --write   # rewrite the blocks of BENCHMARKS.md in place
 
 A block is the text between `<!-- generated: NAME -->` and `<!-- end: NAME -->`; nothing
-else in the file is touched. A block whose source is missing says so instead of keeping
+else in the file is touched (the frozen sections, measured once, carry no such markers),
+and no other file is written. A block whose source is missing says so instead of keeping
 old numbers.
 """
 
@@ -17,9 +19,11 @@ import re
 import statistics
 import sys
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-CRIT = os.path.join(ROOT, "target", "criterion")
-RES = os.path.join(ROOT, "target", "bench-results")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import robot  # noqa: E402
+from target_dir import CRITERION as CRIT  # noqa: E402
+from target_dir import RESULTS as RES  # noqa: E402
+from target_dir import ROOT  # noqa: E402
 MODELS = ["seed", "four_bar", "rssr", "chain8", "chain16", "chain32"]
 # Targets of issue 17 (evaluation against SymPy's strict C) and issue 6 (seed simulation).
 TARGET_PORTABLE, TARGET_NATIVE, TARGET_SCIPY = 0.7, 0.5, 100.0
@@ -94,15 +98,31 @@ class Run:
         m = run["machine"]
         loads = ", ".join(run.get("round_loads", []))
         dur = run.get("duration_s")
-        return "\n".join([
-            f"One run of `benches/run.sh` started {run['started']} at commit {run['commit'][:12]}"
-            + (f", {dur / 60:.0f} minutes in all" if dur else "") + ".",
-            f"Machine: {m['cpu']}, {m['nproc']} cores ({'AVX-512, ' if m['avx512'] else ''}{'FMA' if m['fma'] else 'no FMA'}), "
-            f"{m['kernel']}; {m['rustc']}; {m['gcc']}; Python {m['python']}. Our portable build is rustc's default "
-            "x86-64 target (SSE2, no FMA); native = `-C target-cpu=native`; SymPy's C is always gcc -O3 -march=native.",
-            f"Load average (1, 5, 15 min) at the start {run['load_start']}, at the start of each round: {loads}; "
-            f"at the end {run.get('load_end', '-')}. The machine is shared with other jobs: read the spreads.",
-            "Skipped steps: " + (", ".join(run.get("skipped", [])) or "none") + ".",
+        steps = run.get("steps", {})
+        rows = [[name, f"{st['seconds']:.0f}", st["load_start"], st["load_end"], st.get("invocation", 1)]
+                for name, st in steps.items()]
+        calls = run.get("invocations", [])
+        separate = (f" The steps ran in {len(calls)} invocations of `benches/run.py` (`--only`): "
+                    + "; ".join(f"{k + 1}. {', '.join(c['steps'])}, ended {c['started']}"
+                                + (f" at {c['commit']}" if c.get("commit") else "") for k, c in enumerate(calls))
+                    + "; the duration is their sum." if len(calls) > 1 else "")
+        skipped = [f"{k}: {run[k + '_skipped']}" for k in ("mujoco", "robot") if run.get(k + "_skipped")]
+        return "\n\n".join([
+            "\n".join([
+                f"One run of `benches/run.sh` started {run['started']} at commit {run['commit']}"
+                + (f", {dur / 60:.1f} minutes in all" if dur else "") + "." + separate,
+                f"Machine: {m['cpu']}, {m['nproc']} cores ({'AVX-512, ' if m['avx512'] else ''}"
+                f"{'FMA' if m['fma'] else 'no FMA'}), {m['kernel']}; {m['rustc']}; {m['gcc']}; Python {m['python']}. "
+                "Our portable build is rustc's default x86-64 target (SSE2, no FMA); native = `-C target-cpu=native`; "
+                "SymPy's C is always gcc -O3 -march=native.",
+                f"Load average (1, 5, 15 min) at the start {run['load_start']}, at the start of each round: "
+                f"{loads or '-'}; at the end {run.get('load_end', '-')}. The machine is shared with other jobs: "
+                "read the spreads.",
+                "Skipped steps: " + (", ".join(run.get("skipped", [])) or "none") + "."
+                + ("" if not skipped else " Left out inside a step: " + "; ".join(skipped) + "."),
+            ]),
+            "Each step's wall time (s) and the load average at its start and end:",
+            table(["step", "wall (s)", "load at start", "load at end", "invocation"], rows),
         ])
 
     def block_evaluation(self):
@@ -191,50 +211,27 @@ class Run:
                          "projection after every step and the output.")
         return "\n\n".join(lines)
 
-    def block_changes(self):
+    def block_profile(self):
+        prof = self.run.get("profile")
+        if not prof or not prof.get("parts"):
+            return "No profile in this run (perf not installed, or the step skipped)."
+        return ("Profile of the seed simulation (40 runs of 10 s, DOP853 at 1e-10; `perf`, self time, load "
+                f"{prof['load']}): " + "; ".join(f"{p} {v:.0f} %" for p, v in prof["parts"] if v >= 1.0) + ".")
+
+    def block_robot(self):
         out = []
-        profiles = self.run.get("profiles", {})
-        for ch in self.run.get("changes", []):
-            b, a = self._label(ch["before"]), self._label(ch["after"])
-            rows = []
-            for what in ch["measure"]:
-                builds = ["portable"] + (["native"] if ch.get("native") else [])
-                for build in builds:
-                    if what == "eval":
-                        for m in MODELS:
-                            rows.append(self._row(f"{m} evaluate ({build})", "eval", b, a, build, m))
-                    elif what == "solve" and build == "portable":
-                        for m in MODELS:
-                            rows.append(self._row(f"{m} solve", "solve", b, a, "portable", m))
-                    elif what == "simulate":
-                        rows.append(self._row(f"seed 10 s DOP853 1e-10 ({build})", "simulate", b, a, build, "seed",
-                                              scale=1e9))
-            prof = profiles.get(ch["before"])
-            ptxt = "; ".join(f"{p} {v:.0f} %" for p, v in prof["parts"] if v >= 1.0) if prof and prof.get("parts") else "no profile (perf unavailable)"
-            out.append("\n\n".join([
-                f"#### {ch['name']} ({ch['before']} -> {ch['after']})",
-                f"Why: {ch['why']} Profile of the seed simulation at {ch['before']} (perf, self time; load {prof['load'] if prof else '-'}): {ptxt}.",
-                table(["measurement", f"before ({ch['before']})", f"after ({ch['after']})", "after / before (per round)"],
-                      [r for r in rows if r]),
-            ]))
-        now = profiles.get("now")
-        if now and now.get("parts"):
-            out.append("Profile of the seed simulation now (perf, self time): "
-                       + "; ".join(f"{p} {v:.0f} %" for p, v in now["parts"] if v >= 1.0) + ".")
-        return "\n\n".join(out) if out else "No changes listed in benches/changes.toml."
-
-    def _label(self, rev):
-        for full, info in self.run.get("revisions", {}).items():
-            if info["rev"] == rev or full.startswith(rev):
-                return full
-        return rev
-
-    def _row(self, label, table_, before, after, build, model, scale=1.0):
-        def subject(full):
-            prefix = self.run.get("revisions", {}).get(full, {}).get("prefix", f"rev {full[:12]}")
-            return f"{prefix} {build}" + (" evaluate" if table_ == "eval" else "")
-        x, y = self.get(table_, subject(before), model), self.get(table_, subject(after), model)
-        return [label, spread(x, scale), spread(y, scale), fr(ratio(y, x))]
+        r = self.run.get("robot")
+        if r:
+            out.append(f"Median over {r['rounds']} runs of each program (rounds interleaved):")
+            out.append(robot.table(r))
+            out.append(robot.targets(r))
+        else:
+            out.append(self.run.get("robot_skipped", "The Panda step was skipped in this run."))
+        d = self.run.get("derive_time")
+        if d:
+            out.append("Everything `mechanism!` does at build time (`derive_time FILE 5`, median of 5): "
+                       + "; ".join(f"`{k}` {v:.3f} s" for k, v in d.items()) + ".")
+        return "\n\n".join(out)
 
     def block_controllers(self):
         c = self.run.get("controllers")
@@ -324,17 +321,23 @@ def blocks():
     if run:
         r = Run(run)
         out.update({"run": r.block_run(), "evaluation": r.block_evaluation(), "solve": r.block_solve(),
-                    "simulation": r.block_simulation(), "changes": r.block_changes(),
-                    "controllers": r.block_controllers()})
+                    "simulation": r.block_simulation(), "profile": r.block_profile(),
+                    "controllers": r.block_controllers(), "robot": r.block_robot()})
     else:
-        for k in ("run", "evaluation", "solve", "simulation", "changes", "controllers"):
+        for k in ("run", "evaluation", "solve", "simulation", "profile", "controllers", "robot"):
             out[k] = "No run.json: run `benches/run.sh`."
+    skipped = set(run.get("skipped", [])) if run else set()
     out["criterion"] = block_criterion()
     out["derivation"] = block_derivation()
     out["whole-simulations"] = block_file("simulation.md", "The simulation benchmark was skipped in this run.")
     out["mujoco"] = block_mujoco()
     out["a02"] = block_file("a02.md", "A02 was skipped in this run.")
     out["compile-time"] = block_file("compile_time.md", "The compile-time measurement was skipped in this run.")
+    for step, blocks_of_step in (("criterion", ["criterion", "whole-simulations"]), ("derivation", ["derivation"]),
+                                 ("mujoco", ["mujoco"]), ("a02", ["a02"]), ("compile-time", ["compile-time"])):
+        if step in skipped:
+            for b in blocks_of_step:
+                out[b] = f"The `{step}` step was skipped in this run."
     return out
 
 
@@ -348,11 +351,11 @@ def main():
     with open(path) as f:
         text = f.read()
     for k, v in b.items():
-        pat = re.compile(rf"(<!-- generated: {re.escape(k)} -->\n).*?(\n<!-- end: {re.escape(k)} -->)", re.S)
+        pat = re.compile(rf"(<!-- generated: {re.escape(k)} -->\n).*?(<!-- end: {re.escape(k)} -->)", re.S)
         if not pat.search(text):
             print(f"report.py: BENCHMARKS.md has no block {k!r}", file=sys.stderr)
             continue
-        text = pat.sub(lambda mm: mm.group(1) + v + mm.group(2), text)
+        text = pat.sub(lambda mm: mm.group(1) + v + "\n" + mm.group(2), text)
     with open(path, "w") as f:
         f.write(text)
     print(f"wrote {path}")

@@ -1,19 +1,32 @@
-"""Every measurement of BENCHMARKS.md in one run, then the tables (`benches/run.sh`, which
-creates the Python environment first, is the one command).
+"""Every measurement of BENCHMARKS.md's generated tables in one run of the current tree
+against the peers, then the tables (`benches/run.sh`, which creates the Python environment
+first, is the one command). Nothing older than the checkout is built: the before/after
+tables of past changes were measured once and are kept as text (docs/benchmark-history.md).
 
-Steps, each recorded in target/bench-results/run.json with the load average:
- 1. builds: the timing harness (benches/harness) portable and with -C target-cpu=native, and
-    at the commits of benches/changes.toml (before/after tables);
- 2. SymPy's C for every model in three variants (benches/baselines/c_peer.py), from the
-    harness's assembled state;
- 3. interleaved rounds (benches/rounds.py): evaluation (ours portable and native, the C
-    variants, the revisions), augmented solve, and the seed's 10 s DOP853 simulation
-    against scipy's DOP853 (two variants);
- 4. perf profiles of the seed simulation at each change's `before` commit and now;
- 5. the criterion benches (each generated function, interpreter and AD routes, derivation,
-    the whole-simulation tables), SymPy's derivation times, MuJoCo, A02 and the macro's
-    compile time;
- 6. benches/report.py rewrites the generated blocks of BENCHMARKS.md.
+Steps, each recorded in <target>/bench-results/run.json with its duration and the load
+average at its start and end (`--skip` leaves out any but `build`; `--only` reruns some and
+keeps the others' results of the last run, and the report says which ran separately):
+
+  build         the timing harness (benches/harness) portable and with -C target-cpu=native,
+                and the bench crate's programs (incremental);
+  c             SymPy's C for every model in three variants (benches/baselines/c_peer.py),
+                rebuilt only when a .mech file or the generator changed;
+  rounds        interleaved rounds (benches/rounds.py): evaluation (ours portable and
+                native, the C variants), augmented solve, and the seed's 10 s DOP853
+                simulation against scipy's DOP853 (two variants);
+  controllers   steps, rejections and errors of the PI and predictive step controllers
+                (deterministic, untimed);
+  profile       perf profile of the seed simulation (when perf is installed);
+  criterion     the criterion bench `evaluation` (each generated function, the interpreter
+                and AD routes) and the whole-simulation tables (benches/benches/simulation.rs);
+  derivation    the criterion bench `derivation` (closed chain N = 4..64) and SymPy's
+                derivation of the same chain (N = 4, 8, 16);
+  mujoco        MuJoCo's four-bar (benches/baselines/mujoco_four_bar.py);
+  robot         the Panda against Pinocchio (benches/robot.py) and the Panda's derivation time;
+  a02           the IFToMM A02 chain for N = 10..80 (`--bin a02`);
+  compile-time  the macro's added compile time (benches/compile-time/run.sh).
+
+benches/report.py then rewrites the generated blocks of BENCHMARKS.md.
 """
 
 import argparse
@@ -24,17 +37,15 @@ import platform
 import subprocess
 import sys
 import time
-import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-RESULTS = os.path.join(ROOT, "target", "bench-results")
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "baselines"))
 
 import perf_profile  # noqa: E402
-import revisions  # noqa: E402
+import robot  # noqa: E402
 import rounds  # noqa: E402
+from target_dir import CRITERION, RESULTS, ROOT, TARGET  # noqa: E402
 
 MODELS = ["seed", "four_bar", "rssr", "chain8", "chain16", "chain32"]
 MECH = {
@@ -45,15 +56,25 @@ MECH = {
     "chain16": "benches/mechanisms/closed_chain_16.mech",
     "chain32": "benches/mechanisms/closed_chain_32.mech",
 }
-STEPS = ["criterion", "derivation", "mujoco", "a02", "compile-time"]
+STEPS = ["build", "c", "rounds", "controllers", "profile", "criterion", "derivation", "mujoco", "robot", "a02",
+         "compile-time"]
+# Criterion's timing for the evaluation bench: each benchmark 0.2 s warm-up, 0.5 s measured
+# (its 30 samples of nanosecond calls still count millions of calls).
+CRITERION_ARGS = ["--warm-up-time", "0.2", "--measurement-time", "0.5"]
+# SymPy's derivation of the closed chain: both routes at these N (LagrangesMethod takes
+# minutes from N = 32 on).
+SYMPY_CHAINS = ["4", "8", "16"]
+HARNESS = os.path.join(TARGET, "release", "harness")
+HARNESS_NATIVE = os.path.join(TARGET, "native", "release", "harness")
 
 
 def log(msg):
     print(f"[{datetime.datetime.now().strftime('%H:%M:%S')} load {rounds.load_avg()}] {msg}", flush=True)
 
 
-def cargo(args, env=None):
-    subprocess.run(["cargo"] + args, cwd=ROOT, check=True, env=env)
+def cargo(args, env=None, capture=False):
+    r = subprocess.run(["cargo"] + args, cwd=ROOT, check=True, env=env, capture_output=capture, text=True)
+    return r.stdout
 
 
 def machine():
@@ -69,45 +90,28 @@ def machine():
                 avx512="avx512f" in flags, fma=" fma" in flags)
 
 
-def builds(changes, log):
-    """{"portable": exe, "native": exe, "revs": {sha: {"portable": exe, "native": exe}}}."""
-    log("building the harness (portable, native)")
-    cargo(["build", "--release", "-p", "mechanism-harness"])
-    native_dir = os.path.join(ROOT, "target", "native")
+def commit():
+    def git(*a):
+        return subprocess.run(["git"] + list(a), cwd=ROOT, capture_output=True, text=True).stdout.strip()
+    dirty = git("status", "--porcelain", "--untracked-files=no")
+    return git("rev-parse", "HEAD") + (" (with uncommitted changes)" if dirty else "")
+
+
+def step_build(run, a):
+    cargo(["build", "--release", "-p", "mechanism-harness", "-p", "mechanism-bench", "--bin", "harness", "--bin", "a02",
+           "--bin", "derive_time"])
     env = dict(os.environ, RUSTFLAGS=(os.environ.get("RUSTFLAGS", "") + " -C target-cpu=native").strip(),
-               CARGO_TARGET_DIR=native_dir)
+               CARGO_TARGET_DIR=os.path.join(TARGET, "native"))
     cargo(["build", "--release", "-p", "mechanism-harness"], env=env)
-    b = dict(portable=os.path.join(ROOT, "target", "release", "harness"),
-             native=os.path.join(native_dir, "release", "harness"), revs={})
-    for c in changes:
-        for rev in (c["before"], c["after"]):
-            full = revisions.sha(rev)
-            entry = b["revs"].setdefault(full, {})
-            if revisions.head_is(rev):
-                entry.update(portable=b["portable"], native=b["native"])
-                continue
-            if "portable" not in entry:
-                entry["portable"] = revisions.build(rev, log=log)
-            if c.get("native") and "native" not in entry:
-                entry["native"] = revisions.build(rev, native=True, log=log)
-    return b
 
 
-def peers_c(states, log):
-    """{model: {variant: build info}} of SymPy's C, built from the .mech files."""
-    import baselines
+def step_c(run, a):
     import c_peer
-    out = {}
+    run["c"] = {}
     for m in MODELS:
-        model = baselines.read_mech(os.path.join(ROOT, MECH[m]))
-        out[m] = {}
-        for v in c_peer.VARIANTS:
-            t0 = time.perf_counter()
-            info = c_peer.build(model, v, os.path.join(RESULTS, "c", m, v))
-            info["build_s"] = time.perf_counter() - t0
-            out[m][v] = info
-            log(f"C {v} {m}: {info['ops']} ops, libm {info['libm']} ({info['build_s']:.1f} s)")
-    return out
+        info = c_peer.built(os.path.join(ROOT, MECH[m]), os.path.join(RESULTS, "c", m))
+        run["c"][m] = info
+        log(f"C {m}: " + ", ".join(f"{v} {i['ops']} ops" for v, i in info.items()))
 
 
 def state_vector(state):
@@ -115,161 +119,171 @@ def state_vector(state):
     return state["q"] + state["qd"] + state["parameters"] + [state["t"]]
 
 
-def measure(b, changes, rounds_n, log):
-    """The interleaved rounds; returns the run.json entries."""
+def step_rounds(run, a):
     import baselines
     import c_peer
-    states = {m: rounds.harness(b["portable"], "state", m) for m in MODELS}
-    c = peers_c(states, log)
+    states = {m: rounds.harness(HARNESS, "state", m) for m in MODELS}
     seed = baselines.read_mech(os.path.join(ROOT, MECH["seed"]))
-    reference = rounds.harness(b["portable"], "reference", "seed")["q_end"]
+    run["reference"] = rounds.harness(HARNESS, "reference", "seed")["q_end"]
     log("lambdifying the seed for scipy")
     problems = {"scipy strict": baselines.seed_rhs_strict(seed), "scipy defaults": baselines.seed_rhs_default(seed)}
-
     r = rounds.Rounds()
-    rev_of = {}
-    for ch in changes:
-        for which in ("before", "after"):
-            rev_of[revisions.sha(ch[which])] = ch[which]
     stats = {}
+    builds = {"portable": HARNESS, "native": HARNESS_NATIVE}
     for m in MODELS:
-        for build in ("portable", "native"):
+        for build, exe in builds.items():
             for what in ("evaluate", "five"):
-                r.add(("eval", f"ours {build} {what}", m), rounds.eval_subject(b[build], m, what))
+                r.add(("eval", f"ours {build} {what}", m), rounds.eval_subject(exe, m, what))
         for v in c_peer.VARIANTS:
-            x = state_vector(states[m])
-            exe = c[m][v]["exe"]
+            x, exe = state_vector(states[m]), run["c"][m][v]["exe"]
             r.add(("eval", f"C {v}", m), lambda exe=exe, x=x, m=m: c_peer.run(exe, x, rounds.BATCHES, rounds.CALLS[m]))
-        r.add(("solve", "ours portable", m), rounds.solve_subject(b["portable"], m))
-    for build in ("portable", "native"):
+        r.add(("solve", "ours portable", m), rounds.solve_subject(HARNESS, m))
+    for build, exe in builds.items():
         stats[f"ours {build}"] = {}
-        r.add(("simulate", f"ours {build}", "seed"),
-              rounds.simulate_subject(b[build], "seed", 1e-10, 3, stats[f"ours {build}"]))
+        r.add(("simulate", f"ours {build}", "seed"), rounds.simulate_subject(exe, "seed", 1e-10, 3, stats[f"ours {build}"]))
     for name, problem in problems.items():
         stats[name] = {}
-        r.add(("simulate", name, "seed"), rounds.scipy_subject(problem, 3, reference, stats[name]))
-    for full, exes in b["revs"].items():
-        label = f"rev {full[:12]}"
-        for build, exe in exes.items():
-            if exe in (b["portable"], b["native"]):
-                continue  # the current tree, measured above
-            measures = set().union(*[set(ch["measure"]) for ch in changes
-                                     if revisions.sha(ch["before"]) == full or revisions.sha(ch["after"]) == full])
-            if "eval" in measures:
-                for m in MODELS:
-                    r.add(("eval", f"{label} {build} evaluate", m), rounds.eval_subject(exe, m, "evaluate"))
-            if "solve" in measures and build == "portable":
-                for m in MODELS:
-                    r.add(("solve", f"{label} portable", m), rounds.solve_subject(exe, m))
-            if "simulate" in measures:
-                stats[f"{label} {build}"] = {}
-                r.add(("simulate", f"{label} {build}", "seed"),
-                      rounds.simulate_subject(exe, "seed", 1e-10, 3, stats[f"{label} {build}"]))
-    log(f"{len(r.subjects)} subjects, {rounds_n} rounds")
-    r.run(rounds_n, log=log)
-    log("step-size controllers: steps, rejections and errors (deterministic, untimed)")
+        r.add(("simulate", name, "seed"), rounds.scipy_subject(problem, 3, run["reference"], stats[name]))
+    log(f"{len(r.subjects)} subjects, {a.rounds} rounds")
+    r.run(a.rounds, log=log)
+    run.update(states=states, rounds=r.summary(), round_loads=r.loads, simulation_stats=stats)
+
+
+def step_controllers(run, a):
     controllers = {}
     for m in ("seed", "four_bar"):
-        ref = reference if m == "seed" else rounds.harness(b["portable"], "reference", m)["q_end"]
+        ref = rounds.harness(HARNESS, "reference", m)["q_end"]
         for tol in (1e-8, 1e-9, 1e-10, 1e-11):
             for ctl in ("pi", "predictive"):
-                s = rounds.harness(b["portable"], "simulate", m, 0, tol, ctl)
+                s = rounds.harness(HARNESS, "simulate", m, 0, tol, ctl)
                 s["error"] = max(abs(x - y) for x, y in zip(s["q_end"], ref))
                 controllers[f"{m}|{tol:g}|{ctl}"] = s
-    return dict(controllers=controllers, states=states, c={m: {v: {k: x for k, x in i.items() if k != "exe"} for v, i in c[m].items()} for m in c},
-                rounds=r.summary(), round_loads=r.loads, simulation_stats=stats, reference=reference,
-                revisions={full: {"rev": rev_of.get(full, full[:12]), "builds": sorted(e),
-                                  "prefix": "ours" if e.get("portable") == b["portable"] else f"rev {full[:12]}"}
-                           for full, e in b["revs"].items()})
+    run["controllers"] = controllers
 
 
-def profiles(b, changes, log):
-    """perf profiles of the seed simulation: now, and at every change's `before` commit."""
-    out = {}
+def step_profile(run, a):
     if not perf_profile.perf_available():
-        log("perf not found: no profiles")
-        return out
-    targets = {"now": b["portable"]}
-    for ch in changes:
-        exes = b["revs"].get(revisions.sha(ch["before"]), {})
-        if "portable" in exes:
-            targets[ch["before"]] = exes["portable"]
-    for name, exe in targets.items():
-        log(f"profile of the seed simulation at {name}")
-        out[name] = dict(parts=perf_profile.profile(exe), load=rounds.load_avg())
-    return out
+        log("perf not found: no profile")
+        return
+    run["profile"] = dict(parts=perf_profile.profile(HARNESS), load=rounds.load_avg())
 
 
-def long_tail(skip, venv_python, log):
-    """The criterion benches and the other peers; each step's load average."""
-    loads = {}
-    if "criterion" not in skip:
-        for bench in ("evaluation", "simulation"):
-            log(f"criterion bench {bench}")
-            loads[bench] = rounds.load_avg()
-            cargo(["bench", "-p", "mechanism-bench", "--bench", bench])
-    if "derivation" not in skip:
-        log("criterion bench derivation")
-        loads["derivation"] = rounds.load_avg()
-        cargo(["bench", "-p", "mechanism-bench", "--bench", "derivation"])
-        log("SymPy derivation of the chain (LagrangesMethod at N = 32 takes minutes)")
-        loads["sympy derivation"] = rounds.load_avg()
-        subprocess.run([venv_python, os.path.join(HERE, "baselines", "baselines.py"), "--chains", "4", "8", "16", "32",
-                        "--lagranges", "4", "8", "16", "32"], check=True)
-    if "mujoco" not in skip:
-        ok = subprocess.run([venv_python, "-c", "import mujoco"], capture_output=True).returncode == 0
-        if ok:
-            log("MuJoCo four-bar")
-            loads["mujoco"] = rounds.load_avg()
-            subprocess.run([venv_python, os.path.join(HERE, "baselines", "mujoco_four_bar.py")], check=True)
-        else:
-            log("mujoco not importable: skipped")
-    if "a02" not in skip:
-        log("A02 (N four-bar)")
-        loads["a02"] = rounds.load_avg()
-        md = subprocess.run(["cargo", "run", "--release", "-q", "-p", "mechanism-bench", "--bin", "a02"], cwd=ROOT,
-                            check=True, capture_output=True, text=True).stdout
-        with open(os.path.join(RESULTS, "a02.md"), "w") as f:
-            f.write(md)
-    if "compile-time" not in skip:
-        log("the macro's compile time")
-        loads["compile-time"] = rounds.load_avg()
-        subprocess.run([os.path.join(HERE, "compile-time", "run.sh")], check=True)
-    return loads
+def step_criterion(run, a):
+    cargo(["bench", "-p", "mechanism-bench", "--bench", "evaluation", "--"] + CRITERION_ARGS)
+    cargo(["bench", "-p", "mechanism-bench", "--bench", "simulation"])
+
+
+def step_derivation(run, a):
+    cargo(["bench", "-p", "mechanism-bench", "--bench", "derivation"])
+    log(f"SymPy's derivation of the chain, N = {', '.join(SYMPY_CHAINS)}")
+    subprocess.run([a.venv_python, os.path.join(HERE, "baselines", "baselines.py"), "--chains", *SYMPY_CHAINS,
+                    "--lagranges", *SYMPY_CHAINS], check=True)
+
+
+def step_mujoco(run, a):
+    if subprocess.run([a.venv_python, "-c", "import mujoco"], capture_output=True).returncode != 0:
+        run["mujoco_skipped"] = "mujoco is not importable"
+        log("mujoco not importable: skipped")
+        return
+    subprocess.run([a.venv_python, os.path.join(HERE, "baselines", "mujoco_four_bar.py"), "--repeats", "3"],
+                   check=True)
+
+
+def step_robot(run, a):
+    theirs, why = robot.pinocchio(a.venv_python)
+    if theirs is None:
+        run["robot_skipped"] = f"Pinocchio's program could not be built ({why})"
+        log(run["robot_skipped"])
+    else:
+        run["robot"] = robot.measure(dict(robot.harness_programs(), pinocchio=theirs), a.robot_rounds)
+        run["robot"]["rounds"] = a.robot_rounds
+    derive = os.path.join(TARGET, "release", "derive_time")
+    run["derive_time"] = {}
+    for mech in ("mechanisms/panda.mech", "mechanisms/five_bar.mech"):
+        out = subprocess.run([derive, mech, "5"], cwd=ROOT, check=True, capture_output=True, text=True).stdout
+        run["derive_time"][mech] = float(out.split(":")[-1].split()[0])
+
+
+def step_a02(run, a):
+    md = subprocess.run([os.path.join(TARGET, "release", "a02"), "--repeats", "3"], cwd=ROOT, check=True,
+                        capture_output=True, text=True).stdout
+    with open(os.path.join(RESULTS, "a02.md"), "w") as f:
+        f.write(md)
+
+
+def step_compile_time(run, a):
+    subprocess.run([os.path.join(HERE, "compile-time", "run.sh")], check=True)
+
+
+# What each step writes besides run.json (removed before the step runs, so that a result of
+# an earlier run cannot pass for this one's).
+OUTPUTS = {
+    "criterion": ["simulation.md", "simulation.json", "../criterion/seed", "../criterion/four_bar",
+                  "../criterion/rssr", "../criterion/chain8", "../criterion/chain16", "../criterion/chain32"],
+    "derivation": ["baselines.json", "../criterion/derive_closed_chain"],
+    "mujoco": ["mujoco.json"],
+    "a02": ["a02.md"],
+    "compile-time": ["compile_time.md"],
+}
+# What each step adds to run.json.
+KEYS = {
+    "c": ["c"], "rounds": ["states", "reference", "rounds", "round_loads", "simulation_stats"],
+    "controllers": ["controllers"], "profile": ["profile"], "mujoco": ["mujoco_skipped"],
+    "robot": ["robot", "robot_skipped", "derive_time"],
+}
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--rounds", type=int, default=7, help="interleaved rounds (at least 5)")
-    ap.add_argument("--skip", nargs="*", default=[], choices=STEPS, help="steps of item 5 to leave out")
+    ap.add_argument("--rounds", type=int, default=5, help="interleaved rounds (at least 3)")
+    ap.add_argument("--robot-rounds", type=int, default=5, help="runs of each Panda program")
+    ap.add_argument("--skip", nargs="*", default=[], choices=STEPS[1:], help="steps to leave out")
+    ap.add_argument("--only", nargs="*", choices=STEPS[1:],
+                    help="run these steps (and build) only, keeping the other steps' results of the last run")
     ap.add_argument("--venv-python", default=sys.executable)
     ap.add_argument("--report-only", action="store_true", help="only regenerate BENCHMARKS.md from run.json")
-    ap.add_argument("--models", nargs="*", default=MODELS, choices=MODELS,
-                    help="a subset, for a quick check (the tables then lack the others)")
     a = ap.parse_args()
+    if a.rounds < 3:
+        ap.error("at least 3 rounds")
+    chosen = [n for n in STEPS if n == "build" or (n not in a.skip and (a.only is None or n in a.only))]
+    if "rounds" in chosen and "c" not in chosen:
+        chosen.insert(chosen.index("rounds"), "c")  # the rounds time the C (cached: seconds)
     os.makedirs(RESULTS, exist_ok=True)
     path = os.path.join(RESULTS, "run.json")
     if not a.report_only:
-        if a.rounds < 5:
-            ap.error("at least 5 rounds")
-        MODELS[:] = a.models
+        run = None
+        if a.only is not None and os.path.exists(path):
+            with open(path) as f:
+                run = json.load(f)
+        if run is None:
+            run = dict(steps={}, invocations=[])
+            for name in os.listdir(RESULTS):
+                if name.endswith((".json", ".md")):
+                    os.remove(os.path.join(RESULTS, name))
+            subprocess.run(["rm", "-rf", CRITERION], check=True)
         started = time.time()
-        with open(os.path.join(HERE, "changes.toml"), "rb") as f:
-            changes = tomllib.load(f)["change"]
-        run = dict(started=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-                   commit=revisions.sha("HEAD"), machine=machine(), load_start=rounds.load_avg(), changes=changes)
-        b = builds(changes, log)
-        run.update(measure(b, changes, a.rounds, log))
-        run["profiles"] = profiles(b, changes, log)
-        with open(path, "w") as f:
-            json.dump(run, f, indent=1)
-        run["long_tail_loads"] = long_tail(set(a.skip), a.venv_python, log)
-        run["skipped"] = a.skip
+        run.update(started=run.get("started") or datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                   commit=commit(), machine=machine(), load_start=run.get("load_start") or rounds.load_avg())
+        run["skipped"] = [n for n in STEPS if n not in chosen and n not in run["steps"]]
+        for name in chosen:
+            for out in OUTPUTS.get(name, []):
+                subprocess.run(["rm", "-rf", os.path.join(RESULTS, out)], check=True)
+            for key in KEYS.get(name, []):
+                run.pop(key, None)
+            log(f"step {name}")
+            t0, load0 = time.time(), rounds.load_avg()
+            globals()["step_" + name.replace("-", "_")](run, a)
+            run["steps"][name] = dict(seconds=time.time() - t0, load_start=load0, load_end=rounds.load_avg(),
+                                      invocation=len(run["invocations"]) + 1)
+            with open(path, "w") as f:
+                json.dump(run, f, indent=1)
         run["load_end"] = rounds.load_avg()
-        run["duration_s"] = time.time() - started
+        run["invocations"].append(dict(started=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                                       steps=chosen, seconds=time.time() - started, commit=run["commit"]))
+        run["duration_s"] = sum(i["seconds"] for i in run["invocations"])
         with open(path, "w") as f:
             json.dump(run, f, indent=1)
-        log(f"measurements done in {run['duration_s'] / 60:.1f} min")
+        log(f"measurements done in {(time.time() - started) / 60:.1f} min")
     subprocess.run([sys.executable, os.path.join(HERE, "report.py"), "--write"], check=True)
 
 

@@ -1,20 +1,23 @@
 #!/usr/bin/env bash
-# Every benchmark of BENCHMARKS.md in one run, then its tables (see benches/run.py):
+# Every generated table of BENCHMARKS.md in one run of the current tree against the peers,
+# then the tables (see benches/run.py for the steps):
 #
-#   benches/run.sh [--rounds 7] [--skip criterion derivation mujoco a02 compile-time]
+#   benches/run.sh [--rounds 5] [--skip c rounds controllers profile criterion derivation mujoco robot a02 compile-time]
 #
-# Creates a Python environment under target/baselines-venv (sympy, scipy, numpy, and mujoco
-# when it installs), then runs benches/run.py with it. The run takes about 20 minutes on
-# the 2-core machine of BENCHMARKS.md, plus a few the first time (the harness built at each
-# commit of benches/changes.toml); SymPy's LagrangesMethod at N = 32 and the compile-time
-# builds are its slowest steps, and `--skip` leaves out the steps that do not feed the
-# headline tables.
+# Creates a Python environment under <target>/baselines-venv (<target>: CARGO_TARGET_DIR
+# when set, else target/) with sympy, scipy, numpy, and mujoco and Pinocchio's packages when
+# they install, then runs benches/run.py with it. BENCHMARKS.md's first generated block
+# gives the last run's duration and each step's share of it.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-venv="$root/target/baselines-venv"
+target="$(cd "$root" && mkdir -p "${CARGO_TARGET_DIR:-target}" && cd "${CARGO_TARGET_DIR:-target}" && pwd)"
+export CARGO_TARGET_DIR="$target"
+venv="$target/baselines-venv"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
 "$venv/bin/pip" install -q sympy scipy numpy
-"$venv/bin/pip" install -q mujoco || echo "mujoco not installable here: skipping it"
+"$venv/bin/pip" install -q mujoco || echo "mujoco not installable here: its step is skipped"
+"$venv/bin/pip" install -q pin cmeel-eigen cmeel-urdfdom-headers \
+    || echo "Pinocchio not installable here: the Panda step is skipped"
 exec "$venv/bin/python" "$root/benches/run.py" --venv-python "$venv/bin/python" "$@"

@@ -33,8 +33,8 @@ VARIANTS = {
     "derivation": "SymPy derivation of the closed N-bar chain: direct_s = differentiation and jacobians on plain symbols; lagranges_s = sympy.physics.mechanics.LagrangesMethod(...).form_lagranges_equations() with the loop closure as hol_coneqs.",
 }
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-RESULTS = os.path.join(ROOT, "target", "bench-results")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from target_dir import RESULTS  # noqa: E402
 
 
 # ---------------------------------------------------------------- .mech reader

@@ -12,15 +12,20 @@ call. Variants (see BENCHMARKS.md, "What is compared"):
 - `per_routine`: `sympy.utilities.codegen`'s `C99CodeGen(cse=True)`, one CSE'd routine per
   matrix, called in turn from another file (what a SymPy user gets).
 
-gcc -O3 -march=native, one object per file (nothing inlined across files).
+gcc -O3 -march=native, one object per file (nothing inlined across files). The C depends on
+the `.mech` file, this generator and gcc only, never on our tree: `built` keeps each build
+with its key and builds again only when one of them changed.
 """
 
+import hashlib
+import json
 import os
 import subprocess
+import time
 
 import sympy as sp
 
-from baselines import c_code, c_code_per_routine, direct, libm_calls
+from baselines import c_code, c_code_per_routine, direct, libm_calls, read_mech
 
 C_MAIN = r"""
 #include <stdio.h>
@@ -62,11 +67,42 @@ def ten(d, model):
             + list(d["Phi_q"]) + phi_t + list(d["gamma"]) + [model["T"], model["Pi"]])
 
 
-def build(model, variant, workdir):
-    """Compiles `variant` of `model`'s SymPy C into `workdir`; returns a dict with the
-    executable, nx, nout, the operation count and the libm calls of the computing object."""
-    os.makedirs(workdir, exist_ok=True)
+def built(mech_path, workdir):
+    """{variant: build info} of the SymPy C of the `.mech` file at `mech_path`, built under
+    `workdir/<variant>`, or the builds already there when their key (the file, the
+    generators' sources, SymPy's and gcc's versions) is this one. `build_s` is the time the
+    build took when it was made."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    key = hashlib.sha256()
+    for path in (mech_path, os.path.join(here, "c_peer.py"), os.path.join(here, "baselines.py")):
+        with open(path, "rb") as f:
+            key.update(f.read())
+    gcc = subprocess.run(["gcc", "--version"], capture_output=True, text=True).stdout
+    key.update((sp.__version__ + gcc).encode())
+    key = key.hexdigest()
+    stamp = os.path.join(workdir, "built.json")
+    if os.path.exists(stamp):
+        with open(stamp) as f:
+            old = json.load(f)
+        if old.get("key") == key and all(os.path.exists(i["exe"]) for i in old["variants"].values()):
+            return old["variants"]
+    model = read_mech(mech_path)
     d = direct(model)
+    out = {}
+    for v in VARIANTS:
+        t0 = time.perf_counter()
+        out[v] = build(model, d, v, os.path.join(workdir, v))
+        out[v]["build_s"] = time.perf_counter() - t0
+    with open(stamp, "w") as f:
+        json.dump(dict(key=key, variants=out), f, indent=1)
+    return out
+
+
+def build(model, d, variant, workdir):
+    """Compiles `variant` of `model`'s SymPy C (`d`: its direct derivation) into `workdir`;
+    returns a dict with the executable, nx, nout, the operation count and the libm calls of
+    the computing object."""
+    os.makedirs(workdir, exist_ok=True)
     if variant == "per_routine":
         src, header, caller, nx, nout, ops = c_code_per_routine(model, d)
         files = {"routines.c": src, "routines.h": header, "calls.c": caller}

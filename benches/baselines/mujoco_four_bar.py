@@ -17,12 +17,14 @@ import json
 import math
 import os
 import statistics
+import sys
 import time
 
 import mujoco
 import numpy as np
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from target_dir import RESULTS  # noqa: E402
 
 # Parameters of mechanisms/planar_four_bar.mech (SI units).
 L1, L2, L3, DX = 0.1, 0.4, 0.3, 0.35
@@ -194,7 +196,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5, help="timed runs per setting (median)")
     ap.add_argument("--reference-csv", help="our trajectory.csv to take th1(10 s) from")
-    ap.add_argument("--out", default=os.path.join(ROOT, "target", "bench-results", "mujoco.json"))
+    ap.add_argument("--out", default=os.path.join(RESULTS, "mujoco.json"))
     args = ap.parse_args()
     global TH1_REF
     if args.reference_csv:

@@ -8,12 +8,13 @@
 //!   program and emitted body per trait method plus the combined `evaluate`, equations text),
 //!   in release mode, i.e. with `[profile.*.build-override] opt-level = 3`.
 //!
-//! The op counts after CSE are printed once per N (stderr) for BENCHMARKS.md. N = 64 is
-//! timed with 10 samples and no warm-up beyond one run (it takes seconds).
+//! The op counts after CSE are printed once per N (stderr) for BENCHMARKS.md. Flat sampling,
+//! 10 samples: every sample runs the same number of iterations, so a derivation that takes
+//! most of a second (N = 64) runs 10 times, not the 55 of criterion's linear sampling.
 
 use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BenchmarkId, Criterion, SamplingMode, criterion_group, criterion_main};
 use mechanism_bench::{derive_and_cse, macro_pipeline};
 use mechanism_codegen::fixtures::{closed_chain_model, closed_chain_source};
 use mechanism_codegen::parse_model_str;
@@ -22,6 +23,7 @@ fn derivation(c: &mut Criterion) {
     let mut group = c.benchmark_group("derive_closed_chain");
     group
         .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_millis(200))
         .measurement_time(Duration::from_secs(2));
     for n in [4usize, 8, 16, 32, 64] {

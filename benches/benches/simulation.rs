@@ -6,21 +6,25 @@
 //!    reaches it, and simulated seconds per wall second.
 //! 3. |Phi| with projection, Baumgarte and no stabilisation (seed and four-bar).
 //!
-//! The tables are printed to stderr and written to `target/bench-results/simulation.md`
-//! (and the key numbers to `simulation.json`); criterion then times the headline runs.
+//! The tables are printed to stderr and written to `bench-results/simulation.md` (and the key
+//! numbers to `simulation.json`) in cargo's target directory (`CARGO_TARGET_DIR` when set).
+//! Each run is timed by `measure` itself; the seed's DOP853 run is also timed against scipy
+//! in `benches/run.py`'s interleaved rounds.
 
 use std::fmt::Write as _;
-use std::hint::black_box;
-use std::time::Duration;
 
-use criterion::{Criterion, criterion_group, criterion_main};
-use mechanism::{Method, Stabilization, System, simulate};
+use mechanism::{Method, Stabilization, System};
 use mechanism_bench::simulation::{
     HEADER, RunReport, T_END, measure, options, reference, row, seed_methods, stabilizations,
 };
 
+/// `bench-results/` in cargo's target directory: `CARGO_TARGET_DIR` (relative to the
+/// workspace root, as cargo reads it) when set, else the workspace's `target/`.
 fn results_dir() -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/bench-results");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let target =
+        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), |t| root.join(t));
+    let dir = target.join("bench-results");
     let _ = std::fs::create_dir_all(&dir);
     dir
 }
@@ -146,43 +150,10 @@ fn tables() -> (String, String) {
     (md, json)
 }
 
-fn simulation(c: &mut Criterion) {
+fn main() {
     let (md, json) = tables();
     eprintln!("{md}");
     let dir = results_dir();
     let _ = std::fs::write(dir.join("simulation.md"), &md);
     let _ = std::fs::write(dir.join("simulation.json"), &json);
-
-    let seed = mechanism::builtin::builtin("spatial_crank_slider").expect("seed");
-    let four = mechanism::builtin::builtin("planar_four_bar").expect("four-bar");
-    let mut g = c.benchmark_group("simulate_10s");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(2));
-    for (id, method) in [
-        ("seed_dop853_1e-10", Method::Dop853),
-        ("seed_dopri5_1e-10", Method::Dopri5),
-    ] {
-        let opts = options(method, 1e-10, Stabilization::Projection);
-        g.bench_function(id, |b| {
-            b.iter(|| simulate(black_box(seed.as_ref()), &opts).map(|t| t.len()))
-        });
-    }
-    for (id, tol) in [
-        ("four_bar_dop853_1e-9", 1e-9),
-        ("four_bar_dop853_1e-8", 1e-8),
-    ] {
-        let opts = options(Method::Dop853, tol, Stabilization::Projection);
-        g.bench_function(id, |b| {
-            b.iter(|| simulate(black_box(four.as_ref()), &opts).map(|t| t.len()))
-        });
-    }
-    g.finish();
 }
-
-criterion_group! {
-    name = benches;
-    config = Criterion::default().without_plots();
-    targets = simulation
-}
-criterion_main!(benches);

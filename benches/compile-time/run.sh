@@ -3,12 +3,13 @@
 #
 #   benches/compile-time/run.sh
 #
-# Builds this tiny crate (own target dir: target/compile-time) with no declaration, with the
+# Builds this tiny crate (own target dir: <target>/compile-time, where <target> is
+# CARGO_TARGET_DIR when set, else the checkout's target/) with no declaration, with the
 # 16-bar chain and with the 32-bar chain, under the default dev profile (proc-macros built
 # at opt-level 0) and with `[profile.dev.build-override] opt-level = 3` (set here through
 # CARGO_PROFILE_DEV_BUILD_OVERRIDE_OPT_LEVEL), and also `--release`. Dependencies are built
 # once per variant, untimed; each timed build recompiles only this crate (touch + build),
-# median of 3. Writes target/bench-results/compile_time.md.
+# median of 3. Writes <target>/bench-results/compile_time.md.
 #
 # The sources are first copied to target/compile-time/snapshot (without target/ and .git/),
 # so that edits in the checkout during the run cannot trigger rebuilds of the path
@@ -16,8 +17,9 @@
 set -euo pipefail
 src_here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$src_here/../.." && pwd)"
-export CARGO_TARGET_DIR="$root/target/compile-time"
-out="$root/target/bench-results"
+target="$(cd "$root" && mkdir -p "${CARGO_TARGET_DIR:-target}" && cd "${CARGO_TARGET_DIR:-target}" && pwd)"
+export CARGO_TARGET_DIR="$target/compile-time"
+out="$target/bench-results"
 mkdir -p "$out" "$CARGO_TARGET_DIR"
 snap="$CARGO_TARGET_DIR/snapshot"
 rm -rf "$snap"

@@ -3,7 +3,9 @@
 
 use std::time::Instant;
 
-use mechanism::{IntegratorOptions, Method, SimulationOptions, Stabilization, System, simulate};
+use mechanism::{
+    IntegratorOptions, Method, SimulationOptions, Stabilization, StepController, System, simulate,
+};
 
 /// What [`simulate_runs`] measured.
 pub struct Runs {
@@ -23,41 +25,32 @@ pub struct Runs {
     pub predictive: bool,
 }
 
-/// 10 s of DOP853 at rtol = atol = `tol` with projection (PI step control, or predictive
-/// when asked for and available: the flag returned).
-fn options(tol: f64, predictive: bool) -> (SimulationOptions, bool) {
-    let mut integrator = IntegratorOptions {
-        method: Method::Dop853,
-        rtol: tol,
-        atol: tol,
-        ..IntegratorOptions::default()
+/// 10 s of DOP853 at rtol = atol = `tol` with projection, PI step control or the predictive
+/// controller.
+fn options(tol: f64, predictive: bool) -> SimulationOptions {
+    let controller = if predictive {
+        StepController::Predictive
+    } else {
+        StepController::Pi
     };
-    let predictive = predictive && set_predictive(&mut integrator);
-    let options = SimulationOptions {
+    SimulationOptions {
         t_end: 10.0,
         output_rate: 10.0,
-        integrator,
+        integrator: IntegratorOptions {
+            method: Method::Dop853,
+            rtol: tol,
+            atol: tol,
+            controller,
+            ..IntegratorOptions::default()
+        },
         stabilization: Stabilization::Projection,
         ..SimulationOptions::default()
-    };
-    (options, predictive)
-}
-
-/// The predictive step controller (revisions before it existed run the PI controller: the
-/// JSON says which ran).
-#[cfg(not(feature = "legacy-controller"))]
-fn set_predictive(o: &mut IntegratorOptions) -> bool {
-    o.controller = mechanism::StepController::Predictive;
-    true
-}
-#[cfg(feature = "legacy-controller")]
-fn set_predictive(_: &mut IntegratorOptions) -> bool {
-    false
+    }
 }
 
 /// One untimed run, then `runs` timed ones.
 pub fn simulate_runs(system: &dyn System, runs: usize, tol: f64, predictive: bool) -> Runs {
-    let (opts, predictive) = options(tol, predictive);
+    let opts = options(tol, predictive);
     let run = || {
         simulate(system, &opts)
             .unwrap_or_else(|e| panic!("{}: simulation failed: {e}", system.info().name))
@@ -87,7 +80,7 @@ pub fn simulate_runs(system: &dyn System, runs: usize, tol: f64, predictive: boo
 
 /// q at 10 s from DOP853 at rtol = atol = 1e-13 (the error reference).
 pub fn reference(system: &dyn System) -> Vec<f64> {
-    let t = simulate(system, &options(1e-13, false).0)
+    let t = simulate(system, &options(1e-13, false))
         .unwrap_or_else(|e| panic!("{}: reference run failed: {e}", system.info().name));
     t.last().map(|s| s.q.to_vec()).unwrap_or_default()
 }

@@ -53,22 +53,6 @@ pub struct Five<const N: usize, const M: usize> {
 type Evaluate<T, const N: usize, const M: usize> =
     fn(&T, f64, &SVector<f64, N>, &SVector<f64, N>, &mut StaticEvaluation<N, M>);
 
-/// One combined evaluation into `out`.
-fn evaluate<T: Mechanism<N, M>, const N: usize, const M: usize>(
-    m: &T,
-    t: f64,
-    q: &SVector<f64, N>,
-    qd: &SVector<f64, N>,
-    out: &mut StaticEvaluation<N, M>,
-) {
-    #[cfg(not(feature = "legacy-evaluate"))]
-    m.evaluate_into(t, q, qd, out);
-    #[cfg(feature = "legacy-evaluate")]
-    {
-        *out = m.evaluate(t, q, qd);
-    }
-}
-
 /// ns per call of `what` on `m`, one value per batch of `calls` calls. The function is
 /// called through a pointer read from `black_box`, so that it is compiled on its own and
 /// nothing is hoisted out of the loop (the C peers call a function in another object file).
@@ -82,10 +66,8 @@ pub fn time_eval<T: Mechanism<N, M>, const N: usize, const M: usize>(
     let (t, mut q, qd) = (i.t, i.q, i.qd);
     match what {
         "evaluate" => {
-            let f: Evaluate<T, N, M> = black_box(evaluate::<T, N, M>);
-            // A buffer of the right type (`StaticEvaluation::zeros` is newer than some of
-            // the revisions this program is built at).
-            let mut out = m.evaluate(t, &q, &qd);
+            let f: Evaluate<T, N, M> = black_box(T::evaluate_into);
+            let mut out = StaticEvaluation::zeros();
             Ok(batched(batches, calls, || {
                 q[0] += 1e-15;
                 f(black_box(m), black_box(t), &q, &qd, black_box(&mut out));
