@@ -204,6 +204,8 @@ pub struct Summary {
     pub stabilization: String,
     /// Right-hand sides solved by the augmented Lagrangian route instead of LU.
     pub augmented_solves: usize,
+    /// Right-hand sides solved by the banded direct route instead of LU.
+    pub banded_solves: usize,
     /// Mobility at the assembled configuration.
     pub mobility: MobilityReport,
     /// Singular configurations the motion passed through, in time order.
@@ -259,6 +261,7 @@ impl Summary {
             atol: settings.atol,
             stabilization: settings.stabilization.clone(),
             augmented_solves: stats.augmented_solves,
+            banded_solves: stats.banded_solves,
             mobility: trajectory
                 .mobility
                 .as_ref()
@@ -299,6 +302,7 @@ impl Summary {
             atol: settings.atol,
             stabilization: settings.stabilization.clone(),
             augmented_solves: 0,
+            banded_solves: 0,
             mobility: MobilityReport::default(),
             singular_passages: Vec::new(),
             outcome: Outcome {

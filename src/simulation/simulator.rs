@@ -268,6 +268,7 @@ impl<'a> Simulator<'a> {
         stats.wall_time_s = self.started.elapsed().as_secs_f64();
         stats.rhs_evaluations = self.rhs.dynamics.evaluations;
         stats.augmented_solves = self.rhs.dynamics.augmented_solves;
+        stats.banded_solves = self.rhs.dynamics.banded_solves;
         stats.rhs_evaluations += self.stepper.own_evaluations();
         Simulation {
             trajectory: self.trajectory,

@@ -44,6 +44,9 @@ pub struct SolverStats {
     /// Right-hand sides solved by the augmented Lagrangian route (redundant rows, large
     /// systems, near-singular configurations) rather than by LU.
     pub augmented_solves: usize,
+    /// Right-hand sides solved by the banded direct route (chains and windows whose rows
+    /// order into a narrow band).
+    pub banded_solves: usize,
 }
 
 /// A recorded trajectory: rows of [t, q, q', q'', lambda, |Phi|, |Phi_q q' + Phi_t|, T, Pi, W].

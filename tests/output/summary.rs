@@ -120,6 +120,7 @@ fn summary_json_has_every_key_with_its_value() {
         "atol",
         "stabilization",
         "augmented_solves",
+        "banded_solves",
         "mobility",
         "singular_passages",
         "status",

@@ -80,6 +80,7 @@ pub fn trajectory(name: &str) -> Trajectory {
         rhs_evaluations: 12_034,
         wall_time_s: 0.125,
         augmented_solves: 0,
+        banded_solves: 0,
     };
     tr
 }

@@ -229,3 +229,26 @@ fn banded_route_leaves_out_redundant_rows_and_gives_the_minimum_norm_multipliers
     agrees(&system, &mut dynamics, &q, &qd, "redundant, flat");
     assert_eq!(dynamics.augmented_solves, 0);
 }
+
+/// A run of A02 reports its right-hand sides on the banded route: every solve of the
+/// N = 10 chain (n + m = 43, band 4) goes there and none falls back, and the count reaches
+/// the run's statistics (and so summary.json's `banded_solves`).
+#[test]
+fn a_run_counts_its_banded_solves() {
+    use mechanism::{IntegratorOptions, Method, SimulationOptions, simulate};
+    let system = a02(10, false);
+    let options = SimulationOptions {
+        t_end: 0.2,
+        integrator: IntegratorOptions {
+            method: Method::Dop853,
+            rtol: 1e-8,
+            atol: 1e-8,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let tr = simulate(&system, &options).unwrap();
+    assert!(tr.stats.banded_solves > 0);
+    assert_eq!(tr.stats.augmented_solves, 0);
+    assert!(tr.stats.banded_solves <= tr.stats.rhs_evaluations);
+}
