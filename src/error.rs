@@ -460,7 +460,8 @@ pub enum Error {
     #[error(
         "the velocity row `{row}` is redundant at t = {t} s: it is a combination of \
          {} (a time derivative of position rows, or a repeat), so it restricts no rate; \
-         remove it, or declare an integrable row as a position constraint", of.join(", ")
+         remove it, or declare an integrable row as a position constraint",
+        rows_named(of)
     )]
     VelocityRowRedundant {
         /// Time (s).
@@ -476,7 +477,8 @@ pub enum Error {
     #[error(
         "the velocity row `{row}` contradicts {} at t = {t} s: its rates are a \
          combination of theirs but its right-hand side differs by {mismatch:.3e}, so no \
-         rates satisfy all of them; remove it or make it agree", of.join(", ")
+         rates satisfy all of them; remove it or make it agree",
+        rows_named(of)
     )]
     VelocityRowContradicts {
         /// Time (s).
@@ -516,5 +518,15 @@ impl Error {
                 t,
             }),
         }
+    }
+}
+
+/// The rows a dependent velocity row combines, by label; for a row whose coefficients of
+/// the rates all vanish at the configuration (the empty combination), that fact.
+fn rows_named(of: &[String]) -> String {
+    if of.is_empty() {
+        "no row (its coefficients of the rates all vanish at this configuration)".to_string()
+    } else {
+        of.join(", ")
     }
 }

@@ -129,3 +129,27 @@ fn the_command_line_refuses_a_contradicting_row_in_one_line() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A velocity row whose coefficients all vanish at the assembled configuration (sin(x) = 0
+/// there) restricts nothing and is refused as redundant; the message says that the row
+/// vanishes rather than naming an empty list of rows.
+#[test]
+fn a_velocity_row_that_vanishes_is_refused_saying_so() {
+    let text = "pub struct Vanishing;
+parameters { m = 1.0; }
+coordinates { x = 0.0; y = 0.0; }
+independent { x = 0.0; y = 0.0; der(x) = 1.0; der(y) = 0.0; }
+kinetic = m/2*(der(x)^2 + der(y)^2);
+velocity_constraints { sin(x)*der(y); }
+";
+    let e = assembly_error(text);
+    let message = e.to_string();
+    let Error::VelocityRowRedundant { of, .. } = &e else {
+        panic!("{e:?}")
+    };
+    assert!(of.is_empty());
+    assert!(
+        message.contains("coefficients of the rates all vanish"),
+        "{message}"
+    );
+}
