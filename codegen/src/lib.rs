@@ -88,7 +88,9 @@ pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
-pub use compile::{Role, Routines, Source, Sources, Sparsity, compile, compile_interpreted};
+pub use compile::{
+    Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_interpreted,
+};
 pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};

@@ -13,6 +13,7 @@ use mechanism::System;
 use mechanism::builtin::{builtin, builtin_names};
 use mechanism::{AssemblyOptions, assemble};
 use mechanism::{Mobility, mobility};
+use mechanism_codegen::Tangents;
 
 /// The mobility of `system` at its assembled initial configuration (declared independent
 /// coordinates and guesses), or why it could not be assembled.
@@ -109,7 +110,7 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
         (source, None)
     } else {
-        let loaded = load(spec)?;
+        let loaded = load(spec, Tangents::None)?;
         (loaded.source, Some(loaded.system))
     };
     let derived = mechanism_codegen::parse_model_str_with(&source, derivation_budget()?)
@@ -124,7 +125,7 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
     let system: Box<dyn System> = match builtin_system {
         Some(system) => system,
         None => Box::new(
-            Interpreted::from_equations(model, eqs)
+            Interpreted::from_equations_with(model, eqs, Tangents::None)
                 .map_err(|e| CliError::Mechanism(format!("{spec}: {e}")))?,
         ),
     };

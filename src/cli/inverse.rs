@@ -20,6 +20,7 @@ use mechanism::output::{
 };
 use mechanism::{Drive, System, parse_drive};
 use mechanism::{inverse_dynamics, sample_times};
+use mechanism_codegen::Tangents;
 
 /// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
 /// run; a failure at any stage leaves a `summary.json` saying where and why.
@@ -46,7 +47,7 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
 
 /// The run itself: load, solve along the drives, write.
 fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), Failure> {
-    let mut loaded = load(&a.common.mechanism).at("setup")?;
+    let mut loaded = load(&a.common.mechanism, Tangents::None).at("setup")?;
     *known = Known::of(loaded.system.as_ref());
     apply_sets(&mut loaded, &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();

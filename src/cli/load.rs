@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use mechanism_codegen::Arena;
+use mechanism_codegen::{Arena, Tangents};
 
 use super::CliError;
 use super::budget::{derivation_budget, derivation_done};
@@ -43,17 +43,22 @@ impl Loaded {
 }
 
 /// Loads `spec`: a built-in name (`mechanism list`) or a path to a `.mech` file, which runs
-/// through the interpreter route.
+/// through the interpreter route with the tangents `tangents` asks for (a built-in carries
+/// all of them).
 ///
 /// # Errors
 /// An unknown name (listing the available ones), an unreadable file, or a declaration error
 /// with `file:line:column`.
-pub fn load(spec: &str) -> Result<Loaded, CliError> {
+pub fn load(spec: &str, tangents: Tangents) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
     if is_file_spec(spec) {
         let source = read_input(path)
             .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
-        let system = Interpreted::from_source_with(&source, derivation_budget()?);
+        let system = mechanism_codegen::parse_model_str_with(&source, derivation_budget()?)
+            .and_then(|mut model| {
+                let eqs = mechanism_codegen::derive(&mut model)?;
+                Interpreted::from_equations_with(model, eqs, tangents)
+            });
         derivation_done();
         let system = system.map_err(|e| CliError::Mechanism(located(spec, &e)))?;
         return Ok(Loaded::new(Box::new(system), spec, file_key(path), source));

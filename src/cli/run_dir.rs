@@ -19,6 +19,7 @@ use super::load::{key_of, load};
 use mechanism::System;
 use mechanism::output::summary::NamedValues;
 use mechanism::output::{FolderLock, OutputError, Staging};
+use mechanism_codegen::Tangents;
 
 /// The folder of one run and the files written into it so far.
 pub struct RunDir {
@@ -116,7 +117,7 @@ pub fn owning_folder(
     failed_summary: impl FnOnce(Known, &Failure, &RunDir) -> Result<(), OutputError>,
 ) -> Result<(), CliError> {
     let Some(mut out) = RunDir::claim(common)? else {
-        return load(&common.mechanism).map(|_| ());
+        return load(&common.mechanism, Tangents::None).map(|_| ());
     };
     let mut known = Known::given(common);
     let failure = match run(&mut out, &mut known) {

@@ -23,6 +23,7 @@ use mechanism::output::{
 };
 use mechanism::{AssemblyOptions, assemble_from};
 use mechanism::{Error, InitialState, SimulationOptions, Simulator};
+use mechanism_codegen::Tangents;
 
 /// Default fixed step for rk4 and hht when `--step` is not given (s).
 const DEFAULT_STEP: f64 = 1e-3;
@@ -143,7 +144,12 @@ fn simulate(
     out: &mut RunDir,
     known: &mut Known,
 ) -> Result<(), Failure> {
-    let mut loaded = load(&a.common.mechanism).at("setup")?;
+    // Only the implicit integrator reads the residual's tangent.
+    let tangents = match settings.integrator.method {
+        Method::Hht { .. } => Tangents::Residual,
+        _ => Tangents::None,
+    };
+    let mut loaded = load(&a.common.mechanism, tangents).at("setup")?;
     *known = Known::of(loaded.system.as_ref());
     apply_sets(&mut loaded, &a.common.set).at("setup")?;
     let system = loaded.system.as_ref();

@@ -13,8 +13,8 @@
 //! [`Routines`]: mechanism_codegen::Routines
 
 use mechanism_codegen::{
-    Equations, Error, EvaluationOutput, Model, Role, compile_interpreted, constraint_tangent,
-    residual_tangent,
+    Equations, Error, EvaluationOutput, Model, Role, Tangents, compile_interpreted,
+    constraint_tangent, residual_tangent,
 };
 use nalgebra::DMatrix;
 
@@ -50,8 +50,8 @@ pub struct Interpreted {
     /// Phi_t ([`Role::ConstraintTimeDerivative`]).
     time_derivative: Routine,
     /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
-    /// ([`Role::Tangent`]).
-    tangent: Routine,
+    /// ([`Role::Tangent`]); `None` when built without ([`Tangents::None`]).
+    tangent: Option<Routine>,
     /// D, R_q, R_q' of the constraint rows, for a model with velocity constraints
     /// ([`Role::ConstraintTangent`]).
     constraint_tangent: Option<Routine>,
@@ -109,7 +109,23 @@ impl Interpreted {
     /// that read a symbol the model does not declare, [`Error::OutputCount`] for equations
     /// whose sizes are not n and m.
     pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, Error> {
-        Self::build(model, eqs, false)
+        Self::from_equations_with(model, eqs, Tangents::Residual)
+    }
+
+    /// [`Interpreted::from_equations`] with the tangents `tangents` asks for. Without the
+    /// residual's tangent ([`Tangents::None`]: on a large mechanism, deriving and compiling
+    /// it costs more than the rest of the routines together) [`System::tangent`] returns
+    /// `None` and implicit integrators fall back to finite differences; with
+    /// [`Tangents::WithConstraints`], as [`Interpreted::for_linearization`].
+    ///
+    /// # Errors
+    /// As [`Interpreted::from_equations`].
+    pub fn from_equations_with(
+        model: Model,
+        eqs: Equations,
+        tangents: Tangents,
+    ) -> Result<Self, Error> {
+        Self::build(model, eqs, tangents)
     }
 
     /// [`Interpreted::from_model`] with the constraint rows' tangents compiled for every
@@ -121,15 +137,22 @@ impl Interpreted {
     /// As [`Interpreted::from_model`].
     pub fn for_linearization(mut model: Model) -> Result<Self, Error> {
         let eqs = mechanism_codegen::derive(&mut model)?;
-        Self::build(model, eqs, true)
+        Self::build(model, eqs, Tangents::WithConstraints)
     }
 
-    fn build(mut model: Model, eqs: Equations, linearization: bool) -> Result<Self, Error> {
-        let mut tangent = residual_tangent(&mut model, &eqs)?;
-        if linearization && eqs.m > 0 && tangent.constraints.is_none() {
-            tangent.constraints = Some(constraint_tangent(&mut model, &eqs)?);
-        }
-        let routines = compile_interpreted(&mut model, &eqs, &tangent)?;
+    fn build(mut model: Model, eqs: Equations, tangents: Tangents) -> Result<Self, Error> {
+        let tangent = match tangents {
+            Tangents::None => None,
+            Tangents::Residual => Some(residual_tangent(&mut model, &eqs)?),
+            Tangents::WithConstraints => {
+                let mut tangent = residual_tangent(&mut model, &eqs)?;
+                if eqs.m > 0 && tangent.constraints.is_none() {
+                    tangent.constraints = Some(constraint_tangent(&mut model, &eqs)?);
+                }
+                Some(tangent)
+            }
+        };
+        let routines = compile_interpreted(&mut model, &eqs, tangent.as_ref())?;
         let (n, m) = (model.coordinates.len(), eqs.m);
         let full_len = EvaluationOutput::ORDER
             .iter()
@@ -178,7 +201,10 @@ impl Interpreted {
             jacobian,
             jacobian_scatter,
             time_derivative: routine(Role::ConstraintTimeDerivative, m)?,
-            tangent: routine(Role::Tangent, 2 * n * n)?,
+            tangent: match routines.get(Role::Tangent) {
+                Some(_) => Some(routine(Role::Tangent, 2 * n * n)?),
+                None => None,
+            },
             cache: vec![0.0; routines.cache_len()],
             parameters: model.parameters.iter().map(|p| p.default).collect(),
             routines: routines.fingerprint(),
@@ -302,7 +328,7 @@ impl System for Interpreted {
             lambda,
             ..self.at(t, q)
         };
-        self.tangent.run(&values, |v| {
+        self.tangent.as_ref()?.run(&values, |v| {
             // On a non-finite tangent the caller falls back to finite differences.
             if !v.iter().all(|x| x.is_finite()) {
                 return None;

@@ -12,7 +12,9 @@ use mechanism::builtin::{
     SpatialCrankSliderRigid, SpatialFourBar, SpatialFourBarBodies, WhippleBicycle, builtin_names,
     builtin_source,
 };
-use mechanism_codegen::{Role, Source, compile, derive, parse_model_str, residual_tangent};
+use mechanism_codegen::{
+    Role, Source, Tangents, compile, derive, parse_model_str, residual_tangent,
+};
 
 /// The fingerprint `mechanism!` emitted for each library mechanism, by file stem.
 const EMITTED: [(&str, u64); 16] = [
@@ -63,13 +65,30 @@ fn macro_and_interpreter_come_from_one_routines() {
         // The interpreter runs the first roles of the same routines (the constraint rows'
         // tangent among them for a mechanism with velocity rows).
         let with_rows = eqs.velocity_rows > 0;
+        let tangents = if with_rows {
+            Tangents::WithConstraints
+        } else {
+            Tangents::Residual
+        };
         let interpreted = Interpreted::from_source(source).expect("a library file");
         assert_eq!(
             interpreted.routines_fingerprint(),
             routines
-                .restricted(&Role::interpreted(&model.drawing, with_rows))
+                .restricted(&Role::interpreted(&model.drawing, tangents))
                 .fingerprint(),
             "{name}: the interpreter's tapes and the emitted methods come from different routines"
+        );
+        // Without the tangent (the command-line tool's explicit runs), a prefix of them.
+        let mut again = parse_model_str(source).expect("parses");
+        let eqs_again = derive(&mut again).expect("derives");
+        let lean = Interpreted::from_equations_with(again, eqs_again, Tangents::None)
+            .expect("a library file");
+        assert_eq!(
+            lean.routines_fingerprint(),
+            routines
+                .restricted(&Role::interpreted(&model.drawing, Tangents::None))
+                .fingerprint(),
+            "{name}: the interpreter's routines without the tangent"
         );
 
         let mut roles: Vec<Role> = Role::compiled(&eqs, &model.drawing, with_rows);

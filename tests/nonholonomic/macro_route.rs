@@ -30,7 +30,10 @@ fn emitted_bicycle_is_the_interpreted_one_bit_for_bit() {
     let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap();
     let routines = mechanism_codegen::compile(&mut model, &eqs, &tangent).unwrap();
     assert_eq!(WhippleBicycle::__ROUTINES, routines.fingerprint());
-    let roles = mechanism_codegen::Role::interpreted(&model.drawing, true);
+    let roles = mechanism_codegen::Role::interpreted(
+        &model.drawing,
+        mechanism_codegen::Tangents::WithConstraints,
+    );
     assert_eq!(
         routines.restricted(&roles).fingerprint(),
         interpreted.routines_fingerprint()

@@ -1,7 +1,8 @@
 //! `stage_times FILE.mech`: the wall time of each stage the command-line tool runs on one
-//! declaration (parse, derive, the tangent, the routines, the equations text), once each,
-//! printed one per line (the stage that dominates a large mechanism's derivation), then the
-//! arena's work and size (`mechanism_codegen::Effort`).
+//! declaration (parse, derive, the routines without the tangent, the equations text), once
+//! each, printed one per line (the stage that dominates a large mechanism's derivation);
+//! then what an implicit integrator adds (the residual's tangent, and the routines compiled
+//! with it); then the arena's work and size (`mechanism_codegen::Effort`).
 
 use std::time::Instant;
 
@@ -29,14 +30,19 @@ fn main() {
     lap("parse");
     let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
     lap("derive");
-    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
-    lap("tangent");
-    // The interpreter's routines, as the command-line tool compiles them.
-    let routines = mechanism_codegen::compile_interpreted(&mut model, &eqs, &tangent)
-        .unwrap_or_else(|e| fail(e));
+    // The routines `mechanism equations` and an explicit integrator's run compile.
+    let routines =
+        mechanism_codegen::compile_interpreted(&mut model, &eqs, None).unwrap_or_else(|e| fail(e));
     lap("compile");
     let text = mechanism_codegen::equations_text(&model, &eqs);
     lap("text");
+    // What an implicit integrator adds: the residual's tangent, and the routines with it.
+    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
+    lap("tangent");
+    let with_tangent = mechanism_codegen::compile_interpreted(&mut model, &eqs, Some(&tangent))
+        .unwrap_or_else(|e| fail(e));
+    lap("compile+t");
+    assert_eq!(with_tangent.iter().count(), routines.iter().count() + 1);
     let effort = model.arena.effort();
     println!(
         "{} routines, {} bytes of text; work {}, size {}",

@@ -32,11 +32,11 @@ use crate::algebra::expr::SymbolId;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
-use crate::mechanics::tangent::ResidualTangent;
+use crate::mechanics::tangent::{ResidualTangent, multiplier_symbols};
 use crate::program::cse::Program;
 use crate::program::hoist::hoist_parameters;
 
-pub use role::Role;
+pub use role::{Role, Tangents};
 pub use sources::{Source, Sources};
 pub use sparsity::Sparsity;
 pub(crate) use sparsity::structural_zero;
@@ -85,25 +85,31 @@ pub struct Routines {
 /// ```
 pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
     let roles = Role::compiled(eqs, &model.drawing, tangent.constraints.is_some());
-    compile_roles(model, eqs, tangent, &roles)
+    compile_roles(model, eqs, Some(tangent), &roles)
 }
 
 /// The routines of [`Role::interpreted`] only: what the interpreter runs, without the
 /// single outputs, robotics roles and frames that only the macro emits (on a large
-/// mechanism they are half of the stage's work). These roles come first in
-/// [`Role::compiled`] and hoisting numbers cache slots in role order, so every program
-/// here equals the program of the same role in [`compile`]'s routines, and the parameter
-/// cache computes the first [`Routines::cache_len`] slots of that one, with the same
-/// instructions.
+/// mechanism they are half of the stage's work), and with the tangents `tangent` carries:
+/// none for `None` (the multiplier symbols are still created, as [`crate::residual_tangent`]
+/// creates them, so that symbol ids agree). These roles come first in [`Role::compiled`]
+/// and hoisting numbers cache slots in role order, so every program here equals the
+/// program of the same role in [`compile`]'s routines, and the parameter cache computes
+/// the first [`Routines::cache_len`] slots of that one, with the same instructions.
 ///
 /// # Errors
 /// As [`compile`].
 pub fn compile_interpreted(
     model: &mut Model,
     eqs: &Equations,
-    tangent: &ResidualTangent,
+    tangent: Option<&ResidualTangent>,
 ) -> Result<Routines> {
-    let roles = Role::interpreted(&model.drawing, tangent.constraints.is_some());
+    let tangents = match tangent {
+        None => Tangents::None,
+        Some(t) if t.constraints.is_some() => Tangents::WithConstraints,
+        Some(_) => Tangents::Residual,
+    };
+    let roles = Role::interpreted(&model.drawing, tangents);
     compile_roles(model, eqs, tangent, &roles)
 }
 
@@ -111,9 +117,13 @@ pub fn compile_interpreted(
 fn compile_roles(
     model: &mut Model,
     eqs: &Equations,
-    tangent: &ResidualTangent,
+    tangent: Option<&ResidualTangent>,
     roles: &[Role],
 ) -> Result<Routines> {
+    let lambda = match tangent {
+        Some(t) => t.lambda.clone(),
+        None => multiplier_symbols(&mut model.arena, eqs.m),
+    };
     let mut programs = Vec::with_capacity(roles.len());
     for &role in roles {
         let outputs = role.outputs(&mut model.arena, &model.drawing, eqs, tangent)?;
@@ -122,7 +132,7 @@ fn compile_roles(
     }
     let all: Vec<&Program> = programs.iter().collect();
     let hoisted = hoist_parameters(&mut model.arena, &all)?;
-    let sources = Sources::new(model, &tangent.lambda, &hoisted.slots)?;
+    let sources = Sources::new(model, &lambda, &hoisted.slots)?;
     let mut programs: Vec<(Role, Program)> = roles.iter().copied().zip(hoisted.programs).collect();
     programs.push((Role::ParameterCache, hoisted.cache));
     for (role, program) in &programs {

@@ -3,10 +3,24 @@
 use crate::algebra::expr::Arena;
 use crate::algebra::matrix::Matrix;
 use crate::compile::sources::Source;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::tangent::ResidualTangent;
+
+/// Which tangents the interpreter's routines carry ([`Role::interpreted`]). Deriving and
+/// compiling the residual's tangent costs more than the rest of a large mechanism's
+/// routines together, and only implicit integrators and linearisation read it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tangents {
+    /// No tangent: the evaluation, the constraint rows and the drawing.
+    None,
+    /// The residual's tangent dF/dq, dF/dq' ([`Role::Tangent`]), for implicit integrators.
+    Residual,
+    /// The residual's tangent and the constraint rows' ([`Role::ConstraintTangent`]), for
+    /// linearisation and mechanisms with velocity constraints.
+    WithConstraints,
+}
 
 /// One routine of a compiled mechanism: what its program computes. The macro emits one
 /// method (or one arm of a method) per role; the interpreter runs one tape per role it
@@ -64,23 +78,26 @@ pub enum Role {
 
 impl Role {
     /// The roles the interpreter runs, in compilation order: the evaluation, the
-    /// constraint rows, the tangent, the constraint rows' tangent when `constraint_tangent`,
-    /// the drawing for a model that draws. They are the first roles of
-    /// [`Role::compiled`], so hoisting numbers their cache slots alike in both lists and
-    /// their programs are the same (see [`crate::compile_interpreted`]).
-    pub fn interpreted(drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
+    /// constraint rows, the drawing for a model that draws, then the tangents `tangents`
+    /// asks for (the residual's, then the constraint rows'). They are the first roles of
+    /// [`Role::compiled`] (with the tangents last, so that each shorter list is a prefix of
+    /// a longer one), so hoisting numbers their cache slots alike in every list and their
+    /// programs are the same (see [`crate::compile_interpreted`]).
+    pub fn interpreted(drawing: &Drawing, tangents: Tangents) -> Vec<Role> {
         let mut roles = vec![
             Role::Evaluation,
             Role::Constraints,
             Role::ConstraintJacobian,
             Role::ConstraintTimeDerivative,
-            Role::Tangent,
         ];
-        if constraint_tangent {
-            roles.push(Role::ConstraintTangent);
-        }
         if !drawing.points.is_empty() {
             roles.push(Role::Draw);
+        }
+        if tangents != Tangents::None {
+            roles.push(Role::Tangent);
+        }
+        if tangents == Tangents::WithConstraints {
+            roles.push(Role::ConstraintTangent);
         }
         roles
     }
@@ -91,7 +108,12 @@ impl Role {
     /// roles and the frames. The parameter cache, made from all of them, is not in the
     /// list.
     pub fn compiled(eqs: &Equations, drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
-        let mut roles = Role::interpreted(drawing, constraint_tangent);
+        let tangents = if constraint_tangent {
+            Tangents::WithConstraints
+        } else {
+            Tangents::Residual
+        };
+        let mut roles = Role::interpreted(drawing, tangents);
         roles.extend([
             Role::Mass,
             Role::CoriolisMatrix,
@@ -135,9 +157,12 @@ impl Role {
         arena: &mut Arena,
         drawing: &Drawing,
         eqs: &Equations,
-        tangent: &ResidualTangent,
+        tangent: Option<&ResidualTangent>,
     ) -> Result<Vec<Matrix>> {
         let frame = |k: usize| eqs.frames.get(k);
+        let no_tangent = || Error::NoSuchRoutine {
+            role: format!("{self:?} (no tangent was derived)"),
+        };
         Ok(match self {
             Role::Mass => vec![eqs.mass.clone()],
             Role::CoriolisMatrix => vec![eqs.coriolis_matrix.clone()],
@@ -151,8 +176,12 @@ impl Role {
             Role::Kinetic => vec![Matrix::column(vec![eqs.kinetic])],
             Role::Potential => vec![Matrix::column(vec![eqs.potential])],
             Role::Evaluation => eqs.evaluation_outputs(),
-            Role::Tangent => vec![tangent.stiffness.clone(), tangent.damping.clone()],
+            Role::Tangent => {
+                let tangent = tangent.ok_or_else(no_tangent)?;
+                vec![tangent.stiffness.clone(), tangent.damping.clone()]
+            }
             Role::ConstraintTangent => tangent
+                .ok_or_else(no_tangent)?
                 .constraints
                 .iter()
                 .flat_map(|c| [c.velocity.clone(), c.stiffness.clone(), c.damping.clone()])

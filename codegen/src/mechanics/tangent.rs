@@ -47,6 +47,15 @@ pub fn lambda_symbol_name(k: usize) -> String {
     format!("lambda[{}]", k + 1)
 }
 
+/// The multiplier symbols `lambda[1]`..`lambda[m]` of `arena`, created on first use: the
+/// ones [`residual_tangent`] differentiates against, and the ones [`crate::compile_interpreted`]
+/// gives a source without a tangent too, so that symbol ids agree with or without one.
+pub(crate) fn multiplier_symbols(arena: &mut Arena, m: usize) -> Vec<SymbolId> {
+    (0..m)
+        .map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free))
+        .collect()
+}
+
 /// Derives K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau + Phi_q^T lambda.
 ///
 /// # Errors
@@ -54,9 +63,7 @@ pub fn lambda_symbol_name(k: usize) -> String {
 pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
     let (n, m) = (eqs.n, eqs.m);
     let arena = &mut model.arena;
-    let lambda: Vec<SymbolId> = (0..m)
-        .map(|k| arena.symbol_id(&lambda_symbol_name(k), SymbolKind::Free))
-        .collect();
+    let lambda = multiplier_symbols(arena, m);
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
     let (q, qd, qdd) = motion_symbols(model)?;
     let arena = &mut model.arena;

@@ -4,8 +4,8 @@
 //! same routines.
 
 use mechanism_codegen::{
-    Equations, Matrix, Model, Program, ResidualTangent, Role, Routines, Source, Tape, compile,
-    compile_interpreted, derive, parse_model_str, residual_tangent,
+    Equations, Matrix, Model, Program, ResidualTangent, Role, Routines, Source, Tangents, Tape,
+    compile, compile_interpreted, derive, parse_model_str, residual_tangent,
 };
 
 const FIVE_BAR: &str = include_str!("../../../mechanisms/five_bar.mech");
@@ -120,8 +120,8 @@ fn compiling_twice_gives_the_same_routines() {
 }
 
 /// The interpreter's routines are the macro's cut down to the roles it runs, for every
-/// library mechanism: the same programs role by role, the same cache instructions for
-/// the slots they read, the same sources.
+/// library mechanism, with the tangent and without: the same programs role by role, the
+/// same cache instructions for the slots they read, the same sources.
 #[test]
 fn the_interpreted_routines_are_the_compiled_ones_cut_down() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms");
@@ -132,27 +132,36 @@ fn the_interpreted_routines_are_the_compiled_ones_cut_down() {
             continue;
         }
         let source = std::fs::read_to_string(&path).expect("readable");
-        let routines = |interpreted: bool| {
+        // `None`: the macro's routines; `Some(with_tangent)`: the interpreter's.
+        let routines = |interpreted: Option<bool>| {
             let mut model = parse_model_str(&source).expect("parses");
             let eqs = derive(&mut model).expect("derives");
             let tangent = residual_tangent(&mut model, &eqs).expect("a tangent");
-            let roles = Role::interpreted(&model.drawing, tangent.constraints.is_some());
-            let routines = if interpreted {
-                compile_interpreted(&mut model, &eqs, &tangent)
-            } else {
-                compile(&mut model, &eqs, &tangent)
+            let tangents = match (interpreted, tangent.constraints.is_some()) {
+                (Some(false), _) => Tangents::None,
+                (_, true) => Tangents::WithConstraints,
+                (_, false) => Tangents::Residual,
+            };
+            let roles = Role::interpreted(&model.drawing, tangents);
+            let routines = match interpreted {
+                Some(true) => compile_interpreted(&mut model, &eqs, Some(&tangent)),
+                Some(false) => compile_interpreted(&mut model, &eqs, None),
+                None => compile(&mut model, &eqs, &tangent),
             };
             (routines.expect("compiles"), roles)
         };
-        let (all, roles) = routines(false);
-        let (interpreted, _) = routines(true);
-        let cut = all.restricted(&roles);
-        assert_eq!(interpreted, cut, "{}", path.display());
-        assert_eq!(interpreted.fingerprint(), cut.fingerprint());
-        // The macro-only roles are really left out, and the cache is a proper prefix
-        // only where they hoist values of their own.
-        assert!(interpreted.get(Role::Mass).is_none());
-        assert!(interpreted.cache_len() <= all.cache_len());
+        let (all, _) = routines(None);
+        for with_tangent in [true, false] {
+            let (interpreted, roles) = routines(Some(with_tangent));
+            let cut = all.restricted(&roles);
+            assert_eq!(interpreted, cut, "{}", path.display());
+            assert_eq!(interpreted.fingerprint(), cut.fingerprint());
+            // The macro-only roles are really left out, and the cache is a proper prefix
+            // only where they hoist values of their own.
+            assert!(interpreted.get(Role::Mass).is_none());
+            assert_eq!(interpreted.get(Role::Tangent).is_some(), with_tangent);
+            assert!(interpreted.cache_len() <= all.cache_len());
+        }
         checked += 1;
     }
     assert!(checked >= 16, "{checked} library mechanisms");
