@@ -317,3 +317,13 @@ pub fn check_routes(c: &Case) {
         );
     }
 }
+
+/// CPU time this thread has run, in seconds (Linux: `/proc/thread-self/schedstat`, whose
+/// first field is the time on the CPU in ns); `None` elsewhere. On a machine shared with
+/// other work it is what the run itself cost, where the wall time also counts the waits
+/// for a core.
+pub fn thread_cpu() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}

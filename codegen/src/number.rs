@@ -129,6 +129,10 @@ impl Number {
     /// floats overflows to infinity (never a silent value: the arena reports it).
     pub fn checked_add(self, o: Number) -> Option<Number> {
         match (self, o) {
+            // Integers (the common case) need no reduction.
+            (Number::Rational(a, 1), Number::Rational(c, 1)) if a.checked_add(c).is_some() => {
+                Some(Number::Rational(a + c, 1))
+            }
             (Number::Rational(a, b), Number::Rational(c, d)) => Self::from_i128(
                 a as i128 * d as i128 + c as i128 * b as i128,
                 b as i128 * d as i128,
@@ -141,6 +145,9 @@ impl Number {
     /// of floats overflows to infinity.
     pub fn checked_mul(self, o: Number) -> Option<Number> {
         match (self, o) {
+            (Number::Rational(a, 1), Number::Rational(c, 1)) if a.checked_mul(c).is_some() => {
+                Some(Number::Rational(a * c, 1))
+            }
             (Number::Rational(a, b), Number::Rational(c, d)) => {
                 Self::from_i128(a as i128 * c as i128, b as i128 * d as i128)
             }

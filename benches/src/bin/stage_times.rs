@@ -1,4 +1,4 @@
-//! `stage_times FILE.mech`: the wall time of each stage the command-line tool runs on one
+//! `stage_times FILE.mech`: the wall and CPU time of each stage the command-line tool runs on one
 //! declaration (parse, derive, the routines without the tangent, the equations text), once
 //! each, printed one per line (the stage that dominates a large mechanism's derivation);
 //! then what an implicit integrator adds (the residual's tangent, and the routines compiled
@@ -20,11 +20,16 @@ fn main() {
         std::process::exit(1);
     };
     let clock = Instant::now();
-    let mut last = 0.0;
+    let cpu = || mechanism_bench::thread_cpu().unwrap_or(f64::NAN);
+    let (mut last, mut last_cpu) = (0.0, cpu());
     let mut lap = |stage: &str| {
-        let now = clock.elapsed().as_secs_f64();
-        println!("{stage:<10} {:8.3} s", now - last);
-        last = now;
+        let (now, now_cpu) = (clock.elapsed().as_secs_f64(), cpu());
+        println!(
+            "{stage:<10} {:8.3} s wall {:8.3} s CPU",
+            now - last,
+            now_cpu - last_cpu
+        );
+        (last, last_cpu) = (now, now_cpu);
     };
     let mut model = mechanism_codegen::parse_model_str(&source).unwrap_or_else(|e| fail(e));
     lap("parse");

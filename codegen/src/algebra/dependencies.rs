@@ -18,6 +18,19 @@ pub(crate) struct DependencySets {
     pool: Vec<SymbolId>,
     /// Scratch for unions.
     scratch: Vec<SymbolId>,
+    /// Per symbol, the generation of the union that last saw it.
+    stamps: Vec<u32>,
+    /// The current union's generation.
+    generation: u32,
+}
+
+/// Stamps symbol `s` with `generation`; true when it was not stamped so already.
+fn stamp(stamps: &mut Vec<u32>, s: SymbolId, generation: u32) -> bool {
+    let k = s.index();
+    if k >= stamps.len() {
+        stamps.resize(k + 1, 0);
+    }
+    std::mem::replace(&mut stamps[k], generation) != generation
 }
 
 impl DependencySets {
@@ -45,6 +58,9 @@ impl DependencySets {
     }
 
     /// The run of the union of `children`'s sets: a child's own run when the union is it.
+    /// The widest run's symbols are stamped, the other runs add only what is unstamped:
+    /// the cost is the children's total set size, with a sort of the added symbols only
+    /// (a sum over a chain's bars, whose sets nest, adds none).
     fn union(&mut self, children: &[Id]) -> (u32, u32) {
         let mut widest = (0u32, 0u32);
         let mut distinct = 0;
@@ -61,20 +77,49 @@ impl DependencySets {
         if distinct <= 1 {
             return widest;
         }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            // The stamps wrapped around: no stale stamp may equal a new generation.
+            self.stamps.fill(0);
+            self.generation = 1;
+        }
+        let generation = self.generation;
+        let run = |(start, len): (u32, u32)| start as usize..(start + len) as usize;
+        for &s in &self.pool[run(widest)] {
+            stamp(&mut self.stamps, s, generation);
+        }
         self.scratch.clear();
         for c in children {
-            let (start, len) = self.runs[c.index()];
-            self.scratch
-                .extend_from_slice(&self.pool[start as usize..(start + len) as usize]);
+            let r = self.runs[c.index()];
+            if r == widest {
+                continue;
+            }
+            for &s in &self.pool[run(r)] {
+                if stamp(&mut self.stamps, s, generation) {
+                    self.scratch.push(s);
+                }
+            }
         }
-        self.scratch.sort_unstable();
-        self.scratch.dedup();
-        if self.scratch.len() == widest.1 as usize {
+        if self.scratch.is_empty() {
             return widest;
         }
-        let start = self.pool.len() as u32;
-        self.pool.extend_from_slice(&self.scratch);
-        (start, self.scratch.len() as u32)
+        self.scratch.sort_unstable();
+        // Merge the widest run and the added symbols, both sorted, at the pool's end.
+        let start = self.pool.len();
+        let (mut a, mut b) = (run(widest), 0);
+        while a.start < a.end || b < self.scratch.len() {
+            let take_pool = b == self.scratch.len()
+                || (a.start < a.end && self.pool[a.start] < self.scratch[b]);
+            if take_pool {
+                let s = self.pool[a.start];
+                self.pool.push(s);
+                a.start += 1;
+            } else {
+                self.pool.push(self.scratch[b]);
+                b += 1;
+            }
+        }
+        (start as u32, (self.pool.len() - start) as u32)
     }
 
     /// The symbols of node `id` (covered), in increasing order.
@@ -120,6 +165,20 @@ mod tests {
         let r = a.pow(q, two).unwrap();
         let t = a.atan2(r, xs[5]);
         let u = a.add(&[t, xs[3]]);
+        // Nested sets (a chain's bar velocities, each the previous one plus a bar) and
+        // sums over them, whose union is the widest; products that add one symbol at the
+        // front, the back and the middle of a run.
+        let mut prefix = Vec::new();
+        let mut bars = Vec::new();
+        for &x in &xs {
+            prefix.push(a.sin(x));
+            bars.push(a.add(&prefix));
+        }
+        a.add(&bars);
+        a.mul(&[bars[2], xs[5]]);
+        a.mul(&[bars[1], bars[4], xs[0]]);
+        let sparse = a.add(&[xs[0], xs[4]]);
+        a.mul(&[sparse, xs[2], bars[0]]);
         let mut sets = DependencySets::default();
         sets.sync(&a);
         for n in 0..a.len() {

@@ -89,6 +89,27 @@ impl Differentiator {
         Ok(self.deps.contains(id, s))
     }
 
+    /// Whether `id` depends on a symbol marked in `marked` (indexed by
+    /// [`SymbolId::index`]; a symbol past its end is unmarked): one pass over the node's
+    /// own set, not a search per marked symbol.
+    ///
+    /// # Errors
+    /// [`Error::InvalidId`] when `id` is not in `arena`.
+    pub(crate) fn depends_on_any(
+        &mut self,
+        arena: &Arena,
+        id: Id,
+        marked: &[bool],
+    ) -> Result<bool> {
+        Self::check(arena, id)?;
+        self.sync(arena);
+        Ok(self
+            .deps
+            .set(id)
+            .iter()
+            .any(|s| marked.get(s.index()).copied().unwrap_or(false)))
+    }
+
     /// The symbols the expression `id` depends on, in increasing [`SymbolId`] order.
     ///
     /// # Errors

@@ -14,7 +14,7 @@
 //! expressions lean.
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 use crate::algebra::budget::{Budget, Effort, PROGRESS_EVERY};
 use crate::error::{Error, Result};
@@ -232,7 +232,11 @@ pub type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 #[derive(Clone, Default)]
 pub struct Arena {
     nodes: Vec<Node>,
-    intern: FxHashMap<Node, Id>,
+    /// The intern table by node hash: the first node of each hash. A node is stored once,
+    /// in `nodes`; the table holds its id.
+    intern: FxHashMap<u64, Id>,
+    /// The nodes whose hash an earlier, different node has (rare): by value.
+    collisions: FxHashMap<Node, Id>,
     symbols: Vec<Symbol>,
     symbol_nodes: Vec<Id>,
     by_name: FxHashMap<String, SymbolId>,
@@ -353,15 +357,28 @@ impl Arena {
         {
             progress(self.effort());
         }
-        if let Some(&id) = self.intern.get(&node) {
-            return id;
-        }
+        let hash = {
+            let mut h = FxHasher::default();
+            node.hash(&mut h);
+            h.finish()
+        };
         let id = Id(self.nodes.len() as u32);
+        match self.intern.get(&hash) {
+            Some(&first) if self.nodes[first.index()] == node => return first,
+            Some(_) => {
+                if let Some(&other) = self.collisions.get(&node) {
+                    return other;
+                }
+                self.collisions.insert(node.clone(), id);
+            }
+            None => {
+                self.intern.insert(hash, id);
+            }
+        }
         let mut children = 0;
         node.for_each_child(|_| children += 1);
         self.size += 1 + children;
-        self.nodes.push(node.clone());
-        self.intern.insert(node, id);
+        self.nodes.push(node);
         id
     }
 

@@ -436,25 +436,19 @@ fn is_quadratic_form(
         is_varying[v.index()] = true;
     }
     for &e in &mass.data {
-        if arena.as_number(e).is_some() {
-            continue;
-        }
-        if d.symbols_of(arena, e)?
-            .iter()
-            .any(|s| is_varying[s.index()])
-        {
+        if arena.as_number(e).is_none() && d.depends_on_any(arena, e, &is_varying)? {
             return Ok(false);
         }
     }
     let zero = arena.int(0);
     let at_rest: FxHashMap<SymbolId, Id> = s.qd.iter().map(|&v| (v, zero)).collect();
-    for &e in std::iter::once(&kinetic).chain(momenta) {
-        match substitute(arena, d, e, &at_rest) {
-            Ok(z) if arena.is_zero(z) => {}
-            _ => return Ok(false),
-        }
-    }
-    Ok(true)
+    let roots: Vec<Id> = std::iter::once(kinetic)
+        .chain(momenta.iter().copied())
+        .collect();
+    Ok(match substitute_all(arena, d, &roots, &at_rest) {
+        Ok(images) => images.iter().all(|&z| arena.is_zero(z)),
+        Err(_) => false,
+    })
 }
 
 /// `id` with each symbol of `map` replaced by its image, rebuilt with the canonical
@@ -465,20 +459,28 @@ pub(crate) fn substitute(
     id: Id,
     map: &FxHashMap<SymbolId, Id>,
 ) -> Result<Id> {
-    let keys: Vec<SymbolId> = map.keys().copied().collect();
-    let touches = |arena: &Arena, d: &mut Differentiator, n: Id| -> Result<bool> {
-        for &k in &keys {
-            if d.depends_on(arena, n, k)? {
-                return Ok(true);
-            }
+    Ok(substitute_all(arena, d, &[id], map)?[0])
+}
+
+/// [`substitute`] for each of `ids`, every shared subexpression rebuilt once (the momenta of
+/// a chain share the bars' velocities: one by one they would be rebuilt once per momentum).
+pub(crate) fn substitute_all(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    ids: &[Id],
+    map: &FxHashMap<SymbolId, Id>,
+) -> Result<Vec<Id>> {
+    let mut marked = vec![false; arena.symbols().len()];
+    for k in map.keys() {
+        if let Some(m) = marked.get_mut(k.index()) {
+            *m = true;
         }
-        Ok(false)
-    };
+    }
     let mut todo = Vec::new();
-    let mut stack = vec![id];
+    let mut stack = ids.to_vec();
     let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
     while let Some(n) = stack.pop() {
-        if seen.insert(n, ()).is_some() || !touches(arena, d, n)? {
+        if seen.insert(n, ()).is_some() || !d.depends_on_any(arena, n, &marked)? {
             continue;
         }
         todo.push(n);
@@ -505,7 +507,10 @@ pub(crate) fn substitute(
         };
         image.insert(n, new);
     }
-    Ok(image.get(&id).copied().unwrap_or(id))
+    Ok(ids
+        .iter()
+        .map(|id| image.get(id).copied().unwrap_or(*id))
+        .collect())
 }
 
 /// For each upper-triangle entry of `mass`, the coordinates (indices) it depends on.
