@@ -33,6 +33,7 @@ use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::mass_matrix::mass_from_momenta;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
+use crate::mechanics::tree::Link;
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
 struct Symbols {
@@ -127,12 +128,12 @@ pub enum Route {
     Lagrange,
 }
 
-/// [`derive()`] with the route chosen.
+/// [`derive()`] with the route chosen: the module's formulas in order (M, C, C q', g, Phi,
+/// Phi_q, Phi_t, gamma), sharing one Differentiator, so that derivatives are memoised
+/// across them.
 ///
 /// # Errors
 /// As [`derive()`].
-// One function: the module's formulas in order (M, C, C q', g, Phi, Phi_q, Phi_t, gamma),
-// each a few lines sharing one Differentiator, so that derivatives are memoised across them.
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
@@ -150,59 +151,16 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     } else {
         None
     };
-    let (mut kinetic, potential) = (model.kinetic, model.potential);
-    let arena = &mut model.arena;
-    for &id in [kinetic, potential]
-        .iter()
-        .chain(&model.forces)
-        .chain(model.constraints.iter().map(|c| &c.expr))
-    {
-        check_id(arena, id)?;
-    }
     let mut d = Differentiator::new();
-    let rates: Vec<SymbolId> = s.qd.iter().chain(&s.qdd).copied().collect();
-    reject_dependence(arena, &mut d, potential, &rates, "potential energy")?;
-    reject_dependence(arena, &mut d, kinetic, &s.qdd, "kinetic energy")?;
-    for &f in &model.forces {
-        reject_dependence(arena, &mut d, f, &s.qdd, "generalised force")?;
-    }
-    for c in &model.constraints {
-        reject_dependence(arena, &mut d, c.expr, &rates, "constraint")?;
-    }
-
-    // M = d2T/dq'dq' (upper triangle, mirrored), or by composite bodies.
-    let momenta = match &tree {
-        Some(_) => Vec::new(),
-        None => d.gradient(arena, kinetic, &s.qd)?,
+    check_dependences(model, &mut d, &s)?;
+    let (mut kinetic, potential) = (model.kinetic, model.potential);
+    let (momenta, mass) = match &tree {
+        Some(t) => (Vec::new(), t.mass.clone()),
+        None => mass_by_momenta(&mut model.arena, &mut d, kinetic, &s)?,
     };
-    // M from the momenta read as linear forms in the rates (mass_matrix.rs), or, for a
-    // momentum not of that form, by differentiation.
-    let linear = match &tree {
-        Some(_) => None,
-        None => mass_from_momenta(arena, &mut d, &momenta, &s.qd)?,
-    };
-    let by_forms = linear.is_some();
-    let mut mass = linear.unwrap_or_else(|| Matrix::zeros(arena, n, n));
-    // Only the rates each momentum depends on: M_ij = 0 where p_i is free of q_j'.
-    let rate_index: FxHashMap<SymbolId, usize> =
-        s.qd.iter().enumerate().map(|(j, &v)| (v, j)).collect();
-    let mut columns = Vec::new();
-    for (i, &p) in momenta.iter().enumerate().filter(|_| !by_forms) {
-        columns.clear();
-        for v in d.symbols_of(arena, p)? {
-            columns.extend(rate_index.get(&v).filter(|&&j| j >= i));
-        }
-        columns.sort_unstable();
-        for &j in &columns {
-            let mij = d.diff(arena, p, s.qd[j])?;
-            mass.set(i, j, mij);
-            mass.set(j, i, mij);
-        }
-    }
-    if let Some(t) = &tree {
-        mass = t.mass.clone();
+    if tree.is_some() {
         // T = 1/2 q'^T M q' from the same entries (the links' T is this quadratic form).
-        kinetic = quadratic_form(arena, &mass, &s);
+        kinetic = quadratic_form(&mut model.arena, &mass, &s);
     }
     let view = ModelView {
         coordinates: &model.coordinates,
@@ -210,21 +168,13 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         time: model.time,
         at: model.kinetic_location,
     };
+    let arena = &mut model.arena;
     check_mass(arena, &mut d, &mass, &view)?;
 
     let coriolis_matrix = khang_coriolis_matrix(arena, &mut d, &mass, &s)?;
-    let coriolis_forces = if let Some(t) = &tree {
-        t.coriolis_forces.clone()
-    } else if is_quadratic_form(arena, &mut d, kinetic, &momenta, &mass, &s)? {
-        lean_coriolis_forces(arena, &mut d, &mass, &s)?
-    } else {
-        let mut h = Vec::with_capacity(n);
-        for (&p, &q) in momenta.iter().zip(&s.q) {
-            let dp = d.convective_derivative(arena, p)?;
-            let dtq = d.diff(arena, kinetic, q)?;
-            h.push(arena.sub(dp, dtq));
-        }
-        Matrix::column(h)
+    let coriolis_forces = match &tree {
+        Some(t) => t.coriolis_forces.clone(),
+        None => coriolis_forces(arena, &mut d, kinetic, &momenta, &mass, &s)?,
     };
     let (gravity, potential) = match tree.as_ref().and_then(|t| t.gravity.clone()) {
         Some((g, pi)) => (g, pi),
@@ -234,21 +184,8 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         ),
     };
     let forces = Matrix::column(model.forces.clone());
-
-    let m = model.constraints.len();
     let phi = Matrix::column(model.constraints.iter().map(|c| c.expr).collect());
-    let mut phi_q = Matrix::zeros(arena, m, n);
-    let mut phi_t = Matrix::zeros(arena, m, 1);
-    for r in 0..m {
-        for j in 0..n {
-            let e = d.diff(arena, phi.data[r], s.q[j])?;
-            phi_q.set(r, j, e);
-        }
-        if let Some(t) = s.time {
-            let e = d.diff(arena, phi.data[r], t)?;
-            phi_t.set(r, 0, e);
-        }
-    }
+    let (phi_q, phi_t) = constraint_jacobians(arena, &mut d, &phi, &s)?;
     let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
     // tau_id = M q'' + C q' + g - tau.
     let inertial = match &tree {
@@ -259,20 +196,8 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         }
     };
     let inverse_dynamics = inertial.add(arena, &gravity)?.sub(arena, &forces)?;
-    let frames = (0..model.links.len())
-        .map(|l| {
-            let link = &model.links[l];
-            let (name, rotation, position) =
-                (link.name.clone(), link.rotation.clone(), link.position);
-            FrameEquations {
-                name,
-                rotation,
-                position: Matrix::column(position.to_vec()),
-                jacobian: frame_jacobian(arena, &model.links, l, n),
-            }
-        })
-        .collect();
-    if let Some(o) = arena.take_overflow() {
+    let frames = frame_equations(&mut model.arena, &model.links, n);
+    if let Some(o) = model.arena.take_overflow() {
         return Err(Error::DerivationOverflow {
             mechanism: model.name.clone(),
             operation: o.to_string(),
@@ -280,7 +205,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     }
     Ok(Equations {
         n,
-        m,
+        m: phi.rows,
         velocity_rows: 0,
         mass,
         coriolis_matrix,
@@ -296,6 +221,126 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         inverse_dynamics,
         frames,
     })
+}
+
+/// Errors when an expression of `model` depends on what it may not: the potential or a
+/// constraint on a rate or an acceleration, T or a force on an acceleration; or when one is
+/// not a node of the arena.
+fn check_dependences(model: &Model, d: &mut Differentiator, s: &Symbols) -> Result<()> {
+    let arena = &model.arena;
+    let (kinetic, potential) = (model.kinetic, model.potential);
+    for &id in [kinetic, potential]
+        .iter()
+        .chain(&model.forces)
+        .chain(model.constraints.iter().map(|c| &c.expr))
+    {
+        check_id(arena, id)?;
+    }
+    let rates: Vec<SymbolId> = s.qd.iter().chain(&s.qdd).copied().collect();
+    reject_dependence(arena, d, potential, &rates, "potential energy")?;
+    reject_dependence(arena, d, kinetic, &s.qdd, "kinetic energy")?;
+    for &f in &model.forces {
+        reject_dependence(arena, d, f, &s.qdd, "generalised force")?;
+    }
+    for c in &model.constraints {
+        reject_dependence(arena, d, c.expr, &rates, "constraint")?;
+    }
+    Ok(())
+}
+
+/// The momenta p = dT/dq' and M = d2T/dq'dq' (upper triangle, mirrored): M read off the
+/// momenta as linear forms in the rates (mass_matrix.rs), or, for a momentum not of that
+/// form, by differentiation, only by the rates each momentum depends on (M_ij = 0 where
+/// p_i is free of q_j').
+fn mass_by_momenta(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    kinetic: Id,
+    s: &Symbols,
+) -> Result<(Vec<Id>, Matrix)> {
+    let n = s.q.len();
+    let momenta = d.gradient(arena, kinetic, &s.qd)?;
+    if let Some(mass) = mass_from_momenta(arena, d, &momenta, &s.qd)? {
+        return Ok((momenta, mass));
+    }
+    let mut mass = Matrix::zeros(arena, n, n);
+    let rate_index: FxHashMap<SymbolId, usize> =
+        s.qd.iter().enumerate().map(|(j, &v)| (v, j)).collect();
+    let mut columns = Vec::new();
+    for (i, &p) in momenta.iter().enumerate() {
+        columns.clear();
+        for v in d.symbols_of(arena, p)? {
+            columns.extend(rate_index.get(&v).filter(|&&j| j >= i));
+        }
+        columns.sort_unstable();
+        for &j in &columns {
+            let mij = d.diff(arena, p, s.qd[j])?;
+            mass.set(i, j, mij);
+            mass.set(j, i, mij);
+        }
+    }
+    Ok((momenta, mass))
+}
+
+/// C q' without links: the lean sum of [`lean_coriolis_forces`] when T is a quadratic form
+/// in q', else the whole rest of the Lagrange expression,
+/// h_i = d/dt(dT/dq_i')|_{q''=0} - dT/dq_i.
+fn coriolis_forces(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    kinetic: Id,
+    momenta: &[Id],
+    mass: &Matrix,
+    s: &Symbols,
+) -> Result<Matrix> {
+    if is_quadratic_form(arena, d, kinetic, momenta, mass, s)? {
+        return lean_coriolis_forces(arena, d, mass, s);
+    }
+    let mut h = Vec::with_capacity(momenta.len());
+    for (&p, &q) in momenta.iter().zip(&s.q) {
+        let dp = d.convective_derivative(arena, p)?;
+        let dtq = d.diff(arena, kinetic, q)?;
+        h.push(arena.sub(dp, dtq));
+    }
+    Ok(Matrix::column(h))
+}
+
+/// Phi_q = dPhi/dq (m x n) and Phi_t = dPhi/dt (explicit; m x 1, zeros without time).
+fn constraint_jacobians(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    phi: &Matrix,
+    s: &Symbols,
+) -> Result<(Matrix, Matrix)> {
+    let (m, n) = (phi.rows, s.q.len());
+    let mut phi_q = Matrix::zeros(arena, m, n);
+    let mut phi_t = Matrix::zeros(arena, m, 1);
+    for r in 0..m {
+        for j in 0..n {
+            let e = d.diff(arena, phi.data[r], s.q[j])?;
+            phi_q.set(r, j, e);
+        }
+        if let Some(t) = s.time {
+            let e = d.diff(arena, phi.data[r], t)?;
+            phi_t.set(r, 0, e);
+        }
+    }
+    Ok((phi_q, phi_t))
+}
+
+/// Each link's frame: its name, rotation, position and Jacobian (6 x n).
+fn frame_equations(arena: &mut Arena, links: &[Link], n: usize) -> Vec<FrameEquations> {
+    (0..links.len())
+        .map(|l| {
+            let link = &links[l];
+            FrameEquations {
+                name: link.name.clone(),
+                rotation: link.rotation.clone(),
+                position: Matrix::column(link.position.to_vec()),
+                jacobian: frame_jacobian(arena, links, l, n),
+            }
+        })
+        .collect()
 }
 
 /// 1/2 q'^T M q', each pair once: sum_i 1/2 M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j'.

@@ -230,14 +230,38 @@ fn mark(live: &mut [bool], o: Operand) {
 }
 
 /// Dead-code elimination and register renumbering: keeps what `outputs` need, downgrades a
-/// `SinCos` with one dead half to a plain `sin` or `cos`, numbers registers in order.
-// One function: liveness, the SinCos downgrade and the renumbering are one backward and
-// one forward pass over the same instructions.
+/// `SinCos` with one dead half to a plain `sin` or `cos`, numbers registers in order (one
+/// backward pass for liveness, one forward pass for the rest).
 pub(crate) fn compact(
     instrs: &[Instr],
     mut outputs: Vec<Output>,
     symbols: &[(SymbolId, String)],
 ) -> Program {
+    let live = live_registers(instrs, &outputs);
+    let mut ren = Renumbering {
+        rename: vec![u32::MAX; live.len()],
+        next: 0,
+    };
+    let out: Vec<Instr> = instrs
+        .iter()
+        .filter_map(|i| ren.live_instr(i, &live))
+        .collect();
+    for o in &mut outputs {
+        for e in &mut o.entries {
+            *e = ren.map(*e);
+        }
+    }
+    Program {
+        instrs: out,
+        outputs,
+        registers: ren.next,
+        symbols: symbols.to_vec(),
+    }
+}
+
+/// Which registers the outputs need, directly or through the instructions that define
+/// what they read (a backward pass).
+fn live_registers(instrs: &[Instr], outputs: &[Output]) -> Vec<bool> {
     let nregs = instrs
         .iter()
         .flat_map(defines)
@@ -246,7 +270,7 @@ pub(crate) fn compact(
         .max()
         .unwrap_or(0);
     let mut live = vec![false; nregs];
-    for o in &outputs {
+    for o in outputs {
         o.entries.iter().for_each(|&e| mark(&mut live, e));
     }
     for i in instrs.iter().rev() {
@@ -254,59 +278,74 @@ pub(crate) fn compact(
             i.for_each_operand(|o| mark(&mut live, o));
         }
     }
-    let mut rename = vec![u32::MAX; nregs];
-    let mut next = 0u32;
-    let mut fresh = |r: Reg, rename: &mut Vec<u32>| {
-        rename[r.0 as usize] = next;
-        next += 1;
-        Reg(next - 1)
-    };
-    let map = |o: Operand, rename: &[u32]| match o {
-        Operand::Reg(r) => Operand::Reg(Reg(rename[r.0 as usize])),
-        x => x,
-    };
-    let mut out = Vec::new();
-    for i in instrs {
-        let new = match *i {
+    live
+}
+
+/// Registers renumbered in order of definition.
+struct Renumbering {
+    /// The new number of each old register (`u32::MAX`: not defined yet).
+    rename: Vec<u32>,
+    /// The next new number.
+    next: u32,
+}
+
+impl Renumbering {
+    /// A new number for the old register `r`.
+    fn fresh(&mut self, r: Reg) -> Reg {
+        self.rename[r.0 as usize] = self.next;
+        self.next += 1;
+        Reg(self.next - 1)
+    }
+
+    /// `o` with its register renumbered.
+    fn map(&self, o: Operand) -> Operand {
+        match o {
+            Operand::Reg(r) => Operand::Reg(Reg(self.rename[r.0 as usize])),
+            x => x,
+        }
+    }
+
+    /// `i` renumbered when it defines a live register (a `SinCos` with one dead half
+    /// becomes a plain `sin` or `cos`); `None` when all it defines is dead.
+    fn live_instr(&mut self, i: &Instr, live: &[bool]) -> Option<Instr> {
+        let is_live = |r: Reg| live[r.0 as usize];
+        Some(match *i {
             Instr::SinCos { sin, cos, arg } => {
-                let arg = map(arg, &rename);
-                match (live[sin.0 as usize], live[cos.0 as usize]) {
+                let arg = self.map(arg);
+                match (is_live(sin), is_live(cos)) {
                     (true, true) => {
-                        let s = fresh(sin, &mut rename);
-                        Instr::SinCos {
-                            sin: s,
-                            cos: fresh(cos, &mut rename),
-                            arg,
-                        }
+                        let sin = self.fresh(sin);
+                        let cos = self.fresh(cos);
+                        Instr::SinCos { sin, cos, arg }
                     }
                     (true, false) => Instr::Unary {
-                        dst: fresh(sin, &mut rename),
+                        dst: self.fresh(sin),
                         op: UnOp::Sin,
                         arg,
                     },
                     (false, true) => Instr::Unary {
-                        dst: fresh(cos, &mut rename),
+                        dst: self.fresh(cos),
                         op: UnOp::Cos,
                         arg,
                     },
-                    (false, false) => continue,
+                    (false, false) => return None,
                 }
             }
-            Instr::Unary { dst, op, arg } if live[dst.0 as usize] => Instr::Unary {
-                arg: map(arg, &rename),
+            Instr::Unary { dst, op, arg } if is_live(dst) => Instr::Unary {
+                arg: self.map(arg),
                 op,
-                dst: fresh(dst, &mut rename),
+                dst: self.fresh(dst),
             },
-            Instr::Binary { dst, op, lhs, rhs } if live[dst.0 as usize] => Instr::Binary {
-                lhs: map(lhs, &rename),
-                rhs: map(rhs, &rename),
+            Instr::Binary { dst, op, lhs, rhs } if is_live(dst) => Instr::Binary {
+                lhs: self.map(lhs),
+                rhs: self.map(rhs),
                 op,
-                dst: fresh(dst, &mut rename),
+                dst: self.fresh(dst),
             },
-            Instr::Powi { dst, base, exp } if live[dst.0 as usize] => Instr::Powi {
-                base: map(base, &rename),
+            Instr::Powi { dst, base, exp } if is_live(dst) => Instr::Powi {
+                base: self.map(base),
                 exp,
-                dst: fresh(dst, &mut rename),
+                dst: self.fresh(dst),
             },
             Instr::MulAdd {
                 dst,
@@ -315,27 +354,15 @@ pub(crate) fn compact(
                 c,
                 negate_product,
                 negate_addend,
-            } if live[dst.0 as usize] => Instr::MulAdd {
-                a: map(a, &rename),
-                b: map(b, &rename),
-                c: map(c, &rename),
+            } if is_live(dst) => Instr::MulAdd {
+                a: self.map(a),
+                b: self.map(b),
+                c: self.map(c),
                 negate_product,
                 negate_addend,
-                dst: fresh(dst, &mut rename),
+                dst: self.fresh(dst),
             },
-            _ => continue,
-        };
-        out.push(new);
-    }
-    for o in &mut outputs {
-        for e in &mut o.entries {
-            *e = map(*e, &rename);
-        }
-    }
-    Program {
-        instrs: out,
-        outputs,
-        registers: next,
-        symbols: symbols.to_vec(),
+            _ => return None,
+        })
     }
 }

@@ -71,91 +71,22 @@ impl Tape {
     /// tape.eval(&[0.5, 4.0], &mut out).unwrap(); // values indexed by SymbolId
     /// assert_eq!(out, [2.0, mechanism_math::sin_cos(0.5).0]);
     /// ```
-    // One function: the slot layout (constants, symbols, registers) and the one arm per
-    // instruction kind that uses it must agree, so they stay side by side.
     pub fn new(program: &Program) -> Tape {
-        let mut consts: Vec<u64> = Vec::new();
-        let mut const_slot: FxHashMap<u64, u32> = FxHashMap::default();
-        let mut collect = |o: Operand| {
-            if let Operand::Const(c) = o {
-                const_slot.entry(c.to_bits()).or_insert_with(|| {
-                    consts.push(c.to_bits());
-                    consts.len() as u32 - 1
-                });
-            }
-        };
-        for i in program.instructions() {
-            i.for_each_operand(&mut collect);
-        }
-        for o in program.outputs() {
-            o.entries.iter().for_each(|&e| collect(e));
-        }
-        let nc = consts.len();
-        let syms = program.symbols();
-        let base = (nc + syms.len()) as u32;
-        let sym_slot: FxHashMap<SymbolId, u32> = syms
-            .iter()
-            .enumerate()
-            .map(|(k, (s, _))| (*s, (nc + k) as u32))
-            .collect();
-        let slot = |o: Operand| -> u32 {
-            match o {
-                Operand::Const(c) => const_slot.get(&c.to_bits()).copied().unwrap_or(0),
-                Operand::Sym(s) => sym_slot.get(&s).copied().unwrap_or(0),
-                Operand::Reg(r) => base + r.0,
-            }
-        };
-        let d = |r: crate::program::instructions::Reg| base + r.0;
+        let layout = SlotLayout::of(program);
         let ops = program
             .instructions()
             .iter()
-            .map(|i| match *i {
-                Instr::Binary { dst, op, lhs, rhs } => {
-                    let (a, b, t) = (slot(lhs), slot(rhs), d(dst));
-                    match op {
-                        BinOp::Add => Op::Add(a, b, t),
-                        BinOp::Sub => Op::Sub(a, b, t),
-                        BinOp::Mul => Op::Mul(a, b, t),
-                        BinOp::Div => Op::Div(a, b, t),
-                        BinOp::Atan2 => Op::Atan2(a, b, t),
-                        BinOp::Powf => Op::Powf(a, b, t),
-                    }
-                }
-                Instr::Unary { dst, op, arg } => {
-                    let (a, t) = (slot(arg), d(dst));
-                    match op {
-                        UnOp::Neg => Op::Neg(a, t),
-                        UnOp::Sin => Op::Sin(a, t),
-                        UnOp::Cos => Op::Cos(a, t),
-                        UnOp::Tan => Op::Tan(a, t),
-                        UnOp::Exp => Op::Exp(a, t),
-                        UnOp::Ln => Op::Ln(a, t),
-                        UnOp::Sqrt => Op::Sqrt(a, t),
-                        UnOp::Abs => Op::Abs(a, t),
-                    }
-                }
-                Instr::Powi { dst, base, exp } => Op::Powi(slot(base), exp, d(dst)),
-                Instr::SinCos { sin, cos, arg } => Op::SinCos(slot(arg), d(sin), d(cos)),
-                Instr::MulAdd {
-                    dst,
-                    a,
-                    b,
-                    c,
-                    negate_product,
-                    negate_addend,
-                } => Op::MulAdd(
-                    slot(a),
-                    slot(b),
-                    slot(c),
-                    d(dst),
-                    negate_product,
-                    negate_addend,
-                ),
-            })
+            .map(|i| layout.op(i))
             .collect();
-        let constants: Vec<f64> = consts.iter().map(|b| f64::from_bits(*b)).collect();
-        let regs = vec![0.0; base as usize + program.registers()];
-        let inputs = syms
+        let nc = layout.constants.len();
+        let constants: Vec<f64> = layout
+            .constants
+            .iter()
+            .map(|b| f64::from_bits(*b))
+            .collect();
+        let regs = vec![0.0; layout.base as usize + program.registers()];
+        let inputs = program
+            .symbols()
             .iter()
             .enumerate()
             .map(|(k, (s, name))| (*s, (nc + k) as u32, name.clone()))
@@ -163,7 +94,7 @@ impl Tape {
         let outputs = program
             .outputs()
             .iter()
-            .flat_map(|o| o.entries.iter().map(|&e| slot(e)))
+            .flat_map(|o| o.entries.iter().map(|&e| layout.slot(e)))
             .collect();
         let shapes = program.outputs().iter().map(|o| (o.rows, o.cols)).collect();
         Tape {
@@ -313,6 +244,116 @@ impl Tape {
                     r[t as usize] = mul_add(x, r[b as usize], z);
                 }
             }
+        }
+    }
+}
+
+/// Where each operand of a program lives in a tape's register file: its distinct constants
+/// first, then its symbols in [`Program::symbols`] order, then its registers.
+struct SlotLayout {
+    /// The distinct constants' bits, in order of first use.
+    constants: Vec<u64>,
+    /// The slot of each constant, by its bits.
+    const_slot: FxHashMap<u64, u32>,
+    /// The slot of each symbol.
+    sym_slot: FxHashMap<SymbolId, u32>,
+    /// The slot of register 0.
+    base: u32,
+}
+
+impl SlotLayout {
+    fn of(program: &Program) -> SlotLayout {
+        let mut constants: Vec<u64> = Vec::new();
+        let mut const_slot: FxHashMap<u64, u32> = FxHashMap::default();
+        let mut collect = |o: Operand| {
+            if let Operand::Const(c) = o {
+                const_slot.entry(c.to_bits()).or_insert_with(|| {
+                    constants.push(c.to_bits());
+                    constants.len() as u32 - 1
+                });
+            }
+        };
+        for i in program.instructions() {
+            i.for_each_operand(&mut collect);
+        }
+        for o in program.outputs() {
+            o.entries.iter().for_each(|&e| collect(e));
+        }
+        let nc = constants.len();
+        let syms = program.symbols();
+        let sym_slot = syms
+            .iter()
+            .enumerate()
+            .map(|(k, (s, _))| (*s, (nc + k) as u32))
+            .collect();
+        SlotLayout {
+            base: (nc + syms.len()) as u32,
+            constants,
+            const_slot,
+            sym_slot,
+        }
+    }
+
+    /// The slot of operand `o`.
+    fn slot(&self, o: Operand) -> u32 {
+        match o {
+            Operand::Const(c) => self.const_slot.get(&c.to_bits()).copied().unwrap_or(0),
+            Operand::Sym(s) => self.sym_slot.get(&s).copied().unwrap_or(0),
+            Operand::Reg(r) => self.base + r.0,
+        }
+    }
+
+    /// The slot of register `r`.
+    fn dst(&self, r: crate::program::instructions::Reg) -> u32 {
+        self.base + r.0
+    }
+
+    /// The tape operation of instruction `i`.
+    fn op(&self, i: &Instr) -> Op {
+        match *i {
+            Instr::Binary { dst, op, lhs, rhs } => {
+                let (a, b, t) = (self.slot(lhs), self.slot(rhs), self.dst(dst));
+                match op {
+                    BinOp::Add => Op::Add(a, b, t),
+                    BinOp::Sub => Op::Sub(a, b, t),
+                    BinOp::Mul => Op::Mul(a, b, t),
+                    BinOp::Div => Op::Div(a, b, t),
+                    BinOp::Atan2 => Op::Atan2(a, b, t),
+                    BinOp::Powf => Op::Powf(a, b, t),
+                }
+            }
+            Instr::Unary { dst, op, arg } => {
+                let (a, t) = (self.slot(arg), self.dst(dst));
+                match op {
+                    UnOp::Neg => Op::Neg(a, t),
+                    UnOp::Sin => Op::Sin(a, t),
+                    UnOp::Cos => Op::Cos(a, t),
+                    UnOp::Tan => Op::Tan(a, t),
+                    UnOp::Exp => Op::Exp(a, t),
+                    UnOp::Ln => Op::Ln(a, t),
+                    UnOp::Sqrt => Op::Sqrt(a, t),
+                    UnOp::Abs => Op::Abs(a, t),
+                }
+            }
+            Instr::Powi { dst, base, exp } => Op::Powi(self.slot(base), exp, self.dst(dst)),
+            Instr::SinCos { sin, cos, arg } => {
+                Op::SinCos(self.slot(arg), self.dst(sin), self.dst(cos))
+            }
+            Instr::MulAdd {
+                dst,
+                a,
+                b,
+                c,
+                negate_product,
+                negate_addend,
+            } => Op::MulAdd(
+                self.slot(a),
+                self.slot(b),
+                self.slot(c),
+                self.dst(dst),
+                negate_product,
+                negate_addend,
+            ),
         }
     }
 }
