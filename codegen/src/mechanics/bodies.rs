@@ -27,6 +27,7 @@ use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::Orientation;
+use crate::error::{AlgebraError, DerivationError};
 use crate::error::{Error, Result};
 use crate::mechanics::model::Model;
 
@@ -112,14 +113,16 @@ impl Symbols {
             let s = (c.q.index() < arena.len())
                 .then(|| arena.as_symbol(c.q))
                 .flatten()
-                .ok_or_else(|| Error::NotASymbol {
-                    role: format!("coordinate `{}`", c.name),
+                .ok_or_else(|| {
+                    Error::Derivation(DerivationError::NotASymbol {
+                        role: format!("coordinate `{}`", c.name),
+                    })
                 })?;
             if c.qd.index() >= arena.len() {
-                return Err(Error::InvalidId {
+                return Err(Error::Algebra(AlgebraError::InvalidId {
                     id: c.qd.0,
                     len: arena.len(),
-                });
+                }));
             }
             q.push(s);
             qd.push(c.qd);
@@ -167,20 +170,20 @@ fn jacobian(
 /// Errors unless `id` is free of the rates and accelerations of the model.
 fn check_position_level(arena: &Arena, model: &Model, id: Id, what: &str) -> Result<()> {
     if id.index() >= arena.len() {
-        return Err(Error::InvalidId {
+        return Err(Error::Algebra(AlgebraError::InvalidId {
             id: id.0,
             len: arena.len(),
-        });
+        }));
     }
     for c in &model.coordinates {
         for r in [c.qd, c.qdd] {
             if let Some(s) = arena.as_symbol(r)
                 && arena.depends_on(id, s)
             {
-                return Err(Error::NotPositionLevel {
+                return Err(Error::Derivation(DerivationError::NotPositionLevel {
                     what: what.to_string(),
                     symbol: arena.symbol_info(s).name.clone(),
-                });
+                }));
             }
         }
     }
@@ -199,11 +202,11 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
         check_position_level(a, model, b.mass, &format!("mass of body `{}`", b.name))?;
         if let Some(i) = &b.inertia {
             if (i.rows, i.cols) != (3, 3) {
-                return Err(Error::InertiaShape {
+                return Err(Error::Derivation(DerivationError::InertiaShape {
                     body: b.name.clone(),
                     rows: i.rows,
                     cols: i.cols,
-                });
+                }));
             }
             i.validate(a)?;
             for &e in &i.data {
@@ -256,9 +259,9 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
 /// the model itself is not changed.
 ///
 /// # Errors
-/// [`Error::NotASymbol`] when a coordinate is not a symbol, [`Error::NotPositionLevel`] when
+/// [`crate::error::DerivationError::NotASymbol`] when a coordinate is not a symbol, [`crate::error::DerivationError::NotPositionLevel`] when
 /// a position, orientation, mass, inertia, gravity, spring or damper expression depends on a
-/// rate or an acceleration, [`Error::InertiaShape`] when an inertia is not 3x3; [`Error::InvalidId`] for a foreign id; differentiation errors.
+/// rate or an acceleration, [`crate::error::DerivationError::InertiaShape`] when an inertia is not 3x3; [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
 // One function: the sums over bodies, springs and dampers fill one set of term lists for
 // M, b, T_0, Pi and the forces; split, every part would take all of them.
 pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
@@ -450,23 +453,23 @@ fn add_quadratic(
 /// Pi += the gravity and spring potential, tau_k += the damper forces. Returns the terms.
 ///
 /// # Errors
-/// As [`body_terms`]; [`Error::ForceCount`] when the model has a different number of forces
+/// As [`body_terms`]; [`crate::error::DerivationError::ForceCount`] when the model has a different number of forces
 /// than coordinates.
 pub fn add_body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     if model.forces.len() != model.coordinates.len() {
-        return Err(Error::ForceCount {
+        return Err(Error::Derivation(DerivationError::ForceCount {
             forces: model.forces.len(),
             coordinates: model.coordinates.len(),
-        });
+        }));
     }
     let terms = body_terms(model, system)?;
     let arena = &mut model.arena;
     for id in [model.kinetic, model.potential].iter().chain(&model.forces) {
         if id.index() >= arena.len() {
-            return Err(Error::InvalidId {
+            return Err(Error::Algebra(AlgebraError::InvalidId {
                 id: id.0,
                 len: arena.len(),
-            });
+            }));
         }
     }
     model.kinetic = arena.add2(model.kinetic, terms.kinetic);
