@@ -200,6 +200,18 @@ fn invalid_inputs_are_typed_errors() {
         d.depends_on(&t.a, Id::new(10_000), t.sx),
         Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
+    // A constant divided by 0 names the operation, as a rational or as a power of 0.
+    let error = t.a.rational(3, 0).unwrap_err();
+    assert!(
+        matches!(&error, Error::Algebra(AlgebraError::DivisionByZero { operation }) if operation == "3/0"),
+        "{error:?}"
+    );
+    let (zero, minus_two) = (t.a.int(0), t.a.int(-2));
+    let error = t.a.pow(zero, minus_two).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "division by zero in the constant expression `0^-2`"
+    );
     // d/dx (-2)^x needs ln(-2).
     let m2 = t.a.int(-2);
     let p = t.a.pow(m2, t.x).unwrap();

@@ -413,11 +413,14 @@ fn malformed_models_are_typed_errors() {
     let mut empty = base();
     empty.coordinates.clear();
     empty.forces.clear();
-    assert!(matches!(
-        derive(&mut empty),
-        Err(Error::Declaration { kind, .. })
-            if matches!(*kind, DeclarationError::NoCoordinates { empty_section: false, .. })
-    ));
+    let error = derive(&mut empty).unwrap_err();
+    assert!(
+        matches!(&error, Error::Declaration { kind, .. }
+            if matches!(**kind, DeclarationError::NoCoordinates { empty_section: false, .. })),
+        "{error:?}"
+    );
+    // A model built by hand has no place in a declaration: no line 0 reported.
+    assert_eq!(error.location(), None);
     let mut forces = base();
     forces.forces.pop();
     assert!(matches!(
