@@ -151,7 +151,7 @@ pub use crate::simulation::simulator::{
 #[cfg(feature = "std")]
 pub use crate::simulation::singular::SingularPassage;
 #[cfg(feature = "std")]
-pub use crate::simulation::sweep::{ParameterSet, sweep, sweep_simulate, with_parameters};
+pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
 #[cfg(feature = "interpreter")]
@@ -196,11 +196,9 @@ pub mod prelude {
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
-/// Not API: what generated code and the [`System`] trait's hidden hook name.
+/// Not API: what generated code names.
 #[doc(hidden)]
 pub mod __private {
-    #[cfg(feature = "std")]
-    pub use crate::linalg::NullSpaceSolve;
     pub use nalgebra::ArrayStorage;
     pub use nalgebra::{SMatrix, SVector};
 }

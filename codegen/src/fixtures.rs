@@ -58,72 +58,16 @@ fn midpoint_weight(i: usize, j: usize) -> Option<i64> {
 /// The closed planar chain of `n` rods as a [`Model`] named `ClosedChain{n}` (see the module
 /// documentation), built through the arena API. Coordinates th1..thn with the arch guesses of
 /// [`closed_chain_arch`]; the first n - 2 angles are independent, at rest.
-// One function: a test fixture that writes the chain's T, Pi and Phi out term by term.
 pub fn closed_chain_model(n: usize) -> Model {
     let mut a = Arena::new();
     let time = a.symbol("t", SymbolKind::Time);
     let g = a.symbol("g", SymbolKind::Parameter);
     let guess = closed_chain_arch(n);
-    let mut coordinates = Vec::with_capacity(n);
-    for (i, &theta) in guess.iter().enumerate() {
-        let name = format!("th{}", i + 1);
-        let [q, qd, qdd] = a.coordinate(&name);
-        coordinates.push(Coordinate {
-            name,
-            q,
-            qd,
-            qdd,
-            guess: theta,
-            location: Location::default(),
-        });
-    }
+    let coordinates = chain_coordinates(&mut a, &guess);
     let sin: Vec<Id> = coordinates.iter().map(|c| a.sin(c.q)).collect();
     let cos: Vec<Id> = coordinates.iter().map(|c| a.cos(c.q)).collect();
-    let half = frac(&mut a, 1, 2);
-    let twelfth_half = frac(&mut a, 1, 24);
-    let mut kinetic_terms = Vec::new();
-    let mut heights = Vec::new();
-    for i in 0..n {
-        let (mut vx, mut vy, mut y) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..=i {
-            let Some(w) = midpoint_weight(i, j) else {
-                continue;
-            };
-            let w = frac(&mut a, w, 2);
-            let rate = coordinates[j].qd;
-            let mw = a.neg(w);
-            vx.push(a.mul(&[mw, sin[j], rate]));
-            vy.push(a.mul(&[w, cos[j], rate]));
-            y.push(a.mul2(w, sin[j]));
-        }
-        let (vx, vy) = (a.add(&vx), a.add(&vy));
-        let (vx2, vy2) = (a.mul2(vx, vx), a.mul2(vy, vy));
-        let v2 = a.add2(vx2, vy2);
-        kinetic_terms.push(a.mul2(half, v2));
-        let w2 = a.mul2(coordinates[i].qd, coordinates[i].qd);
-        kinetic_terms.push(a.mul2(twelfth_half, w2));
-        heights.push(a.add(&y));
-    }
-    let kinetic = a.add(&kinetic_terms);
-    let height_sum = a.add(&heights);
-    let potential = a.mul2(g, height_sum);
-    let x_end = frac(&mut a, -(n as i64), 2);
-    let mut xs = cos.clone();
-    xs.push(x_end);
-    let constraints = vec![
-        Constraint {
-            expr: a.add(&xs),
-            location: Location::default(),
-            joint: "constraint 1".into(),
-            component: String::new(),
-        },
-        Constraint {
-            expr: a.add(&sin),
-            location: Location::default(),
-            joint: "constraint 2".into(),
-            component: String::new(),
-        },
-    ];
+    let (kinetic, potential) = chain_energies(&mut a, &coordinates, &sin, &cos, g);
+    let constraints = chain_constraints(&mut a, &sin, &cos);
     let zero = a.int(0);
     let independent = (0..n.saturating_sub(2))
         .map(|k| IndependentSpec {
@@ -162,6 +106,85 @@ pub fn closed_chain_model(n: usize) -> Model {
         potential_from_links: false,
         gravity: None,
     }
+}
+
+/// The coordinates th1..thn of the chain, with the guesses `guess`.
+fn chain_coordinates(a: &mut Arena, guess: &[f64]) -> Vec<Coordinate> {
+    let mut coordinates = Vec::with_capacity(guess.len());
+    for (i, &theta) in guess.iter().enumerate() {
+        let name = format!("th{}", i + 1);
+        let [q, qd, qdd] = a.coordinate(&name);
+        coordinates.push(Coordinate {
+            name,
+            q,
+            qd,
+            qdd,
+            guess: theta,
+            location: Location::default(),
+        });
+    }
+    coordinates
+}
+
+/// T = sum_i 1/2 |v_i|^2 + 1/24 th_i'^2 (rods of unit mass and length, v_i the midpoint
+/// velocity) and Pi = g sum_i y_i (y_i the midpoint height), written term by term.
+fn chain_energies(
+    a: &mut Arena,
+    coordinates: &[Coordinate],
+    sin: &[Id],
+    cos: &[Id],
+    g: Id,
+) -> (Id, Id) {
+    let half = frac(a, 1, 2);
+    let twelfth_half = frac(a, 1, 24);
+    let mut kinetic_terms = Vec::new();
+    let mut heights = Vec::new();
+    for i in 0..coordinates.len() {
+        let (mut vx, mut vy, mut y) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..=i {
+            let Some(w) = midpoint_weight(i, j) else {
+                continue;
+            };
+            let w = frac(a, w, 2);
+            let rate = coordinates[j].qd;
+            let mw = a.neg(w);
+            vx.push(a.mul(&[mw, sin[j], rate]));
+            vy.push(a.mul(&[w, cos[j], rate]));
+            y.push(a.mul2(w, sin[j]));
+        }
+        let (vx, vy) = (a.add(&vx), a.add(&vy));
+        let (vx2, vy2) = (a.mul2(vx, vx), a.mul2(vy, vy));
+        let v2 = a.add2(vx2, vy2);
+        kinetic_terms.push(a.mul2(half, v2));
+        let w2 = a.mul2(coordinates[i].qd, coordinates[i].qd);
+        kinetic_terms.push(a.mul2(twelfth_half, w2));
+        heights.push(a.add(&y));
+    }
+    let kinetic = a.add(&kinetic_terms);
+    let height_sum = a.add(&heights);
+    let potential = a.mul2(g, height_sum);
+    (kinetic, potential)
+}
+
+/// The loop closure: sum_i cos th_i - n/2 = 0 and sum_i sin th_i = 0.
+fn chain_constraints(a: &mut Arena, sin: &[Id], cos: &[Id]) -> Vec<Constraint> {
+    let x_end = frac(a, -(cos.len() as i64), 2);
+    let mut xs = cos.to_vec();
+    xs.push(x_end);
+    vec![
+        Constraint {
+            expr: a.add(&xs),
+            location: Location::default(),
+            joint: "constraint 1".into(),
+            component: String::new(),
+        },
+        Constraint {
+            expr: a.add(sin),
+            location: Location::default(),
+            joint: "constraint 2".into(),
+            component: String::new(),
+        },
+    ]
 }
 
 /// The declaration of [`closed_chain_model`] in the `mechanism!` language (macro issue

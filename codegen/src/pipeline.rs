@@ -7,7 +7,7 @@
 use proc_macro2::{Span, TokenStream};
 
 use crate::algebra::budget::Budget;
-use crate::error::{DeclarationError, Error, Result};
+use crate::error::{DeclarationError, Error, Location, ParseError, Result};
 use crate::mechanics::build::{ParsedModel, build, build_with_values};
 use crate::mechanics::check::{ModelFinding, check, check_model};
 use crate::mechanics::model::Model;
@@ -184,10 +184,12 @@ fn first<E>(errors: Vec<E>) -> E
 where
     E: From<Error>,
 {
-    errors
-        .into_iter()
-        .next()
-        .unwrap_or_else(|| E::from(Error::Unreadable))
+    errors.into_iter().next().unwrap_or_else(|| {
+        let kind = ParseError::Unreadable {
+            reason: "no mistake was recorded".to_string(),
+        };
+        E::from(Error::parse(kind, Location::default()))
+    })
 }
 
 impl From<Error> for SpannedError {

@@ -103,7 +103,7 @@ const C: [f64; 6] = [
 ///
 /// # Accuracy and range
 /// The inline path is taken for |x| < 2^20 (about 1.05e6) except -0.0. Its largest error
-/// measured against a double-double reference (3e6 random x in each of [-10, 10],
+/// against a double-double reference (3e6 random x in each of [-10, 10],
 /// [-1000, 1000] and [-2^20, 2^20], every multiple of pi/2 and pi/4 up to 3000 with its
 /// neighbours within 3 ulps, and the doubles nearest every k pi/2 below 2^20 with their
 /// neighbours) is 0.80 ulp (0.78 where the target has FMA; 0.50 near the multiples of
@@ -187,11 +187,11 @@ pub(crate) fn in_lanes<const L: usize, const WIDE: bool>(x: [f64; L]) -> ([f64; 
     // Bit i set where lane i took the inline path.
     let inline = lanes::<L, WIDE>(&x, &mut s, &mut c);
     if inline != u64::MAX >> (64 - L) {
-        // Measured both ways (BENCHMARKS.md): with AVX-512's 32 vector registers,
-        // recomputing every lane keeps the results in registers on the common path (the
-        // seed 3 % faster); with 16, merging the recomputed lanes back costs the chains'
-        // bodies more reloads than the two stores it saves (chain16 and chain32 5 to 11 %
-        // slower), so the lanes off the path are patched in memory.
+        // With AVX-512's 32 vector registers, recomputing every lane keeps the results in
+        // registers on the common path; with 16, merging the recomputed lanes back costs a
+        // body more stack reloads than the two stores it saves, so the lanes off the path
+        // are patched in memory (the timings of both: docs/benchmark-history.md, "Off-path
+        // lanes patched in memory where vector registers are 16").
         if cfg!(target_feature = "avx512f") {
             return lane_by_lane(x);
         }
@@ -429,8 +429,8 @@ fn reduced_sin_cos<R: Real>(hi: R, lo: R) -> (R, R) {
 /// half an ulp; so are the roundings of hi z/6 (below 2^-52 |hi|/6) and of z. Both results
 /// are rounded once from values within a hundredth of an ulp of exact. Four operations
 /// deep, against [`reduced_sin_cos`]'s dozen: in [`sin_cos_lanes`] they run beside the
-/// other lanes' kernels, which no longer wait for the four-part reduction (a crank at
-/// exactly 90 degrees had lengthened its vector's chain by that reduction).
+/// other lanes' kernels, which do not wait for the four-part reduction (a crank at exactly
+/// 90 degrees would otherwise lengthen its whole vector's chain by that reduction).
 #[inline(always)]
 fn reduced_sin_cos_near_zero<R: Real>(hi: R, lo: R) -> (R, R) {
     let z = hi.mul(hi);

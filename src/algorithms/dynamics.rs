@@ -46,7 +46,7 @@ use crate::algorithms::banded_kkt::BandedKkt;
 use crate::algorithms::finite;
 use crate::error::Error;
 use crate::linalg::{Lu, NullSpace, NullSpaceSolve, RowBasis, inf_norm, max_nan};
-use crate::system::{Evaluation, Sparsity, System, SystemInfo};
+use crate::system::{Evaluation, SolverKey, Sparsity, System, SystemInfo};
 
 /// Default limit on the 1-norm condition estimate of the augmented matrix beyond which the
 /// LU route hands the solve to the augmented Lagrangian route (where LU would lose more than
@@ -194,7 +194,7 @@ impl Dynamics {
             // The null-space route serves small systems only: a large one never asks for
             // its static-size solver (whose storage grows with n^2).
             if n + m <= LU_MAX_ORDER
-                && let Some(solver) = system.null_space_solver()
+                && let Some(solver) = system.null_space_solver(SolverKey::new())
                 && solver.dims() == (n, m)
             {
                 self.null_space = solver;

@@ -7,9 +7,9 @@
 //! f at the new point and three more stages.
 //!
 //! Step control is Hairer's PI controller (ibid. IV.2): h_new = 0.9 h err^(-1/8 + 0.2 beta)
-//! err_old^beta with beta = 0.04. On the mechanisms, whose error grows steeply where the high
-//! derivatives rise, it rejects 30–40 % fewer steps than the plain controller (beta = 0),
-//! which alternates accept and reject there.
+//! err_old^beta with beta = 0.04. Where the error grows steeply (the high derivatives rise),
+//! the plain controller (beta = 0) alternates accept and reject; the PI term damps that
+//! (the rejections of both on the mechanisms: BENCHMARKS.md).
 
 // The published coefficients are kept to their printed digits.
 #![allow(clippy::excessive_precision)]

@@ -7,9 +7,6 @@
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::simulation::options::SimulationOptions;
-use crate::simulation::simulator::simulate;
-use crate::simulation::trajectory::Trajectory;
 use crate::system::System;
 
 /// A parameter set: (name, value) pairs; parameters not named keep the system's values.
@@ -17,7 +14,7 @@ pub type ParameterSet = Vec<(String, f64)>;
 
 /// A clone of `system` with the named parameters set ([`Error::UnknownParameter`] for a
 /// name the system does not declare, [`Error::NonFinite`] for a NaN or infinite value).
-pub fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Result<S, Error> {
+fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Result<S, Error> {
     let mut s = system.clone();
     for (name, value) in set {
         let info = s.info();
@@ -39,7 +36,9 @@ pub fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> 
 }
 
 /// Applies `f` to a clone of `system` for each parameter set, in parallel (feature
-/// `parallel`); results in the order of `sets`.
+/// `parallel`); results in the order of `sets`. A set that names a parameter the system
+/// does not declare gives [`Error::UnknownParameter`] in its place, one with a NaN or
+/// infinite value [`Error::NonFinite`].
 pub fn sweep<S, R, F>(system: &S, sets: &[ParameterSet], f: F) -> Vec<Result<R, Error>>
 where
     S: System + Clone,
@@ -51,13 +50,4 @@ where
     return sets.par_iter().map(run).collect();
     #[cfg(not(feature = "parallel"))]
     return sets.iter().map(run).collect();
-}
-
-/// Forward simulation of every parameter set, in parallel.
-pub fn sweep_simulate<S: System + Clone>(
-    system: &S,
-    sets: &[ParameterSet],
-    options: &SimulationOptions,
-) -> Vec<Result<Trajectory, Error>> {
-    sweep(system, sets, |s| simulate(s, options))
 }

@@ -3,7 +3,7 @@
 use nalgebra::{DMatrix, SVector};
 
 use super::drawing::Drawing;
-use super::dynamic::{Evaluation, System, Tangent};
+use super::dynamic::{Evaluation, SolverKey, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
 use super::sparsity::Sparsity;
@@ -122,7 +122,7 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
     fn sparsity(&self) -> Option<&Sparsity> {
         self.sparsity.as_ref()
     }
-    fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
+    fn null_space_solver(&self, _: SolverKey) -> Option<Box<dyn NullSpaceSolve>> {
         Some(Box::new(FixedNullSpace::<N, M>::default()))
     }
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {

@@ -7,6 +7,18 @@ use super::info::SystemInfo;
 use super::sparsity::Sparsity;
 use crate::linalg::NullSpaceSolve;
 
+/// The argument of [`System::null_space_solver`]: public in a private module, so no code
+/// outside this crate can name it, and with a private field, so none can make one.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverKey(());
+
+impl SolverKey {
+    /// The key, for the crate's own solvers.
+    pub(crate) fn new() -> Self {
+        SolverKey(())
+    }
+}
+
 /// Caller-owned buffers for one evaluation of a [`System`] (sizes n and m fixed at creation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Evaluation {
@@ -81,13 +93,15 @@ pub trait System: Send + Sync {
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
         let _ = (t, q, out);
     }
-    /// Not API (hidden; the solvers' own hook): a solver of the augmented system by the
-    /// null space of Phi_q specialised to this system's static sizes (every loop with a
-    /// constant trip count), which [`crate::Dynamics`] asks for on its first solve; `None`
-    /// (the default) keeps the run-time-sized one. Only [`crate::Compiled`], where the sizes
-    /// are type parameters, provides it.
+    /// Not API (sealed: only this crate can name [`SolverKey`], so no code outside it can
+    /// call or override this): a solver of the augmented system by the null space of Phi_q
+    /// specialised to this system's static sizes (every loop with a constant trip count),
+    /// which [`crate::Dynamics`] asks for on its first solve; `None` (the default) keeps the
+    /// run-time-sized one. Only [`crate::Compiled`], where the sizes are type parameters,
+    /// provides it.
     #[doc(hidden)]
-    fn null_space_solver(&self) -> Option<Box<dyn NullSpaceSolve>> {
+    fn null_space_solver(&self, key: SolverKey) -> Option<Box<dyn NullSpaceSolve>> {
+        let _ = key;
         None
     }
     /// Exact tangent matrices of the dynamic residual

@@ -12,6 +12,7 @@
 //!
 //! [`Routines`]: mechanism_codegen::Routines
 
+use mechanism_codegen::error::ProgramError;
 use mechanism_codegen::{
     Equations, Error, EvaluationOutput, Model, Role, Tangents, compile_interpreted,
     constraint_tangent, residual_tangent,
@@ -104,9 +105,9 @@ impl Interpreted {
     /// tangent; the drawing; the parameter cache), checking each once.
     ///
     /// # Errors
-    /// A compilation error from codegen; [`Error::NotASymbol`] for a hand-built model whose
-    /// parameter or coordinate entry is not a symbol, [`Error::MissingValue`] for equations
-    /// that read a symbol the model does not declare, [`Error::OutputCount`] for equations
+    /// A compilation error from codegen; [`mechanism_codegen::error::DerivationError::NotASymbol`] for a hand-built model whose
+    /// parameter or coordinate entry is not a symbol, [`mechanism_codegen::error::EvalError::MissingValue`] for equations
+    /// that read a symbol the model does not declare, [`mechanism_codegen::error::ProgramError::OutputCount`] for equations
     /// whose sizes are not n and m.
     pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, Error> {
         Self::from_equations_with(model, eqs, Tangents::Residual)
@@ -174,18 +175,21 @@ impl Interpreted {
         };
         let full = routine(Role::Evaluation, full_len)?;
         // `full` has full_len outputs (checked above), all that the scatter reads.
-        let scatter = EvaluationScatter::new(&full, &sparsity).ok_or(Error::OutputCount {
-            what: "evaluation outputs",
-            given: full_len,
-            outputs: 0,
-        })?;
+        let scatter = EvaluationScatter::new(&full, &sparsity).ok_or(Error::Program(
+            ProgramError::OutputCount {
+                what: "evaluation outputs",
+                given: full_len,
+                outputs: 0,
+            },
+        ))?;
         let jacobian = routine(Role::ConstraintJacobian, m * n)?;
-        let jacobian_scatter =
-            matrix_scatter(&jacobian, 0, (m, n), &sparsity.jacobian).ok_or(Error::OutputCount {
+        let jacobian_scatter = matrix_scatter(&jacobian, 0, (m, n), &sparsity.jacobian).ok_or(
+            Error::Program(ProgramError::OutputCount {
                 what: "constraint Jacobian outputs",
                 given: m * n,
                 outputs: 0,
-            })?;
+            }),
+        )?;
         let constraint_tangent = match routines.get(Role::ConstraintTangent) {
             Some(_) => Some(routine(Role::ConstraintTangent, 3 * m * n)?),
             None => None,

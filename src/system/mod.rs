@@ -38,6 +38,8 @@ pub use compiled::Compiled;
 #[cfg(feature = "std")]
 pub use drawing::{Drawing, DrawnPoint};
 #[cfg(feature = "std")]
+pub(crate) use dynamic::SolverKey;
+#[cfg(feature = "std")]
 pub use dynamic::{ConstraintTangent, Evaluation, System, Tangent};
 #[cfg(feature = "std")]
 pub use info::{ConstraintRow, SystemInfo};

@@ -2,6 +2,7 @@
 //! where each of its inputs comes from (the routines' [`Sources`] table), checked once when
 //! it is built so that running it cannot fail.
 
+use mechanism_codegen::error::{EvalError, ProgramError};
 use mechanism_codegen::{Error, Program, Source, Sources, Tape};
 
 use crate::system::registers::with_registers;
@@ -48,16 +49,16 @@ impl Routine {
     /// entries.
     ///
     /// # Errors
-    /// [`Error::MissingValue`] for an input symbol without a source (a hand-built model's
-    /// free symbol), [`Error::OutputCount`] when the program does not have `outputs` entries.
+    /// [`mechanism_codegen::error::EvalError::MissingValue`] for an input symbol without a source (a hand-built model's
+    /// free symbol), [`mechanism_codegen::error::ProgramError::OutputCount`] when the program does not have `outputs` entries.
     pub(crate) fn new(program: &Program, sources: &Sources, outputs: usize) -> Result<Self, Error> {
         let tape = Tape::new(program);
         if tape.output_len() != outputs {
-            return Err(Error::OutputCount {
+            return Err(Error::Program(ProgramError::OutputCount {
                 what: "output slots",
                 given: outputs,
                 outputs: tape.output_len(),
-            });
+            }));
         }
         let name = |symbol| {
             let named = program.symbols().iter().find(|(s, _)| *s == symbol);
@@ -67,7 +68,7 @@ impl Routine {
             .input_slots()
             .map(|(symbol, slot)| match sources.get(symbol) {
                 Some(source) => Ok((slot, source)),
-                None => Err(Error::MissingValue { name: name(symbol) }),
+                None => Err(Error::Eval(EvalError::MissingValue { name: name(symbol) })),
             })
             .collect::<Result<_, _>>()?;
         Ok(Self { tape, inputs })

@@ -1,7 +1,7 @@
 //! Declarations whose numbers or physics cannot be right, given to the command-line tool as
 //! `.mech` files: one line naming the file, the line and column and the rule, exit status
-//! 1, and no output folder. Each used to be accepted (a silently wrong model, or a run that
-//! ended in a step-size underflow or a misleading diagnosis).
+//! 1, and no output folder. Accepted, each would give a silently wrong model, or a run that
+//! ends in a step-size underflow or a misleading diagnosis.
 
 use super::{assert_one_line_error, mechanism, out_dir};
 

@@ -1,6 +1,7 @@
 //! `mechanism!(file = ...)` reads a file relative to CARGO_MANIFEST_DIR, or else relative to
-//! the source file that invokes it; both forms must expand (the second used to expand to an
-//! `include_str!` path doubled onto the invoking file's directory).
+//! the source file that invokes it; both forms must expand (the second to an `include_str!`
+//! of the file's own path, not of that path joined once more onto the invoking file's
+//! directory).
 
 use mechanism::Mechanism;
 

@@ -2,6 +2,7 @@
 //! built, not a panic or a NaN at an evaluation.
 
 use mechanism::Interpreted;
+use mechanism_codegen::error::EvalError;
 use mechanism_codegen::fixtures::closed_chain_model;
 use mechanism_codegen::{Error, Matrix, SymbolKind, derive};
 
@@ -30,8 +31,8 @@ fn equations_that_read_an_undeclared_symbol_are_a_typed_error() {
     let err = Interpreted::from_equations(model, eqs).expect_err("must be refused");
     assert_eq!(
         err,
-        Error::MissingValue {
+        Error::Eval(EvalError::MissingValue {
             name: "stray".into()
-        }
+        })
     );
 }

@@ -12,6 +12,7 @@
 
 use crate::algebra::dependencies::DependencySets;
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -60,10 +61,10 @@ impl Differentiator {
         if id.index() < arena.len() {
             Ok(())
         } else {
-            Err(Error::InvalidId {
+            Err(Error::Algebra(AlgebraError::InvalidId {
                 id: id.0,
                 len: arena.len(),
-            })
+            }))
         }
     }
 
@@ -71,10 +72,10 @@ impl Differentiator {
         if (s.0 as usize) < arena.symbols().len() {
             Ok(())
         } else {
-            Err(Error::UnknownSymbolId {
+            Err(Error::Algebra(AlgebraError::UnknownSymbolId {
                 id: s.0,
                 symbols: arena.symbols().len(),
-            })
+            }))
         }
     }
 
@@ -82,7 +83,7 @@ impl Differentiator {
     /// a grown arena).
     ///
     /// # Errors
-    /// [`Error::InvalidId`] when `id` is not in `arena`.
+    /// [`crate::error::AlgebraError::InvalidId`] when `id` is not in `arena`.
     pub fn depends_on(&mut self, arena: &Arena, id: Id, s: SymbolId) -> Result<bool> {
         Self::check(arena, id)?;
         self.sync(arena);
@@ -113,7 +114,7 @@ impl Differentiator {
     /// The symbols the expression `id` depends on, in increasing [`SymbolId`] order.
     ///
     /// # Errors
-    /// [`Error::InvalidId`] when `id` is not in `arena`.
+    /// [`crate::error::AlgebraError::InvalidId`] when `id` is not in `arena`.
     pub fn symbols_of(&mut self, arena: &Arena, id: Id) -> Result<Vec<SymbolId>> {
         Self::check(arena, id)?;
         self.sync(arena);
@@ -128,9 +129,9 @@ impl Differentiator {
     /// exp, ln' = u'/u, |u|' = u/|u| u'; atan2(y, x)' = (x y' - y x')/(x^2 + y^2).
     ///
     /// # Errors
-    /// [`Error::InvalidId`] or [`Error::UnknownSymbolId`] for an id or symbol not in `arena`;
-    /// [`Error::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined);
-    /// [`Error::ExpressionsTooLarge`] once the arena is beyond its budget.
+    /// [`crate::error::AlgebraError::InvalidId`] or [`crate::error::AlgebraError::UnknownSymbolId`] for an id or symbol not in `arena`;
+    /// [`crate::error::AlgebraError::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined);
+    /// [`crate::error::BudgetError::Size`] once the arena is beyond its budget.
     pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
         Self::check(arena, id)?;
         Self::check_symbol(arena, sym)?;
@@ -164,10 +165,13 @@ impl Differentiator {
             let d = self.rule(arena, n, sym)?;
             self.memo.insert((n, sym), d);
         }
-        self.memo.get(&(id, sym)).copied().ok_or(Error::InvalidId {
-            id: id.0,
-            len: arena.len(),
-        })
+        self.memo
+            .get(&(id, sym))
+            .copied()
+            .ok_or(Error::Algebra(AlgebraError::InvalidId {
+                id: id.0,
+                len: arena.len(),
+            }))
     }
 
     /// The cached derivative of a child (0 when it does not depend on `sym`).
@@ -303,7 +307,7 @@ impl Differentiator {
     /// parameters and unlinked free symbols are constants.
     ///
     /// # Errors
-    /// As [`Differentiator::diff`]; [`Error::ThirdDerivative`] when `id` depends on an acceleration
+    /// As [`Differentiator::diff`]; [`crate::error::AlgebraError::ThirdDerivative`] when `id` depends on an acceleration
     /// (its time derivative, a third derivative, is not a symbol of the language).
     pub fn time_derivative(&mut self, arena: &mut Arena, id: Id) -> Result<Id> {
         self.time_derivative_impl(arena, id, true)
@@ -333,9 +337,9 @@ impl Differentiator {
             match (info.kind, info.derivative) {
                 (SymbolKind::Time, _) => terms.push(self.diff(arena, id, s)?),
                 (SymbolKind::Acceleration, None) => {
-                    return Err(Error::ThirdDerivative {
+                    return Err(Error::Algebra(AlgebraError::ThirdDerivative {
                         name: info.name.clone(),
-                    });
+                    }));
                 }
                 (_, Some(sd)) => {
                     if !with_acceleration && arena.symbol_info(sd).kind == SymbolKind::Acceleration

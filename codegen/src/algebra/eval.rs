@@ -3,13 +3,14 @@
 //! This is the reference route: it walks the DAG once, children before parents (increasing
 //! [`Id`] order is topological), so every shared node is evaluated once and no recursion
 //! depth is involved. Every intermediate value is checked: a division by zero, ln or sqrt
-//! of a negative number, or an overflow is [`Error::NonFinite`], never a silent NaN.
+//! of a negative number, or an overflow is [`crate::error::EvalError::NonFinite`], never a silent NaN.
 //!
 //! For repeated evaluation of the same outputs use [`crate::Tape`], which compiles the
 //! DAG once.
 
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
+use crate::error::{AlgebraError, EvalError};
 use crate::error::{Error, Result};
 use crate::number::Number;
 use mechanism_math::sin_cos;
@@ -20,9 +21,9 @@ use mechanism_math::sin_cos;
 /// integer k by `powi`, `x^(1/2)` by `sqrt`, `x^(-1/2)` by `1/sqrt`, other powers by `powf`.
 ///
 /// # Errors
-/// [`Error::MissingValue`] when `env` has no value for a symbol the expression uses,
-/// [`Error::NonFinite`] when an input or an intermediate value is not finite,
-/// [`Error::InvalidId`] when `id` is not a node of `arena`.
+/// [`crate::error::EvalError::MissingValue`] when `env` has no value for a symbol the expression uses,
+/// [`crate::error::EvalError::NonFinite`] when an input or an intermediate value is not finite,
+/// [`crate::error::AlgebraError::InvalidId`] when `id` is not a node of `arena`.
 ///
 /// # Example
 /// ```
@@ -36,17 +37,19 @@ use mechanism_math::sin_cos;
 /// ```
 pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Result<f64> {
     let v = eval_many(arena, &[id], env)?;
-    v.first().copied().ok_or(Error::InvalidId {
-        id: id.0,
-        len: arena.len(),
-    })
+    v.first()
+        .copied()
+        .ok_or(Error::Algebra(AlgebraError::InvalidId {
+            id: id.0,
+            len: arena.len(),
+        }))
 }
 
 /// The values of all entries of `m`, row-major (entry (i, j) at `i * m.cols() + j`), sharing
 /// the evaluation of common subexpressions between entries.
 ///
 /// # Errors
-/// As [`eval`]; also [`Error::MalformedMatrix`] for a matrix built inside this crate whose
+/// As [`eval`]; also [`crate::error::AlgebraError::MalformedMatrix`] for a matrix built inside this crate whose
 /// entries do not fill rows x cols (the public constructors refuse one).
 pub fn eval_matrix(
     arena: &Arena,
@@ -54,11 +57,11 @@ pub fn eval_matrix(
     env: &dyn Fn(SymbolId) -> Option<f64>,
 ) -> Result<Vec<f64>> {
     if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
-        return Err(Error::MalformedMatrix {
+        return Err(Error::Algebra(AlgebraError::MalformedMatrix {
             rows: m.rows,
             cols: m.cols,
             len: m.data.len(),
-        });
+        }));
     }
     eval_many(arena, &m.data, env)
 }
@@ -74,7 +77,7 @@ pub fn eval_many(
 ) -> Result<Vec<f64>> {
     let len = arena.len();
     if let Some(bad) = ids.iter().find(|i| i.index() >= len) {
-        return Err(Error::InvalidId { id: bad.0, len });
+        return Err(Error::Algebra(AlgebraError::InvalidId { id: bad.0, len }));
     }
     let Some(top) = ids.iter().map(|i| i.index()).max() else {
         return Ok(Vec::new());
@@ -152,12 +155,12 @@ fn node_value(
                     .get(s.0 as usize)
                     .map_or_else(|| format!("#{}", s.0), |x| x.name.clone())
             };
-            let x = env(*s).ok_or_else(|| Error::MissingValue { name: name() })?;
+            let x = env(*s).ok_or_else(|| Error::Eval(EvalError::MissingValue { name: name() }))?;
             if !x.is_finite() {
-                return Err(Error::NonFinite {
+                return Err(Error::Eval(EvalError::NonFinite {
                     operation: name(),
                     arguments: format!("{x}"),
-                });
+                }));
             }
             return Ok(x);
         }
@@ -229,8 +232,8 @@ fn non_finite(operation: &str, args: &[f64]) -> Error {
         .map(|a| format!("{a:?}"))
         .collect::<Vec<_>>()
         .join(", ");
-    Error::NonFinite {
+    Error::Eval(EvalError::NonFinite {
         operation: operation.to_string(),
         arguments: format!("({arguments})"),
-    }
+    })
 }

@@ -13,6 +13,7 @@
 //! Nothing is expanded beyond that: products of sums stay products, which keeps derived
 //! expressions lean.
 
+use crate::error::{AlgebraError, BudgetError};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 
@@ -29,7 +30,7 @@ pub struct Id(pub(crate) u32);
 
 impl Id {
     /// The id of the node at `index`. Nothing checks it here: an arena that holds no such
-    /// node refuses it ([`Error::InvalidId`]).
+    /// node refuses it ([`crate::error::AlgebraError::InvalidId`]).
     pub const fn new(index: u32) -> Id {
         Id(index)
     }
@@ -46,7 +47,7 @@ pub struct SymbolId(pub(crate) u32);
 
 impl SymbolId {
     /// The id of the symbol at `index` of a symbol table. Nothing checks it here: an arena
-    /// without that symbol refuses it ([`Error::UnknownSymbolId`]).
+    /// without that symbol refuses it ([`crate::error::AlgebraError::UnknownSymbolId`]).
     pub const fn new(index: u32) -> SymbolId {
         SymbolId(index)
     }
@@ -315,22 +316,22 @@ impl Arena {
         self.budget = budget;
     }
 
-    /// [`Error::ExpressionsTooLarge`] when the graph is beyond [`Budget::size`],
-    /// [`Error::WorkTooLarge`] when the work is beyond [`Budget::work`]. Every derivative and
+    /// [`crate::error::BudgetError::Size`] when the graph is beyond [`Budget::size`],
+    /// [`crate::error::BudgetError::Work`] when the work is beyond [`Budget::work`]. Every derivative and
     /// every compiled program checks it, so a runaway derivation stops within one
     /// derivative's growth of the limit.
     pub fn check_budget(&self) -> Result<()> {
         if self.size > self.budget.size {
-            return Err(Error::ExpressionsTooLarge {
+            return Err(Error::Budget(BudgetError::Size {
                 size: self.size,
                 budget: self.budget.size,
-            });
+            }));
         }
         if self.work > self.budget.work {
-            return Err(Error::WorkTooLarge {
+            return Err(Error::Budget(BudgetError::Work {
                 work: self.work,
                 budget: self.budget.work,
-            });
+            }));
         }
         Ok(())
     }
@@ -515,15 +516,21 @@ impl Arena {
 
     /// The exact rational num/den; division by zero is an error.
     pub fn rational(&mut self, num: i64, den: i64) -> Result<Id> {
-        let n = Number::rational(num, den).ok_or(Error::DivisionByZero)?;
+        let n = Number::rational(num, den).ok_or_else(|| {
+            Error::Algebra(AlgebraError::DivisionByZero {
+                operation: format!("{num}/{den}"),
+            })
+        })?;
         Ok(self.number(n))
     }
 
     /// A float constant (non-finite values are a domain error).
     pub fn float(&mut self, x: f64) -> Result<Id> {
-        let n = Number::float(x).ok_or_else(|| Error::Domain {
-            function: "float",
-            argument: format!("{x}"),
+        let n = Number::float(x).ok_or_else(|| {
+            Error::Algebra(AlgebraError::Domain {
+                function: "float",
+                argument: format!("{x}"),
+            })
         })?;
         Ok(self.number(n))
     }
@@ -579,10 +586,10 @@ impl Arena {
             let v = n.to_f64();
             match f {
                 Func::Ln if v <= 0.0 => {
-                    return Err(Error::Domain {
+                    return Err(Error::Algebra(AlgebraError::Domain {
                         function: "ln",
                         argument: n.to_string(),
-                    });
+                    }));
                 }
                 Func::Abs => {
                     let a = if n.is_negative() { -n } else { n };

@@ -6,6 +6,7 @@
 
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, Id, SymbolId, SymbolKind};
+use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 
 /// A dense symbolic matrix, row-major. Built through its constructors, it always has
@@ -24,14 +25,14 @@ impl Matrix {
     /// The rows x cols matrix with the row-major entries `data`.
     ///
     /// # Errors
-    /// [`Error::MalformedMatrix`] when `data` does not have rows x cols entries.
+    /// [`crate::error::AlgebraError::MalformedMatrix`] when `data` does not have rows x cols entries.
     pub fn new(rows: usize, cols: usize, data: Vec<Id>) -> Result<Self> {
         if rows.checked_mul(cols) != Some(data.len()) {
-            return Err(Error::MalformedMatrix {
+            return Err(Error::Algebra(AlgebraError::MalformedMatrix {
                 rows,
                 cols,
                 len: data.len(),
-            });
+            }));
         }
         Ok(Self { rows, cols, data })
     }
@@ -96,34 +97,34 @@ impl Matrix {
     /// Checks that `data` has rows x cols entries and that every entry is a node of `arena`.
     ///
     /// # Errors
-    /// [`Error::Shape`] for a wrong `data` length, [`Error::InvalidId`] for a foreign id.
+    /// [`crate::error::AlgebraError::Shape`] for a wrong `data` length, [`crate::error::AlgebraError::InvalidId`] for a foreign id.
     pub fn validate(&self, arena: &Arena) -> Result<()> {
         if self.rows.checked_mul(self.cols) != Some(self.data.len()) {
-            return Err(Error::Shape {
+            return Err(Error::Algebra(AlgebraError::Shape {
                 operation: "validate",
                 left_rows: self.rows,
                 left_cols: self.cols,
                 right_rows: self.data.len(),
                 right_cols: 1,
-            });
+            }));
         }
         match self.data.iter().find(|id| id.index() >= arena.len()) {
-            Some(bad) => Err(Error::InvalidId {
+            Some(bad) => Err(Error::Algebra(AlgebraError::InvalidId {
                 id: bad.0,
                 len: arena.len(),
-            }),
+            })),
             None => Ok(()),
         }
     }
 
     fn shape_error(&self, other: &Matrix, operation: &'static str) -> Error {
-        Error::Shape {
+        Error::Algebra(AlgebraError::Shape {
             operation,
             left_rows: self.rows,
             left_cols: self.cols,
             right_rows: other.rows,
             right_cols: other.cols,
-        }
+        })
     }
 
     /// The n x n identity I_n.
@@ -135,7 +136,7 @@ impl Matrix {
     /// A^T.
     ///
     /// # Errors
-    /// [`Error::Shape`] when `data` does not have rows x cols entries.
+    /// [`crate::error::AlgebraError::Shape`] when `data` does not have rows x cols entries.
     pub fn transpose(&self) -> Result<Self> {
         if self.rows.checked_mul(self.cols) != Some(self.data.len()) {
             return Err(self.shape_error(self, "transpose"));
@@ -171,7 +172,7 @@ impl Matrix {
     /// A + B, entry by entry.
     ///
     /// # Errors
-    /// [`Error::Shape`] when the sizes differ; [`Error::InvalidId`] for a foreign id.
+    /// [`crate::error::AlgebraError::Shape`] when the sizes differ; [`crate::error::AlgebraError::InvalidId`] for a foreign id.
     pub fn add(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.entrywise(arena, other, "add", |a, x, y| a.add2(x, y))
     }
@@ -187,14 +188,14 @@ impl Matrix {
     /// c A for a scalar expression c.
     ///
     /// # Errors
-    /// [`Error::Shape`] or [`Error::InvalidId`] for a malformed matrix or a foreign `c`.
+    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a malformed matrix or a foreign `c`.
     pub fn scale(&self, arena: &mut Arena, c: Id) -> Result<Self> {
         self.validate(arena)?;
         if c.index() >= arena.len() {
-            return Err(Error::InvalidId {
+            return Err(Error::Algebra(AlgebraError::InvalidId {
                 id: c.0,
                 len: arena.len(),
-            });
+            }));
         }
         let data = self.data.iter().map(|&a| arena.mul2(c, a)).collect();
         Ok(Self {
@@ -231,7 +232,7 @@ impl Matrix {
     /// (dM/dq)(I_n kron q') cheap.
     ///
     /// # Errors
-    /// [`Error::Shape`] when A's columns differ from B's rows; [`Error::InvalidId`].
+    /// [`crate::error::AlgebraError::Shape`] when A's columns differ from B's rows; [`crate::error::AlgebraError::InvalidId`].
     pub fn mul(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.validate(arena)?;
         other.validate(arena)?;
@@ -274,7 +275,7 @@ impl Matrix {
     /// (rows_A rows_B) x (cols_A cols_B); entry (i rows_B + k, j cols_B + l) is a_ij b_kl.
     ///
     /// # Errors
-    /// [`Error::Shape`] or [`Error::InvalidId`] for a malformed operand.
+    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a malformed operand.
     pub fn kron(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.validate(arena)?;
         other.validate(arena)?;
@@ -306,7 +307,7 @@ impl Matrix {
     /// by its row gradient, (dA/dx)[i, j n + k] = d a_ij / d x_k.
     ///
     /// # Errors
-    /// [`Error::Shape`], [`Error::InvalidId`] or [`Error::UnknownSymbolId`] for a malformed
+    /// [`crate::error::AlgebraError::Shape`], [`crate::error::AlgebraError::InvalidId`] or [`crate::error::AlgebraError::UnknownSymbolId`] for a malformed
     /// matrix or a symbol not in `arena`; differentiation errors (see [`Differentiator::diff`]).
     pub fn khang_derivative(
         &self,
@@ -337,7 +338,7 @@ impl Matrix {
     /// x = (q, q') to differentiate an A(q, q', t).
     ///
     /// # Errors
-    /// [`Error::NoTimeDerivative`] when a symbol of `x` has no derivative link; otherwise as
+    /// [`crate::error::AlgebraError::NoTimeDerivative`] when a symbol of `x` has no derivative link; otherwise as
     /// [`Matrix::khang_derivative`].
     pub fn time_derivative(
         &self,
@@ -345,21 +346,23 @@ impl Matrix {
         diff: &mut Differentiator,
         x: &[SymbolId],
     ) -> Result<Self> {
-        let rates: Vec<Id> =
-            x.iter()
-                .map(|&s| {
-                    let info = arena.symbols().get(s.0 as usize).ok_or_else(|| {
-                        Error::UnknownSymbolId {
-                            id: s.0,
-                            symbols: arena.symbols().len(),
-                        }
-                    })?;
-                    let d = info.derivative.ok_or_else(|| Error::NoTimeDerivative {
+        let rates: Vec<Id> = x
+            .iter()
+            .map(|&s| {
+                let info = arena.symbols().get(s.0 as usize).ok_or_else(|| {
+                    Error::Algebra(AlgebraError::UnknownSymbolId {
+                        id: s.0,
+                        symbols: arena.symbols().len(),
+                    })
+                })?;
+                let d = info.derivative.ok_or_else(|| {
+                    Error::Algebra(AlgebraError::NoTimeDerivative {
                         name: info.name.clone(),
-                    })?;
-                    Ok(arena.symbol_node(d))
-                })
-                .collect::<Result<_>>()?;
+                    })
+                })?;
+                Ok(arena.symbol_node(d))
+            })
+            .collect::<Result<_>>()?;
         let da = self.khang_derivative(arena, diff, x)?;
         let ip = Matrix::identity(arena, self.cols);
         let xd = Matrix::column(rates);

@@ -87,7 +87,7 @@ impl Orientation {
     /// R = F_1 F_2 ... F_k (the identity for no factors).
     ///
     /// # Errors
-    /// [`crate::Error::Shape`] when an explicit factor is not 3x3.
+    /// [`crate::error::AlgebraError::Shape`] when an explicit factor is not 3x3.
     pub fn matrix(&self, arena: &mut Arena) -> Result<Matrix> {
         let mut r = Matrix::identity(arena, 3);
         for f in &self.factors {
@@ -105,7 +105,7 @@ impl Orientation {
     /// a factor depends on `time`).
     ///
     /// # Errors
-    /// [`crate::Error::Shape`] when an explicit factor is not 3x3; differentiation errors.
+    /// [`crate::error::AlgebraError::Shape`] when an explicit factor is not 3x3; differentiation errors.
     pub fn angular_jacobian(
         &self,
         arena: &mut Arena,

@@ -26,6 +26,7 @@ pub(crate) mod role;
 pub(crate) mod sources;
 pub(crate) mod sparsity;
 
+use crate::error::{EvalError, ProgramError};
 use std::fmt::Write as _;
 
 use crate::algebra::expr::SymbolId;
@@ -58,8 +59,8 @@ pub struct Routines {
 /// (`cache[k]`), and so is the bias of [`Role::MassAndBias`].
 ///
 /// # Errors
-/// What [`Program::new`] and hoisting report; [`Error::NotASymbol`] for a hand-built model
-/// whose parameter or coordinate entry is not a symbol; [`Error::MissingValue`] for a
+/// What [`Program::new`] and hoisting report; [`crate::error::DerivationError::NotASymbol`] for a hand-built model
+/// whose parameter or coordinate entry is not a symbol; [`crate::error::EvalError::MissingValue`] for a
 /// program that reads a symbol without a source its role provides (equations reading a
 /// symbol the model does not declare).
 ///
@@ -150,7 +151,7 @@ fn check_sources(role: Role, program: &Program, sources: &Sources) -> Result<()>
     for (symbol, name) in program.symbols() {
         match sources.get(*symbol) {
             Some(source) if role.provides(source) => {}
-            _ => return Err(Error::MissingValue { name: name.clone() }),
+            _ => return Err(Error::Eval(EvalError::MissingValue { name: name.clone() })),
         }
     }
     Ok(())
@@ -169,11 +170,12 @@ impl Routines {
     /// The program of `role`.
     ///
     /// # Errors
-    /// [`Error::NoSuchRoutine`] for a role not compiled.
+    /// [`crate::error::ProgramError::NoSuchRoutine`] for a role not compiled.
     pub fn program(&self, role: Role) -> Result<&Program> {
-        self.get(role).ok_or(Error::NoSuchRoutine {
-            role: format!("{role:?}"),
-        })
+        self.get(role)
+            .ok_or(Error::Program(ProgramError::NoSuchRoutine {
+                role: format!("{role:?}"),
+            }))
     }
 
     /// Every (role, program) pair, in [`Role::compiled`] order, then the parameter cache.

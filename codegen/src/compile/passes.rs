@@ -23,6 +23,7 @@
 
 use crate::algebra::expr::{Arena, SymbolKind};
 use crate::algebra::matrix::Matrix;
+use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 use crate::program::builder::InstructionSelection;
 use crate::program::cse::{Program, compact, named_symbols};
@@ -39,8 +40,8 @@ impl Program {
     /// parameter-only values are cached; the value is the same up to rounding.
     ///
     /// # Errors
-    /// [`Error::InvalidId`] for an entry that is not a node of `arena`, [`Error::MalformedMatrix`]
-    /// for a matrix whose data length is not rows x cols, [`Error::NonFinite`] for a constant
+    /// [`crate::error::AlgebraError::InvalidId`] for an entry that is not a node of `arena`, [`crate::error::AlgebraError::MalformedMatrix`]
+    /// for a matrix whose data length is not rows x cols, [`crate::error::EvalError::NonFinite`] for a constant
     /// subexpression that is not finite.
     ///
     /// # Example
@@ -85,14 +86,14 @@ fn check(arena: &Arena, outputs: &[&Matrix]) -> Result<()> {
     let len = arena.len();
     for m in outputs {
         if m.rows.checked_mul(m.cols) != Some(m.data.len()) {
-            return Err(Error::MalformedMatrix {
+            return Err(Error::Algebra(AlgebraError::MalformedMatrix {
                 rows: m.rows,
                 cols: m.cols,
                 len: m.data.len(),
-            });
+            }));
         }
         if let Some(bad) = m.data.iter().find(|i| i.index() >= len) {
-            return Err(Error::InvalidId { id: bad.0, len });
+            return Err(Error::Algebra(AlgebraError::InvalidId { id: bad.0, len }));
         }
     }
     Ok(())

@@ -3,7 +3,7 @@
 use crate::algebra::expr::Arena;
 use crate::algebra::matrix::Matrix;
 use crate::compile::sources::Source;
-use crate::error::{Error, Result};
+use crate::error::{Error, ProgramError, Result};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::tangent::ResidualTangent;
@@ -160,8 +160,10 @@ impl Role {
         tangent: Option<&ResidualTangent>,
     ) -> Result<Vec<Matrix>> {
         let frame = |k: usize| eqs.frames.get(k);
-        let no_tangent = || Error::NoSuchRoutine {
-            role: format!("{self:?} (no tangent was derived)"),
+        let no_tangent = || {
+            Error::Program(ProgramError::NoSuchRoutine {
+                role: format!("{self:?} (no tangent was derived)"),
+            })
         };
         Ok(match self {
             Role::Mass => vec![eqs.mass.clone()],

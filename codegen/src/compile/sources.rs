@@ -1,6 +1,7 @@
 //! Where the value of each symbol a routine reads comes from at a call.
 
 use crate::algebra::expr::{Id, SymbolId};
+use crate::error::DerivationError;
 use crate::error::{Error, Result};
 use crate::mechanics::model::Model;
 
@@ -39,11 +40,15 @@ impl Sources {
     /// slot symbols `slots`.
     ///
     /// # Errors
-    /// [`Error::NotASymbol`] for a hand-built model whose parameter or coordinate entry is
+    /// [`crate::error::DerivationError::NotASymbol`] for a hand-built model whose parameter or coordinate entry is
     /// not a symbol.
     pub(crate) fn new(model: &Model, lambda: &[SymbolId], slots: &[SymbolId]) -> Result<Self> {
         let arena = &model.arena;
-        let symbol = |id: Id, role: String| arena.as_symbol(id).ok_or(Error::NotASymbol { role });
+        let symbol = |id: Id, role: String| {
+            arena
+                .as_symbol(id)
+                .ok_or(Error::Derivation(DerivationError::NotASymbol { role }))
+        };
         let mut entries = Vec::new();
         for (k, p) in model.parameters.iter().enumerate() {
             let s = symbol(p.symbol, format!("parameter `{}`", p.name))?;

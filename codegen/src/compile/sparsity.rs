@@ -66,7 +66,7 @@ impl Routines {
     /// solvers use), read off the [`Role::Evaluation`] program.
     ///
     /// # Errors
-    /// [`crate::Error::NoSuchRoutine`] when the evaluation was not compiled (never for
+    /// [`crate::error::ProgramError::NoSuchRoutine`] when the evaluation was not compiled (never for
     /// routines made by [`crate::compile`]).
     ///
     /// # Example

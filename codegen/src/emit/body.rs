@@ -28,6 +28,7 @@
 //! - binding tokens must be postfix expressions (paths, fields, indexing), so that they can
 //!   be a method receiver (`q[2].sin()`) without parentheses.
 
+use crate::error::{EvalError, ProgramError};
 use std::str::FromStr;
 
 use proc_macro2::{Delimiter, Group, Ident, Literal, Punct, Spacing, Span, TokenStream};
@@ -156,10 +157,10 @@ pub struct EmittedBody {
 /// [`OutputTarget::Skip`] (one target per output, in order).
 ///
 /// # Errors
-/// [`Error::OutputCount`] when the number of targets differs from the number of outputs,
-/// [`Error::ReturnNotScalar`] or [`Error::SeveralReturns`] when a `Return` output is not
-/// 1 x 1 or there are two, [`Error::MatrixAsVector`] when a `Vector` output has several rows
-/// and columns, [`Error::RegisterPrefix`] when the prefix is not an identifier; [`Error::MissingValue`] when a symbol
+/// [`crate::error::ProgramError::OutputCount`] when the number of targets differs from the number of outputs,
+/// [`crate::error::ProgramError::ReturnNotScalar`] or [`crate::error::ProgramError::SeveralReturns`] when a `Return` output is not
+/// 1 x 1 or there are two, [`crate::error::ProgramError::MatrixAsVector`] when a `Vector` output has several rows
+/// and columns, [`crate::error::ProgramError::RegisterPrefix`] when the prefix is not an identifier; [`crate::error::EvalError::MissingValue`] when a symbol
 /// the body reads has no binding.
 ///
 /// # Example
@@ -230,16 +231,16 @@ fn check_request(
     targets: &[OutputTarget],
 ) -> Result<()> {
     if targets.len() != program.outputs().len() {
-        return Err(Error::OutputCount {
+        return Err(Error::Program(ProgramError::OutputCount {
             what: "output targets for a program with",
             given: targets.len(),
             outputs: program.outputs().len(),
-        });
+        }));
     }
     if !is_identifier(&bindings.prefix) {
-        return Err(Error::RegisterPrefix {
+        return Err(Error::Program(ProgramError::RegisterPrefix {
             prefix: bindings.prefix.clone(),
-        });
+        }));
     }
     Ok(())
 }
@@ -249,17 +250,21 @@ fn returned_value(p: &Program, targets: &[&OutputTarget]) -> Result<Option<Opera
     let returns: Vec<usize> = (0..targets.len())
         .filter(|&k| matches!(targets[k], OutputTarget::Return))
         .collect();
-    if returns.len() > 1 {
-        return Err(Error::SeveralReturns);
+    if let [first, second, ..] = returns[..] {
+        return Err(Error::Program(ProgramError::SeveralReturns {
+            first,
+            second,
+        }));
     }
     match returns.first() {
         Some(&k) => {
             let o = &p.outputs()[k];
             if o.entries.len() != 1 {
-                return Err(Error::ReturnNotScalar {
+                return Err(Error::Program(ProgramError::ReturnNotScalar {
+                    output: k,
                     rows: o.rows,
                     cols: o.cols,
-                });
+                }));
             }
             Ok(Some(o.entries[0]))
         }
@@ -272,15 +277,16 @@ fn returned_value(p: &Program, targets: &[&OutputTarget]) -> Result<Option<Opera
 fn check_restricted(p: &Program, bindings: &EmitBindings, targets: &[&OutputTarget]) -> Result<()> {
     for (s, name) in p.symbols() {
         if bindings.get(*s).is_none() {
-            return Err(Error::MissingValue { name: name.clone() });
+            return Err(Error::Eval(EvalError::MissingValue { name: name.clone() }));
         }
     }
-    for (o, t) in p.outputs().iter().zip(targets) {
+    for (output, (o, t)) in p.outputs().iter().zip(targets).enumerate() {
         if matches!(t, OutputTarget::Vector { .. }) && o.rows > 1 && o.cols > 1 {
-            return Err(Error::MatrixAsVector {
+            return Err(Error::Program(ProgramError::MatrixAsVector {
+                output,
                 rows: o.rows,
                 cols: o.cols,
-            });
+            }));
         }
     }
     Ok(())

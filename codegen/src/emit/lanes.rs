@@ -11,10 +11,10 @@
 //! first, that instruction moved up before the group. At most [`LANES`] to a group: more
 //! would outgrow the 16 vector registers of the x86-64 baseline.
 //!
-//! Every body is grouped. Measured in both builds (BENCHMARKS.md, the before/after
-//! tables), the groups made the chains' `evaluate` faster and, since `sin_cos_lanes` is
-//! written with the vector instructions themselves (the compiler's own vectorisation of it
-//! had split four lanes into pairs), the one-degree-of-freedom mechanisms' too.
+//! Every body is grouped, the one-degree-of-freedom mechanisms' included: a group of four
+//! lanes is one pass of `sin_cos_lanes`'s vector instructions (written with the
+//! instructions themselves, four lanes to an AVX2 register, two to an SSE2 one), where the
+//! lanes one by one are four passes of the scalar code. The timings: BENCHMARKS.md.
 
 use crate::program::instructions::{Instr, Operand, Reg, UnOp, defines};
 

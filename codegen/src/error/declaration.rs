@@ -16,19 +16,42 @@ pub enum DeclarationError {
         /// The struct name.
         mechanism: String,
     },
-    /// No `coordinates` section.
-    #[error(
-        "`{mechanism}` declares no coordinates: add `coordinates {{ phi = 0.0; }}` with each generalised coordinate and its initial guess"
-    )]
+    /// No generalised coordinate: no `coordinates` section, an empty one (`coordinates { }`),
+    /// or a model built by hand with none.
+    #[error("{}", no_coordinates(.mechanism, *.empty_section))]
     NoCoordinates {
         /// The struct name.
         mechanism: String,
+        /// True when the section is written but lists nothing.
+        empty_section: bool,
     },
-    /// `coordinates { }`.
+    /// A name that is neither a coordinate, a parameter, nor `t` or `pi` (nor, in a body
+    /// section, a body, point or axis).
+    #[error("unknown symbol `{name}`{}", unknown_hint(.suggestion, .known))]
+    UnknownSymbol {
+        /// The name written.
+        name: String,
+        /// The closest declared name, when one is near (a likely typo).
+        suggestion: Option<String>,
+        /// The names that exist there, closest to `name` first (the message shows the
+        /// first few).
+        known: Vec<String>,
+    },
+    /// A call to a function the language does not have.
     #[error(
-        "`coordinates` is empty: a mechanism needs at least one generalised coordinate (`name = initial guess;`)"
+        "unknown function `{name}` (known: sin, cos, tan, exp, ln, sqrt, atan2, abs, pow, der; in body and link sections also rot_x, rot_y, rot_z, diag, dot, cross, norm)"
     )]
-    EmptyCoordinates,
+    UnknownFunction {
+        /// The name written.
+        name: String,
+    },
+    /// A division by (or a negative power of) an expression that is the constant 0 (`x/0`,
+    /// `1/(2-2)`).
+    #[error("division by zero: `{divisor}` is the constant 0")]
+    ZeroDivisor {
+        /// The divisor as written.
+        divisor: String,
+    },
     /// A parameter or coordinate declared twice.
     #[error("the {kind} `{name}` is declared twice (first at {first})")]
     DeclaredTwice {
@@ -715,6 +738,39 @@ fn listed(names: &[String]) -> String {
 
 /// How many names an error message lists before it counts the rest.
 const LISTED: usize = 12;
+
+/// The message of [`DeclarationError::NoCoordinates`]: what to add, or that the section is
+/// empty.
+fn no_coordinates(mechanism: &str, empty_section: bool) -> String {
+    if empty_section {
+        "`coordinates` is empty: a mechanism needs at least one generalised coordinate (`name = initial guess;`)".to_string()
+    } else {
+        format!(
+            "`{mechanism}` declares no coordinates: add `coordinates {{ phi = 0.0; }}` with each generalised coordinate and its initial guess"
+        )
+    }
+}
+
+/// Known names an unknown-symbol message lists before `...`.
+const KNOWN_SHOWN: usize = 8;
+
+/// `"; did you mean `x`? known: x, y, ..."` for an unknown-symbol message (each part only
+/// when there is something to say).
+fn unknown_hint(suggestion: &Option<String>, known: &[String]) -> String {
+    let mut hint = did_you_mean(suggestion);
+    if !known.is_empty() {
+        hint.push_str(if suggestion.is_some() {
+            " known: "
+        } else {
+            "; known: "
+        });
+        hint.push_str(&known[..known.len().min(KNOWN_SHOWN)].join(", "));
+        if known.len() > KNOWN_SHOWN {
+            hint.push_str(", ...");
+        }
+    }
+    hint
+}
 
 fn written(name: &str, rate: bool) -> String {
     if rate {

@@ -27,6 +27,7 @@ use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::Orientation;
+use crate::error::{AlgebraError, DerivationError};
 use crate::error::{Error, Result};
 use crate::mechanics::model::Model;
 
@@ -112,14 +113,16 @@ impl Symbols {
             let s = (c.q.index() < arena.len())
                 .then(|| arena.as_symbol(c.q))
                 .flatten()
-                .ok_or_else(|| Error::NotASymbol {
-                    role: format!("coordinate `{}`", c.name),
+                .ok_or_else(|| {
+                    Error::Derivation(DerivationError::NotASymbol {
+                        role: format!("coordinate `{}`", c.name),
+                    })
                 })?;
             if c.qd.index() >= arena.len() {
-                return Err(Error::InvalidId {
+                return Err(Error::Algebra(AlgebraError::InvalidId {
                     id: c.qd.0,
                     len: arena.len(),
-                });
+                }));
             }
             q.push(s);
             qd.push(c.qd);
@@ -167,20 +170,20 @@ fn jacobian(
 /// Errors unless `id` is free of the rates and accelerations of the model.
 fn check_position_level(arena: &Arena, model: &Model, id: Id, what: &str) -> Result<()> {
     if id.index() >= arena.len() {
-        return Err(Error::InvalidId {
+        return Err(Error::Algebra(AlgebraError::InvalidId {
             id: id.0,
             len: arena.len(),
-        });
+        }));
     }
     for c in &model.coordinates {
         for r in [c.qd, c.qdd] {
             if let Some(s) = arena.as_symbol(r)
                 && arena.depends_on(id, s)
             {
-                return Err(Error::NotPositionLevel {
+                return Err(Error::Derivation(DerivationError::NotPositionLevel {
                     what: what.to_string(),
                     symbol: arena.symbol_info(s).name.clone(),
-                });
+                }));
             }
         }
     }
@@ -199,11 +202,11 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
         check_position_level(a, model, b.mass, &format!("mass of body `{}`", b.name))?;
         if let Some(i) = &b.inertia {
             if (i.rows, i.cols) != (3, 3) {
-                return Err(Error::InertiaShape {
+                return Err(Error::Derivation(DerivationError::InertiaShape {
                     body: b.name.clone(),
                     rows: i.rows,
                     cols: i.cols,
-                });
+                }));
             }
             i.validate(a)?;
             for &e in &i.data {
@@ -256,11 +259,9 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
 /// the model itself is not changed.
 ///
 /// # Errors
-/// [`Error::NotASymbol`] when a coordinate is not a symbol, [`Error::NotPositionLevel`] when
+/// [`crate::error::DerivationError::NotASymbol`] when a coordinate is not a symbol, [`crate::error::DerivationError::NotPositionLevel`] when
 /// a position, orientation, mass, inertia, gravity, spring or damper expression depends on a
-/// rate or an acceleration, [`Error::InertiaShape`] when an inertia is not 3x3; [`Error::InvalidId`] for a foreign id; differentiation errors.
-// One function: the sums over bodies, springs and dampers fill one set of term lists for
-// M, b, T_0, Pi and the forces; split, every part would take all of them.
+/// rate or an acceleration, [`crate::error::DerivationError::InertiaShape`] when an inertia is not 3x3; [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
 pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     check_system(model, system)?;
     let s = Symbols::of(model)?;
@@ -268,49 +269,112 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     let arena = &mut model.arena;
     let mut d = Differentiator::new();
     let half = arena.rational(1, 2)?;
-    // Entry (i, j), i <= j, of M as a list of terms; b and T_0 likewise.
-    let mut m_terms: Vec<Vec<Id>> = vec![Vec::new(); n * n];
-    let mut b_terms: Vec<Vec<Id>> = vec![Vec::new(); n];
-    let mut t0_terms: Vec<Id> = Vec::new();
-    let mut pi_terms: Vec<Id> = Vec::new();
+    let mut quadratic = QuadraticTerms {
+        m: vec![Vec::new(); n * n],
+        b: vec![Vec::new(); n],
+        t0: Vec::new(),
+    };
+    let mut pi_terms = body_kinetic_and_gravity(arena, &mut d, system, &s, &mut quadratic)?;
+    pi_terms.extend(spring_potentials(arena, system, half)?);
+    let (mass, kinetic) = quadratic.mass_and_kinetic(arena, &s, half)?;
+    let potential = arena.add(&pi_terms);
+    let forces = damper_forces(arena, &mut d, system, &s)?;
+    Ok(BodyTerms {
+        mass,
+        kinetic,
+        potential,
+        forces,
+    })
+}
 
+/// The terms of T = 1/2 q'^T M q' + b . q' + T_0 as lists: entry (i, j), i <= j, of M
+/// (`m`, row-major n x n), of b and of T_0.
+struct QuadraticTerms {
+    m: Vec<Vec<Id>>,
+    b: Vec<Vec<Id>>,
+    t0: Vec<Id>,
+}
+
+impl QuadraticTerms {
+    /// Adds 1/2 (J q' + x_t)^T W (J q' + x_t) ([`add_quadratic`]).
+    fn add(&mut self, arena: &mut Arena, j: &Matrix, xt: &Vec3, w: &Weight<'_>) -> Result<()> {
+        add_quadratic(arena, &mut self.m, &mut self.b, &mut self.t0, j, xt, w)
+    }
+
+    /// M (symmetric) and T = 1/2 sum_i M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j' + b . q' + T_0.
+    fn mass_and_kinetic(&self, arena: &mut Arena, s: &Symbols, half: Id) -> Result<(Matrix, Id)> {
+        let n = s.qd.len();
+        let mut mass = Matrix::zeros(arena, n, n);
+        for i in 0..n {
+            for j in i..n {
+                let e = arena.add(&self.m[i * n + j]);
+                mass.set(i, j, e);
+                mass.set(j, i, e);
+            }
+        }
+        let mut t_terms = Vec::new();
+        for (i, terms) in self.b.iter().enumerate() {
+            let vi = s.qd[i];
+            let mii = mass.get(i, i);
+            if !arena.is_zero(mii) {
+                let v2 = arena.powi(vi, 2)?;
+                t_terms.push(arena.mul(&[half, mii, v2]));
+            }
+            for j in i + 1..n {
+                let mij = mass.get(i, j);
+                if !arena.is_zero(mij) {
+                    t_terms.push(arena.mul(&[mij, vi, s.qd[j]]));
+                }
+            }
+            let bi = arena.add(terms);
+            if !arena.is_zero(bi) {
+                t_terms.push(arena.mul2(bi, vi));
+            }
+        }
+        let t0 = arena.add(&self.t0);
+        t_terms.push(t0);
+        let kinetic = arena.add(&t_terms);
+        Ok((mass, kinetic))
+    }
+}
+
+/// Each body's 1/2 m v^T v and 1/2 w^T I w into `quadratic`; returns its gravity terms of
+/// Pi, -m g . r.
+fn body_kinetic_and_gravity(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    system: &BodySystem,
+    s: &Symbols,
+    quadratic: &mut QuadraticTerms,
+) -> Result<Vec<Id>> {
+    let mut pi_terms = Vec::new();
     for body in &system.bodies {
         let m = body.mass;
         if arena.is_zero(m) && body.inertia.is_none() {
             continue;
         }
-        let (jv, vt) = jacobian(arena, &mut d, &body.position, &s)?;
-        add_quadratic(
-            arena,
-            &mut m_terms,
-            &mut b_terms,
-            &mut t0_terms,
-            &jv,
-            &vt,
-            &Weight::Scalar(m),
-        )?;
+        let (jv, vt) = jacobian(arena, d, &body.position, s)?;
+        quadratic.add(arena, &jv, &vt, &Weight::Scalar(m))?;
         if let (Some(o), Some(inertia)) = (&body.orientation, &body.inertia)
             && !inertia.is_zero(arena)
         {
-            let (jw, wt) = o.angular_jacobian(arena, &mut d, &s.q, s.time)?;
-            add_quadratic(
-                arena,
-                &mut m_terms,
-                &mut b_terms,
-                &mut t0_terms,
-                &jw,
-                &wt,
-                &Weight::Tensor(inertia),
-            )?;
+            let (jw, wt) = o.angular_jacobian(arena, d, &s.q, s.time)?;
+            quadratic.add(arena, &jw, &wt, &Weight::Tensor(inertia))?;
         }
         if let Some(g) = &system.gravity {
-            // Pi = -m g . r
             let gr = dot(arena, g, &body.position);
             let minus_one = arena.int(-1);
             let e = arena.mul(&[minus_one, m, gr]);
             pi_terms.push(e);
         }
     }
+    Ok(pi_terms)
+}
+
+/// Each spring's 1/2 k (|d| - l_0)^2 (1/2 k |d|^2 when l_0 = 0), d the difference of its
+/// ends.
+fn spring_potentials(arena: &mut Arena, system: &BodySystem, half: Id) -> Result<Vec<Id>> {
+    let mut pi_terms = Vec::new();
     for sp in &system.springs {
         let dvec = sub3(arena, &sp.ends[0], &sp.ends[1]);
         let dd = dot(arena, &dvec, &dvec);
@@ -323,46 +387,23 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
         };
         pi_terms.push(arena.mul(&[half, sp.stiffness, stretch2]));
     }
+    Ok(pi_terms)
+}
 
-    let mut mass = Matrix::zeros(arena, n, n);
-    for i in 0..n {
-        for j in i..n {
-            let e = arena.add(&m_terms[i * n + j]);
-            mass.set(i, j, e);
-            mass.set(j, i, e);
-        }
-    }
-    // T = 1/2 sum_i M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j' + b . q' + T_0.
-    let mut t_terms = Vec::new();
-    for (i, terms) in b_terms.iter().enumerate() {
-        let vi = s.qd[i];
-        let mii = mass.get(i, i);
-        if !arena.is_zero(mii) {
-            let v2 = arena.powi(vi, 2)?;
-            t_terms.push(arena.mul(&[half, mii, v2]));
-        }
-        for j in i + 1..n {
-            let mij = mass.get(i, j);
-            if !arena.is_zero(mij) {
-                t_terms.push(arena.mul(&[mij, vi, s.qd[j]]));
-            }
-        }
-        let bi = arena.add(terms);
-        if !arena.is_zero(bi) {
-            t_terms.push(arena.mul2(bi, vi));
-        }
-    }
-    let t0 = arena.add(&t0_terms);
-    t_terms.push(t0);
-    let kinetic = arena.add(&t_terms);
-    let potential = arena.add(&pi_terms);
-
+/// The generalised forces of the dampers: Q_k = -c (d . d' / d . d) (J_d,k . d) for each,
+/// with d' = J_d q' + dd/dt.
+fn damper_forces(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    system: &BodySystem,
+    s: &Symbols,
+) -> Result<Vec<Id>> {
+    let n = s.qd.len();
     let zero = arena.int(0);
     let mut forces = vec![zero; n];
     for dp in &system.dampers {
         let dvec = sub3(arena, &dp.ends[0], &dp.ends[1]);
-        let (jd, dt) = jacobian(arena, &mut d, &dvec, &s)?;
-        // d' = J_d q' + dd/dt
+        let (jd, dt) = jacobian(arena, d, &dvec, s)?;
         let mut rate = dt;
         for (i, r) in rate.iter_mut().enumerate() {
             let mut terms = vec![*r];
@@ -386,12 +427,7 @@ pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
             *f = arena.add2(*f, e);
         }
     }
-    Ok(BodyTerms {
-        mass,
-        kinetic,
-        potential,
-        forces,
-    })
+    Ok(forces)
 }
 
 /// The weight of a quadratic form: a scalar mass or a 3x3 inertia tensor.
@@ -450,23 +486,23 @@ fn add_quadratic(
 /// Pi += the gravity and spring potential, tau_k += the damper forces. Returns the terms.
 ///
 /// # Errors
-/// As [`body_terms`]; [`Error::ForceCount`] when the model has a different number of forces
+/// As [`body_terms`]; [`crate::error::DerivationError::ForceCount`] when the model has a different number of forces
 /// than coordinates.
 pub fn add_body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     if model.forces.len() != model.coordinates.len() {
-        return Err(Error::ForceCount {
+        return Err(Error::Derivation(DerivationError::ForceCount {
             forces: model.forces.len(),
             coordinates: model.coordinates.len(),
-        });
+        }));
     }
     let terms = body_terms(model, system)?;
     let arena = &mut model.arena;
     for id in [model.kinetic, model.potential].iter().chain(&model.forces) {
         if id.index() >= arena.len() {
-            return Err(Error::InvalidId {
+            return Err(Error::Algebra(AlgebraError::InvalidId {
                 id: id.0,
                 len: arena.len(),
-            });
+            }));
         }
     }
     model.kinetic = arena.add2(model.kinetic, terms.kinetic);

@@ -5,19 +5,21 @@
 use std::collections::HashMap;
 
 use crate::algebra::eval::eval;
-use crate::algebra::expr::{Arena, SymbolId, Vec3};
+use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, add_body_terms};
 use crate::mechanics::body_checks::{check_inertia, check_mass, check_orientation};
+use crate::mechanics::drawing::Drawing;
 use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
 use crate::mechanics::links::{LinkContext, build_link};
-use crate::mechanics::model::{Constraint, Model};
+use crate::mechanics::model::{Constraint, Coordinate, Model};
 use crate::mechanics::rolling::{Wheel, rolling_rows, tilt_squared_at};
+use crate::mechanics::tree::Link;
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::ast::Ast;
 use crate::syntax::bodies::{Bodies, BodyItem, Entry, Joint};
@@ -176,26 +178,20 @@ fn define(scope: &mut Scope, name: &str, at: Location, v: Vec3) -> Result<()> {
 
 /// Lowers the body sections into `model`: adds T, Pi and the damper forces
 /// ([`add_body_terms`]) and appends the joint rows to `model.constraints`.
-// One function: one match arm per body-section item, in declaration order (later items use
-// the names that earlier ones define).
 pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
     if bodies.items.is_empty() {
         return Ok(());
     }
-    let known = defaults(model);
-    // The declared values and the initial guesses at t = 0, for the orientation check.
-    let mut at_guesses = known.clone();
-    at_guesses.extend(
-        model
-            .coordinates
-            .iter()
-            .filter_map(|c| Some((model.arena.as_symbol(c.q)?, c.guess))),
-    );
-    at_guesses.extend(model.arena.as_symbol(model.time).map(|s| (s, 0.0)));
-    let mut scope = Scope::default();
-    let mut system = BodySystem::default();
-    let mut rows: Vec<Constraint> = Vec::new();
-    let mut velocity_rows: Vec<Constraint> = Vec::new();
+    let mut lowering = Lowering::new(model);
+    check_names_free(bodies, model)?;
+    for item in &bodies.items {
+        lowering.item(item, model)?;
+    }
+    lowering.finish(bodies, model)
+}
+
+/// No point, axis, body, spring, damper or link is named like a parameter or coordinate.
+fn check_names_free(bodies: &Bodies, model: &Model) -> Result<()> {
     for name in model
         .parameters
         .iter()
@@ -209,155 +205,253 @@ pub(crate) fn build_bodies(bodies: &Bodies, model: &mut Model) -> Result<()> {
             return Err(declaration(kind, at));
         }
     }
-    let mut moving: Vec<SymbolId> = model
-        .coordinates
-        .iter()
-        .filter_map(|c| model.arena.as_symbol(c.q))
-        .collect();
-    let coordinate_symbols = moving.clone();
-    moving.extend(model.arena.as_symbol(model.time));
-    let mut drawing = None;
-    let mut links: Vec<crate::mechanics::tree::Link> = Vec::new();
-    let mut orientations: Vec<Orientation> = Vec::new();
-    for item in &bodies.items {
+    Ok(())
+}
+
+/// The body sections as they are lowered item by item, in declaration order (later items
+/// use the names that earlier ones define).
+struct Lowering {
+    /// The parameters at their declared values.
+    known: Vec<(SymbolId, f64)>,
+    /// The declared values and the initial guesses at t = 0, for the orientation check.
+    at_guesses: Vec<(SymbolId, f64)>,
+    /// The coordinates' symbols.
+    coordinate_symbols: Vec<SymbolId>,
+    /// The coordinates' symbols and t: what a drawn point may move with.
+    moving: Vec<SymbolId>,
+    scope: Scope,
+    system: BodySystem,
+    rows: Vec<Constraint>,
+    velocity_rows: Vec<Constraint>,
+    drawing: Option<Drawing>,
+    links: Vec<Link>,
+    orientations: Vec<Orientation>,
+}
+
+impl Lowering {
+    fn new(model: &Model) -> Self {
+        let known = defaults(model);
+        let mut at_guesses = known.clone();
+        at_guesses.extend(
+            model
+                .coordinates
+                .iter()
+                .filter_map(|c| Some((model.arena.as_symbol(c.q)?, c.guess))),
+        );
+        at_guesses.extend(model.arena.as_symbol(model.time).map(|s| (s, 0.0)));
+        let coordinate_symbols: Vec<SymbolId> = model
+            .coordinates
+            .iter()
+            .filter_map(|c| model.arena.as_symbol(c.q))
+            .collect();
+        let mut moving = coordinate_symbols.clone();
+        moving.extend(model.arena.as_symbol(model.time));
+        Lowering {
+            known,
+            at_guesses,
+            coordinate_symbols,
+            moving,
+            scope: Scope::default(),
+            system: BodySystem::default(),
+            rows: Vec::new(),
+            velocity_rows: Vec::new(),
+            drawing: None,
+            links: Vec::new(),
+            orientations: Vec::new(),
+        }
+    }
+
+    /// Lowers one item: one match arm per kind of body-section item.
+    fn item(&mut self, item: &BodyItem, model: &mut Model) -> Result<()> {
         let arena = &mut model.arena;
+        let scope = &mut self.scope;
         match item {
             BodyItem::Gravity(v, at) => {
-                if system.gravity.is_some() {
+                if self.system.gravity.is_some() {
                     return Err(declaration(DeclarationError::GravityTwice, *at));
                 }
-                let m = vector_value(arena, v, &scope)?;
-                system.gravity = Some(vec3(&m, Quantity::Gravity, *at)?);
+                let m = vector_value(arena, v, scope)?;
+                self.system.gravity = Some(vec3(&m, Quantity::Gravity, *at)?);
             }
             BodyItem::Point(name, at, v) => {
-                let m = vector_value(arena, v, &scope)?;
+                let m = vector_value(arena, v, scope)?;
                 let p = vec3(&m, Quantity::Point(name.clone()), *at)?;
-                define(&mut scope, name, *at, p)?;
+                define(scope, name, *at, p)?;
             }
             BodyItem::Axis(name, at, v) => {
-                let m = vector_value(arena, v, &scope)?;
+                let m = vector_value(arena, v, scope)?;
                 let a = vec3(&m, Quantity::Axis(name.clone()), *at)?;
                 let id = Matrix::identity(arena, 3);
-                let frame = axis_frame(arena, &a, &id, &known, *at)?;
-                define(&mut scope, name, *at, frame.direction)?;
+                let frame = axis_frame(arena, &a, &id, &self.known, *at)?;
+                define(scope, name, *at, frame.direction)?;
                 scope.axes.insert(name.clone(), frame);
             }
             BodyItem::Body { name, at, entries } => {
-                let body = build_body(arena, name, *at, entries, &mut scope, &known, &at_guesses)?;
-                system.bodies.push(body);
+                let (known, guesses) = (&self.known, &self.at_guesses);
+                let body = build_body(arena, name, *at, entries, scope, known, guesses)?;
+                self.system.bodies.push(body);
             }
             BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {
                 let spring = matches!(item, BodyItem::Spring { .. });
-                let what = if spring { "spring" } else { "damper" };
-                let between = take(entries, "between", name)?
-                    .ok_or_else(|| missing(what, name, Needed::Between, *at))?;
-                let mut ends = Vec::new();
-                for v in &between.value {
-                    let m = vector_value(arena, v, &scope)?;
-                    ends.push(vec3(&m, Quantity::End(name.clone()), v.location())?);
-                }
-                let ends = [ends[0], ends[1]];
-                let value = |arena: &mut Arena,
-                             key: &str,
-                             scope: &Scope|
-                 -> Result<Option<crate::algebra::expr::Id>> {
-                    match take(entries, key, name)? {
-                        Some(e) => {
-                            let m = vector_value(arena, &e.value[0], scope)?;
-                            Ok(Some(scalar(&m, Quantity::Entry(key.to_string()), e.at)?))
-                        }
-                        None => Ok(None),
-                    }
+                let element = Element {
+                    name,
+                    at: *at,
+                    entries,
                 };
-                if spring {
-                    let stiffness = value(arena, "stiffness", &scope)?
-                        .ok_or_else(|| missing("spring", name, Needed::Stiffness, *at))?;
-                    let free_length = match value(arena, "free_length", &scope)? {
-                        Some(l) => l,
-                        None => arena.int(0),
-                    };
-                    system.springs.push(Spring {
-                        name: name.clone(),
-                        ends,
-                        stiffness,
-                        free_length,
-                    });
-                } else {
-                    let coefficient = value(arena, "coefficient", &scope)?
-                        .ok_or_else(|| missing("damper", name, Needed::Coefficient, *at))?;
-                    system.dampers.push(Damper {
-                        name: name.clone(),
-                        ends,
-                        coefficient,
-                    });
-                }
+                element.lower(arena, scope, spring, &mut self.system)?;
             }
             BodyItem::Link { name, at, entries } => {
-                let cx = LinkContext {
-                    known: &known,
-                    coordinates: &model.coordinates,
-                    links: &links,
-                    orientations: &orientations,
-                    names: &scope,
-                };
-                let built = build_link(arena, name, *at, entries, &cx)?;
-                define(&mut scope, name, *at, built.link.position)?;
-                for (pname, pat, v, point) in built.vectors {
-                    if point {
-                        define(&mut scope, &pname, pat, v)?;
-                    } else {
-                        let frame = axis_frame(arena, &v, &built.link.rotation, &known, pat)?;
-                        define(&mut scope, &pname, pat, frame.direction)?;
-                        scope.axes.insert(pname, frame);
-                    }
-                }
-                system.bodies.extend(built.body);
-                links.push(built.link);
-                orientations.push(built.orientation);
+                self.link(arena, &model.coordinates, name, *at, entries)?;
             }
             BodyItem::Joint(Joint::Helper(h, args, at)) if h == "rolling" => {
                 let cx = RollingContext {
-                    scope: &scope,
-                    bodies: &system.bodies,
-                    q: &coordinate_symbols,
+                    scope,
+                    bodies: &self.system.bodies,
+                    q: &self.coordinate_symbols,
                     time: arena.as_symbol(model.time),
-                    at_guesses: &at_guesses,
+                    at_guesses: &self.at_guesses,
                 };
                 let [height, slip_x, slip_y] = rolling_statement(arena, args, *at, &cx)?;
-                rows.push(height);
-                velocity_rows.extend([slip_x, slip_y]);
+                self.rows.push(height);
+                self.velocity_rows.extend([slip_x, slip_y]);
             }
-            BodyItem::Joint(j) => rows.extend(joint_rows(arena, j, &scope)?),
+            BodyItem::Joint(j) => self.rows.extend(joint_rows(arena, j, scope)?),
             BodyItem::Draw(d) => {
-                if drawing.is_some() {
+                if self.drawing.is_some() {
                     return Err(Error::declaration(DeclarationError::DrawTwice, d.at));
                 }
-                drawing = Some(build_drawing(
+                self.drawing = Some(build_drawing(
                     arena,
                     d,
                     |n| scope.vectors.get(n).copied(),
                     |n| scope.axes.contains_key(n),
-                    &moving,
+                    &self.moving,
                 )?);
             }
         }
+        Ok(())
     }
-    model.drawing = drawing.unwrap_or_default();
-    model.kinetic_from_links = !links.is_empty()
-        && model.arena.is_zero(model.kinetic)
-        && !bodies
-            .items
-            .iter()
-            .any(|i| matches!(i, BodyItem::Body { .. }));
-    model.potential_from_links = model.kinetic_from_links
-        && model.arena.is_zero(model.potential)
-        && system.springs.is_empty();
-    model.gravity = system.gravity;
-    model.links = links;
-    add_body_terms(model, &system)?;
-    model.constraints.extend(rows);
-    model.velocity_constraints.extend(velocity_rows);
-    Ok(())
+
+    /// Builds a link ([`build_link`]) and defines its name (its origin), points and axes.
+    fn link(
+        &mut self,
+        arena: &mut Arena,
+        coordinates: &[Coordinate],
+        name: &str,
+        at: Location,
+        entries: &[Entry],
+    ) -> Result<()> {
+        let cx = LinkContext {
+            known: &self.known,
+            coordinates,
+            links: &self.links,
+            orientations: &self.orientations,
+            names: &self.scope,
+        };
+        let built = build_link(arena, name, at, entries, &cx)?;
+        let scope = &mut self.scope;
+        define(scope, name, at, built.link.position)?;
+        for (pname, pat, v, point) in built.vectors {
+            if point {
+                define(scope, &pname, pat, v)?;
+            } else {
+                let frame = axis_frame(arena, &v, &built.link.rotation, &self.known, pat)?;
+                define(scope, &pname, pat, frame.direction)?;
+                scope.axes.insert(pname, frame);
+            }
+        }
+        self.system.bodies.extend(built.body);
+        self.links.push(built.link);
+        self.orientations.push(built.orientation);
+        Ok(())
+    }
+
+    /// Moves what the items built into `model`: the drawing, the links and which route
+    /// they take, gravity, T and Pi ([`add_body_terms`]) and the joint rows.
+    fn finish(self, bodies: &Bodies, model: &mut Model) -> Result<()> {
+        model.drawing = self.drawing.unwrap_or_default();
+        model.kinetic_from_links = !self.links.is_empty()
+            && model.arena.is_zero(model.kinetic)
+            && !bodies
+                .items
+                .iter()
+                .any(|i| matches!(i, BodyItem::Body { .. }));
+        model.potential_from_links = model.kinetic_from_links
+            && model.arena.is_zero(model.potential)
+            && self.system.springs.is_empty();
+        model.gravity = self.system.gravity;
+        model.links = self.links;
+        add_body_terms(model, &self.system)?;
+        model.constraints.extend(self.rows);
+        model.velocity_constraints.extend(self.velocity_rows);
+        Ok(())
+    }
+}
+
+/// A spring or damper item: its name, place and entries.
+struct Element<'a> {
+    name: &'a str,
+    at: Location,
+    entries: &'a [Entry],
+}
+
+impl Element<'_> {
+    /// The scalar entry `key`, if given.
+    fn value(&self, arena: &mut Arena, key: &str, scope: &Scope) -> Result<Option<Id>> {
+        match take(self.entries, key, self.name)? {
+            Some(e) => {
+                let m = vector_value(arena, &e.value[0], scope)?;
+                Ok(Some(scalar(&m, Quantity::Entry(key.to_string()), e.at)?))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// A spring (stiffness, free length 0 unless given) or a damper (coefficient) between
+    /// the two ends of `between`, added to `system`.
+    fn lower(
+        &self,
+        arena: &mut Arena,
+        scope: &Scope,
+        spring: bool,
+        system: &mut BodySystem,
+    ) -> Result<()> {
+        let (name, at) = (self.name, self.at);
+        let what = if spring { "spring" } else { "damper" };
+        let between = take(self.entries, "between", name)?
+            .ok_or_else(|| missing(what, name, Needed::Between, at))?;
+        let mut ends = Vec::new();
+        for v in &between.value {
+            let m = vector_value(arena, v, scope)?;
+            ends.push(vec3(&m, Quantity::End(name.to_string()), v.location())?);
+        }
+        let ends = [ends[0], ends[1]];
+        if spring {
+            let stiffness = self
+                .value(arena, "stiffness", scope)?
+                .ok_or_else(|| missing("spring", name, Needed::Stiffness, at))?;
+            let free_length = match self.value(arena, "free_length", scope)? {
+                Some(l) => l,
+                None => arena.int(0),
+            };
+            system.springs.push(Spring {
+                name: name.to_string(),
+                ends,
+                stiffness,
+                free_length,
+            });
+        } else {
+            let coefficient = self
+                .value(arena, "coefficient", scope)?
+                .ok_or_else(|| missing("damper", name, Needed::Coefficient, at))?;
+            system.dampers.push(Damper {
+                name: name.to_string(),
+                ends,
+                coefficient,
+            });
+        }
+        Ok(())
+    }
 }
 
 /// What a `rolling` statement reads: the names, the bodies so far, the coordinate and time

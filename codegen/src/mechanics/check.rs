@@ -115,11 +115,16 @@ fn check_coordinates_present(d: &Declaration, errors: &mut Vec<Error>) {
         None => {
             let kind = DeclarationError::NoCoordinates {
                 mechanism: d.name.clone(),
+                empty_section: false,
             };
             errors.push(Error::declaration(kind, d.name_at));
         }
         Some(s) if s.body.is_empty() => {
-            errors.push(Error::declaration(DeclarationError::EmptyCoordinates, s.at));
+            let kind = DeclarationError::NoCoordinates {
+                mechanism: d.name.clone(),
+                empty_section: true,
+            };
+            errors.push(Error::declaration(kind, s.at));
         }
         Some(_) => {}
     }

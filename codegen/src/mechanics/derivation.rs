@@ -14,11 +14,11 @@ use crate::mechanics::nonholonomic::append_velocity_rows;
 /// (`mechanics::nonholonomic`). All expressions are built in `model.arena`.
 ///
 /// # Errors
-/// [`crate::Error::NoCoordinates`], [`crate::Error::NotASymbol`] for a coordinate that is
-/// not a symbol, [`crate::Error::ForceCount`] when the number of forces differs from the
-/// number of coordinates, [`crate::Error::ForbiddenDependence`] when the potential or a
+/// [`crate::error::DeclarationError::NoCoordinates`] (with no place), [`crate::error::DerivationError::NotASymbol`] for a coordinate that is
+/// not a symbol, [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the
+/// number of coordinates, [`crate::error::DerivationError::ForbiddenDependence`] when the potential or a
 /// constraint depends on a rate or an acceleration, or T or a force on an acceleration;
-/// [`crate::Error::InvalidId`] for a foreign id; a velocity constraint not linear in the
+/// [`crate::error::AlgebraError::InvalidId`] for a foreign id; a velocity constraint not linear in the
 /// rates (`DeclarationError::VelocityNotLinear`, at its row); differentiation
 /// errors.
 pub fn derive(model: &mut Model) -> Result<Equations> {

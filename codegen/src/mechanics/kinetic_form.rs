@@ -4,9 +4,9 @@
 //! A T of higher degree in the rates (`der(x)^4`), or not polynomial in them
 //! (`cos(der(x))`), has no mass matrix: M = d2T/dq'^2 then depends on the rates and the
 //! equations of motion are not linear in q''. A T that can be negative (`-3*der(x)^2`, a
-//! negative mass) gives an M with a negative direction, and motion along it runs away.
-//! Both used to be accepted and ended in a step-size underflow; now the derivation, which
-//! forms M anyway, refuses them with a declaration error at `kinetic`.
+//! negative mass) gives an M with a negative direction, and motion along it runs away (an
+//! integrator's step size then underflows). The derivation, which forms M anyway, refuses
+//! both with a declaration error at `kinetic`.
 //!
 //! The degree test is exact: no entry of M may depend on a rate. Positive semi-definiteness
 //! is tested numerically at the declared parameter values and initial guesses (t = 0) by

@@ -27,7 +27,8 @@
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
-use crate::error::{Error, Result};
+use crate::error::{AlgebraError, BudgetError, DerivationError};
+use crate::error::{DeclarationError, Error, Location, Result};
 use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::mass_matrix::mass_from_momenta;
@@ -48,13 +49,15 @@ impl Symbols {
         let arena = &model.arena;
         let sym = |id: Id, what: &str, name: &str| -> Result<SymbolId> {
             if id.index() >= arena.len() {
-                return Err(Error::InvalidId {
+                return Err(Error::Algebra(AlgebraError::InvalidId {
                     id: id.0,
                     len: arena.len(),
-                });
+                }));
             }
-            arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
-                role: format!("the {what} of coordinate `{name}`"),
+            arena.as_symbol(id).ok_or_else(|| {
+                Error::Derivation(DerivationError::NotASymbol {
+                    role: format!("the {what} of coordinate `{name}`"),
+                })
             })
         };
         let (mut q, mut qd, mut qdd) = (Vec::new(), Vec::new(), Vec::new());
@@ -79,10 +82,10 @@ fn check_id(arena: &Arena, id: Id) -> Result<()> {
     if id.index() < arena.len() {
         Ok(())
     } else {
-        Err(Error::InvalidId {
+        Err(Error::Algebra(AlgebraError::InvalidId {
             id: id.0,
             len: arena.len(),
-        })
+        }))
     }
 }
 
@@ -96,10 +99,10 @@ fn reject_dependence(
 ) -> Result<()> {
     for &s in forbidden {
         if d.depends_on(arena, id, s)? {
-            return Err(Error::ForbiddenDependence {
+            return Err(Error::Derivation(DerivationError::ForbiddenDependence {
                 what: what.to_string(),
                 symbol: arena.symbol_info(s).name.clone(),
-            });
+            }));
         }
     }
     Ok(())
@@ -109,11 +112,11 @@ fn reject_dependence(
 /// formulas). All expressions are built in `model.arena`.
 ///
 /// # Errors
-/// [`Error::NoCoordinates`], [`Error::NotASymbol`] for a coordinate that is not a symbol,
-/// [`Error::ForceCount`] when the number of forces differs from the number of coordinates,
-/// [`Error::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
+/// [`DeclarationError::NoCoordinates`] (with no place), [`crate::error::DerivationError::NotASymbol`] for a coordinate that is not a symbol,
+/// [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the number of coordinates,
+/// [`crate::error::DerivationError::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
 /// acceleration, or T or a force on an acceleration;
-/// [`Error::InvalidId`] for a foreign id; differentiation errors.
+/// [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
 pub fn derive(model: &mut Model) -> Result<Equations> {
     derive_with(model, Route::Auto)
 }
@@ -138,13 +141,17 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
     if n == 0 {
-        return Err(Error::NoCoordinates);
+        let kind = DeclarationError::NoCoordinates {
+            mechanism: model.name.clone(),
+            empty_section: false,
+        };
+        return Err(Error::declaration(kind, Location::default()));
     }
     if model.forces.len() != n {
-        return Err(Error::ForceCount {
+        return Err(Error::Derivation(DerivationError::ForceCount {
             forces: model.forces.len(),
             coordinates: n,
-        });
+        }));
     }
     let tree = if route == Route::Auto && model.kinetic_from_links {
         Some(tree_equations(model)?)
@@ -198,10 +205,10 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let inverse_dynamics = inertial.add(arena, &gravity)?.sub(arena, &forces)?;
     let frames = frame_equations(&mut model.arena, &model.links, n);
     if let Some(o) = model.arena.take_overflow() {
-        return Err(Error::DerivationOverflow {
+        return Err(Error::Derivation(DerivationError::Overflow {
             mechanism: model.name.clone(),
             operation: o.to_string(),
-        });
+        }));
     }
     Ok(Equations {
         n,
@@ -441,18 +448,18 @@ fn khang_coriolis_matrix(
     Matrix::new(n, n, data)
 }
 
-/// [`Error::DerivationTooLarge`] when dM/dq of n coordinates has more nonzero entries
+/// [`crate::error::BudgetError::Entries`] when dM/dq of n coordinates has more nonzero entries
 /// (`entries`, counted before any is formed) than the arena's [`crate::Budget::entries`].
 /// dM/dq is formed sparsely, only where M_ij depends on q_k: a closed chain in absolute
 /// angles has 2 n^2 such entries of its n^3.
 fn check_kronecker_size(arena: &Arena, n: usize, entries: usize) -> Result<()> {
     let limit = arena.budget().entries;
     if entries > limit {
-        return Err(Error::DerivationTooLarge {
+        return Err(Error::Budget(BudgetError::Entries {
             coordinates: n,
             entries,
             limit,
-        });
+        }));
     }
     Ok(())
 }
@@ -692,7 +699,7 @@ fn gamma(
 /// With it, M' - 2C is skew-symmetric, and C q' equals Khang's C q'.
 ///
 /// # Errors
-/// [`Error::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
+/// [`crate::error::AlgebraError::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
 /// [`derive()`] otherwise.
 pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
     let s = Symbols::of(model)?;
@@ -701,13 +708,13 @@ pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result
     let mass = &eqs.mass;
     mass.validate(arena)?;
     if mass.rows != n || mass.cols != n {
-        return Err(Error::Shape {
+        return Err(Error::Algebra(AlgebraError::Shape {
             operation: "christoffel",
             left_rows: mass.rows,
             left_cols: mass.cols,
             right_rows: n,
             right_cols: n,
-        });
+        }));
     }
     let mut d = Differentiator::new();
     let half = arena.rational(1, 2)?;

@@ -191,7 +191,9 @@ pub(crate) struct LinkContext<'a> {
     pub(crate) names: &'a dyn VectorNames,
 }
 
-// One function: one step per link key, in the order in which later ones need earlier ones.
+/// Builds the link `name` declared at `at` with `entries`: its parent, joint, placement,
+/// inertia, limits, points and axes, each a step below in the order in which later ones
+/// need earlier ones (and in which their errors are reported).
 pub(crate) fn build_link(
     arena: &mut Arena,
     name: &str,
@@ -199,42 +201,127 @@ pub(crate) fn build_link(
     entries: &[Entry],
     cx: &LinkContext<'_>,
 ) -> Result<BuiltLink> {
-    let take = |key: &str| -> Result<Option<&Entry>> {
-        let mut found = entries.iter().filter(|e| e.key == key);
-        let first = found.next();
-        if let Some(second) = found.next() {
-            let kind = DeclarationError::GivenTwice {
-                key: key.to_string(),
-                owner: name.to_string(),
-            };
-            return Err(Error::declaration(kind, second.at));
-        }
-        Ok(first)
-    };
+    let r = LinkEntries { name, entries, cx };
     for e in entries
         .iter()
         .filter(|e| e.key != "parent" && e.key != "joint")
     {
         check_own_frame(name, e, cx)?;
     }
-    let vector = |arena: &mut Arena, key: &str| -> Result<Option<Vec3>> {
-        match take(key)? {
+    let parent = r.parent()?;
+    let joint = r.joint(arena)?;
+    let placed = r.placement(arena, parent, &joint)?;
+    let inertia = r.inertia(arena, &placed)?;
+    let limits = r.limits(arena, &joint)?;
+    let vectors = r.vectors(arena, &placed)?;
+    Ok(BuiltLink {
+        link: Link {
+            name: name.to_string(),
+            parent,
+            joint,
+            origin_rotation: placed.origin_rotation,
+            origin: placed.origin,
+            mass: inertia.mass,
+            first_moment: inertia.first_moment,
+            inertia: inertia.about_origin,
+            rotation: placed.rotation,
+            position: placed.position,
+            limit: limits.position,
+            velocity_limit: limits.velocity,
+            effort_limit: limits.effort,
+            location: at,
+        },
+        body: inertia.body,
+        orientation: placed.orientation,
+        vectors,
+    })
+}
+
+/// A link's frame: relative to its parent (`origin`, `origin_rotation`) and in the world
+/// (`rotation` R_w, `position` p_w, `orientation` the factors of R_w).
+struct Placement {
+    origin: Vec3,
+    origin_rotation: Matrix,
+    rotation: Matrix,
+    position: Vec3,
+    orientation: Orientation,
+}
+
+/// A link's inertia: mass m (0 when none is declared), first moment h = m c and I_o about
+/// the link origin in link axes, and its [`Body`] when it has mass.
+struct LinkInertia {
+    mass: Id,
+    first_moment: Vec3,
+    about_origin: Matrix,
+    body: Option<Body>,
+}
+
+/// A joint's declared limits: [lower, upper] of its coordinate, and the largest rate and
+/// effort.
+struct Limits {
+    position: Option<[f64; 2]>,
+    velocity: Option<f64>,
+    effort: Option<f64>,
+}
+
+/// The entries of the link `name`, read key by key.
+struct LinkEntries<'a> {
+    name: &'a str,
+    entries: &'a [Entry],
+    cx: &'a LinkContext<'a>,
+}
+
+impl LinkEntries<'_> {
+    /// The entry `key`, if given; given twice is an error at the second.
+    fn take(&self, key: &str) -> Result<Option<&Entry>> {
+        let mut found = self.entries.iter().filter(|e| e.key == key);
+        let first = found.next();
+        if let Some(second) = found.next() {
+            let kind = DeclarationError::GivenTwice {
+                key: key.to_string(),
+                owner: self.name.to_string(),
+            };
+            return Err(Error::declaration(kind, second.at));
+        }
+        Ok(first)
+    }
+
+    /// The 3-vector entry `key`, if given.
+    fn vector(&self, arena: &mut Arena, key: &str) -> Result<Option<Vec3>> {
+        match self.take(key)? {
             Some(e) => {
-                let m = vector_value(arena, &e.value[0], cx.names)?;
+                let m = vector_value(arena, &e.value[0], self.cx.names)?;
                 Ok(Some(vec3(&m, Quantity::Entry(key.to_string()), e.at)?))
             }
             None => Ok(None),
         }
-    };
-    let zero3 = |arena: &mut Arena| [arena.int(0), arena.int(0), arena.int(0)];
-    let parent = match take("parent")? {
-        None => None,
-        Some(e) => match &e.value[0] {
-            Ast::Name(p, _) if p == "world" => None,
-            Ast::Name(p, pat) => match cx.links.iter().position(|l| &l.name == p) {
-                Some(k) => Some(k),
+    }
+
+    /// The entry `key`'s values as numbers (parameters at their defaults), if given.
+    fn numbers(&self, arena: &mut Arena, key: &str) -> Result<Option<(Vec<f64>, Location)>> {
+        let Some(e) = self.take(key)? else {
+            return Ok(None);
+        };
+        let m = vector_value(arena, &e.value[0], self.cx.names)?;
+        let mut out = Vec::new();
+        for &x in m.data() {
+            let what = format!("`{key}`");
+            out.push(constant(arena, x, self.cx.known, self.name, &what, e.at)?);
+        }
+        Ok(Some((out, e.at)))
+    }
+
+    /// The index of the parent link among those declared above, or `None` for the world.
+    fn parent(&self) -> Result<Option<usize>> {
+        let Some(e) = self.take("parent")? else {
+            return Ok(None);
+        };
+        match &e.value[0] {
+            Ast::Name(p, _) if p == "world" => Ok(None),
+            Ast::Name(p, pat) => match self.cx.links.iter().position(|l| &l.name == p) {
+                Some(k) => Ok(Some(k)),
                 None => {
-                    let known: Vec<&str> = cx.links.iter().map(|l| l.name.as_str()).collect();
+                    let known: Vec<&str> = self.cx.links.iter().map(|l| l.name.as_str()).collect();
                     let problem = format!(
                         "its parent `{p}` is not a link declared above it (links above: {}; or `world`)",
                         if known.is_empty() {
@@ -243,7 +330,7 @@ pub(crate) fn build_link(
                             known.join(", ")
                         }
                     );
-                    return Err(link_error(name, problem, *pat));
+                    Err(link_error(self.name, problem, *pat))
                 }
             },
             other => {
@@ -251,15 +338,20 @@ pub(crate) fn build_link(
                     "`parent` names a link declared above it, or `world`; found `{}`",
                     other.text()
                 );
-                return Err(link_error(name, problem, other.location()));
+                Err(link_error(self.name, problem, other.location()))
             }
-        },
-    };
-    let joint_entry = take("joint")?;
-    let mut joint = LinkJoint::Fixed;
-    if let Some(e) = joint_entry {
+        }
+    }
+
+    /// The joint: `fixed` (also when none is given), or a moving joint's coordinate (not
+    /// moving another link) and unit axis.
+    fn joint(&self, arena: &mut Arena) -> Result<LinkJoint> {
+        let Some(e) = self.take("joint")? else {
+            return Ok(LinkJoint::Fixed);
+        };
+        let name = self.name;
         match &e.value[0] {
-            Ast::Name(f, _) if f == "fixed" => {}
+            Ast::Name(f, _) if f == "fixed" => Ok(LinkJoint::Fixed),
             Ast::Call(kind, args, kat) if MOVING_JOINTS.contains(&kind.as_str()) => {
                 let Some(Ast::Name(q, qat)) = args.first().filter(|_| args.len() == 2) else {
                     let problem = format!(
@@ -267,161 +359,296 @@ pub(crate) fn build_link(
                     );
                     return Err(link_error(name, problem, *kat));
                 };
-                let coordinate = cx
-                    .coordinates
-                    .iter()
-                    .position(|c| &c.name == q)
-                    .ok_or_else(|| link_error(name, format!("`{q}` is not a coordinate"), *qat))?;
-                if let Some(other) = cx
-                    .links
-                    .iter()
-                    .find(|l| l.joint.coordinate() == Some(coordinate))
-                {
-                    let problem = format!(
-                        "the coordinate `{q}` already moves the joint of link `{}`",
-                        other.name
-                    );
-                    return Err(link_error(name, problem, *qat));
-                }
-                let m = vector_value(arena, &args[1], cx.names)?;
-                let a = vec3(&m, Quantity::Entry("joint axis".into()), args[1].location())?;
-                let mut v = [0.0; 3];
-                for (k, x) in v.iter_mut().enumerate() {
-                    *x = constant(
-                        arena,
-                        a[k],
-                        cx.known,
-                        name,
-                        "the joint axis",
-                        args[1].location(),
-                    )?;
-                }
-                let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
-                    let problem = "the joint axis is the zero vector".to_string();
-                    return Err(link_error(name, problem, args[1].location()));
-                }
-                let numeric = a.iter().all(|&x| arena.as_number(x).is_some());
-                let axis = if numeric && norm == 1.0 {
-                    a
-                } else if numeric {
-                    let mut out = a;
-                    for (k, o) in out.iter_mut().enumerate() {
-                        *o = arena.float(v[k] / norm)?;
-                    }
-                    out
-                } else {
-                    // An axis in parameters stays unit when they change: a / |a|.
-                    let squares: Vec<Id> = a.iter().map(|&x| arena.mul2(x, x)).collect();
-                    let sum = arena.add(&squares);
-                    let length = arena.sqrt(sum)?;
-                    let mut out = a;
-                    for o in out.iter_mut() {
-                        *o = arena.div(*o, length)?;
-                    }
-                    out
-                };
-                joint = if kind == "prismatic" {
+                let coordinate = self.joint_coordinate(q, *qat)?;
+                let axis = self.joint_axis(arena, &args[1])?;
+                Ok(if kind == "prismatic" {
                     LinkJoint::Prismatic { coordinate, axis }
                 } else {
                     LinkJoint::Revolute { coordinate, axis }
-                };
+                })
             }
             other => {
                 let problem = format!(
                     "unknown joint `{}`: write `fixed`, or revolute, continuous or prismatic(COORDINATE, [ax, ay, az])",
                     other.text()
                 );
-                return Err(link_error(name, problem, other.location()));
+                Err(link_error(name, problem, other.location()))
             }
         }
     }
-    let origin = match vector(arena, "xyz")? {
-        Some(v) => v,
-        None => zero3(arena),
-    };
-    let origin_rotation = match vector(arena, "rpy")? {
-        Some(v) => rpy_matrix(arena, &v)?,
-        None => Matrix::identity(arena, 3),
-    };
-    // Joint motion and the link relative to its parent.
-    let (mut factors, parent_rotation, parent_position) = match parent {
-        Some(p) => (
-            cx.orientations[p].factors.clone(),
-            cx.links[p].rotation.clone(),
-            cx.links[p].position,
-        ),
-        None => (Vec::new(), Matrix::identity(arena, 3), zero3(arena)),
-    };
-    if !origin_rotation.is_identity(arena) {
-        factors.push(RotationFactor::Explicit(origin_rotation.clone()));
-    }
-    let mut relative_rotation = origin_rotation.clone();
-    let mut relative_origin = origin;
-    match &joint {
-        LinkJoint::Fixed => {}
-        LinkJoint::Revolute { coordinate, axis } => {
-            let q = cx.coordinates[*coordinate].q;
-            let (m, f) = joint_rotation(arena, axis, q);
-            relative_rotation = origin_rotation.mul(arena, &m)?;
-            factors.push(f);
-        }
-        LinkJoint::Prismatic { coordinate, axis } => {
-            let q = cx.coordinates[*coordinate].q;
-            let aq = axis.map(|a| arena.mul2(a, q));
-            let slide = mat_vec(arena, &origin_rotation, &aq)?;
-            relative_origin = add3(arena, &origin, &slide);
-        }
-    }
-    let rotation = parent_rotation.mul(arena, &relative_rotation)?;
-    let moved = mat_vec(arena, &parent_rotation, &relative_origin)?;
-    let position = add3(arena, &parent_position, &moved);
-    let orientation = Orientation { factors };
 
-    // Inertia.
-    let mass = match take("mass")? {
-        Some(e) => {
-            let m = vector_value(arena, &e.value[0], cx.names)?;
-            let m = scalar(&m, Quantity::Mass, e.at)?;
-            check_mass(arena, name, m, cx.known, e.at)?;
-            Some(m)
+    /// The index of the coordinate `q` a moving joint names, which no link above moves.
+    fn joint_coordinate(&self, q: &str, at: Location) -> Result<usize> {
+        let cx = self.cx;
+        let coordinate = cx
+            .coordinates
+            .iter()
+            .position(|c| c.name == q)
+            .ok_or_else(|| link_error(self.name, format!("`{q}` is not a coordinate"), at))?;
+        if let Some(other) = cx
+            .links
+            .iter()
+            .find(|l| l.joint.coordinate() == Some(coordinate))
+        {
+            let problem = format!(
+                "the coordinate `{q}` already moves the joint of link `{}`",
+                other.name
+            );
+            return Err(link_error(self.name, problem, at));
         }
-        None => None,
-    };
-    let com = vector(arena, "com")?;
-    let com_rotation = match vector(arena, "com_rpy")? {
-        Some(v) => rpy_matrix(arena, &v)?,
-        None => Matrix::identity(arena, 3),
-    };
-    let inertia_entry = take("inertia")?;
-    let inertia_c = match inertia_entry {
-        Some(e) => {
-            if mass.is_none() {
-                let problem = "declares an inertia but no mass: add `mass = ...;`".to_string();
-                return Err(link_error(name, problem, e.at));
-            }
-            let m = vector_value(arena, &e.value[0], cx.names)?;
-            if (m.rows(), m.cols()) != (3, 3) {
-                let (rows, cols) = (m.rows(), m.cols());
-                let kind = DeclarationError::InertiaNot3x3 { rows, cols };
-                return Err(Error::declaration(kind, e.at));
-            }
-            check_inertia(arena, name, &m, cx.known, e.at)?;
-            Some(m)
+        Ok(coordinate)
+    }
+
+    /// The joint axis a / |a|: numbers when a is numeric (a itself when already unit), the
+    /// quotient of expressions when it is written in parameters (unit when they change).
+    fn joint_axis(&self, arena: &mut Arena, written: &Ast) -> Result<Vec3> {
+        let m = vector_value(arena, written, self.cx.names)?;
+        let a = vec3(&m, Quantity::Entry("joint axis".into()), written.location())?;
+        let mut v = [0.0; 3];
+        for (k, x) in v.iter_mut().enumerate() {
+            let at = written.location();
+            *x = constant(arena, a[k], self.cx.known, self.name, "the joint axis", at)?;
         }
-        None => None,
-    };
-    let c = match com {
-        Some(c) => c,
-        None => zero3(arena),
-    };
-    let m = match mass {
-        Some(m) => m,
-        None => arena.int(0),
-    };
-    let first_moment = c.map(|ci| arena.mul2(m, ci));
-    // I_o = R_c I_c R_c^T + m (|c|^2 1 - c c^T).
-    let mut inertia = match &inertia_c {
+        let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
+            let problem = "the joint axis is the zero vector".to_string();
+            return Err(link_error(self.name, problem, written.location()));
+        }
+        let numeric = a.iter().all(|&x| arena.as_number(x).is_some());
+        if numeric && norm == 1.0 {
+            return Ok(a);
+        }
+        let mut out = a;
+        if numeric {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = arena.float(v[k] / norm)?;
+            }
+        } else {
+            let squares: Vec<Id> = a.iter().map(|&x| arena.mul2(x, x)).collect();
+            let sum = arena.add(&squares);
+            let length = arena.sqrt(sum)?;
+            for o in out.iter_mut() {
+                *o = arena.div(*o, length)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The link's frame: R_i = E_i J_i and o_i = xyz_i (+ E_i a_i q_i when prismatic)
+    /// relative to the parent, R_w,i = R_w,p R_i and p_w,i = p_w,p + R_w,p o_i in the world.
+    fn placement(
+        &self,
+        arena: &mut Arena,
+        parent: Option<usize>,
+        joint: &LinkJoint,
+    ) -> Result<Placement> {
+        let cx = self.cx;
+        let origin = match self.vector(arena, "xyz")? {
+            Some(v) => v,
+            None => zero3(arena),
+        };
+        let origin_rotation = match self.vector(arena, "rpy")? {
+            Some(v) => rpy_matrix(arena, &v)?,
+            None => Matrix::identity(arena, 3),
+        };
+        let (mut factors, parent_rotation, parent_position) = match parent {
+            Some(p) => (
+                cx.orientations[p].factors.clone(),
+                cx.links[p].rotation.clone(),
+                cx.links[p].position,
+            ),
+            None => (Vec::new(), Matrix::identity(arena, 3), zero3(arena)),
+        };
+        if !origin_rotation.is_identity(arena) {
+            factors.push(RotationFactor::Explicit(origin_rotation.clone()));
+        }
+        let mut relative_rotation = origin_rotation.clone();
+        let mut relative_origin = origin;
+        match joint {
+            LinkJoint::Fixed => {}
+            LinkJoint::Revolute { coordinate, axis } => {
+                let q = cx.coordinates[*coordinate].q;
+                let (m, f) = joint_rotation(arena, axis, q);
+                relative_rotation = origin_rotation.mul(arena, &m)?;
+                factors.push(f);
+            }
+            LinkJoint::Prismatic { coordinate, axis } => {
+                let q = cx.coordinates[*coordinate].q;
+                let aq = axis.map(|a| arena.mul2(a, q));
+                let slide = mat_vec(arena, &origin_rotation, &aq)?;
+                relative_origin = add3(arena, &origin, &slide);
+            }
+        }
+        let rotation = parent_rotation.mul(arena, &relative_rotation)?;
+        let moved = mat_vec(arena, &parent_rotation, &relative_origin)?;
+        let position = add3(arena, &parent_position, &moved);
+        Ok(Placement {
+            origin,
+            origin_rotation,
+            rotation,
+            position,
+            orientation: Orientation { factors },
+        })
+    }
+
+    /// The declared mass m, centre of mass c and tensor I_c (about c, in the axes rotated
+    /// by R_c = `com_rpy`), as the link's inertia about its origin,
+    /// I_o = R_c I_c R_c^T + m (|c|^2 1 - c c^T), and as a [`Body`] at p_w + R_w c.
+    fn inertia(&self, arena: &mut Arena, placed: &Placement) -> Result<LinkInertia> {
+        let (name, cx) = (self.name, self.cx);
+        let mass = match self.take("mass")? {
+            Some(e) => {
+                let m = vector_value(arena, &e.value[0], cx.names)?;
+                let m = scalar(&m, Quantity::Mass, e.at)?;
+                check_mass(arena, name, m, cx.known, e.at)?;
+                Some(m)
+            }
+            None => None,
+        };
+        let com = self.vector(arena, "com")?;
+        let com_rotation = match self.vector(arena, "com_rpy")? {
+            Some(v) => rpy_matrix(arena, &v)?,
+            None => Matrix::identity(arena, 3),
+        };
+        let inertia_c = match self.take("inertia")? {
+            Some(e) => {
+                if mass.is_none() {
+                    let problem = "declares an inertia but no mass: add `mass = ...;`".to_string();
+                    return Err(link_error(name, problem, e.at));
+                }
+                let m = vector_value(arena, &e.value[0], cx.names)?;
+                if (m.rows(), m.cols()) != (3, 3) {
+                    let (rows, cols) = (m.rows(), m.cols());
+                    let kind = DeclarationError::InertiaNot3x3 { rows, cols };
+                    return Err(Error::declaration(kind, e.at));
+                }
+                check_inertia(arena, name, &m, cx.known, e.at)?;
+                Some(m)
+            }
+            None => None,
+        };
+        let c = match com {
+            Some(c) => c,
+            None => zero3(arena),
+        };
+        let m = match mass {
+            Some(m) => m,
+            None => arena.int(0),
+        };
+        let first_moment = c.map(|ci| arena.mul2(m, ci));
+        let about_origin = about_origin(arena, m, &c, &com_rotation, inertia_c.as_ref())?;
+        let body = match mass {
+            Some(mass) => {
+                let rc = mat_vec(arena, &placed.rotation, &c)?;
+                let mut f = placed.orientation.factors.clone();
+                if !com_rotation.is_identity(arena) {
+                    f.push(RotationFactor::Explicit(com_rotation.clone()));
+                }
+                Some(Body {
+                    name: name.to_string(),
+                    mass,
+                    position: add3(arena, &placed.position, &rc),
+                    orientation: Some(Orientation { factors: f }),
+                    inertia: inertia_c,
+                })
+            }
+            None => None,
+        };
+        Ok(LinkInertia {
+            mass: m,
+            first_moment,
+            about_origin,
+            body,
+        })
+    }
+
+    /// `limit = [lower, upper]` (lower <= upper), `velocity_limit` and `effort_limit` (one
+    /// value >= 0 each), none of them on a fixed joint.
+    fn limits(&self, arena: &mut Arena, joint: &LinkJoint) -> Result<Limits> {
+        let name = self.name;
+        let limit = match self.numbers(arena, "limit")? {
+            Some((v, lat)) => {
+                if v.len() != 2 || v[0].is_nan() || v[1].is_nan() || v[0] > v[1] {
+                    let problem = "`limit = [lower, upper];` needs lower <= upper".to_string();
+                    return Err(link_error(name, problem, lat));
+                }
+                Some([v[0], v[1]])
+            }
+            None => None,
+        };
+        let single = |arena: &mut Arena, key: &str| -> Result<Option<f64>> {
+            match self.numbers(arena, key)? {
+                Some((v, lat)) if v.len() != 1 || v[0].is_nan() || v[0] < 0.0 => {
+                    Err(link_error(name, format!("`{key}` is one value >= 0"), lat))
+                }
+                Some((v, _)) => Ok(Some(v[0])),
+                None => Ok(None),
+            }
+        };
+        let velocity_limit = single(arena, "velocity_limit")?;
+        let effort_limit = single(arena, "effort_limit")?;
+        if *joint == LinkJoint::Fixed
+            && let Some(e) = self.entries.iter().find(|e| e.key.ends_with("limit"))
+        {
+            let problem = format!("a fixed joint has no `{}`", e.key);
+            return Err(link_error(name, problem, e.at));
+        }
+        Ok(Limits {
+            position: limit,
+            velocity: velocity_limit,
+            effort: effort_limit,
+        })
+    }
+
+    /// The link's points (p_w + R_w p in the world) and axes (as written), with their names
+    /// and places.
+    fn vectors(
+        &self,
+        arena: &mut Arena,
+        placed: &Placement,
+    ) -> Result<Vec<(String, Location, Vec3, bool)>> {
+        let mut vectors = Vec::new();
+        for e in self
+            .entries
+            .iter()
+            .filter(|e| e.key == "point" || e.key == "axis")
+        {
+            let pname = e.name.clone().unwrap_or_default();
+            let mv = vector_value(arena, &e.value[0], self.cx.names)?;
+            let point = e.key == "point";
+            let what = if point {
+                Quantity::Point(pname.clone())
+            } else {
+                Quantity::Axis(pname.clone())
+            };
+            let p = vec3(&mv, what, e.at)?;
+            let rp = mat_vec(arena, &placed.rotation, &p)?;
+            let world = if point {
+                add3(arena, &placed.position, &rp)
+            } else {
+                p
+            };
+            vectors.push((pname, e.at, world, point));
+        }
+        Ok(vectors)
+    }
+}
+
+/// [0, 0, 0].
+fn zero3(arena: &mut Arena) -> Vec3 {
+    [arena.int(0), arena.int(0), arena.int(0)]
+}
+
+/// I_o = R_c I_c R_c^T + m (|c|^2 1 - c c^T): the inertia about the link origin (parallel
+/// axes), 0 for I_c when none is declared.
+fn about_origin(
+    arena: &mut Arena,
+    m: Id,
+    c: &Vec3,
+    com_rotation: &Matrix,
+    inertia_c: Option<&Matrix>,
+) -> Result<Matrix> {
+    let mut inertia = match inertia_c {
         Some(ic) => com_rotation
             .mul(arena, ic)?
             .mul(arena, &com_rotation.transpose()?)?,
@@ -444,111 +671,5 @@ pub(crate) fn build_link(
             inertia.set(i, j, v);
         }
     }
-    let body = match mass {
-        Some(mass) => {
-            let rc = mat_vec(arena, &rotation, &c)?;
-            let mut f = orientation.factors.clone();
-            if !com_rotation.is_identity(arena) {
-                f.push(RotationFactor::Explicit(com_rotation.clone()));
-            }
-            Some(Body {
-                name: name.to_string(),
-                mass,
-                position: add3(arena, &position, &rc),
-                orientation: Some(Orientation { factors: f }),
-                inertia: inertia_c,
-            })
-        }
-        None => None,
-    };
-
-    // Limits.
-    let number = |arena: &mut Arena, key: &str| -> Result<Option<(Vec<f64>, Location)>> {
-        let Some(e) = take(key)? else { return Ok(None) };
-        let m = vector_value(arena, &e.value[0], cx.names)?;
-        let mut out = Vec::new();
-        for &x in m.data() {
-            out.push(constant(
-                arena,
-                x,
-                cx.known,
-                name,
-                &format!("`{key}`"),
-                e.at,
-            )?);
-        }
-        Ok(Some((out, e.at)))
-    };
-    let limit = match number(arena, "limit")? {
-        Some((v, lat)) => {
-            if v.len() != 2 || v[0].is_nan() || v[1].is_nan() || v[0] > v[1] {
-                let problem = "`limit = [lower, upper];` needs lower <= upper".to_string();
-                return Err(link_error(name, problem, lat));
-            }
-            Some([v[0], v[1]])
-        }
-        None => None,
-    };
-    let single = |arena: &mut Arena, key: &str| -> Result<Option<f64>> {
-        match number(arena, key)? {
-            Some((v, lat)) if v.len() != 1 || v[0].is_nan() || v[0] < 0.0 => {
-                Err(link_error(name, format!("`{key}` is one value >= 0"), lat))
-            }
-            Some((v, _)) => Ok(Some(v[0])),
-            None => Ok(None),
-        }
-    };
-    let velocity_limit = single(arena, "velocity_limit")?;
-    let effort_limit = single(arena, "effort_limit")?;
-    if joint == LinkJoint::Fixed
-        && let Some(e) = entries.iter().find(|e| e.key.ends_with("limit"))
-    {
-        let problem = format!("a fixed joint has no `{}`", e.key);
-        return Err(link_error(name, problem, e.at));
-    }
-
-    // Points and axes, link frame.
-    let mut vectors = Vec::new();
-    for e in entries
-        .iter()
-        .filter(|e| e.key == "point" || e.key == "axis")
-    {
-        let pname = e.name.clone().unwrap_or_default();
-        let mv = vector_value(arena, &e.value[0], cx.names)?;
-        let point = e.key == "point";
-        let what = if point {
-            Quantity::Point(pname.clone())
-        } else {
-            Quantity::Axis(pname.clone())
-        };
-        let p = vec3(&mv, what, e.at)?;
-        let rp = mat_vec(arena, &rotation, &p)?;
-        let world = if point {
-            add3(arena, &position, &rp)
-        } else {
-            p
-        };
-        vectors.push((pname, e.at, world, point));
-    }
-    Ok(BuiltLink {
-        link: Link {
-            name: name.to_string(),
-            parent,
-            joint,
-            origin_rotation,
-            origin,
-            mass: m,
-            first_moment,
-            inertia,
-            rotation,
-            position,
-            limit,
-            velocity_limit,
-            effort_limit,
-            location: at,
-        },
-        body,
-        orientation,
-        vectors,
-    })
+    Ok(inertia)
 }

@@ -19,6 +19,7 @@
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{FxHashMap, Id, SymbolId};
 use crate::algebra::matrix::Matrix;
+use crate::error::DerivationError;
 use crate::error::{DeclarationError, Error, Result};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::lagrange::substitute;
@@ -29,7 +30,7 @@ use crate::mechanics::model::Model;
 ///
 /// # Errors
 /// [`DeclarationError::VelocityNotLinear`] at the row for a row not linear in the rates;
-/// [`Error::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
 /// errors.
 pub(crate) fn append_velocity_rows(model: &mut Model, eqs: &mut Equations) -> Result<()> {
     let k = model.velocity_constraints.len();
@@ -37,8 +38,10 @@ pub(crate) fn append_velocity_rows(model: &mut Model, eqs: &mut Equations) -> Re
         return Ok(());
     }
     let symbol = |id: Id, name: &str| {
-        model.arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
-            role: format!("the rate of coordinate `{name}`"),
+        model.arena.as_symbol(id).ok_or_else(|| {
+            Error::Derivation(DerivationError::NotASymbol {
+                role: format!("the rate of coordinate `{name}`"),
+            })
         })
     };
     let qd: Vec<SymbolId> = (model.coordinates.iter())

@@ -5,6 +5,7 @@
 //! constructor call each, so the node is the arena's canonical form of the whole chain.
 
 use crate::algebra::expr::{Arena, Func, Id, SymbolKind};
+use crate::error::AlgebraError;
 use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result, SymbolRole};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{Language, parse};
@@ -76,12 +77,12 @@ pub(crate) fn arena_names(arena: &Arena) -> Vec<&str> {
 /// The error for the unknown name `name` at `at`, among the names `known` (in the order to
 /// list them when equally close).
 pub(crate) fn unknown_symbol(name: &str, at: Location, known: &[&str]) -> Error {
-    Error::UnknownSymbol {
+    let kind = DeclarationError::UnknownSymbol {
         name: name.to_string(),
-        location: at,
         suggestion: closest(name, known.iter().copied()),
         known: ranked(name, known.iter().copied()),
-    }
+    };
+    Error::declaration(kind, at)
 }
 
 /// What a symbol of kind `kind` is, for messages.
@@ -108,7 +109,7 @@ fn der_error(name: &str, role: SymbolRole, at: Location) -> Error {
 /// Builds the canonical node of `ast` in `arena`, resolving names with `resolver`.
 ///
 /// Errors: unknown names (from the resolver), `der` of something that is not a coordinate,
-/// division by (or a negative power of) the constant 0 ([`Error::ZeroDivisor`]), a function
+/// division by (or a negative power of) the constant 0 ([`DeclarationError::ZeroDivisor`]), a function
 /// outside its domain at a constant argument (`ln(0)`), constants whose folded sum or
 /// product overflows ([`DeclarationError::ConstantOverflow`], at the innermost such
 /// expression).
@@ -172,10 +173,12 @@ fn resolve_node(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver) -> Re
 }
 
 fn zero_divisor(divisor: &Ast, at: Location) -> Error {
-    Error::ZeroDivisor {
-        divisor: divisor.text(),
-        location: at,
-    }
+    Error::declaration(
+        DeclarationError::ZeroDivisor {
+            divisor: divisor.text(),
+        },
+        at,
+    )
 }
 
 fn resolve_call(
@@ -211,10 +214,12 @@ fn resolve_call(
         v.push(resolve(arena, a, r)?);
     }
     let domain = |e: Error| match e {
-        Error::DivisionByZero => Error::ZeroDivisor {
-            divisor: args[0].text(),
-            location: at,
-        },
+        Error::Algebra(AlgebraError::DivisionByZero { .. }) => Error::declaration(
+            DeclarationError::ZeroDivisor {
+                divisor: args[0].text(),
+            },
+            at,
+        ),
         other => {
             let kind = DeclarationError::ConstantOutOfDomain {
                 error: Box::new(other),
@@ -228,15 +233,19 @@ fn resolve_call(
         ("pow", [b, e]) => arena.pow(*b, *e).map_err(domain),
         (_, [x]) => match Func::from_name(name) {
             Some(f) => arena.func(f, *x).map_err(domain),
-            None => Err(Error::UnknownFunction {
-                name: name.to_string(),
-                location: at,
-            }),
+            None => Err(Error::declaration(
+                DeclarationError::UnknownFunction {
+                    name: name.to_string(),
+                },
+                at,
+            )),
         },
-        _ => Err(Error::UnknownFunction {
-            name: name.to_string(),
-            location: at,
-        }),
+        _ => Err(Error::declaration(
+            DeclarationError::UnknownFunction {
+                name: name.to_string(),
+            },
+            at,
+        )),
     }
 }
 
@@ -249,8 +258,8 @@ fn resolve_call(
 ///
 /// # Errors
 /// [`Error::Parse`] with line and column for text that does not follow the grammar,
-/// [`Error::UnknownSymbol`] (with the closest declared name when one is near),
-/// [`Error::UnknownFunction`], [`Error::ZeroDivisor`] for a division by a constant 0,
+/// [`DeclarationError::UnknownSymbol`] (with the closest declared name when one is near),
+/// [`DeclarationError::UnknownFunction`], [`DeclarationError::ZeroDivisor`] for a division by a constant 0,
 /// [`Error::Declaration`] for `der` of a non-coordinate or a function outside its domain at a
 /// constant argument.
 ///

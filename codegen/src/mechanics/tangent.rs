@@ -10,6 +10,7 @@
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, FxHashMap, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
+use crate::error::DerivationError;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
@@ -135,8 +136,10 @@ pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTa
 fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id>)> {
     let arena = &model.arena;
     let symbol = |id, what: &str, name: &str| {
-        arena.as_symbol(id).ok_or_else(|| Error::NotASymbol {
-            role: format!("{what}`{name}`"),
+        arena.as_symbol(id).ok_or_else(|| {
+            Error::Derivation(DerivationError::NotASymbol {
+                role: format!("{what}`{name}`"),
+            })
         })
     };
     let q = (model.coordinates.iter())
@@ -154,7 +157,7 @@ fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id
 /// compiling to have [`crate::Role::ConstraintTangent`] compiled (linearisation).
 ///
 /// # Errors
-/// [`Error::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
 /// errors.
 pub fn constraint_tangent(model: &mut Model, eqs: &Equations) -> Result<ConstraintTangent> {
     let (q, qd, qdd) = motion_symbols(model)?;

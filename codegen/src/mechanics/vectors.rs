@@ -71,7 +71,9 @@ pub(crate) fn vector_value(
             None => match ArenaResolver.name(arena, n, *at) {
                 Ok(id) => Ok(one(id)),
                 // Points, axes and bodies are names here too.
-                Err(Error::UnknownSymbol { .. }) => {
+                Err(Error::Declaration { kind, .. })
+                    if matches!(*kind, DeclarationError::UnknownSymbol { .. }) =>
+                {
                     let mut known = names.names();
                     known.extend(arena_names(arena));
                     Err(unknown_symbol(n, *at, &known))
@@ -176,18 +178,26 @@ fn binary(arena: &mut Arena, op: Op, x: &Matrix, y: &Matrix, at: Location) -> Re
         }
         Op::Div => {
             let d = scalar(y, Quantity::Divisor, at)?;
-            let inv = arena.powi(d, -1).map_err(|_| Error::ZeroDivisor {
-                divisor: "0".into(),
-                location: at,
+            let inv = arena.powi(d, -1).map_err(|_| {
+                Error::declaration(
+                    DeclarationError::ZeroDivisor {
+                        divisor: "0".into(),
+                    },
+                    at,
+                )
             })?;
             x.scale(arena, inv)
         }
         Op::Pow => {
             let b = scalar(x, Quantity::PowerBase, at)?;
             let e = scalar(y, Quantity::Exponent, at)?;
-            Ok(one(arena.pow(b, e).map_err(|_| Error::ZeroDivisor {
-                divisor: "0".into(),
-                location: at,
+            Ok(one(arena.pow(b, e).map_err(|_| {
+                Error::declaration(
+                    DeclarationError::ZeroDivisor {
+                        divisor: "0".into(),
+                    },
+                    at,
+                )
             })?))
         }
     }
@@ -269,9 +279,13 @@ fn call(
         }
         _ => {
             let x = s(0, arena)?;
-            let func = Func::from_name(f).ok_or_else(|| Error::UnknownFunction {
-                name: f.to_string(),
-                location: at,
+            let func = Func::from_name(f).ok_or_else(|| {
+                Error::declaration(
+                    DeclarationError::UnknownFunction {
+                        name: f.to_string(),
+                    },
+                    at,
+                )
             })?;
             one(arena.func(func, x).map_err(domain)?)
         }

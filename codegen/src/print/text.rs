@@ -184,92 +184,13 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
 /// and its non-zero entries (for links, their shared subexpressions first, by name). This is the text the snapshot tests pin and that
 /// `mechanism equations NAME` shows.
 pub fn equations_text(model: &Model, eqs: &Equations) -> String {
-    let arena = &model.arena;
-    let mut r = Renderer::new(arena, Text);
-    let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
-    let (n, m) = (eqs.n, eqs.m);
-    let mut out = String::new();
-    out.push_str(&format!(
-        "{}: Lagrange equations with multipliers\n",
-        model.name
-    ));
-    out.push_str(
-        "  M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),  Phi(q, t) = 0\n",
-    );
-    out.push_str(&format!(
-        "q = [{}]  (n = {n} coordinates, m = {m} constraint rows); q' = der(q)\n",
-        names.join(", ")
-    ));
-    let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
+    let mut r = Renderer::new(&model.arena, Text);
+    let mut out = header(model, eqs);
     if model.kinetic_from_links {
-        // The recursive route builds M and C q' link by link: each link's velocities,
-        // accelerations and forces are shared by every entry below it, so they are printed
-        // once, by name, and the entries read them.
-        let mut roots: Vec<Id> = Vec::new();
-        for mat in [
-            &eqs.mass,
-            &eqs.coriolis_matrix,
-            &eqs.coriolis_forces,
-            &eqs.gravity,
-        ] {
-            roots.extend_from_slice(mat.data());
-        }
-        roots.push(eqs.kinetic);
-        roots.push(eqs.potential);
-        let shared = crate::print::render::shared_nodes(arena, &roots);
-        if !shared.is_empty() {
-            out.push_str(&format!(
-                "\nShared subexpressions ({}, each used more than once below):\n",
-                shared.len()
-            ));
-            for (k, id) in shared.into_iter().enumerate() {
-                let def = r.render(id).s;
-                out.push_str(&format!("  w{} = {def}\n", k + 1));
-                r.name(id, format!("w{}", k + 1));
-            }
-        }
+        out.push_str(&shared_subexpressions(&mut r, &model.arena, eqs));
     }
-    let (mass_title, coriolis_title, gravity_title) = if model.kinetic_from_links {
-        (
-            "M = d2T/dq'dq', the mass matrix (by composite bodies over the links)",
-            "C q', the Coriolis and centrifugal forces (by Newton-Euler over the links)",
-            if model.potential_from_links {
-                "g = dPi/dq, the gravity forces (by Newton-Euler over the links)"
-            } else {
-                "g = dPi/dq, the gravity forces"
-            },
-        )
-    } else {
-        (
-            "M = d2T/dq'dq', the mass matrix",
-            "C q', the Coriolis and centrifugal forces",
-            "g = dPi/dq, the gravity forces",
-        )
-    };
-    let sections: [(&str, &str, &Matrix); 9] = [
-        ("M", mass_title, &eqs.mass),
-        (
-            "C",
-            "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
-            &eqs.coriolis_matrix,
-        ),
-        ("Cq'", coriolis_title, &eqs.coriolis_forces),
-        ("g", gravity_title, &eqs.gravity),
-        ("tau", "tau, the generalised forces", &eqs.forces),
-        ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
-        (
-            "Phi_q",
-            "Phi_q = dPhi/dq, the constraint Jacobian",
-            &eqs.phi_q,
-        ),
-        ("Phi_t", "Phi_t = dPhi/dt", &eqs.phi_t),
-        (
-            "gamma",
-            "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma",
-            &eqs.gamma,
-        ),
-    ];
-    for (name, title, mat) in sections {
+    let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
+    for (name, title, mat) in sections(model, eqs) {
         out.push_str(&format!("\n{title} ({}):\n", size(mat)));
         if name == "C" && model.kinetic_from_links {
             // Its entries are the derivatives of M's: written out they repeat M's recursion
@@ -291,4 +212,102 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
         out.push_str(&format!("\nnote: {}\n", elided_note()));
     }
     out
+}
+
+/// The first lines of [`equations_text`]: the mechanism, the equations, q with n and m.
+fn header(model: &Model, eqs: &Equations) -> String {
+    let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
+    let (n, m) = (eqs.n, eqs.m);
+    let mut out = String::new();
+    out.push_str(&format!(
+        "{}: Lagrange equations with multipliers\n",
+        model.name
+    ));
+    out.push_str(
+        "  M(q) q'' + C(q, q') q' + g(q) + Phi_q(q, t)^T lambda = tau(t, q, q'),  Phi(q, t) = 0\n",
+    );
+    out.push_str(&format!(
+        "q = [{}]  (n = {n} coordinates, m = {m} constraint rows); q' = der(q)\n",
+        names.join(", ")
+    ));
+    out
+}
+
+/// The recursive route builds M and C q' link by link: each link's velocities,
+/// accelerations and forces are shared by every entry below it, so they are printed once,
+/// as w1, w2, ..., and named in `r` so that the entries read them.
+fn shared_subexpressions(r: &mut Renderer<'_, Text>, arena: &Arena, eqs: &Equations) -> String {
+    let mut roots: Vec<Id> = Vec::new();
+    for mat in [
+        &eqs.mass,
+        &eqs.coriolis_matrix,
+        &eqs.coriolis_forces,
+        &eqs.gravity,
+    ] {
+        roots.extend_from_slice(mat.data());
+    }
+    roots.push(eqs.kinetic);
+    roots.push(eqs.potential);
+    let shared = crate::print::render::shared_nodes(arena, &roots);
+    let mut out = String::new();
+    if !shared.is_empty() {
+        out.push_str(&format!(
+            "\nShared subexpressions ({}, each used more than once below):\n",
+            shared.len()
+        ));
+        for (k, id) in shared.into_iter().enumerate() {
+            let def = r.render(id).s;
+            out.push_str(&format!("  w{} = {def}\n", k + 1));
+            r.name(id, format!("w{}", k + 1));
+        }
+    }
+    out
+}
+
+/// The matrix sections of [`equations_text`]: (name, title, matrix), in print order; the
+/// titles of M, C q' and g say when the links' recursion built them.
+fn sections<'e>(
+    model: &Model,
+    eqs: &'e Equations,
+) -> [(&'static str, &'static str, &'e Matrix); 9] {
+    let (mass_title, coriolis_title, gravity_title) = if model.kinetic_from_links {
+        (
+            "M = d2T/dq'dq', the mass matrix (by composite bodies over the links)",
+            "C q', the Coriolis and centrifugal forces (by Newton-Euler over the links)",
+            if model.potential_from_links {
+                "g = dPi/dq, the gravity forces (by Newton-Euler over the links)"
+            } else {
+                "g = dPi/dq, the gravity forces"
+            },
+        )
+    } else {
+        (
+            "M = d2T/dq'dq', the mass matrix",
+            "C q', the Coriolis and centrifugal forces",
+            "g = dPi/dq, the gravity forces",
+        )
+    };
+    [
+        ("M", mass_title, &eqs.mass),
+        (
+            "C",
+            "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
+            &eqs.coriolis_matrix,
+        ),
+        ("Cq'", coriolis_title, &eqs.coriolis_forces),
+        ("g", gravity_title, &eqs.gravity),
+        ("tau", "tau, the generalised forces", &eqs.forces),
+        ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
+        (
+            "Phi_q",
+            "Phi_q = dPhi/dq, the constraint Jacobian",
+            &eqs.phi_q,
+        ),
+        ("Phi_t", "Phi_t = dPhi/dt", &eqs.phi_t),
+        (
+            "gamma",
+            "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma",
+            &eqs.gamma,
+        ),
+    ]
 }

@@ -4,6 +4,7 @@
 
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
+use crate::error::EvalError;
 use crate::error::{Error, Result};
 use crate::number::Number;
 use crate::program::instructions::{BinOp, Instr, Operand, Reg, UnOp};
@@ -51,10 +52,10 @@ fn finite(v: f64, op: &str, args: &[f64]) -> Result<Operand> {
             .map(|a| format!("{a:?}"))
             .collect::<Vec<_>>()
             .join(", ");
-        Err(Error::NonFinite {
+        Err(Error::Eval(EvalError::NonFinite {
             operation: format!("constant {op}"),
             arguments: format!("({arguments})"),
-        })
+        }))
     }
 }
 

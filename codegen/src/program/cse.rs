@@ -26,6 +26,7 @@
 //! `x*y` are shared across terms and outputs. Unused registers are removed at the end.
 
 use crate::algebra::expr::{Arena, SymbolId, SymbolKind};
+use crate::error::ProgramError;
 use crate::error::{Error, Result};
 use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, defines};
 
@@ -162,13 +163,15 @@ impl Program {
     /// instructions only the others need.
     ///
     /// # Errors
-    /// [`Error::NoSuchOutput`] when some index is not an output.
+    /// [`crate::error::ProgramError::NoSuchOutput`] when some index is not an output.
     pub fn restrict(&self, ks: &[usize]) -> Result<Program> {
         let mut outs = Vec::with_capacity(ks.len());
         for &k in ks {
-            let o = self.outputs.get(k).ok_or_else(|| Error::NoSuchOutput {
-                outputs: self.outputs.len(),
-                wanted: k + 1,
+            let o = self.outputs.get(k).ok_or_else(|| {
+                Error::Program(ProgramError::NoSuchOutput {
+                    outputs: self.outputs.len(),
+                    wanted: k + 1,
+                })
             })?;
             outs.push(o.clone());
         }

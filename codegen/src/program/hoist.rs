@@ -35,7 +35,7 @@ pub struct Hoisted {
 /// collide with a declared name); a later call reuses the same symbols for its own entries.
 ///
 /// # Errors
-/// [`crate::Error::NonFinite`] if folding a constant fails (it cannot for the
+/// [`crate::error::EvalError::NonFinite`] if folding a constant fails (it cannot for the
 /// instructions of a [`Program`], whose constant subexpressions are already folded).
 ///
 /// # Example

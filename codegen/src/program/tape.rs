@@ -13,6 +13,7 @@
 
 use crate::algebra::expr::{FxHashMap, SymbolId};
 use crate::error::{Error, Result};
+use crate::error::{EvalError, ProgramError};
 use crate::program::cse::Program;
 use crate::program::instructions::{BinOp, Instr, Operand, UnOp};
 use mechanism_math::{mul_add, sin_cos};
@@ -145,27 +146,27 @@ impl Tape {
     /// operation); a NaN or infinity propagates to an output, and the outputs are checked.
     ///
     /// # Errors
-    /// [`Error::MissingValue`] when `inputs` is too short for a symbol the program reads,
-    /// [`Error::NonFinite`] for a non-finite input or output, [`Error::OutputCount`] when
+    /// [`crate::error::EvalError::MissingValue`] when `inputs` is too short for a symbol the program reads,
+    /// [`crate::error::EvalError::NonFinite`] for a non-finite input or output, [`crate::error::ProgramError::OutputCount`] when
     /// `out` has the wrong length.
     pub fn eval(&mut self, inputs: &[f64], out: &mut [f64]) -> Result<()> {
         if out.len() != self.outputs.len() {
-            return Err(Error::OutputCount {
+            return Err(Error::Program(ProgramError::OutputCount {
                 what: "output slots",
                 given: out.len(),
                 outputs: self.outputs.len(),
-            });
+            }));
         }
         for (s, slot, name) in &self.inputs {
             match inputs.get(s.index()) {
                 Some(&v) if v.is_finite() => self.regs[*slot as usize] = v,
                 Some(&v) => {
-                    return Err(Error::NonFinite {
+                    return Err(Error::Eval(EvalError::NonFinite {
                         operation: name.clone(),
                         arguments: format!("{v:?}"),
-                    });
+                    }));
                 }
-                None => return Err(Error::MissingValue { name: name.clone() }),
+                None => return Err(Error::Eval(EvalError::MissingValue { name: name.clone() })),
             }
         }
         // `take` leaves an empty Vec behind: no allocation.
@@ -174,10 +175,10 @@ impl Tape {
         self.regs = regs;
         for (k, v) in out.iter().enumerate() {
             if !v.is_finite() {
-                return Err(Error::NonFinite {
+                return Err(Error::Eval(EvalError::NonFinite {
                     operation: format!("output entry {k}"),
                     arguments: format!("{v:?}"),
-                });
+                }));
             }
         }
         Ok(())

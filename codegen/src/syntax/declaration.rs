@@ -231,8 +231,8 @@ fn duplicate_section(name: &str, at: Location) -> Error {
     )
 }
 
-// One function: one match arm of a few lines per section keyword, so the grammar reads
-// as one table (see the module docs).
+/// One section, by its keyword: the grammar as one table of a line per keyword (see the
+/// module docs); a section given twice is an error at its second keyword.
 fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     let t = c.peek();
     let Tok::Ident(keyword) = &t.tok else {
@@ -242,102 +242,21 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     c.next();
     let keyword = keyword.as_str();
     match keyword {
-        "parameters" | "coordinates" => {
-            let body = block(c, |c| {
-                let (name, at) = name(c, keyword)?;
-                c.expect(&Tok::Punct('='), Expected::Value { name: name.clone() })?;
-                let value = parse(c, Language::Scalar)?;
-                Ok(Item { name, at, value })
-            })?;
-            let slot = if keyword == "parameters" {
-                &mut d.parameters
-            } else {
-                &mut d.coordinates
-            };
-            if slot.is_some() {
-                return Err(duplicate_section(keyword, at));
-            }
-            *slot = Some(Section { at, body });
-        }
-        "independent" => {
-            let body = block(c, |c| {
-                let (first, first_at) = name(c, "independent")?;
-                let (name, at, rate) = if first == "der" && c.at(&Tok::Open(Delim::Paren)) {
-                    c.next();
-                    let (n, a) = name(c, "independent")?;
-                    c.expect(&Tok::Close(Delim::Paren), Expected::CoordinateClose)?;
-                    (n, a, true)
-                } else {
-                    (first, first_at, false)
-                };
-                c.expect(&Tok::Punct('='), Expected::InitialValue)?;
-                let value = parse(c, Language::Scalar)?;
-                Ok(IndependentItem {
-                    name,
-                    rate,
-                    at,
-                    value,
-                })
-            })?;
-            if d.independent.is_some() {
-                return Err(duplicate_section(keyword, at));
-            }
-            d.independent = Some(Section { at, body });
-        }
-        "kinetic" | "potential" => {
-            let written = keyword.to_string();
-            c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
-            let body = parse(c, Language::Scalar)?;
-            let energy = keyword.to_string();
-            c.expect(&Tok::Punct(';'), Expected::EnergySemicolon { energy })?;
-            let slot = if keyword == "kinetic" {
-                &mut d.kinetic
-            } else {
-                &mut d.potential
-            };
-            if slot.is_some() {
-                return Err(duplicate_section(keyword, at));
-            }
-            *slot = Some(Section { at, body });
-        }
-        "constraints" | "velocity_constraints" => {
-            let rows = block(c, row)?;
-            let slot = if keyword == "constraints" {
-                &mut d.constraints
-            } else {
-                &mut d.velocity_constraints
-            };
-            if slot.is_some() {
-                return Err(duplicate_section(keyword, at));
-            }
-            let mut body = Vec::new();
-            for (k, rows) in rows.into_iter().enumerate() {
-                let labels = components(rows.len(), 1);
-                for (mut row, component) in rows.into_iter().zip(labels) {
-                    row.statement = k + 1;
-                    row.component = component;
-                    body.push(row);
-                }
-            }
-            *slot = Some(Section { at, body });
-        }
-        "forces" => {
-            let body = block(c, |c| {
-                let (name, at) = name(c, "forces")?;
-                c.expect(
-                    &Tok::Punct(':'),
-                    Expected::ForceColon { name: name.clone() },
-                )?;
-                let value = parse(c, Language::Scalar)?;
-                Ok(Force { name, at, value })
-            })?;
-            if d.forces.is_some() {
-                return Err(duplicate_section(keyword, at));
-            }
-            d.forces = Some(Section { at, body });
-        }
+        "parameters" => fill(&mut d.parameters, keyword, at, named_values(c, keyword)?),
+        "coordinates" => fill(&mut d.coordinates, keyword, at, named_values(c, keyword)?),
+        "independent" => fill(&mut d.independent, keyword, at, independent_items(c)?),
+        "kinetic" => fill(&mut d.kinetic, keyword, at, energy(c, keyword)?),
+        "potential" => fill(&mut d.potential, keyword, at, energy(c, keyword)?),
+        "constraints" => fill(&mut d.constraints, keyword, at, constraint_rows(c)?),
+        "velocity_constraints" => fill(
+            &mut d.velocity_constraints,
+            keyword,
+            at,
+            constraint_rows(c)?,
+        ),
+        "forces" => fill(&mut d.forces, keyword, at, forces(c)?),
         kw if crate::syntax::bodies::is_body_section(kw) => {
-            crate::syntax::bodies::parse_body_section(c, kw, at, &mut d.bodies)?;
+            crate::syntax::bodies::parse_body_section(c, kw, at, &mut d.bodies)
         }
         other => {
             let kind = ParseError::UnknownSection {
@@ -345,10 +264,90 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
                 sections: SECTIONS,
                 suggestion: closest(other, SECTIONS.iter().copied()),
             };
-            return Err(Error::parse(kind, at));
+            Err(Error::parse(kind, at))
         }
     }
+}
+
+/// Puts the section `keyword` at `at` into its empty `slot`.
+fn fill<T>(slot: &mut Option<Section<T>>, keyword: &str, at: Location, body: T) -> Result<()> {
+    if slot.is_some() {
+        return Err(duplicate_section(keyword, at));
+    }
+    *slot = Some(Section { at, body });
     Ok(())
+}
+
+/// `{ name = value; ... }`: the body of `parameters` and `coordinates`.
+fn named_values(c: &mut Cursor<'_>, keyword: &str) -> Result<Vec<Item>> {
+    block(c, |c| {
+        let (name, at) = name(c, keyword)?;
+        c.expect(&Tok::Punct('='), Expected::Value { name: name.clone() })?;
+        let value = parse(c, Language::Scalar)?;
+        Ok(Item { name, at, value })
+    })
+}
+
+/// `{ name = value; der(name) = value; ... }`: the body of `independent`.
+fn independent_items(c: &mut Cursor<'_>) -> Result<Vec<IndependentItem>> {
+    block(c, |c| {
+        let (first, first_at) = name(c, "independent")?;
+        let (name, at, rate) = if first == "der" && c.at(&Tok::Open(Delim::Paren)) {
+            c.next();
+            let (n, a) = name(c, "independent")?;
+            c.expect(&Tok::Close(Delim::Paren), Expected::CoordinateClose)?;
+            (n, a, true)
+        } else {
+            (first, first_at, false)
+        };
+        c.expect(&Tok::Punct('='), Expected::InitialValue)?;
+        let value = parse(c, Language::Scalar)?;
+        Ok(IndependentItem {
+            name,
+            rate,
+            at,
+            value,
+        })
+    })
+}
+
+/// `= expression;`: the rest of `kinetic` and `potential`.
+fn energy(c: &mut Cursor<'_>, keyword: &str) -> Result<Ast> {
+    let written = keyword.to_string();
+    c.expect(&Tok::Punct('='), Expected::EqualsAfter { written })?;
+    let body = parse(c, Language::Scalar)?;
+    let energy = keyword.to_string();
+    c.expect(&Tok::Punct(';'), Expected::EnergySemicolon { energy })?;
+    Ok(body)
+}
+
+/// `{ row; [row, row]; ... }`: the body of `constraints` and `velocity_constraints`, each
+/// row labelled with its statement (1-based) and its component in a vector statement.
+fn constraint_rows(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
+    let rows = block(c, row)?;
+    let mut body = Vec::new();
+    for (k, rows) in rows.into_iter().enumerate() {
+        let labels = components(rows.len(), 1);
+        for (mut row, component) in rows.into_iter().zip(labels) {
+            row.statement = k + 1;
+            row.component = component;
+            body.push(row);
+        }
+    }
+    Ok(body)
+}
+
+/// `{ name: value; ... }`: the body of `forces`.
+fn forces(c: &mut Cursor<'_>) -> Result<Vec<Force>> {
+    block(c, |c| {
+        let (name, at) = name(c, "forces")?;
+        c.expect(
+            &Tok::Punct(':'),
+            Expected::ForceColon { name: name.clone() },
+        )?;
+        let value = parse(c, Language::Scalar)?;
+        Ok(Force { name, at, value })
+    })
 }
 
 /// One constraint statement: a scalar row or a vector of rows.

@@ -266,10 +266,12 @@ impl Parser<'_, '_> {
         self.c.next();
         let args = self.list(Delim::Paren, Expected::ArgumentSeparator)?;
         match arity(self.language, name) {
-            None => Err(Error::UnknownFunction {
-                name: name.to_string(),
-                location: at,
-            }),
+            None => Err(Error::declaration(
+                DeclarationError::UnknownFunction {
+                    name: name.to_string(),
+                },
+                at,
+            )),
             Some(arity) if arity != args.len() => Err(Error::parse(
                 ParseError::Arity {
                     function: name.to_string(),

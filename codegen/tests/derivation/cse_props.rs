@@ -2,6 +2,7 @@
 //! programs; structural invariants of the program (sin/cos computed once per argument,
 //! consistent op counts, restriction).
 
+use mechanism_codegen::error::{AlgebraError, EvalError};
 use std::collections::HashMap;
 
 use crate::eval_support::{Ast, ast, build, close, dag, point, symbols};
@@ -228,12 +229,12 @@ fn bad_inputs_are_errors() {
     // A malformed matrix cannot be built, so no program sees one.
     assert!(matches!(
         Matrix::new(2, 2, vec![p]),
-        Err(Error::MalformedMatrix { .. })
+        Err(Error::Algebra(AlgebraError::MalformedMatrix { .. }))
     ));
     let out_of_arena = Matrix::column(vec![Id::new(99_999)]);
     assert!(matches!(
         Program::new(&a, &[&out_of_arena]),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
     let ok = Program::new(&a, &[&Matrix::column(vec![p])]).unwrap();
     assert!(ok.restrict(&[3]).is_err());
@@ -249,7 +250,10 @@ fn constant_folding_rejects_non_finite_constants() {
     let e = a.func(mechanism_codegen::Func::Exp, k).unwrap();
     assert!(a.as_number(e).is_none());
     let err = Program::new(&a, &[&Matrix::column(vec![e])]).unwrap_err();
-    assert!(matches!(err, Error::NonFinite { .. }), "{err}");
+    assert!(
+        matches!(err, Error::Eval(EvalError::NonFinite { .. })),
+        "{err}"
+    );
     let x = a.symbol("x", SymbolKind::Free);
     let ok = a.mul2(x, e);
     assert!(

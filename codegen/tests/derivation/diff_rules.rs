@@ -1,6 +1,7 @@
 //! Differentiation rules as exact canonical forms (one line per rule), errors, and the cost
 //! guarantees (independent subtrees untouched, deep trees without recursion).
 
+use mechanism_codegen::error::AlgebraError;
 use mechanism_codegen::{Arena, Differentiator, Error, Func, Id, SymbolId, SymbolKind};
 
 struct Fx {
@@ -185,32 +186,44 @@ fn invalid_inputs_are_typed_errors() {
     let mut d = Differentiator::new();
     assert!(matches!(
         d.diff(&mut t.a, Id::new(10_000), t.sx),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
     assert!(matches!(
         d.diff(&mut t.a, t.x, SymbolId::new(77)),
-        Err(Error::UnknownSymbolId { .. })
+        Err(Error::Algebra(AlgebraError::UnknownSymbolId { .. }))
     ));
     assert!(matches!(
         d.time_derivative(&mut t.a, Id::new(10_000)),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
     assert!(matches!(
         d.depends_on(&t.a, Id::new(10_000), t.sx),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
+    // A constant divided by 0 names the operation, as a rational or as a power of 0.
+    let error = t.a.rational(3, 0).unwrap_err();
+    assert!(
+        matches!(&error, Error::Algebra(AlgebraError::DivisionByZero { operation }) if operation == "3/0"),
+        "{error:?}"
+    );
+    let (zero, minus_two) = (t.a.int(0), t.a.int(-2));
+    let error = t.a.pow(zero, minus_two).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "division by zero in the constant expression `0^-2`"
+    );
     // d/dx (-2)^x needs ln(-2).
     let m2 = t.a.int(-2);
     let p = t.a.pow(m2, t.x).unwrap();
     assert!(matches!(
         d.diff(&mut t.a, p, t.sx),
-        Err(Error::Domain { .. })
+        Err(Error::Algebra(AlgebraError::Domain { .. }))
     ));
     // The time derivative of an acceleration would be a third derivative.
     let [_, _, qdd] = t.a.coordinate("q");
     assert!(matches!(
         d.time_derivative(&mut t.a, qdd),
-        Err(Error::ThirdDerivative { .. })
+        Err(Error::Algebra(AlgebraError::ThirdDerivative { .. }))
     ));
 }
 

@@ -1,6 +1,7 @@
 //! The interpreter (`eval`) against a direct f64 evaluation of random expression trees, and
 //! its typed errors.
 
+use mechanism_codegen::error::{AlgebraError, EvalError};
 use std::cell::Cell;
 use std::collections::HashMap;
 
@@ -47,7 +48,10 @@ fn missing_symbol_is_named() {
     let (mut a, x, y) = arena_xy();
     let e = a.add2(x, y);
     let err = eval(&a, e, &|s| (s.index() == 0).then_some(1.0)).unwrap_err();
-    assert_eq!(err, Error::MissingValue { name: "y".into() });
+    assert_eq!(
+        err,
+        Error::Eval(EvalError::MissingValue { name: "y".into() })
+    );
 }
 
 #[test]
@@ -56,7 +60,7 @@ fn runtime_division_by_zero_is_an_error() {
     let d = a.div(y, x).unwrap();
     let err = eval(&a, d, &|s| Some(if s.index() == 0 { 0.0 } else { 1.0 })).unwrap_err();
     assert!(
-        matches!(err, Error::NonFinite { ref operation, .. } if operation == "division by zero"),
+        matches!(err, Error::Eval(EvalError::NonFinite { ref operation, .. }) if operation == "division by zero"),
         "{err}"
     );
 }
@@ -76,10 +80,13 @@ fn a_quotient_of_tiny_numbers_is_evaluated_as_a_quotient() {
     let reciprocal = a.div(one, x).unwrap();
     assert!(matches!(
         eval(&a, reciprocal, &tiny),
-        Err(Error::NonFinite { ref operation, .. }) if operation == "pow"
+        Err(Error::Eval(EvalError::NonFinite { ref operation, .. })) if operation == "pow"
     ));
     let sum = a.add2(reciprocal, y);
-    assert!(matches!(eval(&a, sum, &tiny), Err(Error::NonFinite { .. })));
+    assert!(matches!(
+        eval(&a, sum, &tiny),
+        Err(Error::Eval(EvalError::NonFinite { .. }))
+    ));
     let parsed = mechanism_codegen::parse_expr(&mut a, "1e-320/1e-320").unwrap();
     assert_eq!(eval(&a, parsed, &|_| None).unwrap(), 1.0);
 }
@@ -91,19 +98,25 @@ fn domain_errors_are_typed_not_nan() {
     let sq = a.sqrt(x).unwrap();
     let big = a.func(Func::Exp, x).unwrap();
     let neg = |_| Some(-1.0);
-    assert!(matches!(eval(&a, ln, &neg), Err(Error::NonFinite { .. })));
-    assert!(matches!(eval(&a, sq, &neg), Err(Error::NonFinite { .. })));
+    assert!(matches!(
+        eval(&a, ln, &neg),
+        Err(Error::Eval(EvalError::NonFinite { .. }))
+    ));
+    assert!(matches!(
+        eval(&a, sq, &neg),
+        Err(Error::Eval(EvalError::NonFinite { .. }))
+    ));
     assert!(
         matches!(
             eval(&a, big, &|_| Some(1000.0)),
-            Err(Error::NonFinite { .. })
+            Err(Error::Eval(EvalError::NonFinite { .. }))
         ),
         "exp overflow"
     );
     assert!(
         matches!(
             eval(&a, x, &|_| Some(f64::NAN)),
-            Err(Error::NonFinite { .. })
+            Err(Error::Eval(EvalError::NonFinite { .. }))
         ),
         "NaN input"
     );
@@ -116,7 +129,7 @@ fn invalid_ids_and_bad_matrices_are_errors() {
     let bad = Id::new(1_000_000);
     assert!(matches!(
         eval(&a, bad, &|_| Some(1.0)),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
     assert!(
         Matrix::new(2, 2, vec![x]).is_err(),

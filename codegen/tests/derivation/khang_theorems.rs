@@ -7,6 +7,7 @@
 //! the two sides are one function evaluated by different operation orders.
 
 use crate::common::{Ast, ast, build, close, eval_ast};
+use mechanism_codegen::error::AlgebraError;
 use mechanism_codegen::{
     Arena, Differentiator, Error, Id, Matrix, SymbolId, SymbolKind, eval_matrix,
 };
@@ -207,28 +208,31 @@ fn shape_errors_are_typed() {
     let m22 = Matrix::zeros(a, 2, 2);
     assert!(matches!(
         m23.mul(a, &m22),
-        Err(Error::Shape {
+        Err(Error::Algebra(AlgebraError::Shape {
             operation: "mul",
             ..
-        })
+        }))
     ));
     assert!(matches!(
         m23.add(a, &m22),
-        Err(Error::Shape {
+        Err(Error::Algebra(AlgebraError::Shape {
             operation: "add",
             ..
-        })
+        }))
     ));
-    assert!(matches!(m23.sub(a, &m22), Err(Error::Shape { .. })));
+    assert!(matches!(
+        m23.sub(a, &m22),
+        Err(Error::Algebra(AlgebraError::Shape { .. }))
+    ));
     // A matrix whose entries do not fill rows x cols cannot be built.
     assert!(matches!(
         Matrix::new(3, 3, vec![t.q[0]]),
-        Err(Error::MalformedMatrix { .. })
+        Err(Error::Algebra(AlgebraError::MalformedMatrix { .. }))
     ));
     let foreign = Matrix::new(1, 1, vec![Id::new(1 << 30)]).unwrap();
     assert!(matches!(
         foreign.add(a, &foreign),
-        Err(Error::InvalidId { .. })
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
     ));
     assert!(foreign.scale(a, t.q[0]).is_err());
     let qd = Matrix::column(vec![t.qd[0]]);

@@ -8,6 +8,7 @@
 use crate::common::{
     State, assert_equations_close, bare_model, close, eval_equations, oracle_equations,
 };
+use mechanism_codegen::error::{AlgebraError, DeclarationError, DerivationError};
 use mechanism_codegen::internals::christoffel_coriolis_forces;
 use mechanism_codegen::{Arena, Error, Func, Id, Matrix, Model, SymbolKind, derive, eval_matrix};
 
@@ -412,36 +413,55 @@ fn malformed_models_are_typed_errors() {
     let mut empty = base();
     empty.coordinates.clear();
     empty.forces.clear();
-    assert!(matches!(derive(&mut empty), Err(Error::NoCoordinates)));
+    let error = derive(&mut empty).unwrap_err();
+    assert!(
+        matches!(&error, Error::Declaration { kind, .. }
+            if matches!(**kind, DeclarationError::NoCoordinates { empty_section: false, .. })),
+        "{error:?}"
+    );
+    // A model built by hand has no place in a declaration: no line 0 reported.
+    assert_eq!(error.location(), None);
     let mut forces = base();
     forces.forces.pop();
-    assert!(matches!(derive(&mut forces), Err(Error::ForceCount { .. })));
+    assert!(matches!(
+        derive(&mut forces),
+        Err(Error::Derivation(DerivationError::ForceCount { .. }))
+    ));
     let mut bad_id = base();
     bad_id.kinetic = Id::new(1_000_000);
-    assert!(matches!(derive(&mut bad_id), Err(Error::InvalidId { .. })));
+    assert!(matches!(
+        derive(&mut bad_id),
+        Err(Error::Algebra(AlgebraError::InvalidId { .. }))
+    ));
     let mut rate_in_pi = base();
     rate_in_pi.potential = rate_in_pi.coordinates[0].qd;
     assert!(matches!(
         derive(&mut rate_in_pi),
-        Err(Error::ForbiddenDependence { .. })
+        Err(Error::Derivation(
+            DerivationError::ForbiddenDependence { .. }
+        ))
     ));
     let mut rate_in_phi = base();
     rate_in_phi.constraints[0].expr = rate_in_phi.coordinates[1].qd;
     assert!(matches!(
         derive(&mut rate_in_phi),
-        Err(Error::ForbiddenDependence { .. })
+        Err(Error::Derivation(
+            DerivationError::ForbiddenDependence { .. }
+        ))
     ));
     let mut acc_in_t = base();
     acc_in_t.kinetic = acc_in_t.coordinates[1].qdd;
     assert!(matches!(
         derive(&mut acc_in_t),
-        Err(Error::ForbiddenDependence { .. })
+        Err(Error::Derivation(
+            DerivationError::ForbiddenDependence { .. }
+        ))
     ));
     let mut not_symbol = base();
     not_symbol.coordinates[0].q = not_symbol.potential;
     assert!(matches!(
         derive(&mut not_symbol),
-        Err(Error::NotASymbol { .. })
+        Err(Error::Derivation(DerivationError::NotASymbol { .. }))
     ));
 }
 

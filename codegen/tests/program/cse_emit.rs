@@ -1,6 +1,7 @@
 //! The emitter's API: output targets, zero skipping, per-body dead-code removal and counts,
 //! typed errors, and constant literals that round-trip exactly.
 
+use mechanism_codegen::error::{EvalError, ProgramError};
 use mechanism_codegen::{
     Arena, EmitBindings, Error, Id, Matrix, OutputTarget, Program, SymbolKind, emit_body,
     f64_tokens,
@@ -153,23 +154,29 @@ fn errors_are_typed() {
     };
     assert_eq!(
         emit_body(&p, &s.b, std::slice::from_ref(&v)).unwrap_err(),
-        Error::MissingValue { name: "t".into() }
+        Error::Eval(EvalError::MissingValue { name: "t".into() })
     );
     assert!(
-        matches!(emit_body(&p, &s.b, &[]), Err(Error::OutputCount { .. })),
+        matches!(
+            emit_body(&p, &s.b, &[]),
+            Err(Error::Program(ProgramError::OutputCount { .. }))
+        ),
         "target count"
     );
     assert!(
         matches!(
             emit_body(&p, &s.b, &[OutputTarget::Return]),
-            Err(Error::ReturnNotScalar { .. })
+            Err(Error::Program(ProgramError::ReturnNotScalar { .. }))
         ),
         "2 x 1 returned"
     );
     let p2 = Program::new(&s.a, &[&Matrix::column(vec![c]), &Matrix::column(vec![c])]).unwrap();
     assert!(matches!(
         emit_body(&p2, &s.b, &[OutputTarget::Return, OutputTarget::Return]),
-        Err(Error::SeveralReturns)
+        Err(Error::Program(ProgramError::SeveralReturns {
+            first: 0,
+            second: 1
+        }))
     ));
     let square = Program::new(&s.a, &[&Matrix::new(2, 2, vec![c; 4]).unwrap()]).unwrap();
     let as_vector = OutputTarget::Vector {
@@ -179,7 +186,7 @@ fn errors_are_typed() {
     assert!(
         matches!(
             emit_body(&square, &s.b, &[as_vector]),
-            Err(Error::MatrixAsVector { .. })
+            Err(Error::Program(ProgramError::MatrixAsVector { .. }))
         ),
         "a 2 x 2 output is not a vector (nalgebra's linear index is column-major)"
     );
@@ -187,7 +194,7 @@ fn errors_are_typed() {
     bad.set_prefix("1x");
     assert!(matches!(
         emit_body(&p2, &bad, &[OutputTarget::Return, OutputTarget::Skip]),
-        Err(Error::RegisterPrefix { .. })
+        Err(Error::Program(ProgramError::RegisterPrefix { .. }))
     ));
     // with t bound, it works and names registers with the prefix
     let mut ok = s.b.clone();

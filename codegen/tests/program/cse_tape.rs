@@ -1,5 +1,6 @@
 //! The tape's contract: output layout, typed errors for bad inputs and non-finite results.
 
+use mechanism_codegen::error::{EvalError, ProgramError};
 use mechanism_codegen::{Arena, Error, Func, Matrix, Program, SymbolKind, Tape};
 use mechanism_math::sin_cos;
 
@@ -41,15 +42,15 @@ fn short_or_non_finite_inputs_are_errors() {
     let mut out = [0.0];
     assert_eq!(
         t.eval(&[1.0], &mut out),
-        Err(Error::MissingValue { name: "y".into() })
+        Err(Error::Eval(EvalError::MissingValue { name: "y".into() }))
     );
     assert!(matches!(
         t.eval(&[1.0, f64::INFINITY], &mut out),
-        Err(Error::NonFinite { .. })
+        Err(Error::Eval(EvalError::NonFinite { .. }))
     ));
     assert!(matches!(
         t.eval(&[1.0, 2.0], &mut [0.0; 2]),
-        Err(Error::OutputCount { .. })
+        Err(Error::Program(ProgramError::OutputCount { .. }))
     ));
     assert_eq!(t.eval(&[1.0, 2.0], &mut out), Ok(()));
     assert_eq!(out, [3.0]);
@@ -64,11 +65,17 @@ fn runtime_domain_errors_reach_the_outputs() {
     let mut t = Tape::new(&p);
     let mut out = [0.0; 2];
     assert!(
-        matches!(t.eval(&[0.0, 1.0], &mut out), Err(Error::NonFinite { .. })),
+        matches!(
+            t.eval(&[0.0, 1.0], &mut out),
+            Err(Error::Eval(EvalError::NonFinite { .. }))
+        ),
         "y/0"
     );
     assert!(
-        matches!(t.eval(&[-1.0, 1.0], &mut out), Err(Error::NonFinite { .. })),
+        matches!(
+            t.eval(&[-1.0, 1.0], &mut out),
+            Err(Error::Eval(EvalError::NonFinite { .. }))
+        ),
         "ln(-1)"
     );
     t.eval(&[2.0, 1.0], &mut out).unwrap();

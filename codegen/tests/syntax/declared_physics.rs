@@ -4,6 +4,7 @@
 //! offending expression, never a silently wrong model.
 
 use mechanism_codegen::error::DeclarationError;
+use mechanism_codegen::error::{BudgetError, DerivationError};
 use mechanism_codegen::{Error, Model, derive, parse_model_str};
 
 /// A pendulum in Cartesian coordinates with `kinetic`, `potential` and `params` replaced.
@@ -104,10 +105,10 @@ fn large_but_finite_constants_are_kept_exactly() {
 fn an_overflow_in_the_derivation_is_an_error_naming_the_mechanism() {
     // Pi = 1e308 y^2 is finite; its gradient 2e308 y is not.
     match derived(&pendulum(PARAMS, T, "1e308*y^2")) {
-        Err(Error::DerivationOverflow {
+        Err(Error::Derivation(DerivationError::Overflow {
             mechanism,
             operation,
-        }) => {
+        })) => {
             assert_eq!(mechanism, "P");
             assert!(operation.contains("1e308"), "{operation}");
         }
@@ -233,11 +234,11 @@ fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
     };
     let mut model = mechanism_codegen::parse_model_str_with(&text, budget).unwrap();
     match derive(&mut model) {
-        Err(Error::DerivationTooLarge {
+        Err(Error::Budget(BudgetError::Entries {
             coordinates,
             entries,
             limit,
-        }) => assert_eq!((coordinates, entries, limit), (520, 520, 519)),
+        })) => assert_eq!((coordinates, entries, limit), (520, 520, 519)),
         other => panic!("{:?}", other.map(|e| e.n)),
     }
 }
@@ -258,7 +259,7 @@ fn a_derivation_beyond_its_work_budget_stops() {
         Err(e) => e,
         Ok(eqs) => panic!("derived {} coordinates within half its work", eqs.n),
     };
-    let Error::WorkTooLarge { work, budget } = e else {
+    let Error::Budget(BudgetError::Work { work, budget }) = e else {
         panic!("{e:?}");
     };
     assert!(work > budget && budget == whole / 2, "{work} of {budget}");
@@ -313,7 +314,7 @@ fn the_size_of_the_expressions_is_counted_and_checked() {
     assert!(a.check_budget().is_ok());
     a.set_budget(budget(a.size() - 1, effort.work));
     match a.check_budget() {
-        Err(Error::ExpressionsTooLarge { size, budget }) => {
+        Err(Error::Budget(BudgetError::Size { size, budget })) => {
             assert_eq!((size, budget), (a.size(), a.size() - 1));
         }
         other => panic!("{other:?}"),
@@ -322,7 +323,7 @@ fn the_size_of_the_expressions_is_counted_and_checked() {
     // but no size.
     a.set_budget(budget(a.size(), effort.work - 1));
     match a.check_budget() {
-        Err(Error::WorkTooLarge { work, budget }) => {
+        Err(Error::Budget(BudgetError::Work { work, budget })) => {
             assert_eq!((work, budget), (effort.work, effort.work - 1));
         }
         other => panic!("{other:?}"),

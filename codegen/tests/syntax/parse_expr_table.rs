@@ -1,5 +1,6 @@
 //! Table tests of the expression parser and printer: text => printed form, text => error.
 
+use mechanism_codegen::error::DeclarationError;
 use mechanism_codegen::{Arena, Error, SymbolKind, parse_expr, to_text};
 
 /// An arena with free symbols x, y, z, parameters a, b, c, m1, l1, m2 and a coordinate phi.
@@ -91,56 +92,60 @@ prints! {
     overflowing_power_stays: "0.0016^(-125)" => "0.0016^(-125)";
 }
 
-/// `text => error`: the error's kind, and its 1-based column (all cases are one line).
+/// The rule of the language an error reports, when it is a declaration error.
+fn rule(err: &Error) -> Option<&DeclarationError> {
+    match err {
+        Error::Declaration { kind, .. } => Some(kind),
+        _ => None,
+    }
+}
+
+/// `text => (error, rule)`: the error and the declaration rule it reports, and its 1-based
+/// column (all cases are one line).
 macro_rules! fails {
     ($($name:ident: $text:expr => $kind:pat, $column:expr;)*) => {$(
         #[test]
         fn $name() {
             let mut a = arena();
             let err = parse_expr(&mut a, $text).expect_err($text);
-            assert!(matches!(err, $kind), "{}: wrong error kind: {err:?}", $text);
-            let loc = match &err {
-                Error::Parse { location, .. }
-                | Error::UnknownSymbol { location, .. }
-                | Error::UnknownFunction { location, .. }
-                | Error::Declaration { location, .. }
-                | Error::ZeroDivisor { location, .. } => *location,
-                other => panic!("no location in {other:?}"),
-            };
+            assert!(matches!((&err, rule(&err)), $kind), "{}: wrong error kind: {err:?}", $text);
+            let loc = err
+                .location()
+                .unwrap_or_else(|| panic!("no location in {err:?}"));
             assert_eq!((loc.line, loc.column), (1, $column), "{}: {err}", $text);
         }
     )*};
 }
 
 fails! {
-    unknown_symbol: "x + q" => Error::UnknownSymbol { .. }, 5;
-    unknown_function: "x + sine(x)" => Error::UnknownFunction { .. }, 5;
-    division_by_zero: "x/0" => Error::ZeroDivisor { .. }, 2;
-    division_by_zero_constant_expr: "x/(2-2)" => Error::ZeroDivisor { .. }, 2;
-    zero_to_negative_power: "y + 0^-1" => Error::ZeroDivisor { .. }, 6;
-    der_of_parameter: "der(m1)" => Error::Declaration { .. }, 5;
-    der_of_expression: "der(x + y)" => Error::Declaration { .. }, 5;
-    dangling_operator: "x +" => Error::Parse { .. }, 4;
-    missing_operand: "x * * y" => Error::Parse { .. }, 5;
-    trailing_tokens: "x y" => Error::Parse { .. }, 3;
-    caret_without_base: "^x" => Error::Parse { .. }, 1;
-    wrong_arity: "atan2(x)" => Error::Parse { .. }, 1;
-    unbalanced: "sin(x" => Error::Parse { .. }, 4;
-    type_suffix: "2f64*x" => Error::Parse { .. }, 1;
-    string_literal: "\"x\"" => Error::Parse { .. }, 1;
-    ln_of_zero: "ln(0)" => Error::Declaration { .. }, 1;
-    huge_float: "1e999" => Error::Parse { .. }, 1;
-    double_star_power: "x**2" => Error::Parse { .. }, 3;
+    unknown_symbol: "x + q" => (_, Some(DeclarationError::UnknownSymbol { .. })), 5;
+    unknown_function: "x + sine(x)" => (_, Some(DeclarationError::UnknownFunction { .. })), 5;
+    division_by_zero: "x/0" => (_, Some(DeclarationError::ZeroDivisor { .. })), 2;
+    division_by_zero_constant_expr: "x/(2-2)" => (_, Some(DeclarationError::ZeroDivisor { .. })), 2;
+    zero_to_negative_power: "y + 0^-1" => (_, Some(DeclarationError::ZeroDivisor { .. })), 6;
+    der_of_parameter: "der(m1)" => (Error::Declaration { .. }, _), 5;
+    der_of_expression: "der(x + y)" => (Error::Declaration { .. }, _), 5;
+    dangling_operator: "x +" => (Error::Parse { .. }, _), 4;
+    missing_operand: "x * * y" => (Error::Parse { .. }, _), 5;
+    trailing_tokens: "x y" => (Error::Parse { .. }, _), 3;
+    caret_without_base: "^x" => (Error::Parse { .. }, _), 1;
+    wrong_arity: "atan2(x)" => (Error::Parse { .. }, _), 1;
+    unbalanced: "sin(x" => (Error::Parse { .. }, _), 4;
+    type_suffix: "2f64*x" => (Error::Parse { .. }, _), 1;
+    string_literal: "\"x\"" => (Error::Parse { .. }, _), 1;
+    ln_of_zero: "ln(0)" => (Error::Declaration { .. }, _), 1;
+    huge_float: "1e999" => (Error::Parse { .. }, _), 1;
+    double_star_power: "x**2" => (Error::Parse { .. }, _), 3;
 }
 
 #[test]
 fn unknown_symbol_suggests_a_close_name() {
     let mut a = arena();
     let err = parse_expr(&mut a, "l2 + 1").unwrap_err();
-    match &err {
-        Error::UnknownSymbol {
+    match rule(&err) {
+        Some(DeclarationError::UnknownSymbol {
             name, suggestion, ..
-        } => {
+        }) => {
             assert_eq!(name, "l2");
             assert_eq!(suggestion.as_deref(), Some("l1"));
         }
@@ -151,11 +156,11 @@ fn unknown_symbol_suggests_a_close_name() {
     let err = parse_expr(&mut a, "w").unwrap_err();
     assert!(
         matches!(
-            err,
-            Error::UnknownSymbol {
+            rule(&err),
+            Some(DeclarationError::UnknownSymbol {
                 suggestion: None,
                 ..
-            }
+            })
         ),
         "{err:?}"
     );
@@ -177,7 +182,8 @@ fn multi_line_error_has_line_and_column() {
     let mut a = arena();
     let err = parse_expr(&mut a, "x +\n  y *\n   unknown").unwrap_err();
     assert!(
-        matches!(err, Error::UnknownSymbol { location, .. } if location.line == 3 && location.column == 4),
+        matches!(rule(&err), Some(DeclarationError::UnknownSymbol { .. }))
+            && err.location().map(|l| (l.line, l.column)) == Some((3, 4)),
         "{err:?}"
     );
     let err = parse_expr(&mut a, "(x +\n  (y * 2)").unwrap_err();

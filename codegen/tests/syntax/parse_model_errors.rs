@@ -3,6 +3,7 @@
 
 use std::str::FromStr;
 
+use mechanism_codegen::error::DeclarationError;
 use mechanism_codegen::{Error, parse_declaration, parse_declaration_str, parse_model_str};
 
 /// A declaration, one section per line (line 1: struct, 2: parameters, 3: coordinates,
@@ -87,7 +88,7 @@ errors! {
     unknown_symbol: D { kinetic: Some("m/2*(der(x)^2 + der(y)^2) + k"), ..BASE }
         => "unknown symbol `k`", line 5, at "k;";
     unknown_symbol_suggests: D { potential: Some("m*gg*y"), ..BASE }
-        => "unknown symbol `gg` at line 6, column 15; did you mean `g`?", line 6, at "gg";
+        => "unknown symbol `gg`; did you mean `g`?", line 6, at "gg";
     duplicate_coordinate: D { coordinates: Some("x = 0.5; y = 0.0; x = 1.0;"), ..BASE }
         => "the coordinate `x` is declared twice", line 3, at "x = 1.0";
     duplicate_parameter: D { parameters: Some("m = 1.0; l = 0.5; g = 9.81; m = 2.0;"), ..BASE }
@@ -170,7 +171,7 @@ errors! {
     missing_semicolon_between_statements: D { constraints: Some("x^2 + y^2 - l^2 x - y;"), ..BASE }
         => "expected `;` or an operator, found `x`", line 7, at "x - y";
     unknown_symbol_lists_known_names: D { potential: Some("m*g*w"), ..BASE }
-        => "unknown symbol `w` at line 6, column 17; known: m, l, g, x, y, t, pi", line 6, at "w";
+        => "unknown symbol `w`; known: m, l, g, x, y, t, pi (at line 6, column 17)", line 6, at "w";
 }
 
 /// The known names are listed closest first, at most eight of them.
@@ -185,9 +186,12 @@ fn unknown_symbol_lists_the_closest_known_names_first() {
         ..BASE
     };
     let errors = parse_declaration_str(&d.text()).unwrap_err();
-    let Error::UnknownSymbol {
+    let Error::Declaration { kind, .. } = &errors[0] else {
+        panic!("{errors:?}")
+    };
+    let DeclarationError::UnknownSymbol {
         suggestion, known, ..
-    } = &errors[0]
+    } = kind.as_ref()
     else {
         panic!("{errors:?}")
     };

@@ -2,6 +2,7 @@
 //! a numeric factor distributed over a single sum), quotients, powers and square roots.
 
 use crate::algebra::expr::{Arena, Id, Node};
+use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -103,7 +104,7 @@ impl Arena {
         Ok(self.mul2(a, inv))
     }
 
-    /// base ^ exponent, canonical; 0 to a negative constant power is [`Error::DivisionByZero`].
+    /// base ^ exponent, canonical; 0 to a negative constant power is [`crate::error::AlgebraError::DivisionByZero`].
     pub fn pow(&mut self, base: Id, exp: Id) -> Result<Id> {
         let e = self.as_number(exp);
         if let Some(en) = e {
@@ -117,7 +118,11 @@ impl Arena {
         if let Some(b) = self.as_number(base) {
             if b.is_zero() {
                 return match e {
-                    Some(en) if en.is_negative() => Err(Error::DivisionByZero),
+                    Some(en) if en.is_negative() => {
+                        Err(Error::Algebra(AlgebraError::DivisionByZero {
+                            operation: format!("0^{en}"),
+                        }))
+                    }
                     Some(_) => Ok(self.int(0)),
                     None => Ok(self.intern(Node::Pow(base, exp))),
                 };
