@@ -26,6 +26,7 @@ mod kernels;
 mod lu;
 mod norm;
 mod null_space;
+mod row_basis;
 mod rows;
 mod svd;
 
@@ -35,5 +36,6 @@ pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
-pub use rows::{RowBasis, RowSpans};
+pub use row_basis::RowBasis;
+pub use rows::RowSpans;
 pub use svd::{least_squares, numerical_rank};
