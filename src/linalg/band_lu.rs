@@ -27,6 +27,9 @@ pub struct BandLu {
     ku: usize,
     ab: Vec<f64>,
     piv: Vec<usize>,
+    /// 1 / U_jj after a factorisation (the solve multiplies: a division's latency would
+    /// sit on the back substitution's dependency chain).
+    inverse: Vec<f64>,
 }
 
 /// Why [`BandLu::factor`] failed: the pivot of column `column` was at most the tolerance
@@ -49,6 +52,7 @@ impl BandLu {
             ku: 0,
             ab: vec![0.0; n * (3 * width + 1)],
             piv: vec![0; n],
+            inverse: vec![0.0; n],
         }
     }
 
@@ -149,10 +153,11 @@ impl BandLu {
                     ab.swap(base, base + jp);
                 }
             }
+            let inv = 1.0 / ab[col];
+            self.inverse[j] = inv;
             if km == 0 {
                 continue;
             }
-            let inv = 1.0 / ab[col];
             // Column j's multipliers, then the columns right of it (entry (j, c) of U at
             // c * ld + kv + j - c, below it the rows the multipliers update), which lie
             // beyond col + km in storage: split there.
@@ -209,7 +214,7 @@ impl BandLu {
         }
         for j in (0..n).rev() {
             let col = j * ld + kv;
-            let x = b[j] / ab[col];
+            let x = b[j] * self.inverse[j];
             b[j] = x;
             let lo = j.saturating_sub(kv);
             if x != 0.0 && lo < j {

@@ -13,7 +13,8 @@
 //!   large chains, O(n) for a bounded band);
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
-//! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop;
+//! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
+//!   SVD-based, for work outside the step loop;
 //! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
 //!   uses them, so a NaN entry is never read as a small residual).
 //!
@@ -38,4 +39,4 @@ pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
 pub use row_basis::RowBasis;
 pub use rows::RowSpans;
-pub use svd::{least_squares, numerical_rank};
+pub use svd::{least_squares, numerical_rank, rank_and_least_squares};
