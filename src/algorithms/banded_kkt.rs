@@ -59,6 +59,8 @@ pub enum Declined {
     TooWide,
     /// The banded LU met a pivot at round-off.
     SingularPivot,
+    /// An entry of M or Phi_q is NaN or infinite.
+    NonFinite,
 }
 
 /// Workspace of the banded direct solve; allocates nothing after [`BandedKkt::new`].
@@ -149,9 +151,10 @@ impl BandedKkt {
     /// Solves the system of the module docs. `mass` (n x n) and `a` (m x n) are nonzero at
     /// most on the patterns of [`BandedKkt::new`]; `q` has n entries, `gamma` m.
     ///
-    /// Declines (nothing solved) when the rows kept do not order into a narrow band, or
-    /// when the banded LU meets a pivot below [`PIVOT_TOLERANCE`] times the matrix's
-    /// largest entry.
+    /// Declines (nothing solved) when the rows kept do not order into a narrow band, when
+    /// an entry of M or Phi_q is not finite, or when the banded LU meets a pivot below
+    /// [`PIVOT_TOLERANCE`] times the matrix's largest entry. Every entry of both patterns
+    /// has been read for finiteness unless it declined as [`Declined::TooWide`].
     pub fn solve(
         &mut self,
         mass: &DMatrix<f64>,
@@ -194,21 +197,29 @@ impl BandedKkt {
         // stay the same); each place is written once, so the largest |value| written is
         // the matrix's largest entry.
         let (mass_values, a_values) = (mass.as_slice(), a.as_slice());
-        let mut scale = 0.0f64;
+        // Every structural nonzero is read, those of the rows left out too, so that this
+        // pass also tells whether M and Phi_q are finite (the caller reads them no other
+        // time).
+        let (mut scale, mut finite) = (0.0f64, true);
         for (&(i, j), &k) in self.mass_pattern.iter().zip(&self.mass_places) {
+            let v = mass_values[i + j * n];
+            finite &= v.is_finite();
             if k != OUT {
-                let v = mass_values[i + j * n];
                 self.lu.set(k, v);
                 scale = scale.max(v.abs());
             }
         }
         for (&(r, j), &(k, kt)) in self.jacobian_pattern.iter().zip(&self.jacobian_places) {
+            let v = a_values[r + j * m];
+            finite &= v.is_finite();
             if k != OUT {
-                let v = a_values[r + j * m];
                 self.lu.set(k, v);
                 self.lu.set(kt, v);
                 scale = scale.max(v.abs());
             }
+        }
+        if !finite {
+            return Err(Declined::NonFinite);
         }
         self.lu
             .factor_scaled(PIVOT_TOLERANCE, scale)
