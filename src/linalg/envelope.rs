@@ -247,32 +247,21 @@ impl Envelope {
 
     /// Solves with the leading k x k block after [`Envelope::factor_prefix`] of k.
     pub fn solve_prefix(&self, k: usize, b: &mut [f64]) {
-        for i in 0..k {
-            let fi = self.first[i];
-            let row = self.row(i, fi);
-            let dot: f64 = row[..i - fi]
-                .iter()
-                .zip(&b[fi..i])
-                .map(|(l, x)| l * x)
-                .sum();
-            b[i] = (b[i] - dot) * self.inverse[i];
-        }
-        for i in (0..k).rev() {
-            let fi = self.first[i];
-            let x = b[i] * self.inverse[i];
-            b[i] = x;
-            let row = self.row(i, fi);
-            for (bp, l) in b[fi..i].iter_mut().zip(row) {
-                *bp -= l * x;
-            }
-        }
+        self.substitute(k, &[], b);
     }
 
     /// Solves with the factor of [`Envelope::factor_semidefinite`] restricted to the kept
     /// rows: b_i = 0 on dropped rows, N_RR x_R = b_R on the others.
     pub fn solve_skipping(&self, dropped: &[bool], b: &mut [f64]) {
-        for i in 0..self.n {
-            if dropped[i] {
+        self.substitute(self.n, dropped, b);
+    }
+
+    /// L L^T x = b over the leading k rows, in place, the rows marked in `dropped` (empty:
+    /// none) left out with x_i = 0.
+    fn substitute(&self, k: usize, dropped: &[bool], b: &mut [f64]) {
+        let is_dropped = |i: usize| dropped.get(i).copied().unwrap_or(false);
+        for i in 0..k {
+            if is_dropped(i) {
                 b[i] = 0.0;
                 continue;
             }
@@ -285,8 +274,8 @@ impl Envelope {
                 .sum();
             b[i] = (b[i] - dot) * self.inverse[i];
         }
-        for i in (0..self.n).rev() {
-            if dropped[i] {
+        for i in (0..k).rev() {
+            if is_dropped(i) {
                 continue;
             }
             let fi = self.first[i];

@@ -377,20 +377,20 @@ mod tests {
             let mut b = RowBasis::new(m, n);
             assert_eq!(b.factor(&a), r, "rank of {m} rows from {r}");
             let lambda: Vec<f64> = (0..m).map(|_| lcg(&mut seed)).collect();
-            let mut got = lambda.clone();
-            b.min_norm(&mut got);
-            let want = projected(&a, &lambda);
             // Random rows of norm ~1 with coefficients below 1/2: A is well conditioned on
             // its range (singular values above ~1e-2 for these seeds); both routes carry a
             // few hundred eps: 1e-10 bounds their difference.
-            for i in 0..m {
-                assert!(
-                    (got[i] - want[i]).abs() < 1e-10,
-                    "r {r} m {m}: lambda[{i}] {} vs {}",
-                    got[i],
-                    want[i]
-                );
-            }
+            assert_projects(&mut b, &a, &lambda, &format!("r {r} m {m}"));
+        }
+    }
+
+    /// `b.min_norm` of `lambda` (after `b.factor(a)`) within 1e-10 of the SVD projection.
+    fn assert_projects(b: &mut RowBasis, a: &DMatrix<f64>, lambda: &[f64], label: &str) {
+        let mut got = lambda.to_vec();
+        b.min_norm(&mut got);
+        let want = projected(a, lambda);
+        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert!((g - w).abs() < 1e-10, "{label}: lambda[{i}] {g} vs {w}");
         }
     }
 
@@ -478,22 +478,11 @@ mod tests {
         assert_eq!(fixed.factor(&a), rank);
         assert_eq!(scanned.factor(&a), rank);
         let lambda: Vec<f64> = (0..m).map(|_| lcg(&mut seed)).collect();
-        let want = projected(&a, &lambda);
-        for b in [&mut fixed, &mut scanned] {
-            let mut got = lambda.clone();
-            b.min_norm(&mut got);
-            // Rows of norm ~1, coefficients up to 2: the projection carries a few hundred
-            // eps on both routes, amplified by 1 / sigma_min ~ 1e3 (the 1e-3 tilts make
-            // A's smallest nonzero singular value about 1e-3): 1e-10 bounds the difference.
-            for i in 0..m {
-                assert!(
-                    (got[i] - want[i]).abs() < 1e-10,
-                    "lambda[{i}] {} vs {}",
-                    got[i],
-                    want[i]
-                );
-            }
-        }
+        // Rows of norm ~1, coefficients up to 2: the projection carries a few hundred eps
+        // on both routes, amplified by 1 / sigma_min ~ 1e3 (the 1e-3 tilts make A's
+        // smallest nonzero singular value about 1e-3): 1e-10 bounds the difference.
+        assert_projects(&mut fixed, &a, &lambda, "fixed spans");
+        assert_projects(&mut scanned, &a, &lambda, "scanned spans");
     }
 
     #[test]

@@ -107,7 +107,9 @@ fn a_nan_mass_entry_of_a_chain_is_named_by_the_banded_route() {
         tip.copy_from_slice(&[i as f64 + 20.0, 1.0]);
     }
     let mut dynamics = Dynamics::new(system.info());
-    dynamics.solve(&system, 0.0, &q, &vec![0.0; n]).expect("finite");
+    dynamics
+        .solve(&system, 0.0, &q, &vec![0.0; n])
+        .expect("finite");
     assert_eq!(dynamics.banded_solves, 1, "the banded route solved it");
     q[14] = 7.0;
     let err = dynamics
