@@ -90,7 +90,7 @@ impl AugmentedLagrangian {
     pub fn new(n: usize, m: usize) -> Self {
         Self {
             n,
-            spans: RowSpans::new(m),
+            spans: RowSpans::new(m, n),
             matrix: Envelope::new(n),
             basis: RowBasis::new(m, n),
             consistent: vec![0.0; m],
@@ -118,6 +118,8 @@ impl AugmentedLagrangian {
             let (hi, lo) = (i.max(j), i.min(j));
             first[hi] = first[hi].min(lo);
         }
+        self.matrix
+            .reserve(&self.spans.normal_profile(first.clone()));
         self.mass_first = Some(first);
     }
 

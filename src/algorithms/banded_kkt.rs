@@ -49,6 +49,9 @@ pub fn widest(k: usize) -> usize {
     k.isqrt()
 }
 
+/// The place of a structural nonzero whose row is left out of the order.
+const OUT: usize = usize::MAX;
+
 /// Why [`BandedKkt::solve`] declined.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Declined {
@@ -56,6 +59,8 @@ pub enum Declined {
     TooWide,
     /// The banded LU met a pivot at round-off.
     SingularPivot,
+    /// An entry of M or Phi_q is NaN or infinite.
+    NonFinite,
 }
 
 /// Workspace of the banded direct solve; allocates nothing after [`BandedKkt::new`].
@@ -65,6 +70,12 @@ pub struct BandedKkt {
     mass_pattern: Vec<(usize, usize)>,
     jacobian_pattern: Vec<(usize, usize)>,
     order: BandOrder,
+    /// Where each entry of `mass_pattern` and `jacobian_pattern` (and its transpose) goes
+    /// in the band storage of the current order ([`OUT`]: not in it), and whether these
+    /// places are those of the current order.
+    mass_places: Vec<usize>,
+    jacobian_places: Vec<(usize, usize)>,
+    placed: bool,
     /// The rows left out of the current order.
     dropped: Vec<bool>,
     lu: BandLu,
@@ -95,12 +106,16 @@ impl BandedKkt {
             .collect();
         let order = BandOrder::new(n + m, &edges);
         let band = order.full_band().min(widest(n + m));
-        let mut spans = RowSpans::new(m);
+        let mut spans = RowSpans::new(m, n);
         spans.fix(jacobian);
         let mut basis = RowBasis::new(m, n);
         basis.fix(jacobian);
+        let normal = Envelope::with_profile(&spans.normal_profile((0..n).collect()));
         Self {
             n,
+            mass_places: vec![OUT; mass.len()],
+            jacobian_places: vec![(OUT, OUT); jacobian.len()],
+            placed: false,
             mass_pattern: mass.to_vec(),
             jacobian_pattern: jacobian.to_vec(),
             order,
@@ -108,7 +123,7 @@ impl BandedKkt {
             lu: BandLu::new(n + m, 2 * band),
             basis,
             spans,
-            normal: Envelope::new(n),
+            normal,
             dropped_columns: vec![false; n],
             ratio: vec![0.0; n],
             consistent: vec![0.0; m],
@@ -136,9 +151,10 @@ impl BandedKkt {
     /// Solves the system of the module docs. `mass` (n x n) and `a` (m x n) are nonzero at
     /// most on the patterns of [`BandedKkt::new`]; `q` has n entries, `gamma` m.
     ///
-    /// Declines (nothing solved) when the rows kept do not order into a narrow band, or
-    /// when the banded LU meets a pivot below [`PIVOT_TOLERANCE`] times the matrix's
-    /// largest entry.
+    /// Declines (nothing solved) when the rows kept do not order into a narrow band, when
+    /// an entry of M or Phi_q is not finite, or when the banded LU meets a pivot below
+    /// [`PIVOT_TOLERANCE`] times the matrix's largest entry. Every entry of both patterns
+    /// has been read for finiteness unless it declined as [`Declined::TooWide`].
     pub fn solve(
         &mut self,
         mass: &DMatrix<f64>,
@@ -162,37 +178,51 @@ impl BandedKkt {
                 &mut self.consistent,
             );
         }
-        if (0..m).any(|r| self.basis.is_redundant(r) != self.dropped[r]) {
+        if !self.placed || (0..m).any(|r| self.basis.is_redundant(r) != self.dropped[r]) {
             for r in 0..m {
                 self.dropped[r] = self.basis.is_redundant(r);
             }
             let dropped = &self.dropped;
             self.order.restrict(|u| u < n || !dropped[u - n]);
+            self.placed = false;
         }
         let (size, band) = (self.order.size(), self.order.band());
         if band > widest(n + m) || !self.lu.reset(size, band, band) {
             return Err(Declined::TooWide);
         }
-        let (order, lu) = (&self.order, &mut self.lu);
-        for &(i, j) in &self.mass_pattern {
-            let v = mass[(i, j)];
-            if let (Some(pi), Some(pj)) = (order.position(i), order.position(j))
-                && v != 0.0
-            {
-                lu.add(pi, pj, v);
+        if !self.placed {
+            self.place();
+        }
+        // Each structural nonzero into its place in the band (fixed while the rows kept
+        // stay the same); each place is written once, so the largest |value| written is
+        // the matrix's largest entry.
+        let (mass_values, a_values) = (mass.as_slice(), a.as_slice());
+        // Every structural nonzero is read, those of the rows left out too, so that this
+        // pass also tells whether M and Phi_q are finite (the caller reads them no other
+        // time).
+        let (mut scale, mut finite) = (0.0f64, true);
+        for (&(i, j), &k) in self.mass_pattern.iter().zip(&self.mass_places) {
+            let v = mass_values[i + j * n];
+            finite &= v.is_finite();
+            if k != OUT {
+                self.lu.set(k, v);
+                scale = scale.max(v.abs());
             }
         }
-        for &(r, j) in &self.jacobian_pattern {
-            let v = a[(r, j)];
-            if let (Some(pr), Some(pj)) = (order.position(n + r), order.position(j))
-                && v != 0.0
-            {
-                lu.add(pr, pj, v);
-                lu.add(pj, pr, v);
+        for (&(r, j), &(k, kt)) in self.jacobian_pattern.iter().zip(&self.jacobian_places) {
+            let v = a_values[r + j * m];
+            finite &= v.is_finite();
+            if k != OUT {
+                self.lu.set(k, v);
+                self.lu.set(kt, v);
+                scale = scale.max(v.abs());
             }
+        }
+        if !finite {
+            return Err(Declined::NonFinite);
         }
         self.lu
-            .factor(PIVOT_TOLERANCE)
+            .factor_scaled(PIVOT_TOLERANCE, scale)
             .map_err(|_| Declined::SingularPivot)?;
         let rhs = &mut self.rhs[..size];
         for (i, &qi) in q.iter().enumerate() {
@@ -228,6 +258,26 @@ impl BandedKkt {
             );
         }
         Ok(())
+    }
+
+    /// The storage index in the band of every structural nonzero of M and Phi_q (and of
+    /// Phi_q^T) in the current order, [`OUT`] for those of the rows left out.
+    fn place(&mut self) {
+        let n = self.n;
+        let (order, lu) = (&self.order, &self.lu);
+        for (&(i, j), k) in self.mass_pattern.iter().zip(&mut self.mass_places) {
+            *k = match (order.position(i), order.position(j)) {
+                (Some(pi), Some(pj)) => lu.index(pi, pj),
+                _ => OUT,
+            };
+        }
+        for (&(r, j), k) in self.jacobian_pattern.iter().zip(&mut self.jacobian_places) {
+            *k = match (order.position(n + r), order.position(j)) {
+                (Some(pr), Some(pj)) => (lu.index(pr, pj), lu.index(pj, pr)),
+                _ => (OUT, OUT),
+            };
+        }
+        self.placed = true;
     }
 
     /// Factors A^T A (n x n, inside its envelope) with its dependent columns left out.

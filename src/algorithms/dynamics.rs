@@ -232,12 +232,23 @@ impl Dynamics {
             self.check_inputs(system, t, q, qd)?;
             return Err(self.non_finite_solution(i, t));
         }
-        self.check_inputs(system, t, q, qd)?;
+        // The banded route reads every structural nonzero of M and Phi_q once and tells
+        // whether they are finite; only the right-hand side is checked before it. Any
+        // other route checks everything first.
+        let banded_first = !lu && self.banded.is_some();
+        if !banded_first || !self.sol.iter().fold(true, |ok, x| ok & x.is_finite()) {
+            self.check_inputs(system, t, q, qd)?;
+        }
         self.last_augmented = !(lu && self.solve_lu());
         if lu && self.last_augmented {
             self.skip_lu = LU_RETRY_AFTER;
         }
         if self.last_augmented && !self.solve_banded() {
+            if banded_first {
+                // Declined: a non-finite entry (the error names it), or a route the inputs
+                // are checked for before it runs.
+                self.check_inputs(system, t, q, qd)?;
+            }
             self.solve_augmented(t, q)?;
         }
         if let Some(i) = self.sol.iter().position(|v| !v.is_finite()) {

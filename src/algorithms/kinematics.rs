@@ -22,7 +22,7 @@ use nalgebra::DMatrix;
 use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::algorithms::velocity_rows::check_velocity_rows;
 use crate::error::Error;
-use crate::linalg::{inf_norm, least_squares, numerical_rank};
+use crate::linalg::{inf_norm, least_squares, rank_and_least_squares};
 use crate::system::{Evaluation, Independent, System, SystemInfo};
 
 /// Tolerances of the position Newton iteration.
@@ -356,7 +356,8 @@ fn solve_dependent(
         return Ok(());
     }
     let a = columns(phi_q, &dep);
-    let (rank, s) = numerical_rank(&a, options.rank_tolerance);
+    // One SVD, O(m d^2), for both the rank test and the solution.
+    let (rank, s, x) = rank_and_least_squares(&a, rhs, options.rank_tolerance, 1e-14);
     if rank < dep.len() {
         if info.m() < dep.len() {
             return Err(not_determined(info, fixed, dep.len(), rank));
@@ -373,7 +374,6 @@ fn solve_dependent(
             condition,
         });
     }
-    let x = least_squares(&a, rhs, 1e-14);
     for (j, &k) in dep.iter().enumerate() {
         out[k] = x[j];
     }

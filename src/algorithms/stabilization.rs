@@ -90,7 +90,7 @@ impl Projector {
             phi: vec![0.0; m],
             phi_t: vec![0.0; m],
             phi_q: DMatrix::zeros(m, n),
-            spans: RowSpans::new(m),
+            spans: RowSpans::new(m, n),
             gram: Envelope::new(if m > n { 0 } else { m }),
             normal: (m > n).then(|| (Envelope::new(n), vec![0.0; n])),
             z: vec![0.0; m],
@@ -105,6 +105,12 @@ impl Projector {
     /// [`RowSpans::fix`]): no scan of the dense Jacobian per projection.
     pub fn fix(&mut self, pattern: &[(usize, usize)]) {
         self.spans.fix(pattern);
+        match &mut self.normal {
+            Some((normal, _)) => {
+                normal.reserve(&self.spans.normal_profile((0..normal.dim()).collect()));
+            }
+            None => self.gram.reserve(&self.spans.gram_profile()),
+        }
     }
 
     /// [`check_jacobian`] of the last Phi_q; with fixed spans it reads the spans only,

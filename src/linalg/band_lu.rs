@@ -27,6 +27,9 @@ pub struct BandLu {
     ku: usize,
     ab: Vec<f64>,
     piv: Vec<usize>,
+    /// 1 / U_jj after a factorisation (the solve multiplies: a division's latency would
+    /// sit on the back substitution's dependency chain).
+    inverse: Vec<f64>,
 }
 
 /// Why [`BandLu::factor`] failed: the pivot of column `column` was at most the tolerance
@@ -49,6 +52,7 @@ impl BandLu {
             ku: 0,
             ab: vec![0.0; n * (3 * width + 1)],
             piv: vec![0; n],
+            inverse: vec![0.0; n],
         }
     }
 
@@ -78,7 +82,7 @@ impl BandLu {
     }
 
     /// Adds `v` to entry (i, j), which must lie in the band (j - ku <= i <= j + kl).
-    #[inline]
+    #[cfg(test)]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         debug_assert!(
             i <= j + self.kl && j <= i + self.ku,
@@ -88,15 +92,39 @@ impl BandLu {
         self.ab[self.kl + self.ku + i - j + j * ld] += v;
     }
 
+    /// Index of entry (i, j) of the band (j - ku <= i <= j + kl) in the storage that
+    /// [`BandLu::set`] writes; valid until the next [`BandLu::reset`] with other sizes.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        debug_assert!(
+            i <= j + self.kl && j <= i + self.ku,
+            "({i}, {j}) off the band"
+        );
+        self.kl + self.ku + i - j + j * self.ld()
+    }
+
+    /// Sets the entry at storage index `k` ([`BandLu::index`]) to `v`.
+    #[inline]
+    pub fn set(&mut self, k: usize, v: f64) {
+        self.ab[k] = v;
+    }
+
     /// Factors in place: P A = L U. Fails with [`SingularPivot`] at the first pivot of
     /// magnitude at most `tolerance` max |A_ij| (or not finite); the factor is then
     /// unusable.
+    #[cfg(test)]
     pub fn factor(&mut self, tolerance: f64) -> Result<(), SingularPivot> {
-        let (n, kl, ku, ld) = (self.n, self.kl, self.ku, self.ld());
-        let kv = kl + ku;
-        let scale = self.ab[..n * ld]
+        let scale = self.ab[..self.n * self.ld()]
             .iter()
             .fold(0.0f64, |a, v| if v.abs() > a { v.abs() } else { a });
+        self.factor_scaled(tolerance, scale)
+    }
+
+    /// [`BandLu::factor`] with max |A_ij| given by the caller (`scale`, which it knows
+    /// from filling the matrix), saving a pass over the band.
+    pub fn factor_scaled(&mut self, tolerance: f64, scale: f64) -> Result<(), SingularPivot> {
+        let (n, kl, ku, ld) = (self.n, self.kl, self.ku, self.ld());
+        let kv = kl + ku;
         let threshold = tolerance * scale;
         let ab = &mut self.ab;
         // The last column of U touched so far (fill reaches kl + ku beyond the diagonal).
@@ -106,10 +134,9 @@ impl BandLu {
             let col = j * ld + kv;
             let mut jp = 0;
             let mut best = ab[col].abs();
-            for p in 1..=km {
-                let v = ab[col + p].abs();
-                if v > best {
-                    (jp, best) = (p, v);
+            for (p, v) in ab[col + 1..=col + km].iter().enumerate() {
+                if v.abs() > best {
+                    (jp, best) = (p + 1, v.abs());
                 }
             }
             self.piv[j] = j + jp;
@@ -127,15 +154,38 @@ impl BandLu {
                 }
             }
             let inv = 1.0 / ab[col];
-            for p in 1..=km {
-                ab[col + p] *= inv;
+            self.inverse[j] = inv;
+            if km == 0 {
+                continue;
             }
-            for c in j + 1..=ju {
-                let base = c * ld + kv + j - c;
-                let u = ab[base];
-                if u != 0.0 {
-                    for p in 1..=km {
-                        ab[base + p] -= ab[col + p] * u;
+            // Column j's multipliers, then the columns right of it (entry (j, c) of U at
+            // c * ld + kv + j - c, below it the rows the multipliers update), which lie
+            // beyond col + km in storage: split there.
+            let (left, right) = ab.split_at_mut(col + km + 1);
+            let multipliers = &mut left[col + 1..];
+            for l in multipliers.iter_mut() {
+                *l *= inv;
+            }
+            // Column c = j + 1 + t starts at `first + t * step` in `right`.
+            let (first, step) = (col + ld - 1 - (col + km + 1), ld - 1);
+            let columns = ju - j;
+            match km {
+                1 => update::<1>(right, first, step, columns, multipliers),
+                2 => update::<2>(right, first, step, columns, multipliers),
+                3 => update::<3>(right, first, step, columns, multipliers),
+                4 => update::<4>(right, first, step, columns, multipliers),
+                5 => update::<5>(right, first, step, columns, multipliers),
+                6 => update::<6>(right, first, step, columns, multipliers),
+                _ => {
+                    for t in 0..columns {
+                        let base = first + t * step;
+                        let segment = &mut right[base..=base + km];
+                        let u = segment[0];
+                        if u != 0.0 {
+                            for (b, l) in segment[1..].iter_mut().zip(multipliers.iter()) {
+                                *b -= l * u;
+                            }
+                        }
                     }
                 }
             }
@@ -154,21 +204,43 @@ impl BandLu {
                 b.swap(p, j);
             }
             let bj = b[j];
-            if bj != 0.0 {
+            let km = kl.min(n - 1 - j);
+            if bj != 0.0 && km > 0 {
                 let col = j * ld + kv;
-                for k in 1..=kl.min(n - 1 - j) {
-                    b[j + k] -= ab[col + k] * bj;
+                for (x, l) in b[j + 1..=j + km].iter_mut().zip(&ab[col + 1..=col + km]) {
+                    *x -= l * bj;
                 }
             }
         }
         for j in (0..n).rev() {
             let col = j * ld + kv;
-            let x = b[j] / ab[col];
+            let x = b[j] * self.inverse[j];
             b[j] = x;
-            if x != 0.0 {
-                for i in j.saturating_sub(kv)..j {
-                    b[i] -= ab[col + i - j] * x;
+            let lo = j.saturating_sub(kv);
+            if x != 0.0 && lo < j {
+                let u = &ab[col - (j - lo)..col];
+                for (bi, u) in b[lo..j].iter_mut().zip(u) {
+                    *bi -= u * x;
                 }
+            }
+        }
+    }
+}
+
+/// The elimination of one column's K multipliers `l` from the `columns` columns right of
+/// it: in each, whose entry u in the pivot row sits at `first + t * step` of `right` and
+/// the K rows below it follow, b -= l u. K fixed at compile time, so that the short inner
+/// loop (K <= kl, a few for a chain) is unrolled.
+#[inline(always)]
+fn update<const K: usize>(right: &mut [f64], first: usize, step: usize, columns: usize, l: &[f64]) {
+    let l: [f64; K] = core::array::from_fn(|p| l[p]);
+    for t in 0..columns {
+        let base = first + t * step;
+        let segment = &mut right[base..=base + K];
+        let u = segment[0];
+        if u != 0.0 {
+            for p in 0..K {
+                segment[1 + p] -= l[p] * u;
             }
         }
     }
@@ -186,7 +258,10 @@ mod tests {
         // are present (the constraint rows of a KKT matrix): no factorisation without row
         // interchanges exists. A triangular band with a zero diagonal would be singular.
         let mut seed = 0xba4du64;
-        for (n, kl, ku) in [(1, 0, 0), (7, 1, 2), (20, 3, 1), (40, 4, 4), (33, 0, 3)] {
+        let bands = [(1, 0, 0), (7, 1, 2), (20, 3, 1), (40, 4, 4), (33, 0, 3)];
+        // Every unrolled width of the elimination (1..=6) and the general one (7).
+        let more = [(25, 2, 2), (30, 5, 1), (30, 6, 5), (50, 7, 2)];
+        for (n, kl, ku) in bands.into_iter().chain(more) {
             let a = DMatrix::from_fn(n, n, |i, j| {
                 if i > j + kl || j > i + ku || (i == j && i % 3 == 2 && kl > 0 && ku > 0) {
                     0.0

@@ -13,14 +13,18 @@
 // Comparisons are written `!(x > 0.0)` on purpose: NaN must fail them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use nalgebra::DMatrix;
-
 /// A symmetric matrix and, after [`Envelope::factor`], its Cholesky factor N = L L^T.
 #[derive(Clone, Debug)]
 pub struct Envelope {
     n: usize,
-    /// Column i, entries first[i]..=i: row i of the lower triangle (input), then of L.
-    a: DMatrix<f64>,
+    /// Row i of the lower triangle (input), then of L: entry (i, j) at
+    /// `values[start[i] + j - lowest[i]]` for lowest[i] <= j <= i, contiguous in j.
+    values: Vec<f64>,
+    start: Vec<usize>,
+    /// The first column row i's storage holds (0 for every row of [`Envelope::new`]; the
+    /// structural profile after [`Envelope::reserve`]).
+    lowest: Vec<usize>,
+    /// The first column of row i's current envelope (lowest[i] <= first[i] <= i).
     first: Vec<usize>,
     /// 1 / L_ii after a factorisation (0 for dropped rows).
     inverse: Vec<f64>,
@@ -37,24 +41,65 @@ pub struct NotPositiveDefinite {
 }
 
 impl Envelope {
-    /// Storage for an n x n matrix.
+    /// Storage for an n x n matrix with any envelope (n (n + 1) / 2 entries).
     pub fn new(n: usize) -> Self {
-        Self {
+        Self::with_profile(&vec![0; n])
+    }
+
+    /// Storage for an n x n matrix (n = `lowest.len()`) whose row i is nonzero from
+    /// column `lowest[i]` on at most (see [`Envelope::reserve`]).
+    pub fn with_profile(lowest: &[usize]) -> Self {
+        let n = lowest.len();
+        let mut env = Self {
             n,
-            a: DMatrix::zeros(n, n),
-            first: vec![0; n],
+            values: Vec::new(),
+            start: Vec::new(),
+            lowest: Vec::new(),
+            first: Vec::new(),
             inverse: vec![0.0; n],
+        };
+        env.reserve(lowest);
+        env
+    }
+
+    /// Replaces the storage by one that holds row i from column `lowest[i]` on (lowest[i]
+    /// <= i): sum_i (i - lowest[i] + 1) entries instead of n (n + 1) / 2, each row
+    /// contiguous, so that a banded matrix of order n occupies O(n) memory. Every later
+    /// [`Envelope::widen`] must stay within it. Allocates (once, outside any step loop);
+    /// the matrix is zero afterwards.
+    pub fn reserve(&mut self, lowest: &[usize]) {
+        assert_eq!(lowest.len(), self.n, "one lowest column per row");
+        self.start.clear();
+        let mut total = 0;
+        for (i, &lo) in lowest.iter().enumerate() {
+            assert!(lo <= i, "row {i}: lowest column {lo} right of the diagonal");
+            self.start.push(total);
+            total += i - lo + 1;
         }
+        self.lowest = lowest.to_vec();
+        self.values = vec![0.0; total];
+        self.first = (0..self.n).collect();
+    }
+
+    /// Index of entry (i, j) in `values` (lowest[i] <= j <= i).
+    #[inline]
+    fn at(&self, i: usize, j: usize) -> usize {
+        self.start[i] + j - self.lowest[i]
+    }
+
+    /// Row i from column j to the diagonal, as a slice (entry j first).
+    #[inline]
+    fn row(&self, i: usize, j: usize) -> &[f64] {
+        &self.values[self.at(i, j)..=self.at(i, i)]
     }
 
     /// Sets every entry to zero and every envelope to the diagonal only. Only the entries
     /// inside the current envelope can be nonzero, so only those are cleared.
     pub fn clear(&mut self) {
-        let n = self.n;
-        let s = self.a.as_mut_slice();
-        for (i, f) in self.first.iter_mut().enumerate() {
-            s[*f + i * n..=i + i * n].fill(0.0);
-            *f = i;
+        for i in 0..self.n {
+            let (lo, hi) = (self.at(i, self.first[i]), self.at(i, i));
+            self.values[lo..=hi].fill(0.0);
+            self.first[i] = i;
         }
     }
 
@@ -63,9 +108,14 @@ impl Envelope {
         self.n
     }
 
-    /// Widens row i's envelope to start at column `col` (col <= i).
+    /// Widens row i's envelope to start at column `col` (col <= i), which the storage
+    /// must hold ([`Envelope::reserve`]).
     #[inline]
     pub fn widen(&mut self, i: usize, col: usize) {
+        assert!(
+            col >= self.lowest[i],
+            "row {i}: column {col} outside the storage"
+        );
         if col < self.first[i] {
             self.first[i] = col;
         }
@@ -87,7 +137,8 @@ impl Envelope {
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         debug_assert!(j <= i && j >= self.first[i]);
-        self.a[(j, i)] += v;
+        let k = self.at(i, j);
+        self.values[k] += v;
     }
 
     /// The lower-triangle entry (i, j), j <= i (zero outside the envelope).
@@ -97,7 +148,7 @@ impl Envelope {
         if j < self.first[i] {
             0.0
         } else {
-            self.a[(j, i)]
+            self.values[self.at(i, j)]
         }
     }
 
@@ -109,7 +160,6 @@ impl Envelope {
 
     /// [`Envelope::factor`] of the leading k x k block only.
     pub fn factor_prefix(&mut self, k: usize, tolerance: f64) -> Result<(), NotPositiveDefinite> {
-        let n = self.n;
         for i in 0..k {
             let (diag, d) = self.eliminate_row(i, &[]);
             // `!(d > ..)` so that NaN fails too.
@@ -120,7 +170,8 @@ impl Envelope {
                 });
             }
             let l = d.sqrt();
-            self.a.as_mut_slice()[i + i * n] = l;
+            let ii = self.at(i, i);
+            self.values[ii] = l;
             self.inverse[i] = 1.0 / l;
         }
         Ok(())
@@ -128,8 +179,7 @@ impl Envelope {
 
     /// Cholesky of a positive semidefinite matrix with rows dropped: a row whose pivot is
     /// d_i <= `tolerance` N_ii (or whose diagonal is not positive) is marked in `dropped`
-    /// and left out (its column of L is zero; its row of L is kept for
-    /// [`Envelope::null_direction_skipping`]). `ratio[i]` gets sqrt(d_i / N_ii), clamped to
+    /// and left out (its column of L is zero). `ratio[i]` gets sqrt(d_i / N_ii), clamped to
     /// [0, 1]. For a Gram matrix N = A A^T this is row i's distance to the span of the kept
     /// rows before it, relative to |a_i|. Returns the number of rows kept.
     pub fn factor_semidefinite(
@@ -138,11 +188,10 @@ impl Envelope {
         dropped: &mut [bool],
         ratio: &mut [f64],
     ) -> usize {
-        let n = self.n;
         let mut kept = 0;
-        for i in 0..n {
+        for i in 0..self.n {
             let (diag, d) = self.eliminate_row(i, &dropped[..i]);
-            let s = self.a.as_mut_slice();
+            let ii = self.at(i, i);
             ratio[i] = if diag > 0.0 && d > 0.0 {
                 (d / diag).sqrt().min(1.0)
             } else {
@@ -150,10 +199,13 @@ impl Envelope {
             };
             if !(diag > 0.0) || !(d > tolerance * diag) {
                 dropped[i] = true;
-                s[i + i * n] = 0.0;
+                self.values[ii] = 0.0;
+                self.inverse[i] = 0.0;
             } else {
                 dropped[i] = false;
-                s[i + i * n] = d.sqrt();
+                let l = d.sqrt();
+                self.values[ii] = l;
+                self.inverse[i] = 1.0 / l;
                 kept += 1;
             }
         }
@@ -161,28 +213,30 @@ impl Envelope {
     }
 
     /// Row i of L left of the diagonal (in place, over the envelope; columns of rows marked
-    /// in `dropped` are zero), and the pivot: returns (N_ii, d_i = N_ii - sum_k L_ik^2).
+    /// in `dropped` are zero; `dropped` may be empty: none), and the pivot: returns (N_ii,
+    /// d_i = N_ii - sum_k L_ik^2).
     fn eliminate_row(&mut self, i: usize, dropped: &[bool]) -> (f64, f64) {
-        let n = self.n;
-        let s = self.a.as_mut_slice();
         let fi = self.first[i];
-        for j in fi..i {
+        let base_i = self.at(i, fi);
+        let len = i - fi;
+        // Row i of L is written in place; the rows j < i it reads lie before it in
+        // `values` (rows are stored in order), so split there.
+        let (before, row_i) = self.values.split_at_mut(base_i);
+        for (c, j) in (fi..i).enumerate() {
             if dropped.get(j).copied().unwrap_or(false) {
-                s[j + i * n] = 0.0;
+                row_i[c] = 0.0;
                 continue;
             }
             let fj = self.first[j].max(fi);
-            let mut sum = s[j + i * n];
-            for p in fj..j {
-                sum -= s[p + i * n] * s[p + j * n];
-            }
-            s[j + i * n] = sum / s[j + j * n];
+            let base_j = self.start[j] - self.lowest[j];
+            let lj = &before[base_j + fj..=base_j + j];
+            let li = &row_i[fj - fi..c];
+            let dot: f64 = li.iter().zip(lj).map(|(x, y)| x * y).sum();
+            // The diagonal of row j holds L_jj (0 when dropped, handled above).
+            row_i[c] = (row_i[c] - dot) * self.inverse[j];
         }
-        let diag = s[i + i * n];
-        let mut d = diag;
-        for p in fi..i {
-            d -= s[p + i * n] * s[p + i * n];
-        }
+        let diag = row_i[len];
+        let d = diag - row_i[..len].iter().map(|x| x * x).sum::<f64>();
         (diag, d)
     }
 
@@ -193,48 +247,43 @@ impl Envelope {
 
     /// Solves with the leading k x k block after [`Envelope::factor_prefix`] of k.
     pub fn solve_prefix(&self, k: usize, b: &mut [f64]) {
-        let n = self.n;
-        let s = self.a.as_slice();
-        for i in 0..k {
-            let mut v = b[i];
-            for p in self.first[i]..i {
-                v -= s[p + i * n] * b[p];
-            }
-            b[i] = v * self.inverse[i];
-        }
-        for i in (0..k).rev() {
-            let x = b[i] * self.inverse[i];
-            b[i] = x;
-            for p in self.first[i]..i {
-                b[p] -= s[p + i * n] * x;
-            }
-        }
+        self.substitute(k, &[], b);
     }
 
     /// Solves with the factor of [`Envelope::factor_semidefinite`] restricted to the kept
     /// rows: b_i = 0 on dropped rows, N_RR x_R = b_R on the others.
     pub fn solve_skipping(&self, dropped: &[bool], b: &mut [f64]) {
-        let n = self.n;
-        let s = self.a.as_slice();
-        for i in 0..n {
-            if dropped[i] {
+        self.substitute(self.n, dropped, b);
+    }
+
+    /// L L^T x = b over the leading k rows, in place, the rows marked in `dropped` (empty:
+    /// none) left out with x_i = 0.
+    fn substitute(&self, k: usize, dropped: &[bool], b: &mut [f64]) {
+        let is_dropped = |i: usize| dropped.get(i).copied().unwrap_or(false);
+        for i in 0..k {
+            if is_dropped(i) {
                 b[i] = 0.0;
                 continue;
             }
-            let mut v = b[i];
-            for p in self.first[i]..i {
-                v -= s[p + i * n] * b[p];
-            }
-            b[i] = v / s[i + i * n];
+            let fi = self.first[i];
+            let row = self.row(i, fi);
+            let dot: f64 = row[..i - fi]
+                .iter()
+                .zip(&b[fi..i])
+                .map(|(l, x)| l * x)
+                .sum();
+            b[i] = (b[i] - dot) * self.inverse[i];
         }
-        for i in (0..n).rev() {
-            if dropped[i] {
+        for i in (0..k).rev() {
+            if is_dropped(i) {
                 continue;
             }
-            let x = b[i] / s[i + i * n];
+            let fi = self.first[i];
+            let x = b[i] * self.inverse[i];
             b[i] = x;
-            for p in self.first[i]..i {
-                b[p] -= s[p + i * n] * x;
+            let row = self.row(i, fi);
+            for (bp, l) in b[fi..i].iter_mut().zip(row) {
+                *bp -= l * x;
             }
         }
     }
@@ -243,35 +292,23 @@ impl Envelope {
     /// 0..=row (the direction in which the matrix is not positive definite), written into
     /// `z` (length n, zero beyond `row`). Uses the rows of L computed before the failure.
     pub fn null_direction(&self, row: usize, z: &mut [f64]) {
-        self.back_substitute(row, None, z);
+        self.back_substitute(row, z);
     }
 
-    /// After [`Envelope::factor_semidefinite`], for a dropped row d of a Gram matrix
-    /// A A^T: z = e_d - sum_r c_r e_r over the kept rows r < d, with a_d = sum_r c_r a_r
-    /// (least squares), so that A^T z ~ 0. Zero on every other dropped row.
-    pub fn null_direction_skipping(&self, d: usize, dropped: &[bool], z: &mut [f64]) {
-        self.back_substitute(d, Some(dropped), z);
-    }
-
-    /// z_row = 1, z_k = -L_row,k (k < row), then z <- L^-T z over the rows before `row`
-    /// that are not dropped.
-    fn back_substitute(&self, row: usize, dropped: Option<&[bool]>, z: &mut [f64]) {
-        let n = self.n;
-        let s = self.a.as_slice();
+    /// z_row = 1, z_k = -L_row,k (k < row), then z <- L^-T z over the rows before `row`.
+    fn back_substitute(&self, row: usize, z: &mut [f64]) {
         z.fill(0.0);
         z[row] = 1.0;
-        for p in self.first[row]..row {
-            z[p] = -s[p + row * n];
+        let fr = self.first[row];
+        for (zp, l) in z[fr..row].iter_mut().zip(self.row(row, fr)) {
+            *zp = -l;
         }
         for i in (0..row).rev() {
-            if dropped.is_some_and(|d| d[i]) {
-                z[i] = 0.0;
-                continue;
-            }
-            let x = z[i] / s[i + i * n];
+            let fi = self.first[i];
+            let x = z[i] * self.inverse[i];
             z[i] = x;
-            for p in self.first[i]..i {
-                z[p] -= s[p + i * n] * x;
+            for (zp, l) in z[fi..i].iter_mut().zip(self.row(i, fi)) {
+                *zp -= l * x;
             }
         }
     }
@@ -280,6 +317,7 @@ impl Envelope {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::DMatrix;
 
     fn fill(env: &mut Envelope, a: &DMatrix<f64>) {
         env.clear();

@@ -13,7 +13,8 @@
 //!   large chains, O(n) for a bounded band);
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
-//! - [`numerical_rank`], [`least_squares`]: SVD-based, for work outside the step loop;
+//! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
+//!   SVD-based, for work outside the step loop;
 //! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
 //!   uses them, so a NaN entry is never read as a small residual).
 //!
@@ -26,6 +27,7 @@ mod kernels;
 mod lu;
 mod norm;
 mod null_space;
+mod row_basis;
 mod rows;
 mod svd;
 
@@ -35,5 +37,6 @@ pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};
-pub use rows::{RowBasis, RowSpans};
-pub use svd::{least_squares, numerical_rank};
+pub use row_basis::RowBasis;
+pub use rows::RowSpans;
+pub use svd::{least_squares, numerical_rank, rank_and_least_squares};

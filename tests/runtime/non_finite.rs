@@ -92,3 +92,28 @@ fn an_infinite_constraint_rate_is_named_by_the_assembly() {
     assert_eq!(term(err), "Phi_t row 1 (constraint 1)");
     assert!(text.contains(" at t = 0 s"), "{text}");
 }
+
+#[test]
+fn a_nan_mass_entry_of_a_chain_is_named_by_the_banded_route() {
+    // A02 with N = 40 (the banded direct route reads M and Phi_q for finiteness while it
+    // fills its matrix) and the inertia sqrt(x7 - 10), NaN while x7 < 10.
+    let source = mechanism::builtin::builtin_source("n_four_bar")
+        .unwrap()
+        .replacen("kinetic = ", "kinetic = 1/2*sqrt(x7 - 10)*der(x7)^2 + ", 1);
+    let system = interpreted(&source);
+    let n = system.info().n();
+    let mut q = vec![0.0; n];
+    for (i, tip) in q.chunks_exact_mut(2).enumerate() {
+        tip.copy_from_slice(&[i as f64 + 20.0, 1.0]);
+    }
+    let mut dynamics = Dynamics::new(system.info());
+    dynamics
+        .solve(&system, 0.0, &q, &vec![0.0; n])
+        .expect("finite");
+    assert_eq!(dynamics.banded_solves, 1, "the banded route solved it");
+    q[14] = 7.0;
+    let err = dynamics
+        .solve(&system, 0.0, &q, &vec![0.0; n])
+        .expect_err("NaN mass");
+    assert_eq!(term(err), "M[x7, x7]");
+}

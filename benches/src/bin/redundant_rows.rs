@@ -6,7 +6,9 @@
 //! cargo run --release -p mechanism-bench --bin redundant_rows [-- K ...]
 //! ```
 //!
-//! Default K = 10 100 1000; each solve timed as the median of 21.
+//! Default K = 10 100 1000 10000; each solve timed as the median of 21 (wall time), then
+//! the growth exponent of the solve's time in K fitted on log-log (1 for a cost linear in
+//! the rows).
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -35,10 +37,11 @@ fn main() {
         .filter_map(|a| a.parse().ok())
         .collect();
     if sizes.is_empty() {
-        sizes = vec![10, 100, 1000];
+        sizes = vec![10, 100, 1000, 10000];
     }
     println!("| copies of one row | solve (µs) | solve + minimum-norm multipliers (µs) |");
     println!("|---|---|---|");
+    let mut points = Vec::new();
     for k in sizes {
         let system = match Interpreted::from_source(&source(k)) {
             Ok(s) => s,
@@ -67,5 +70,19 @@ fn main() {
         // y'' = -9.81 whatever the rows: the check that the redundant solve is right.
         assert!((d.accelerations()[1] + 9.81).abs() < 1e-9 && d.accelerations()[0].abs() < 1e-9);
         println!("| {k} | {solve:.1} | {both:.1} |");
+        points.push(((k as f64).ln(), solve.ln()));
+    }
+    if points.len() >= 2 {
+        // Least-squares slope of ln(time) against ln(K).
+        let count = points.len() as f64;
+        let mx = points.iter().map(|p| p.0).sum::<f64>() / count;
+        let my = points.iter().map(|p| p.1).sum::<f64>() / count;
+        let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = points.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+        println!();
+        println!(
+            "Fitted growth of the solve in the copies K: K^{:.2}",
+            sxy / sxx
+        );
     }
 }
