@@ -1,8 +1,8 @@
-//! Compile-fail and pass cases of `mechanism!` (trybuild). Each `.stderr` pins the message
-//! and the token it points at; regenerate with `TRYBUILD=overwrite` and review the diff.
-//! Compile-fail cases only: with no pass case trybuild runs `cargo check`, so the runtime
-//! crate and the other dependencies are checked, not compiled to code. The cases that must
-//! compile and run are tests of the root crate (`tests/macros/pass_cases.rs`).
+//! Compile-fail cases of `mechanism!` (trybuild). Each `.stderr` pins the message and the
+//! token it points at; regenerate with `TRYBUILD=overwrite cargo test -p mechanism-ui-check
+//! --test ui` and review the diff. With no pass case trybuild runs `cargo check`, so the
+//! runtime crate and the other dependencies are checked, not compiled to code. The cases
+//! that must compile and run are tests of the root crate (`tests/macros/pass_cases.rs`).
 
 #[test]
 fn ui() {
