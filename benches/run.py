@@ -18,7 +18,7 @@ keeps the others' results of the last run, and the report says which ran separat
                 (deterministic, untimed);
   profile       perf profile of the seed simulation (when perf is installed);
   criterion     the criterion bench `evaluation` (each generated function, the interpreter
-                and AD routes) and the whole-simulation tables (benches/benches/simulation.rs);
+                and AD routes) and the whole-simulation tables (benches/criterion/benches/simulation.rs);
   derivation    the criterion bench `derivation` (closed chain N = 4..64) and SymPy's
                 derivation of the same chain (N = 4, 8, 16);
   mujoco        MuJoCo's four-bar (benches/baselines/mujoco_four_bar.py);
@@ -169,12 +169,12 @@ def step_profile(run, a):
 
 
 def step_criterion(run, a):
-    cargo(["bench", "-p", "mechanism-bench", "--bench", "evaluation", "--"] + CRITERION_ARGS)
-    cargo(["bench", "-p", "mechanism-bench", "--bench", "simulation"])
+    cargo(["bench", "-p", "mechanism-criterion", "--bench", "evaluation", "--"] + CRITERION_ARGS)
+    cargo(["bench", "-p", "mechanism-criterion", "--bench", "simulation"])
 
 
 def step_derivation(run, a):
-    cargo(["bench", "-p", "mechanism-bench", "--bench", "derivation"])
+    cargo(["bench", "-p", "mechanism-criterion", "--bench", "derivation"])
     log(f"SymPy's derivation of the chain, N = {', '.join(SYMPY_CHAINS)}")
     subprocess.run([a.venv_python, os.path.join(HERE, "baselines", "baselines.py"), "--chains", *SYMPY_CHAINS,
                     "--lagranges", *SYMPY_CHAINS], check=True)

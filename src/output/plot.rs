@@ -310,7 +310,12 @@ fn constraint_figure(
         panels: vec![Panel {
             t,
             lines,
-            y_label: "|fᵢ(q(t))| (log scale)".to_string(),
+            // Exact zeros sit on the floor: say so, or a row that is exactly satisfied (the
+            // bicycle's five of six) reads as an error of 1e-18.
+            y_label: format!(
+                "|fᵢ(q(t))| (log scale, 0 at {})",
+                axes::decade_label(&LOG_FLOOR.log10())
+            ),
             x_label: true,
             log: true,
             scale: 0.0,

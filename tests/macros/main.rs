@@ -12,3 +12,4 @@ mod large_mechanism;
 mod no_alloc;
 mod one_routines;
 mod parameter_cache;
+mod pass_cases;

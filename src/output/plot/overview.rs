@@ -154,9 +154,18 @@ impl<'a> HeatMap<'a> {
         self.ranges.iter().filter(|r| r.is_none()).count()
     }
 
-    /// The plot's height: 6 px a row at most, between 300 and 800 px.
+    /// The plot's height: [`LABEL_PITCH`] px a row, between 300 and 800 px, so that every
+    /// row is named up to 44 rows (Bricard's 30 and the bodies four-bar's 18 named every
+    /// second row in 300 px).
     fn plot_height(&self) -> u32 {
-        (6 * self.names.len()).clamp(300, 800) as u32
+        (LABEL_PITCH as usize * self.names.len()).clamp(300, 800) as u32
+    }
+
+    /// Rows are named every k-th, k such that names stand [`LABEL_PITCH`] px apart.
+    fn label_step(&self) -> usize {
+        (LABEL_PITCH * self.names.len() as f64 / f64::from(self.plot_height()))
+            .ceil()
+            .max(1.0) as usize
     }
 
     fn height(&self) -> u32 {
@@ -225,10 +234,7 @@ fn draw<DB: DrawingBackend>(
     plot.draw(&image).map_err(err)?;
     // Row 0 at the top.
     let y = |row: usize| rows - row as f64;
-    // Names of every k-th row, k such that labels stand LABEL_PITCH px apart.
-    let every = (LABEL_PITCH * rows / f64::from(map.plot_height()))
-        .ceil()
-        .max(1.0) as usize;
+    let every = map.label_step();
     let style = TextStyle::from((FONT, 15).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
     chart
         .draw_series((0..n).step_by(every).map(|row| {
@@ -269,6 +275,26 @@ fn draw_colour_bar<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_row_is_named_up_to_44_rows_and_every_second_at_82() {
+        let map = |n: usize| {
+            let t = vec![0.0, 1.0];
+            let names: Vec<String> = (0..n).map(|i| format!("q{i}")).collect();
+            let q: Vec<Vec<f64>> = (0..n).map(|i| vec![0.0, i as f64]).collect();
+            let units = vec![Unit::Length; n];
+            let map = HeatMap::new(&names, &units, &t, &q);
+            (map.plot_height(), map.label_step())
+        };
+        // 18 px a row: the bodies four-bar's 18 rows, Bricard's 30, and 44 (792 px).
+        assert_eq!(map(18), (324, 1));
+        assert_eq!(map(30), (540, 1));
+        assert_eq!(map(44), (792, 1));
+        // Past 800 px: A02's 82 rows are 9.8 px apart, named every second.
+        assert_eq!(map(82), (800, 2));
+        // Few rows keep the least height.
+        assert_eq!(map(3), (300, 1));
+    }
 
     #[test]
     fn each_row_spans_its_own_range_and_round_off_is_constant() {

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::Ranged;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::axes::{
@@ -13,7 +14,7 @@ use super::axes::{
 };
 use super::font::{FONT, register_font};
 use super::spec::{LEGEND_MARGIN, Panel, Spec};
-use super::title::draw_title;
+use super::title::{draw_title, glyph_offsets};
 use crate::output::{OutputError, ensure_dir, write_atomically};
 
 const WIDTH: u32 = 1000;
@@ -27,6 +28,22 @@ pub(super) const PALETTE: [RGBColor; 7] = [
     RGBColor(77, 190, 238),
     RGBColor(162, 20, 47),
 ];
+
+/// Tick labels asked of a linear y axis.
+const Y_TICKS: usize = 8;
+/// Least width (px) of the y label area: room for a tick label of 6 characters and the
+/// rotated axis title.
+const MIN_Y_AREA: u32 = 110;
+
+/// Width (px) of the y label area for these tick labels: the widest label at 18 px plus
+/// 36 px for the tick, the gap and the rotated axis title (the rolling disc's height,
+/// `0.0999985`, ran into its title `z (m)` in the fixed 110 px), at least [`MIN_Y_AREA`].
+fn y_label_area(labels: impl Iterator<Item = String>) -> u32 {
+    let widest = labels
+        .map(|label| glyph_offsets(&label, 18.0).1)
+        .fold(0.0_f32, f32::max);
+    (widest.ceil() as u32 + 36).max(MIN_Y_AREA)
+}
 
 /// Draws one panel into `area`.
 fn draw_panel<DB: DrawingBackend>(
@@ -43,9 +60,20 @@ fn draw_panel<DB: DrawingBackend>(
         linear_range(all(), panel.scale)
     };
     let x_area = if panel.x_label { 62 } else { 36 };
+    let y_area = if panel.log {
+        MIN_Y_AREA
+    } else {
+        let span = y.1 - y.0;
+        y_label_area(
+            RangedCoordf64::from(y.0..y.1)
+                .key_points(Y_TICKS)
+                .into_iter()
+                .map(|v| tick_label_spanning(v, span)),
+        )
+    };
     let (w, h) = area.dim_in_pixel();
     let plot = (
-        f64::from(w) - 110.0 - 40.0,
+        f64::from(w) - f64::from(y_area) - 40.0,
         f64::from(h) - f64::from(x_area) - 24.0,
     );
     let (legend, y) = place_legend(panel, x, y, (plot.0.max(100.0), plot.1.max(100.0)));
@@ -54,7 +82,7 @@ fn draw_panel<DB: DrawingBackend>(
         .margin(12)
         .margin_right(28)
         .x_label_area_size(x_area)
-        .y_label_area_size(110);
+        .y_label_area_size(y_area);
     if panel.log {
         let y_range = Decades { lo: y.0, hi: y.1 };
         let mut chart = builder.build_cartesian_2d(x.0..x.1, y_range).map_err(err)?;
@@ -74,7 +102,7 @@ fn draw_panel<DB: DrawingBackend>(
         style_mesh(&mut mesh, panel);
         let span = y.1 - y.0;
         let label = |v: &f64| tick_label_spanning(*v, span);
-        mesh.y_labels(8)
+        mesh.y_labels(Y_TICKS)
             .y_label_formatter(&label)
             .max_light_lines(0)
             .draw()
@@ -264,4 +292,21 @@ pub(super) fn render(stem: &Path, spec: &Spec<'_>) -> Result<Vec<PathBuf>, Outpu
         }
     }
     write_png_and_svg(stem, (WIDTH, spec.height), spec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_y_label_area_widens_for_long_tick_labels() {
+        // DejaVu Sans at 18 px (ascent - descent = 2384 font units = 18 px): a digit
+        // advances 1303 units (9.84 px), `.` 651 (4.92 px), `−` 1716 (12.96 px).
+        // "0.0999985": 8 digits and a point, 83.6 px; + 36 px = 119.6, so 120.
+        let area = |labels: &[&str]| y_label_area(labels.iter().map(|l| l.to_string()));
+        assert_eq!(area(&["0.1000005", "0.0999985", "0.099997"]), 120);
+        // "−0.015": 57.2 px + 36 = 93 px: the least width, 110.
+        assert_eq!(area(&["−0.015", "−0.01", "0"]), MIN_Y_AREA);
+        assert_eq!(area(&[]), MIN_Y_AREA);
+    }
 }

@@ -11,7 +11,7 @@ use plotters::prelude::*;
 
 use super::font::FONT;
 use super::render::{Drawing, PALETTE, write_png_and_svg};
-use super::title::draw_title;
+use super::title::{draw_title, glyph_offsets};
 use crate::output::{OutputError, Scene};
 
 /// The plane the strobe figure is drawn in.
@@ -139,7 +139,8 @@ pub fn plot_strobe(
             "a drawn point is NaN or infinite",
         ));
     }
-    let frame = Frame::new(scene, view);
+    let frames = strobe_frames(scene, instants);
+    let frame = Frame::new(scene, view, &frames);
     let size = (1000, frame.height);
     write_png_and_svg(
         stem,
@@ -178,7 +179,10 @@ struct Frame {
 }
 
 impl Frame {
-    fn new(scene: &Scene, view: View) -> Self {
+    /// The ranges hold the points at every frame from the first to the last of `frames`
+    /// (the instants and the traced paths between them), not the whole run: a rolling disc's
+    /// first period is not drawn at the scale of its 10 m of travel.
+    fn new(scene: &Scene, view: View, frames: &[usize]) -> Self {
         let mut frame = Self {
             projection: view.projection(scene),
             u: (0.0, 0.0),
@@ -189,8 +193,10 @@ impl Frame {
             (f64::INFINITY, f64::NEG_INFINITY),
             (f64::INFINITY, f64::NEG_INFINITY),
         );
-        for p in scene.positions.chunks_exact(3) {
-            let (pu, pv) = frame.project([p[0], p[1], p[2]]);
+        let shown = frames.first().copied().unwrap_or(0)..=frames.last().copied().unwrap_or(0);
+        let points = scene.points.len();
+        for p in shown.flat_map(|f| (0..points).map(move |i| (f, i))) {
+            let (pu, pv) = frame.project(scene.position(p.0, p.1));
             u = (u.0.min(pu), u.1.max(pu));
             v = (v.0.min(pv), v.1.max(pv));
         }
@@ -255,11 +261,26 @@ fn draw<DB: DrawingBackend>(
         let px = chart.backend_coord(&at);
         (at, (f64::from(px.0), f64::from(px.1)))
     });
+    // Right of its point, or left of it where it would run past the plot's right edge
+    // (the rolling disc's `ground_end` at the end of its drawn road).
+    let right_edge = chart.plotting_area().get_pixel_range().0.end;
+    let offset = |at: &(f64, f64), text: &str| {
+        let width = glyph_offsets(text, 18.0).1.ceil() as i32;
+        if chart.backend_coord(at).0 + 8 + width > right_edge {
+            (-8 - width, -22)
+        } else {
+            (8, -22)
+        }
+    };
+    let labels: Vec<_> = labels
+        .into_iter()
+        .map(|(at, text)| (at, offset(&at, &text), text))
+        .collect();
     chart
         .draw_series(
             labels
                 .into_iter()
-                .map(|(at, text)| EmptyElement::at(at) + Text::new(text, (8, -22), (FONT, 18))),
+                .map(|(at, by, text)| EmptyElement::at(at) + Text::new(text, by, (FONT, 18))),
         )
         .map_err(err)?;
     if frame.projection.oblique {
@@ -421,4 +442,58 @@ fn tick(v: f64) -> String {
 fn round(x: f64) -> String {
     let s = format!("{x:.4}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::ScenePoint;
+
+    #[test]
+    fn the_ranges_hold_the_frames_shown_not_the_whole_run() {
+        // A point rolling from x = 0 to x = 10 m over 11 frames, beside a ground point at
+        // the origin and one at (0, 1): shown, the frames 0 to 2 (x = 0 to 2 m).
+        let point = |name: &str, ground| ScenePoint {
+            name: name.into(),
+            ground,
+        };
+        let positions = (0..11)
+            .flat_map(|k| [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, f64::from(k), 0.5, 0.0])
+            .collect();
+        let scene = Scene {
+            name: "roller".into(),
+            note: String::new(),
+            points: vec![point("O", true), point("Q", true), point("P", false)],
+            lines: vec![],
+            traces: vec![2],
+            times: (0..11).map(f64::from).collect(),
+            positions,
+            coordinates: vec![],
+            decimation: 1,
+            driver: None,
+        };
+        let frame = Frame::new(&scene, View::Xy, &[0, 1, 2]);
+        // The drawing spans x in [0, 2], y in [0, 1]: 8 % of 2 m pads each side, then the
+        // narrower range widens for equal scales; x = 10 m is far outside.
+        // (1e-9: the ranges are sums of these lengths, exact only to round-off.)
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        assert!(
+            near(frame.u.0, -0.16) && near(frame.u.1, 2.16),
+            "{:?}",
+            frame.u
+        );
+        assert!(
+            near(frame.v.0, -0.16) && near(frame.v.1, 1.16),
+            "{:?}",
+            frame.v
+        );
+        // The whole run: up to x = 10 m.
+        let all: Vec<usize> = (0..11).collect();
+        let whole = Frame::new(&scene, View::Xy, &all);
+        assert!(
+            near(whole.u.0, -0.8) && near(whole.u.1, 10.8),
+            "{:?}",
+            whole.u
+        );
+    }
 }

@@ -21,7 +21,7 @@ use mechanism_bench::simulation::{
 /// `bench-results/` in cargo's target directory: `CARGO_TARGET_DIR` (relative to the
 /// workspace root, as cargo reads it) when set, else the workspace's `target/`.
 fn results_dir() -> std::path::PathBuf {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), |t| root.join(t));
     let dir = target.join("bench-results");
