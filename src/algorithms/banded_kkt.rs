@@ -193,13 +193,37 @@ impl BandedKkt {
         if !self.placed {
             self.place();
         }
-        // Each structural nonzero into its place in the band (fixed while the rows kept
-        // stay the same); each place is written once, so the largest |value| written is
-        // the matrix's largest entry.
+        let scale = self.fill(mass, a)?;
+        self.lu
+            .factor_scaled(PIVOT_TOLERANCE, scale)
+            .map_err(|_| Declined::SingularPivot)?;
+        self.solve_factored(q, size);
+        if rank < m {
+            // The multipliers on the rows kept, zero elsewhere, give the forces A^T lambda;
+            // the minimum-norm ones with the same forces are their projection onto
+            // range(A) (the null space of A^T is what the forces leave undetermined).
+            self.consistent.copy_from_slice(&self.lambda);
+            project(
+                &self.spans,
+                &self.normal,
+                &self.dropped_columns,
+                a,
+                &self.consistent,
+                (&mut self.w, &mut self.dw),
+                &mut self.lambda,
+            );
+        }
+        Ok(())
+    }
+
+    /// Each structural nonzero of M and Phi_q into its place in the band (fixed while the
+    /// rows kept stay the same); returns the matrix's largest |entry| (each place is
+    /// written once). Every structural nonzero is read, those of the rows left out too, so
+    /// that this pass also tells whether M and Phi_q are finite (the caller reads them no
+    /// other time).
+    fn fill(&mut self, mass: &DMatrix<f64>, a: &DMatrix<f64>) -> Result<f64, Declined> {
+        let (n, m) = (self.n, self.dropped.len());
         let (mass_values, a_values) = (mass.as_slice(), a.as_slice());
-        // Every structural nonzero is read, those of the rows left out too, so that this
-        // pass also tells whether M and Phi_q are finite (the caller reads them no other
-        // time).
         let (mut scale, mut finite) = (0.0f64, true);
         for (&(i, j), &k) in self.mass_pattern.iter().zip(&self.mass_places) {
             let v = mass_values[i + j * n];
@@ -218,12 +242,18 @@ impl BandedKkt {
                 scale = scale.max(v.abs());
             }
         }
-        if !finite {
-            return Err(Declined::NonFinite);
+        if finite {
+            Ok(scale)
+        } else {
+            Err(Declined::NonFinite)
         }
-        self.lu
-            .factor_scaled(PIVOT_TOLERANCE, scale)
-            .map_err(|_| Declined::SingularPivot)?;
+    }
+
+    /// [q; gamma consistent] through the factored band (`size` unknowns in the current
+    /// order) into the accelerations and the multipliers on the rows kept (zero on the
+    /// rows left out).
+    fn solve_factored(&mut self, q: &[f64], size: usize) {
+        let n = self.n;
         let rhs = &mut self.rhs[..size];
         for (i, &qi) in q.iter().enumerate() {
             if let Some(p) = self.order.position(i) {
@@ -242,22 +272,6 @@ impl BandedKkt {
         for (r, l) in self.lambda.iter_mut().enumerate() {
             *l = self.order.position(n + r).map_or(0.0, |p| self.rhs[p]);
         }
-        if rank < m {
-            // The multipliers on the rows kept, zero elsewhere, give the forces A^T lambda;
-            // the minimum-norm ones with the same forces are their projection onto
-            // range(A) (the null space of A^T is what the forces leave undetermined).
-            self.consistent.copy_from_slice(&self.lambda);
-            project(
-                &self.spans,
-                &self.normal,
-                &self.dropped_columns,
-                a,
-                &self.consistent,
-                (&mut self.w, &mut self.dw),
-                &mut self.lambda,
-            );
-        }
-        Ok(())
     }
 
     /// The storage index in the band of every structural nonzero of M and Phi_q (and of

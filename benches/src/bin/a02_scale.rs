@@ -15,6 +15,7 @@
 //! Defaults: R = 3e-7 (the loosest that keeps B0 within 1e-3 m for N = 10..80 in
 //! BENCHMARKS.md's A02 tables), K = 3 timed runs per route (median), N = 10 20 40 80 160 320.
 
+use mechanism_bench::thread_cpu;
 use std::time::Instant;
 
 use mechanism::{InitialState, Interpreted, SimulationOptions, System, simulate};
@@ -91,16 +92,6 @@ fn options(n: usize, tol: f64) -> SimulationOptions {
         initial: InitialState::Consistent { q, qd },
         ..a02::options(tol)
     }
-}
-
-/// CPU time this thread has run, in seconds (Linux: `/proc/thread-self/schedstat`, whose
-/// first field is the time on the CPU in ns); `None` elsewhere. On a machine shared with
-/// other work it is what the run itself cost, where the wall time also counts the waits
-/// for a core.
-fn thread_cpu() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
 }
 
 /// One route at one N: median time (s) of `repeats` runs (the thread's CPU time where the
