@@ -51,7 +51,7 @@ pub enum Error {
     /// of [`crate::Dynamics`] hands over to the augmented Lagrangian route when its
     /// condition estimate exceeds [`crate::DEFAULT_CONDITION_LIMIT`], 1e8). Where a motion
     /// passes one is recorded ([`crate::SingularPassage`]) by the row-independence test of
-    /// [`crate::linalg::RowBasis`], the one that also finds redundant rows
+    /// the rank basis of the constraint rows (`linalg::RowBasis`), the one that also finds redundant rows
     /// ([`crate::mobility()`], [`Error::ConflictingDrives`]): a row's distance to the span
     /// of the rows before it, relative to its norm, is at most 1e-6 for a redundant row,
     /// and a passage is recorded where the weakest independence falls below 1e-3.
@@ -180,7 +180,7 @@ pub enum Error {
     },
     /// A drive's rate f' jumps at t (a kink of f, e.g. `abs(t - 0.5)`): its acceleration
     /// and the driving force are infinite there (an impulse), whether t falls on a sample or
-    /// between two ([`crate::algorithms::kink`] has the test).
+    /// between two (`algorithms::kink` has the test).
     #[error(
         "the drive of {coordinate} has a kink at t = {t} s: its rate jumps from {before} to \
          {after}, so its acceleration and the driving force are infinite there; smooth the \

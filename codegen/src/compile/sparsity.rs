@@ -33,7 +33,7 @@ pub fn structural_zero(entry: Operand) -> bool {
 }
 
 impl Sparsity {
-    /// The pattern of `output`: every entry that is not [`structural_zero`].
+    /// The pattern of `output`: every entry that is not a structural zero (`structural_zero`).
     pub fn of(output: &Output) -> Sparsity {
         let cols = output.cols.max(1);
         let entries = output

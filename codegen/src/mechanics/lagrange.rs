@@ -121,7 +121,7 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
     derive_with(model, Route::Auto)
 }
 
-/// Which derivation [`derive_with`] takes for M and C q'.
+/// Which derivation [`crate::derive_with`] takes for M and C q'.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Route {
     /// The recursive route (composite bodies, Newton-Euler) where the links carry all of T,
@@ -131,12 +131,12 @@ pub enum Route {
     Lagrange,
 }
 
-/// [`derive()`] with the route chosen: the module's formulas in order (M, C, C q', g, Phi,
+/// [`crate::derive()`] with the route chosen: the module's formulas in order (M, C, C q', g, Phi,
 /// Phi_q, Phi_t, gamma), sharing one Differentiator, so that derivatives are memoised
 /// across them.
 ///
 /// # Errors
-/// As [`derive()`].
+/// As [`crate::derive()`].
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
@@ -700,7 +700,7 @@ fn gamma(
 ///
 /// # Errors
 /// [`crate::error::AlgebraError::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
-/// [`derive()`] otherwise.
+/// [`crate::derive()`] otherwise.
 pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
