@@ -358,11 +358,7 @@ impl Arena {
         {
             progress(self.effort());
         }
-        let hash = {
-            let mut h = FxHasher::default();
-            node.hash(&mut h);
-            h.finish()
-        };
+        let hash = node_hash(&node);
         let id = Id(self.nodes.len() as u32);
         match self.intern.get(&hash) {
             Some(&first) if self.nodes[first.index()] == node => return first,
@@ -705,5 +701,37 @@ fn exact_trig(f: Func, k: i64) -> Option<i64> {
         Func::Cos => Some([1, 0, -1, 0][r as usize]),
         Func::Tan if r % 2 == 0 => Some(0),
         _ => None,
+    }
+}
+
+/// The intern table's key of `node`: its FxHash.
+fn node_hash(node: &Node) -> u64 {
+    let mut h = FxHasher::default();
+    node.hash(&mut h);
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A node whose hash an earlier, different node already holds (a 64-bit collision,
+    /// forced here by planting that hash on the earlier node) gets a node of its own, is
+    /// found again by value, and leaves the earlier node found by its hash.
+    #[test]
+    fn a_hash_collision_keeps_both_nodes_apart() {
+        let mut a = Arena::new();
+        let x = a.symbol("x", SymbolKind::Free);
+        let y = a.symbol("y", SymbolKind::Free);
+        let colliding = Node::Pow(x, y);
+        a.intern.insert(node_hash(&colliding), x);
+        let before = a.len();
+        let p = a.intern(colliding.clone());
+        assert_eq!(p.index(), before, "a new node, not the planted one");
+        assert_eq!(a.node(p), &colliding);
+        assert_eq!(a.intern(colliding), p, "found again, by value");
+        let x_node = a.node(x).clone();
+        assert_eq!(a.intern(x_node), x);
+        assert_eq!(a.len(), before + 1);
     }
 }
