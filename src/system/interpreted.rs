@@ -218,9 +218,10 @@ impl Interpreted {
         Ok(interpreted)
     }
 
-    /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run
-    /// (the code `mechanism!` emits from the same declaration carries the same value as
-    /// `__ROUTINES`).
+    /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run:
+    /// the routines `mechanism!` compiles from the same declaration (whose fingerprint it
+    /// emits as `__ROUTINES`) cut down by `Routines::restricted` to `Role::interpreted` with
+    /// this system's tangents.
     #[doc(hidden)]
     pub fn routines_fingerprint(&self) -> u64 {
         self.routines
