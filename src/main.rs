@@ -3,6 +3,9 @@
 //! `import` commands, on top of the library's public API.
 mod cli;
 
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> std::process::ExitCode {
     cli::main_with_args(std::env::args_os())
 }

@@ -327,3 +327,12 @@ pub fn thread_cpu() -> Option<f64> {
     let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
     Some(ns * 1e-9)
 }
+
+/// The process's peak resident memory so far in MB (`VmHWM` of `/proc/self/status`, Linux);
+/// `None` elsewhere.
+pub fn peak_memory_mb() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}

@@ -53,6 +53,19 @@ impl Number {
         }
     }
 
+    /// num/den reduced, for den > 0 (64-bit arithmetic: the 128-bit division of
+    /// [`Self::from_i128`] is several times slower, and most coefficients are small).
+    fn from_i64(num: i64, den: i64) -> Option<Self> {
+        debug_assert!(den > 0);
+        let (mut a, mut b) = (num.unsigned_abs(), den.unsigned_abs());
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        // a = gcd(|num|, den) >= 1 divides den > 0, so it fits in i64.
+        let g = a.max(1) as i64;
+        Some(Number::Rational(num / g, den / g))
+    }
+
     /// A float constant; `None` when not finite. -0.0 becomes 0.0.
     pub fn float(x: f64) -> Option<Self> {
         x.is_finite()
@@ -133,10 +146,24 @@ impl Number {
             (Number::Rational(a, 1), Number::Rational(c, 1)) if a.checked_add(c).is_some() => {
                 Some(Number::Rational(a + c, 1))
             }
-            (Number::Rational(a, b), Number::Rational(c, d)) => Self::from_i128(
-                a as i128 * d as i128 + c as i128 * b as i128,
-                b as i128 * d as i128,
-            ),
+            // In 64 bits when the cross products fit (most coefficients are small), else in 128.
+            (Number::Rational(a, b), Number::Rational(c, d)) => {
+                let narrow = if b == d {
+                    a.checked_add(c).map(|num| (num, b))
+                } else {
+                    a.checked_mul(d)
+                        .zip(c.checked_mul(b))
+                        .and_then(|(x, y)| x.checked_add(y))
+                        .zip(b.checked_mul(d))
+                };
+                match narrow {
+                    Some((num, den)) => Self::from_i64(num, den),
+                    None => Self::from_i128(
+                        a as i128 * d as i128 + c as i128 * b as i128,
+                        b as i128 * d as i128,
+                    ),
+                }
+            }
             _ => Number::float(self.to_f64() + o.to_f64()),
         }
     }
@@ -149,7 +176,10 @@ impl Number {
                 Some(Number::Rational(a * c, 1))
             }
             (Number::Rational(a, b), Number::Rational(c, d)) => {
-                Self::from_i128(a as i128 * c as i128, b as i128 * d as i128)
+                match (a.checked_mul(c), b.checked_mul(d)) {
+                    (Some(n), Some(m)) => Self::from_i64(n, m),
+                    _ => Self::from_i128(a as i128 * c as i128, b as i128 * d as i128),
+                }
             }
             _ => Number::float(self.to_f64() * o.to_f64()),
         }
@@ -257,5 +287,59 @@ mod overflow_tests {
             Number::rational(-1, 2).unwrap()
         );
         assert_eq!(-Number::Float(0.0), Number::Float(0.0));
+    }
+}
+
+#[cfg(test)]
+mod fast_path_tests {
+    use super::Number;
+
+    /// The 64-bit fast paths of addition and multiplication give the reduced fraction the
+    /// 128-bit route gives, over a grid of signs, equal and unequal denominators, common
+    /// factors and values at the edge of i64.
+    #[test]
+    fn fast_paths_agree_with_the_128_bit_route() {
+        let parts = [
+            0,
+            1,
+            -1,
+            2,
+            -3,
+            4,
+            6,
+            -9,
+            12,
+            1 << 31,
+            -(1 << 40),
+            i64::MAX,
+            i64::MIN + 1,
+        ];
+        let dens = [1, 2, 3, 4, 6, 12, 1 << 31, i64::MAX];
+        let mut values = Vec::new();
+        for &n in &parts {
+            for &d in &dens {
+                values.push(Number::rational(n, d).unwrap());
+            }
+        }
+        let wide = |a: Number, b: Number, add: bool| match (a, b) {
+            (Number::Rational(p, q), Number::Rational(r, s)) => {
+                let (num, den) = if add {
+                    (
+                        p as i128 * s as i128 + r as i128 * q as i128,
+                        q as i128 * s as i128,
+                    )
+                } else {
+                    (p as i128 * r as i128, q as i128 * s as i128)
+                };
+                Number::from_i128(num, den)
+            }
+            _ => unreachable!("the grid is rational"),
+        };
+        for &a in &values {
+            for &b in &values {
+                assert_eq!(a.checked_add(b), wide(a, b, true), "{a:?} + {b:?}");
+                assert_eq!(a.checked_mul(b), wide(a, b, false), "{a:?} * {b:?}");
+            }
+        }
     }
 }

@@ -2,9 +2,13 @@
 //! declaration (parse, derive, the routines without the tangent, the equations text), once
 //! each, printed one per line (the stage that dominates a large mechanism's derivation);
 //! then what an implicit integrator adds (the residual's tangent, and the routines compiled
-//! with it); then the arena's work and size (`mechanism_codegen::Effort`).
+//! with it), each with the peak resident memory so far; then the arena's work and size (`mechanism_codegen::Effort`).
 
 use std::time::Instant;
+
+// The command-line tool's allocator, so the stages cost what they cost there.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
     let Some(path) = std::env::args().nth(1) else {
@@ -25,16 +29,27 @@ fn main() {
     let mut lap = |stage: &str| {
         let (now, now_cpu) = (clock.elapsed().as_secs_f64(), cpu());
         println!(
-            "{stage:<10} {:8.3} s wall {:8.3} s CPU",
+            "{stage:<10} {:8.3} s wall {:8.3} s CPU {:7.0} MB peak",
             now - last,
-            now_cpu - last_cpu
+            now_cpu - last_cpu,
+            mechanism_bench::peak_memory_mb().unwrap_or(f64::NAN)
         );
         (last, last_cpu) = (now, now_cpu);
     };
     let mut model = mechanism_codegen::parse_model_str(&source).unwrap_or_else(|e| fail(e));
     lap("parse");
+    eprintln!(
+        "after parse: {:?} nodes {}",
+        model.arena.effort(),
+        model.arena.len()
+    );
     let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
     lap("derive");
+    eprintln!(
+        "after derive: {:?} nodes {}",
+        model.arena.effort(),
+        model.arena.len()
+    );
     // The routines `mechanism equations` and an explicit integrator's run compile.
     let routines =
         mechanism_codegen::compile_interpreted(&mut model, &eqs, None).unwrap_or_else(|e| fail(e));

@@ -30,12 +30,14 @@ use crate::error::Result;
 use crate::number::Number;
 
 /// A linear form in the rates: (rate index j, coefficient d, rate-free monomial s) per
-/// term, s = `None` for 1.
+/// term, s = `None` for 1; one term per rate, sorted by rate index.
 type LinearForm = Rc<Vec<(usize, Number, Option<Id>)>>;
 
-/// The upper-triangle accumulation of one row: per column j, per monomial pair (r, s), the
-/// summed coefficient, in order of first appearance.
-type RowGroups = FxHashMap<(usize, Option<Id>, Option<Id>), usize>;
+/// The groups of one column in the row being accumulated: per rate-free monomial pair
+/// (r, s), the summed coefficient, in order of first appearance. A column holds as many
+/// groups as its entry has distinct monomials (two in the chain), so it is searched
+/// linearly.
+type ColumnGroups = Vec<(Option<Id>, Option<Id>, Number)>;
 
 /// M (n x n, symmetric, upper triangle computed and mirrored) from the momenta
 /// `momenta[i]` = dT/dq_i' by linear forms, or `None` when some momentum is not of that
@@ -52,11 +54,10 @@ pub(crate) fn mass_from_momenta(
     let n = momenta.len();
     let mut reader = LinearReader::new(arena, rates);
     let mut mass = Matrix::zeros(arena, n, n);
-    let mut groups: RowGroups = FxHashMap::default();
-    let mut sums: Vec<(usize, Option<Id>, Option<Id>, Number)> = Vec::new();
+    // Per column, reused row after row; `touched` lists the columns the row has reached.
+    let mut columns: Vec<ColumnGroups> = vec![Vec::new(); n];
+    let mut touched: Vec<usize> = Vec::new();
     for (i, &p) in momenta.iter().enumerate() {
-        groups.clear();
-        sums.clear();
         let terms: Vec<Id> = match arena.node(p) {
             Node::Add(ts) => ts.to_vec(),
             _ => vec![p],
@@ -65,41 +66,43 @@ pub(crate) fn mass_from_momenta(
             let Some((c, r, form)) = reader.term(arena, d, t)? else {
                 return Ok(None);
             };
-            for &(j, dj, s) in form.iter().filter(|(j, ..)| *j >= i) {
+            // A form is sorted by rate: the entries of the upper triangle (j >= i) are a tail.
+            let upper = form.partition_point(|e| e.0 < i);
+            for &(j, dj, s) in &form[upper..] {
                 let Some(cd) = c.checked_mul(dj) else {
                     return Ok(None);
                 };
-                match groups.get(&(j, r, s)) {
-                    Some(&g) => match sums[g].3.checked_add(cd) {
-                        Some(v) => sums[g].3 = v,
+                let column = &mut columns[j];
+                if column.is_empty() {
+                    touched.push(j);
+                }
+                match column.iter_mut().find(|g| g.0 == r && g.1 == s) {
+                    Some(g) => match g.2.checked_add(cd) {
+                        Some(v) => g.2 = v,
                         None => return Ok(None),
                     },
-                    None => {
-                        groups.insert((j, r, s), sums.len());
-                        sums.push((j, r, s, cd));
-                    }
+                    None => column.push((r, s, cd)),
                 }
             }
         }
         // Columns in increasing order, each entry's terms in order of first appearance:
         // the order in which the term-by-term derivative creates them.
-        sums.sort_by_key(|g| g.0);
-        let mut k = 0;
-        while k < sums.len() {
-            let j = sums[k].0;
-            let mut entry = Vec::new();
-            while k < sums.len() && sums[k].0 == j {
-                let (_, r, s, coef) = sums[k];
-                let mut factors = vec![arena.number(coef)];
-                factors.extend(r);
-                factors.extend(s);
-                entry.push(arena.mul(&factors));
-                k += 1;
-            }
+        touched.sort_unstable();
+        for &j in &touched {
+            let entry: Vec<Id> = columns[j]
+                .drain(..)
+                .map(|(r, s, coef)| {
+                    let mut factors = vec![arena.number(coef)];
+                    factors.extend(r);
+                    factors.extend(s);
+                    arena.mul(&factors)
+                })
+                .collect();
             let mij = arena.add(&entry);
             mass.set(i, j, mij);
             mass.set(j, i, mij);
         }
+        touched.clear();
     }
     Ok(Some(mass))
 }
@@ -232,6 +235,17 @@ impl LinearReader {
             },
             _ => None,
         };
+        // Sorted by rate (stable: the terms of one rate keep their order, the order in which
+        // they are summed), so a row's upper-triangle entries are found by bisection.
+        let form = form.map(|f| {
+            if f.is_sorted_by_key(|e| e.0) {
+                f
+            } else {
+                let mut sorted = f.as_ref().clone();
+                sorted.sort_by_key(|e| e.0);
+                Rc::new(sorted)
+            }
+        });
         self.forms.insert(id, form.clone());
         Ok(form)
     }
