@@ -37,7 +37,9 @@ impl Number {
         Self::from_i128(num as i128, den as i128)
     }
 
-    fn from_i128(num: i128, den: i128) -> Option<Self> {
+    /// num/den reduced; a float when the reduced fraction does not fit in 64 bits; `None`
+    /// when den is 0.
+    pub(crate) fn from_i128(num: i128, den: i128) -> Option<Self> {
         if den == 0 {
             return None;
         }

@@ -38,18 +38,8 @@ fn main() {
     };
     let mut model = mechanism_codegen::parse_model_str(&source).unwrap_or_else(|e| fail(e));
     lap("parse");
-    eprintln!(
-        "after parse: {:?} nodes {}",
-        model.arena.effort(),
-        model.arena.len()
-    );
     let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
     lap("derive");
-    eprintln!(
-        "after derive: {:?} nodes {}",
-        model.arena.effort(),
-        model.arena.len()
-    );
     // The routines `mechanism equations` and an explicit integrator's run compile.
     let routines =
         mechanism_codegen::compile_interpreted(&mut model, &eqs, None).unwrap_or_else(|e| fail(e));

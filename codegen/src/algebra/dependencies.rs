@@ -7,7 +7,7 @@
 //! size of the distinct sets, not nodes x symbols: a mechanism of 5,000 coordinates has
 //! 15,000 symbols, and a dense bitset per node would cost 1.9 kB for each of its nodes.
 
-use crate::algebra::expr::{Arena, Id, Node, SymbolId};
+use crate::algebra::expr::{Arena, FxHashSet, Id, Node, SymbolId};
 
 /// The sets, extended incrementally as the arena grows.
 #[derive(Clone, Debug, Default)]
@@ -18,20 +18,13 @@ pub(crate) struct DependencySets {
     pool: Vec<SymbolId>,
     /// Scratch for unions.
     scratch: Vec<SymbolId>,
-    /// Per symbol, the generation of the union that last saw it.
-    stamps: Vec<u32>,
-    /// The current union's generation.
-    generation: u32,
+    /// Pairs of runs (a, b) with a found inside b, for runs longer than [`SMALL_RUN`].
+    inside: FxHashSet<((u32, u32), (u32, u32))>,
 }
 
-/// Stamps symbol `s` with `generation`; true when it was not stamped so already.
-fn stamp(stamps: &mut Vec<u32>, s: SymbolId, generation: u32) -> bool {
-    let k = s.index();
-    if k >= stamps.len() {
-        stamps.resize(k + 1, 0);
-    }
-    std::mem::replace(&mut stamps[k], generation) != generation
-}
+/// Runs up to this length are looked up symbol by symbol every time; longer ones are
+/// remembered once found inside another.
+const SMALL_RUN: u32 = 8;
 
 impl DependencySets {
     /// Number of nodes covered.
@@ -57,10 +50,11 @@ impl DependencySets {
         }
     }
 
-    /// The run of the union of `children`'s sets: a child's own run when the union is it.
-    /// The widest run's symbols are stamped, the other runs add only what is unstamped:
-    /// the cost is the children's total set size, with a sort of the added symbols only
-    /// (a sum over a chain's bars, whose sets nest, adds none).
+    /// The run of the union of `children`'s sets: the widest child's own run when the union
+    /// is it. The other runs are looked up in the widest by bisection, so the cost is their
+    /// total size (times a logarithm), not the widest run's; a run found inside another once
+    /// is remembered, so a sum over a chain's bars, whose sets nest, costs one look-up per
+    /// term after the first. Only the symbols the widest lacks are sorted and merged.
     fn union(&mut self, children: &[Id]) -> (u32, u32) {
         let mut widest = (0u32, 0u32);
         let mut distinct = 0;
@@ -77,36 +71,36 @@ impl DependencySets {
         if distinct <= 1 {
             return widest;
         }
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            // The stamps wrapped around: no stale stamp may equal a new generation.
-            self.stamps.fill(0);
-            self.generation = 1;
-        }
-        let generation = self.generation;
-        let run = |(start, len): (u32, u32)| start as usize..(start + len) as usize;
-        for &s in &self.pool[run(widest)] {
-            stamp(&mut self.stamps, s, generation);
-        }
+        let range = |(start, len): (u32, u32)| start as usize..(start + len) as usize;
         self.scratch.clear();
         for c in children {
             let r = self.runs[c.index()];
-            if r == widest {
+            if r == widest || r.1 == 0 {
                 continue;
             }
-            for &s in &self.pool[run(r)] {
-                if stamp(&mut self.stamps, s, generation) {
+            let remembered = r.1 > SMALL_RUN;
+            if remembered && self.inside.contains(&(r, widest)) {
+                continue;
+            }
+            let before = self.scratch.len();
+            let within = &self.pool[range(widest)];
+            for &s in &self.pool[range(r)] {
+                if within.binary_search(&s).is_err() {
                     self.scratch.push(s);
                 }
+            }
+            if remembered && self.scratch.len() == before {
+                self.inside.insert((r, widest));
             }
         }
         if self.scratch.is_empty() {
             return widest;
         }
         self.scratch.sort_unstable();
+        self.scratch.dedup();
         // Merge the widest run and the added symbols, both sorted, at the pool's end.
         let start = self.pool.len();
-        let (mut a, mut b) = (run(widest), 0);
+        let (mut a, mut b) = (range(widest), 0);
         while a.start < a.end || b < self.scratch.len() {
             let take_pool = b == self.scratch.len()
                 || (a.start < a.end && self.pool[a.start] < self.scratch[b]);
@@ -179,6 +173,23 @@ mod tests {
         a.mul(&[bars[1], bars[4], xs[0]]);
         let sparse = a.add(&[xs[0], xs[4]]);
         a.mul(&[sparse, xs[2], bars[0]]);
+        // Runs longer than SMALL_RUN: nested (remembered as inside the widest, then reused
+        // by a second sum over the same bars) and overlapping ones that add symbols.
+        let ys: Vec<Id> = (0..24)
+            .map(|k| a.symbol(&format!("y{k}"), SymbolKind::Free))
+            .collect();
+        let mut long = Vec::new();
+        let mut acc = Vec::new();
+        for &y in &ys {
+            acc.push(a.cos(y));
+            long.push(a.add(&acc));
+        }
+        a.add(&long[10..]);
+        let twice = a.add(&long[12..]);
+        a.mul(&[twice, xs[1]]);
+        let low = a.add(&ys[..16]);
+        let high = a.add(&ys[8..]);
+        a.mul(&[low, high, long[3]]);
         let mut sets = DependencySets::default();
         sets.sync(&a);
         for n in 0..a.len() {

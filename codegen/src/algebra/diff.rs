@@ -12,6 +12,7 @@
 
 use crate::algebra::dependencies::DependencySets;
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::wide_children::WideChildren;
 use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 use crate::number::Number;
@@ -38,6 +39,9 @@ use crate::number::Number;
 pub struct Differentiator {
     memo: FxHashMap<(Id, SymbolId), Id>,
     deps: DependencySets,
+    wide: WideChildren,
+    /// Scratch for the positions of a node's dependent children.
+    positions: Vec<u32>,
 }
 
 impl Differentiator {
@@ -53,6 +57,7 @@ impl Differentiator {
         if arena.len() < self.deps.covered() {
             self.memo.clear();
             self.deps = DependencySets::default();
+            self.wide.clear();
         }
         self.deps.sync(arena);
     }
@@ -154,11 +159,9 @@ impl Differentiator {
                 continue;
             }
             todo.push(n);
-            for c in arena.children(n) {
-                if self.deps.contains(c, sym) {
-                    stack.push(c);
-                }
-            }
+            let children = arena.children(n);
+            self.dependent_children(n, &children, sym);
+            stack.extend(self.positions.iter().map(|&k| children[k as usize]));
         }
         todo.sort_unstable();
         for n in todo {
@@ -172,6 +175,15 @@ impl Differentiator {
                 id: id.0,
                 len: arena.len(),
             }))
+    }
+
+    /// The positions of `node`'s children (`children`) that depend on `sym`, in increasing
+    /// order, into `self.positions`.
+    fn dependent_children(&mut self, node: Id, children: &[Id], sym: SymbolId) {
+        let mut out = std::mem::take(&mut self.positions);
+        self.wide
+            .positions(&self.deps, node, children, sym, &mut out);
+        self.positions = out;
     }
 
     /// The cached derivative of a child (0 when it does not depend on `sym`).
@@ -195,19 +207,19 @@ impl Differentiator {
                 // Only the terms that depend on `sym`: the others' derivatives are zeros
                 // the sum would drop (a row of a large residual reads each coordinate in
                 // a few of its terms).
-                let ds: Vec<Id> = ts
+                self.dependent_children(n, &ts, sym);
+                let ds: Vec<Id> = self
+                    .positions
                     .iter()
-                    .filter(|&&t| self.deps.contains(t, sym))
-                    .map(|&t| self.child(arena, t, sym))
+                    .map(|&k| self.child(arena, ts[k as usize], sym))
                     .collect();
                 arena.add(&ds)
             }
             Node::Mul(fs) => {
                 let mut terms = Vec::new();
-                for (i, &f) in fs.iter().enumerate() {
-                    if !self.deps.contains(f, sym) {
-                        continue;
-                    }
+                self.dependent_children(n, &fs, sym);
+                for i in std::mem::take(&mut self.positions) {
+                    let (i, f) = (i as usize, fs[i as usize]);
                     let df = self.child(arena, f, sym);
                     if arena.is_zero(df) {
                         continue;

@@ -229,6 +229,9 @@ pub type Vec3 = [Id; 3];
 /// A HashMap with [`FxHasher`].
 pub type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 
+/// A hash set with [`FxHasher`].
+pub type FxHashSet<K> = std::collections::HashSet<K, BuildHasherDefault<FxHasher>>;
+
 /// The arena: nodes, their intern table and the symbol table.
 #[derive(Clone, Default)]
 pub struct Arena {

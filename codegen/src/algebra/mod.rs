@@ -24,3 +24,4 @@ pub(crate) mod eval;
 pub(crate) mod expr;
 pub(crate) mod matrix;
 pub(crate) mod rotation;
+pub(crate) mod wide_children;
