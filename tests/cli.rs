@@ -14,6 +14,8 @@ mod declarations;
 mod diagnoses;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
+#[path = "cli/implicit.rs"]
+mod implicit;
 #[path = "cli/import.rs"]
 mod import;
 #[path = "cli/input_limits.rs"]

@@ -12,6 +12,7 @@ use std::str::FromStr;
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
 use crate::error::{Error, Expected, Location, ParseError, Result};
+use crate::syntax::plain_lex::plain_tokens;
 
 /// A bracket kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -184,10 +185,19 @@ pub(crate) fn tokens_from_stream(stream: TokenStream) -> Tokens {
 /// The tokens of a text. Unbalanced brackets or a stray character are a parse error at the
 /// line and column where the lexer stopped.
 ///
-/// The text is lexed by proc_macro2's own (fallback) lexer even inside a procedural macro,
-/// because the compiler's lexer gives text no line/column information; the fallback spans
-/// are used for their locations only and are not kept.
+/// Plain text is lexed directly ([`plain_tokens`], same tokens); anything else by
+/// proc_macro2's own (fallback) lexer, even inside a procedural macro, because the
+/// compiler's lexer gives text no line/column information; the fallback spans are used for
+/// their locations only and are not kept.
 pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
+    if let Some(tokens) = plain_tokens(text) {
+        return Ok(tokens);
+    }
+    general_tokens(text)
+}
+
+/// [`tokens_from_str`] by proc_macro2's lexer (any text, and its error messages).
+pub(crate) fn general_tokens(text: &str) -> Result<Tokens> {
     proc_macro2::fallback::force();
     let lexed = TokenStream::from_str(text).map(|s| flatten(s, false));
     let result = match lexed {
