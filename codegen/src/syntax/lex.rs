@@ -1,7 +1,8 @@
 //! Tokens of the declaration language, from a `proc_macro2::TokenStream` (inline macro input)
 //! or from text (a `.mech` file), flattened into one list the parsers walk with a cursor.
 //!
-//! Both routes use proc_macro2's tokenizer, so the two forms have one grammar: `//` and
+//! Both routes use proc_macro2's tokenizer (or, for plain text, a direct lexer that gives
+//! the same tokens, `plain_lex`), so the two forms have one grammar: `//` and
 //! `/* */` comments vanish, `///` doc comments arrive as `#[doc = "..."]`, `1e-4` and `0.04`
 //! are single literals, `^` is a punctuation character. Groups are flattened into an opening
 //! token, their contents and a closing token; every token keeps its [`Location`] (1-based

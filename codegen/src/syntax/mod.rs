@@ -8,7 +8,8 @@
 //! imports nothing of the others, only the shared `error` and `number` leaves.
 //!
 //! The algorithm is recursive descent over one flat token list ([`lex`]): both routes use
-//! proc_macro2's tokenizer, so a macro and a file have one grammar. Expressions bind, loosest
+//! proc_macro2's tokenizer (plain text gets the same tokens from a direct lexer,
+//! [`plain_lex`]), so a macro and a file have one grammar. Expressions bind, loosest
 //! first, `+ -`, `* /`, unary `-`, `^` (right-associative, tighter than unary minus:
 //! `-x^2 = -(x^2)`), parsed by one precedence-climbing parser for both expression languages
 //! ([`expression`]); nesting deeper than [`MAX_DEPTH`] is an error, not a stack overflow.
