@@ -13,8 +13,9 @@ use crate::mechanics::check::{ModelFinding, check, check_model};
 use crate::mechanics::model::Model;
 use crate::print::text::to_text;
 use crate::syntax::declaration::{Declaration, parse_declaration_tokens};
-use crate::syntax::lex::{Tokens, tokens_from_str, tokens_from_stream};
+use crate::syntax::lex::{Tokens, tokens_from_stream};
 use crate::syntax::links::declare_link_coordinates;
+use crate::syntax::plain_lex::tokens_from_str;
 use crate::syntax::unconstrained::independent_when_unconstrained;
 
 /// An error with the span of the offending token, for a proc-macro to report

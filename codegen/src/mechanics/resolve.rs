@@ -9,7 +9,8 @@ use crate::error::AlgebraError;
 use crate::error::{DeclarationError, Error, Expected, Location, ParseError, Result, SymbolRole};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{Language, parse};
-use crate::syntax::lex::{Cursor, Tok, tokens_from_str};
+use crate::syntax::lex::{Cursor, Tok};
+use crate::syntax::plain_lex::tokens_from_str;
 use crate::syntax::spelling::{closest, ranked};
 
 /// How names resolve while building the node of a syntax tree.

@@ -338,7 +338,7 @@ fn parse_number(text: &str) -> std::result::Result<Number, ParseError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::syntax::lex::tokens_from_str;
+    use crate::syntax::plain_lex::tokens_from_str;
 
     fn parsed(text: &str, language: Language) -> Result<(Ast, Tok)> {
         let tokens = tokens_from_str(text)?;

@@ -2,7 +2,8 @@
 //! or from text (a `.mech` file), flattened into one list the parsers walk with a cursor.
 //!
 //! Both routes use proc_macro2's tokenizer (or, for plain text, a direct lexer that gives
-//! the same tokens, `plain_lex`), so the two forms have one grammar: `//` and
+//! the same tokens, `plain_lex`, which is the text route's entry), so the two forms have one
+//! grammar: `//` and
 //! `/* */` comments vanish, `///` doc comments arrive as `#[doc = "..."]`, `1e-4` and `0.04`
 //! are single literals, `^` is a punctuation character. Groups are flattened into an opening
 //! token, their contents and a closing token; every token keeps its [`Location`] (1-based
@@ -13,7 +14,6 @@ use std::str::FromStr;
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
 use crate::error::{Error, Expected, Location, ParseError, Result};
-use crate::syntax::plain_lex::plain_tokens;
 
 /// A bracket kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -183,21 +183,11 @@ pub(crate) fn tokens_from_stream(stream: TokenStream) -> Tokens {
     flatten(stream, true)
 }
 
-/// The tokens of a text. Unbalanced brackets or a stray character are a parse error at the
-/// line and column where the lexer stopped.
-///
-/// Plain text is lexed directly ([`plain_tokens`], same tokens); anything else by
-/// proc_macro2's own (fallback) lexer, even inside a procedural macro, because the
-/// compiler's lexer gives text no line/column information; the fallback spans are used for
-/// their locations only and are not kept.
-pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
-    if let Some(tokens) = plain_tokens(text) {
-        return Ok(tokens);
-    }
-    general_tokens(text)
-}
-
-/// [`tokens_from_str`] by proc_macro2's lexer (any text, and its error messages).
+/// The tokens of any text by proc_macro2's own (fallback) lexer, even inside a procedural
+/// macro, because the compiler's lexer gives text no line/column information; the fallback
+/// spans are used for their locations only and are not kept. Unbalanced brackets or a
+/// stray character are a parse error at the line and column where the lexer stopped.
+/// (`plain_lex::tokens_from_str` is the entry: plain text does not come here.)
 pub(crate) fn general_tokens(text: &str) -> Result<Tokens> {
     proc_macro2::fallback::force();
     let lexed = TokenStream::from_str(text).map(|s| flatten(s, false));

@@ -1,7 +1,7 @@
-//! A direct lexer for the plain text most `.mech` files are: ASCII names, numbers,
-//! punctuation, brackets and `//` comments. It gives exactly the tokens and locations of
-//! proc_macro2's lexer ([`super::lex::tokens_from_str`]) and declines (returns `None`) at the
-//! first thing it does not cover (a string, a doc or block comment, a character outside
+//! The tokens of a text (a `.mech` file): a direct lexer for the plain text most files are
+//! (ASCII names, numbers, punctuation, brackets and `//` comments), else proc_macro2's
+//! ([`general_tokens`]). The direct lexer gives exactly the tokens and locations of
+//! proc_macro2's and declines (returns `None`) at the first thing it does not cover (a string, a doc or block comment, a character outside
 //! ASCII, a carriage return, a number with a suffix, an unbalanced bracket), so the caller
 //! lexes that text the general way, with its error messages.
 //!
@@ -9,12 +9,24 @@
 //! flattened, about 4 MB/s and 30 bytes of memory per byte of text; a generated declaration
 //! of a 400-bar chain is 4.7 MB.
 
-use crate::error::Location;
-use crate::syntax::lex::{Delim, Tok, Token, Tokens};
+use crate::error::{Location, Result};
+use crate::syntax::lex::{Delim, Tok, Token, Tokens, general_tokens};
 
 /// The punctuation characters proc_macro2 lexes as one `Punct` each (`'` starts a
 /// lifetime or a character literal there, and is declined here).
 const PUNCT: &[u8] = b"!#$%&*+,-./:;<=>?@^|~";
+
+/// The tokens of a text: directly when it is plain, else by proc_macro2's lexer (whose
+/// errors name the line and column where it stopped).
+///
+/// # Errors
+/// [`general_tokens`]'s: unbalanced brackets or a stray character.
+pub(crate) fn tokens_from_str(text: &str) -> Result<Tokens> {
+    match plain_tokens(text) {
+        Some(tokens) => Ok(tokens),
+        None => general_tokens(text),
+    }
+}
 
 /// The tokens of `text`, or `None` when the text holds something this lexer declines.
 pub(crate) fn plain_tokens(text: &str) -> Option<Tokens> {
@@ -222,7 +234,6 @@ fn delim(b: u8) -> Delim {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::syntax::lex::general_tokens;
 
     /// The tokens and locations proc_macro2's route gives (kinds, text, line, column, index).
     fn general(text: &str) -> Vec<(Tok, Location)> {
