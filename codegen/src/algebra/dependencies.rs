@@ -18,8 +18,21 @@ pub(crate) struct DependencySets {
     pool: Vec<SymbolId>,
     /// Scratch for unions.
     scratch: Vec<SymbolId>,
+    /// Per symbol, the generation of the union that last added it to the scratch.
+    stamps: Vec<u32>,
+    /// The current union's generation.
+    generation: u32,
     /// Pairs of runs (a, b) with a found inside b, for runs longer than [`SMALL_RUN`].
     inside: FxHashSet<((u32, u32), (u32, u32))>,
+}
+
+/// Stamps symbol `s` with `generation`; true when it was not stamped so already.
+fn stamp(stamps: &mut Vec<u32>, s: SymbolId, generation: u32) -> bool {
+    let k = s.index();
+    if k >= stamps.len() {
+        stamps.resize(k + 1, 0);
+    }
+    std::mem::replace(&mut stamps[k], generation) != generation
 }
 
 /// Runs up to this length are looked up symbol by symbol every time; longer ones are
@@ -54,7 +67,8 @@ impl DependencySets {
     /// is it. The other runs are looked up in the widest by bisection, so the cost is their
     /// total size (times a logarithm), not the widest run's; a run found inside another once
     /// is remembered, so a sum over a chain's bars, whose sets nest, costs one look-up per
-    /// term after the first. Only the symbols the widest lacks are sorted and merged.
+    /// term after the first. The symbols the widest lacks are stamped as they are found, so
+    /// each is sorted and merged once however many children hold it.
     fn union(&mut self, children: &[Id]) -> (u32, u32) {
         let mut widest = (0u32, 0u32);
         let mut distinct = 0;
@@ -72,6 +86,13 @@ impl DependencySets {
             return widest;
         }
         let range = |(start, len): (u32, u32)| start as usize..(start + len) as usize;
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            // The stamps wrapped around: no stale stamp may equal a new generation.
+            self.stamps.fill(0);
+            self.generation = 1;
+        }
+        let generation = self.generation;
         self.scratch.clear();
         for c in children {
             let r = self.runs[c.index()];
@@ -82,14 +103,19 @@ impl DependencySets {
             if remembered && self.inside.contains(&(r, widest)) {
                 continue;
             }
-            let before = self.scratch.len();
+            let mut inside = true;
             let within = &self.pool[range(widest)];
             for &s in &self.pool[range(r)] {
                 if within.binary_search(&s).is_err() {
-                    self.scratch.push(s);
+                    inside = false;
+                    // Each missing symbol enters the scratch once, however many children
+                    // hold it.
+                    if stamp(&mut self.stamps, s, generation) {
+                        self.scratch.push(s);
+                    }
                 }
             }
-            if remembered && self.scratch.len() == before {
+            if remembered && inside {
                 self.inside.insert((r, widest));
             }
         }
@@ -97,7 +123,6 @@ impl DependencySets {
             return widest;
         }
         self.scratch.sort_unstable();
-        self.scratch.dedup();
         // Merge the widest run and the added symbols, both sorted, at the pool's end.
         let start = self.pool.len();
         let (mut a, mut b) = (range(widest), 0);

@@ -663,16 +663,28 @@ fn gamma(
 ) -> Result<Matrix> {
     let n = s.q.len();
     let (m1, m2) = (arena.int(-1), arena.int(-2));
+    // The coordinate index of each symbol: an entry is differentiated by the coordinates
+    // its dependency set holds, not tried against all n (m n^2 look-ups on A02).
+    let mut coordinate_of = vec![None; arena.symbols().len()];
+    for (k, q) in s.q.iter().enumerate() {
+        coordinate_of[q.index()] = Some(k);
+    }
     let mut out = Vec::with_capacity(phi_q.rows);
+    let mut ks: Vec<usize> = Vec::new();
     for r in 0..phi_q.rows {
         let mut terms = Vec::new();
         for j in 0..n {
             let e = phi_q.get(r, j);
             let vj = arena.symbol_node(s.qd[j]);
-            for k in j..n {
-                if !d.depends_on(arena, e, s.q[k])? {
-                    continue;
-                }
+            ks.clear();
+            ks.extend(
+                d.symbols_of(arena, e)?
+                    .iter()
+                    .filter_map(|x| coordinate_of.get(x.index()).copied().flatten())
+                    .filter(|&k| k >= j),
+            );
+            ks.sort_unstable();
+            for &k in &ks {
                 let h = d.diff(arena, e, s.q[k])?;
                 let vk = arena.symbol_node(s.qd[k]);
                 let w = if j == k { m1 } else { m2 };
