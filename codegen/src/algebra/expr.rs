@@ -680,15 +680,21 @@ impl Arena {
 
     /// Whether `id` depends on the symbol `s` (a walk over the sub-DAG).
     pub fn depends_on(&self, id: Id, s: SymbolId) -> bool {
+        self.depends_on_any(id, |x| x == s)
+    }
+
+    /// Whether the expression `id` contains a symbol for which `wanted` holds: one walk of
+    /// its subtree (each shared node once), whose cost is the subtree's, not the arena's.
+    pub fn depends_on_any(&self, id: Id, wanted: impl Fn(SymbolId) -> bool) -> bool {
         let mut stack = vec![id];
-        let mut seen = vec![false; self.nodes.len()];
+        let mut seen: FxHashSet<Id> = FxHashSet::default();
         while let Some(n) = stack.pop() {
-            if std::mem::replace(&mut seen[n.index()], true) {
+            if !seen.insert(n) {
                 continue;
             }
             match self.node(n) {
-                Node::Sym(x) if *x == s => return true,
-                _ => stack.extend(self.children(n)),
+                Node::Sym(x) if wanted(*x) => return true,
+                node => node.for_each_child(|c| stack.push(c)),
             }
         }
         false

@@ -484,9 +484,13 @@ fn motion_symbols(model: &Model, with_time: bool) -> Vec<SymbolId> {
 /// Each constraint row depends on the coordinates or on t: a row of parameters and numbers
 /// (`x - x`, `l1 - l2`) either always holds or never does, and gives a zero row in Phi_q.
 fn check_constraints_depend_on_motion(model: &Model, findings: &mut Vec<ModelFinding>) {
-    let syms = motion_symbols(model, true);
+    let mut motion = vec![false; model.arena.symbols().len()];
+    for s in motion_symbols(model, true) {
+        motion[s.index()] = true;
+    }
     for (row, c) in model.constraints.iter().enumerate() {
-        if !syms.iter().any(|&s| model.arena.depends_on(c.expr, s)) {
+        // One walk per row (a walk per (row, symbol) pair was m n walks on A02).
+        if !model.arena.depends_on_any(c.expr, |s| motion[s.index()]) {
             findings.push(ModelFinding::ConstraintWithoutMotion {
                 row,
                 expr: c.expr,
@@ -505,7 +509,11 @@ fn check_kinetic_has_rates(model: &Model, at: Location, findings: &mut Vec<Model
         .iter()
         .filter_map(|c| a.as_symbol(c.qd))
         .collect();
-    if !rates.iter().any(|&s| a.depends_on(model.kinetic, s)) {
+    let mut is_rate = vec![false; a.symbols().len()];
+    for s in &rates {
+        is_rate[s.index()] = true;
+    }
+    if !a.depends_on_any(model.kinetic, |s| is_rate[s.index()]) {
         findings.push(ModelFinding::KineticWithoutRates {
             expr: model.kinetic,
             location: at,
