@@ -150,9 +150,11 @@ pub(crate) fn lower(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
 }
 
 /// An estimate of the operations per call of `outputs` lowered from `arena`, read off the
-/// graph: a sum or product of k terms costs k - 1 operations, a power, function or atan2
-/// one, over the distinct nodes the outputs reach that depend on a coordinate, rate, time or
-/// other non-parameter symbol (the program computes the others once per parameter set).
+/// graph, over the distinct nodes the outputs reach that depend on a coordinate, rate, time
+/// or other non-parameter symbol (the program computes the others once per parameter set):
+/// a sum or product of k varying children and some parameter-only ones costs k operations
+/// (k - 1 without the parameter-only ones, which make one cached value; a coefficient of
+/// -1 is a subtraction, free), a power, function or atan2 one.
 pub(crate) fn graph_ops(arena: &Arena, outputs: &[&Matrix]) -> usize {
     let len = arena.len();
     let mut reached = vec![false; len];
