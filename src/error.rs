@@ -47,14 +47,14 @@ pub enum Error {
     /// - **HHT**: its Newton matrix has an exactly zero or non-finite pivot (`condition`
     ///   infinite).
     ///
-    /// Not errors: the forward dynamics integrates through singular positions (the LU route
-    /// of [`crate::Dynamics`] hands over to the augmented Lagrangian route when its
-    /// condition estimate exceeds [`crate::DEFAULT_CONDITION_LIMIT`], 1e8). Where a motion
-    /// passes one is recorded ([`crate::SingularPassage`]) by the row-independence test of
-    /// the rank basis of the constraint rows (`linalg::RowBasis`), the one that also finds redundant rows
-    /// ([`crate::mobility()`], [`Error::ConflictingDrives`]): a row's distance to the span
-    /// of the rows before it, relative to its norm, is at most 1e-6 for a redundant row,
-    /// and a passage is recorded where the weakest independence falls below 1e-3.
+    /// Not errors: the forward dynamics integrates through singular positions (the LU route of
+    /// [`crate::Dynamics`] hands over to the augmented Lagrangian route when its condition
+    /// estimate exceeds [`crate::DEFAULT_CONDITION_LIMIT`], 1e8). Where a motion passes one is
+    /// recorded ([`crate::SingularPassage`]) by the row-independence test of the rank basis of
+    /// the constraint rows (`linalg::RowBasis`), the one that also finds redundant rows
+    /// ([`crate::mobility()`], [`Error::ConflictingDrives`]): a row's distance to the span of
+    /// the rows before it, relative to its norm, is at most 1e-6 for a redundant row, and a
+    /// passage is recorded where the weakest independence falls below 1e-3.
     #[error(
         "singular configuration at t = {t} s (condition estimate {condition:e}): the mechanism \
          is at a dead point, locked, or its constraints lose rank; q = {q:?}"

@@ -33,9 +33,10 @@ use proc_macro::TokenStream;
 /// with one `pub f64` field per parameter and an implementation of `mechanism::Mechanism`.
 ///
 /// The declaration language (grammar, every section and function, what is refused) is the
-/// reference page [`mechanism::language`](https://docs.rs/mechanism-dynamics/latest/mechanism/language/index.html);
-/// the README's "Declaring a mechanism" teaches it by example. An error inside a `.mech`
-/// file is reported at the path with the file's line and column and that line quoted:
+/// reference page
+/// [`mechanism::language`](https://docs.rs/mechanism-dynamics/latest/mechanism/language/index.html);
+/// the README's "Declaring a mechanism" teaches it by example. An error inside a `.mech` file
+/// is reported at the path with the file's line and column and that line quoted:
 ///
 /// ```text
 /// error: broken.mech:8:20: parse error: expected a number, a name or `(`, found `;`

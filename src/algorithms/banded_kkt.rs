@@ -26,13 +26,13 @@
 //!    this indefinite matrix (its diagonal is zero on the rows), M singular allowed as long
 //!    as it is positive definite on the null space of A_R.
 //!
-//! x = q'' is then exact to the conditioning of the matrix (no penalty, no iteration).
-//! lambda solves the system with the rows kept (zero on the others), and with rows left out
-//! it is then projected onto range(A) by the same normal equations: the minimum-norm
-//! multipliers with the same forces A^T lambda, O(n) too. A pivot below [`PIVOT_TOLERANCE`] times the
-//! largest entry (M singular on an allowed motion, or a configuration so close to singular
-//! that R still holds a nearly dependent row) fails the solve: the caller falls back to the
-//! augmented Lagrangian route, which diagnoses or regularises it.
+//! x = q'' is then exact to the conditioning of the matrix (no penalty, no iteration). lambda
+//! solves the system with the rows kept (zero on the others), and with rows left out it is then
+//! projected onto range(A) by the same normal equations: the minimum-norm multipliers with the
+//! same forces A^T lambda, O(n) too. A pivot below [`PIVOT_TOLERANCE`] times the largest entry
+//! (M singular on an allowed motion, or a configuration so close to singular that R still holds
+//! a nearly dependent row) fails the solve: the caller falls back to the augmented Lagrangian
+//! route, which diagnoses or regularises it.
 
 use nalgebra::DMatrix;
 

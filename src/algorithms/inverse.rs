@@ -14,14 +14,14 @@
 //!              [ E      0        0   ] [ lambda_d ]   [ f''(t)          ]
 //! ```
 //!
-//! with E the unit rows of the driven coordinates and tau* the declared forces with the
-//! driven entries set to zero. The system is solved by the augmented Lagrangian route
+//! with E the unit rows of the driven coordinates and tau* the declared forces with the driven
+//! entries set to zero. The system is solved by the augmented Lagrangian route
 //! ([`AugmentedLagrangian`]) with the rows [Phi_q; E], so redundant constraint rows are
-//! accepted: their multipliers are reported as the minimum-norm choice. The driving forces
-//! stay unique as long as no drive row lies in the span of the other rows; a drive that the
-//! constraints and the other drives already fix is [`Error::ConflictingDrives`]. Row k of the first block reads
-//! (M q'' + C q' + g + Phi_q^T lambda)_k + lambda_d = 0, so the actuator must supply
-//! **tau_k = -lambda_d**: the total generalised force on q_k (N m for an angle, N for a
+//! accepted: their multipliers are reported as the minimum-norm choice. The driving forces stay
+//! unique as long as no drive row lies in the span of the other rows; a drive that the
+//! constraints and the other drives already fix is [`Error::ConflictingDrives`]. Row k of the
+//! first block reads (M q'' + C q' + g + Phi_q^T lambda)_k + lambda_d = 0, so the actuator must
+//! supply **tau_k = -lambda_d**: the total generalised force on q_k (N m for an angle, N for a
 //! length).
 //!
 //! # What lambda means

@@ -9,9 +9,9 @@
 //! P A = L U,    cost about 2 n kl (kl + ku) flops,    storage n (2 kl + ku + 1)
 //! ```
 //!
-//! which is linear in n for a fixed band: the constrained dynamics of a chain, its
-//! coordinates and constraint rows interleaved by [`super::BandOrder`]. Partial pivoting makes it backward stable for the
-//! indefinite KKT matrices whose diagonal is zero on the constraint rows.
+//! which is linear in n for a fixed band: the constrained dynamics of a chain, its coordinates
+//! and constraint rows interleaved by [`super::BandOrder`]. Partial pivoting makes it backward
+//! stable for the indefinite KKT matrices whose diagonal is zero on the constraint rows.
 //!
 //! Storage: entry (i, j) of the band lives at `ab[kl + ku + i - j + j * ld]`, ld = 2 kl +
 //! ku + 1 (the first kl rows of each column hold the fill of U).

@@ -390,9 +390,10 @@ pub struct CoordinateSeries<'a> {
     pub qd: Vec<Vec<f64>>,
 }
 
-/// The coordinate figures `figures` asks for, into `dir`, named by `names`: one per coordinate ([`Figures::All`], [`plot_coordinate_scaled`] with the
-/// scales the largest |q| and |q'| among coordinates of the same unit), the one
-/// [`plot_overview`] ([`Figures::Overview`]) or none. Returns the files written.
+/// The coordinate figures `figures` asks for, into `dir`, named by `names`: one per coordinate
+/// ([`Figures::All`], [`plot_coordinate_scaled`] with the scales the largest |q| and |q'| among
+/// coordinates of the same unit), the one [`plot_overview`] ([`Figures::Overview`]) or none.
+/// Returns the files written.
 pub fn plot_coordinates(
     dir: &Path,
     names: &FigureNames,
@@ -438,10 +439,10 @@ pub fn plot_coordinates(
 }
 
 /// The figures of a forward run that `figures` asks for, into `dir`, named by `names`:
-/// [`plot_coordinates`]
-/// (units from `units` or [`Unit::guess`]) and, unless [`Figures::None`] or the mechanism
-/// has no constraint rows, the constraint error ([`plot_constraint_error`] of `residuals`, one series per constraint row; without
-/// them, the recorded |Phi|_inf). Returns every file written.
+/// [`plot_coordinates`] (units from `units` or [`Unit::guess`]) and, unless [`Figures::None`]
+/// or the mechanism has no constraint rows, the constraint error ([`plot_constraint_error`] of
+/// `residuals`, one series per constraint row; without them, the recorded |Phi|_inf). Returns
+/// every file written.
 pub fn plot_run(
     dir: &Path,
     trajectory: &Trajectory,

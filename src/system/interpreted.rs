@@ -105,10 +105,12 @@ impl Interpreted {
     /// tangent; the drawing; the parameter cache), checking each once.
     ///
     /// # Errors
-    /// A compilation error from codegen; [`mechanism_codegen::error::DerivationError::NotASymbol`] for a hand-built model whose
-    /// parameter or coordinate entry is not a symbol, [`mechanism_codegen::error::EvalError::MissingValue`] for equations
-    /// that read a symbol the model does not declare, [`mechanism_codegen::error::ProgramError::OutputCount`] for equations
-    /// whose sizes are not n and m.
+    /// A compilation error from codegen;
+    /// [`mechanism_codegen::error::DerivationError::NotASymbol`] for a hand-built model whose
+    /// parameter or coordinate entry is not a symbol,
+    /// [`mechanism_codegen::error::EvalError::MissingValue`] for equations that read a symbol
+    /// the model does not declare, [`mechanism_codegen::error::ProgramError::OutputCount`]
+    /// for equations whose sizes are not n and m.
     pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, Error> {
         Self::from_equations_with(model, eqs, Tangents::Residual)
     }

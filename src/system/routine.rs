@@ -49,8 +49,10 @@ impl Routine {
     /// entries.
     ///
     /// # Errors
-    /// [`mechanism_codegen::error::EvalError::MissingValue`] for an input symbol without a source (a hand-built model's
-    /// free symbol), [`mechanism_codegen::error::ProgramError::OutputCount`] when the program does not have `outputs` entries.
+    /// [`mechanism_codegen::error::EvalError::MissingValue`] for an input symbol without a
+    /// source (a hand-built model's free symbol),
+    /// [`mechanism_codegen::error::ProgramError::OutputCount`] when the program does not have
+    /// `outputs` entries.
     pub(crate) fn new(program: &Program, sources: &Sources, outputs: usize) -> Result<Self, Error> {
         let tape = Tape::new(program);
         if tape.output_len() != outputs {

@@ -2,10 +2,13 @@
 //! time derivative by Van Khang's Theorem 1.
 //!
 //! Every derivative is built with the arena's canonical constructors, so like terms of a
-//! derivative collect (and cancel) as it is formed. A per-node dependency set (`algebra::dependencies`)
-//! tells in O(log k) whether a subexpression depends on a symbol at all; independent subtrees are never
-//! visited, which keeps the cost of d/dq_k of a big expression proportional to the part that
-//! mentions q_k.
+//! derivative collect (and cancel) as it is formed. A per-node dependency set
+//! (`algebra::dependencies`) tells in O(log k) whether a subexpression depends on a symbol at
+//! all; independent subtrees are never visited, which keeps the cost of d/dq_k of a big
+//! expression proportional to the part that mentions q_k. The terms of a wide sum or product
+//! that depend on the symbol come from an index of its children by symbol
+//! (`algebra::wide_children`) once it is differentiated a second time, instead of one look-up
+//! per term.
 //!
 //! The walk is iterative (the nodes to differentiate are collected, then processed in
 //! increasing id order, which is topological), so deep expressions cannot overflow the stack.
@@ -134,9 +137,10 @@ impl Differentiator {
     /// exp, ln' = u'/u, |u|' = u/|u| u'; atan2(y, x)' = (x y' - y x')/(x^2 + y^2).
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::InvalidId`] or [`crate::error::AlgebraError::UnknownSymbolId`] for an id or symbol not in `arena`;
-    /// [`crate::error::AlgebraError::Domain`] for d(c^v) with a constant base c <= 0 (ln c undefined);
-    /// [`crate::error::BudgetError::Size`] once the arena is beyond its budget.
+    /// [`crate::error::AlgebraError::InvalidId`] or
+    /// [`crate::error::AlgebraError::UnknownSymbolId`] for an id or symbol not in `arena`;
+    /// [`crate::error::AlgebraError::Domain`] for d(c^v) with a constant base c <= 0 (ln c
+    /// undefined); [`crate::error::BudgetError::Size`] once the arena is beyond its budget.
     pub fn diff(&mut self, arena: &mut Arena, id: Id, sym: SymbolId) -> Result<Id> {
         Self::check(arena, id)?;
         Self::check_symbol(arena, sym)?;
@@ -319,8 +323,9 @@ impl Differentiator {
     /// parameters and unlinked free symbols are constants.
     ///
     /// # Errors
-    /// As [`Differentiator::diff`]; [`crate::error::AlgebraError::ThirdDerivative`] when `id` depends on an acceleration
-    /// (its time derivative, a third derivative, is not a symbol of the language).
+    /// As [`Differentiator::diff`]; [`crate::error::AlgebraError::ThirdDerivative`] when `id`
+    /// depends on an acceleration (its time derivative, a third derivative, is not a symbol of
+    /// the language).
     pub fn time_derivative(&mut self, arena: &mut Arena, id: Id) -> Result<Id> {
         self.time_derivative_impl(arena, id, true)
     }

@@ -1,9 +1,10 @@
 //! Direct numerical evaluation of expressions and matrices from a symbol table.
 //!
 //! This is the reference route: it walks the DAG once, children before parents (increasing
-//! [`Id`] order is topological), so every shared node is evaluated once and no recursion
-//! depth is involved. Every intermediate value is checked: a division by zero, ln or sqrt
-//! of a negative number, or an overflow is [`crate::error::EvalError::NonFinite`], never a silent NaN.
+//! [`Id`] order is topological), so every shared node is evaluated once and no recursion depth
+//! is involved. Every intermediate value is checked: a division by zero, ln or sqrt of a
+//! negative number, or an overflow is [`crate::error::EvalError::NonFinite`], never a silent
+//! NaN.
 //!
 //! For repeated evaluation of the same outputs use [`crate::Tape`], which compiles the
 //! DAG once.
@@ -21,9 +22,10 @@ use mechanism_math::sin_cos;
 /// integer k by `powi`, `x^(1/2)` by `sqrt`, `x^(-1/2)` by `1/sqrt`, other powers by `powf`.
 ///
 /// # Errors
-/// [`crate::error::EvalError::MissingValue`] when `env` has no value for a symbol the expression uses,
-/// [`crate::error::EvalError::NonFinite`] when an input or an intermediate value is not finite,
-/// [`crate::error::AlgebraError::InvalidId`] when `id` is not a node of `arena`.
+/// [`crate::error::EvalError::MissingValue`] when `env` has no value for a symbol the
+/// expression uses, [`crate::error::EvalError::NonFinite`] when an input or an intermediate
+/// value is not finite, [`crate::error::AlgebraError::InvalidId`] when `id` is not a node of
+/// `arena`.
 ///
 /// # Example
 /// ```
@@ -49,8 +51,8 @@ pub fn eval(arena: &Arena, id: Id, env: &dyn Fn(SymbolId) -> Option<f64>) -> Res
 /// the evaluation of common subexpressions between entries.
 ///
 /// # Errors
-/// As [`eval`]; also [`crate::error::AlgebraError::MalformedMatrix`] for a matrix built inside this crate whose
-/// entries do not fill rows x cols (the public constructors refuse one).
+/// As [`eval`]; also [`crate::error::AlgebraError::MalformedMatrix`] for a matrix built inside
+/// this crate whose entries do not fill rows x cols (the public constructors refuse one).
 pub fn eval_matrix(
     arena: &Arena,
     m: &Matrix,

@@ -320,9 +320,9 @@ impl Arena {
     }
 
     /// [`crate::error::BudgetError::Size`] when the graph is beyond [`Budget::size`],
-    /// [`crate::error::BudgetError::Work`] when the work is beyond [`Budget::work`]. Every derivative and
-    /// every compiled program checks it, so a runaway derivation stops within one
-    /// derivative's growth of the limit.
+    /// [`crate::error::BudgetError::Work`] when the work is beyond [`Budget::work`]. Every
+    /// derivative and every compiled program checks it, so a runaway derivation stops within
+    /// one derivative's growth of the limit.
     pub fn check_budget(&self) -> Result<()> {
         if self.size > self.budget.size {
             return Err(Error::Budget(BudgetError::Size {
@@ -685,7 +685,7 @@ impl Arena {
 
     /// Whether the expression `id` contains a symbol for which `wanted` holds: one walk of
     /// its subtree (each shared node once), whose cost is the subtree's, not the arena's.
-    pub fn depends_on_any(&self, id: Id, wanted: impl Fn(SymbolId) -> bool) -> bool {
+    pub(crate) fn depends_on_any(&self, id: Id, wanted: impl Fn(SymbolId) -> bool) -> bool {
         let mut stack = vec![id];
         let mut seen: FxHashSet<Id> = FxHashSet::default();
         while let Some(n) = stack.pop() {

@@ -25,7 +25,8 @@ impl Matrix {
     /// The rows x cols matrix with the row-major entries `data`.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::MalformedMatrix`] when `data` does not have rows x cols entries.
+    /// [`crate::error::AlgebraError::MalformedMatrix`] when `data` does not have rows x cols
+    /// entries.
     pub fn new(rows: usize, cols: usize, data: Vec<Id>) -> Result<Self> {
         if rows.checked_mul(cols) != Some(data.len()) {
             return Err(Error::Algebra(AlgebraError::MalformedMatrix {
@@ -97,7 +98,8 @@ impl Matrix {
     /// Checks that `data` has rows x cols entries and that every entry is a node of `arena`.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] for a wrong `data` length, [`crate::error::AlgebraError::InvalidId`] for a foreign id.
+    /// [`crate::error::AlgebraError::Shape`] for a wrong `data` length,
+    /// [`crate::error::AlgebraError::InvalidId`] for a foreign id.
     pub fn validate(&self, arena: &Arena) -> Result<()> {
         if self.rows.checked_mul(self.cols) != Some(self.data.len()) {
             return Err(Error::Algebra(AlgebraError::Shape {
@@ -172,7 +174,8 @@ impl Matrix {
     /// A + B, entry by entry.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] when the sizes differ; [`crate::error::AlgebraError::InvalidId`] for a foreign id.
+    /// [`crate::error::AlgebraError::Shape`] when the sizes differ;
+    /// [`crate::error::AlgebraError::InvalidId`] for a foreign id.
     pub fn add(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.entrywise(arena, other, "add", |a, x, y| a.add2(x, y))
     }
@@ -188,7 +191,8 @@ impl Matrix {
     /// c A for a scalar expression c.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a malformed matrix or a foreign `c`.
+    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a
+    /// malformed matrix or a foreign `c`.
     pub fn scale(&self, arena: &mut Arena, c: Id) -> Result<Self> {
         self.validate(arena)?;
         if c.index() >= arena.len() {
@@ -232,7 +236,8 @@ impl Matrix {
     /// (dM/dq)(I_n kron q') cheap.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] when A's columns differ from B's rows; [`crate::error::AlgebraError::InvalidId`].
+    /// [`crate::error::AlgebraError::Shape`] when A's columns differ from B's rows;
+    /// [`crate::error::AlgebraError::InvalidId`].
     pub fn mul(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.validate(arena)?;
         other.validate(arena)?;
@@ -275,7 +280,8 @@ impl Matrix {
     /// (rows_A rows_B) x (cols_A cols_B); entry (i rows_B + k, j cols_B + l) is a_ij b_kl.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a malformed operand.
+    /// [`crate::error::AlgebraError::Shape`] or [`crate::error::AlgebraError::InvalidId`] for a
+    /// malformed operand.
     pub fn kron(&self, arena: &mut Arena, other: &Matrix) -> Result<Self> {
         self.validate(arena)?;
         other.validate(arena)?;
@@ -307,8 +313,9 @@ impl Matrix {
     /// by its row gradient, (dA/dx)[i, j n + k] = d a_ij / d x_k.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`], [`crate::error::AlgebraError::InvalidId`] or [`crate::error::AlgebraError::UnknownSymbolId`] for a malformed
-    /// matrix or a symbol not in `arena`; differentiation errors (see [`Differentiator::diff`]).
+    /// [`crate::error::AlgebraError::Shape`], [`crate::error::AlgebraError::InvalidId`] or
+    /// [`crate::error::AlgebraError::UnknownSymbolId`] for a malformed matrix or a symbol not
+    /// in `arena`; differentiation errors (see [`Differentiator::diff`]).
     pub fn khang_derivative(
         &self,
         arena: &mut Arena,
@@ -338,8 +345,8 @@ impl Matrix {
     /// x = (q, q') to differentiate an A(q, q', t).
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::NoTimeDerivative`] when a symbol of `x` has no derivative link; otherwise as
-    /// [`Matrix::khang_derivative`].
+    /// [`crate::error::AlgebraError::NoTimeDerivative`] when a symbol of `x` has no derivative
+    /// link; otherwise as [`Matrix::khang_derivative`].
     pub fn time_derivative(
         &self,
         arena: &mut Arena,

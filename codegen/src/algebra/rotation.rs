@@ -105,7 +105,8 @@ impl Orientation {
     /// a factor depends on `time`).
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::Shape`] when an explicit factor is not 3x3; differentiation errors.
+    /// [`crate::error::AlgebraError::Shape`] when an explicit factor is not 3x3;
+    /// differentiation errors.
     pub fn angular_jacobian(
         &self,
         arena: &mut Arena,

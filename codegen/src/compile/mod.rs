@@ -59,10 +59,10 @@ pub struct Routines {
 /// (`cache[k]`), and so is the bias of [`Role::MassAndBias`].
 ///
 /// # Errors
-/// What [`Program::new`] and hoisting report; [`crate::error::DerivationError::NotASymbol`] for a hand-built model
-/// whose parameter or coordinate entry is not a symbol; [`crate::error::EvalError::MissingValue`] for a
-/// program that reads a symbol without a source its role provides (equations reading a
-/// symbol the model does not declare).
+/// What [`Program::new`] and hoisting report; [`crate::error::DerivationError::NotASymbol`] for
+/// a hand-built model whose parameter or coordinate entry is not a symbol;
+/// [`crate::error::EvalError::MissingValue`] for a program that reads a symbol without a source
+/// its role provides (equations reading a symbol the model does not declare).
 ///
 /// # Example
 /// ```

@@ -42,9 +42,10 @@ impl Program {
     /// parameter-only values are cached; the value is the same up to rounding.
     ///
     /// # Errors
-    /// [`crate::error::AlgebraError::InvalidId`] for an entry that is not a node of `arena`, [`crate::error::AlgebraError::MalformedMatrix`]
-    /// for a matrix whose data length is not rows x cols, [`crate::error::EvalError::NonFinite`] for a constant
-    /// subexpression that is not finite.
+    /// [`crate::error::AlgebraError::InvalidId`] for an entry that is not a node of `arena`,
+    /// [`crate::error::AlgebraError::MalformedMatrix`] for a matrix whose data length is not
+    /// rows x cols, [`crate::error::EvalError::NonFinite`] for a constant subexpression that is
+    /// not finite.
     ///
     /// # Example
     /// ```

@@ -40,8 +40,8 @@ impl Sources {
     /// slot symbols `slots`.
     ///
     /// # Errors
-    /// [`crate::error::DerivationError::NotASymbol`] for a hand-built model whose parameter or coordinate entry is
-    /// not a symbol.
+    /// [`crate::error::DerivationError::NotASymbol`] for a hand-built model whose parameter or
+    /// coordinate entry is not a symbol.
     pub(crate) fn new(model: &Model, lambda: &[SymbolId], slots: &[SymbolId]) -> Result<Self> {
         let arena = &model.arena;
         let symbol = |id: Id, role: String| {

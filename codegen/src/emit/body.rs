@@ -157,11 +157,13 @@ pub struct EmittedBody {
 /// [`OutputTarget::Skip`] (one target per output, in order).
 ///
 /// # Errors
-/// [`crate::error::ProgramError::OutputCount`] when the number of targets differs from the number of outputs,
-/// [`crate::error::ProgramError::ReturnNotScalar`] or [`crate::error::ProgramError::SeveralReturns`] when a `Return` output is not
-/// 1 x 1 or there are two, [`crate::error::ProgramError::MatrixAsVector`] when a `Vector` output has several rows
-/// and columns, [`crate::error::ProgramError::RegisterPrefix`] when the prefix is not an identifier; [`crate::error::EvalError::MissingValue`] when a symbol
-/// the body reads has no binding.
+/// [`crate::error::ProgramError::OutputCount`] when the number of targets differs from the
+/// number of outputs, [`crate::error::ProgramError::ReturnNotScalar`] or
+/// [`crate::error::ProgramError::SeveralReturns`] when a `Return` output is not 1 x 1 or there
+/// are two, [`crate::error::ProgramError::MatrixAsVector`] when a `Vector` output has several
+/// rows and columns, [`crate::error::ProgramError::RegisterPrefix`] when the prefix is not an
+/// identifier; [`crate::error::EvalError::MissingValue`] when a symbol the body reads has no
+/// binding.
 ///
 /// # Example
 /// ```

@@ -259,9 +259,11 @@ fn check_system(model: &Model, system: &BodySystem) -> Result<()> {
 /// the model itself is not changed.
 ///
 /// # Errors
-/// [`crate::error::DerivationError::NotASymbol`] when a coordinate is not a symbol, [`crate::error::DerivationError::NotPositionLevel`] when
-/// a position, orientation, mass, inertia, gravity, spring or damper expression depends on a
-/// rate or an acceleration, [`crate::error::DerivationError::InertiaShape`] when an inertia is not 3x3; [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
+/// [`crate::error::DerivationError::NotASymbol`] when a coordinate is not a symbol,
+/// [`crate::error::DerivationError::NotPositionLevel`] when a position, orientation, mass,
+/// inertia, gravity, spring or damper expression depends on a rate or an acceleration,
+/// [`crate::error::DerivationError::InertiaShape`] when an inertia is not 3x3;
+/// [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
 pub fn body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     check_system(model, system)?;
     let s = Symbols::of(model)?;
@@ -486,8 +488,8 @@ fn add_quadratic(
 /// Pi += the gravity and spring potential, tau_k += the damper forces. Returns the terms.
 ///
 /// # Errors
-/// As [`body_terms`]; [`crate::error::DerivationError::ForceCount`] when the model has a different number of forces
-/// than coordinates.
+/// As [`body_terms`]; [`crate::error::DerivationError::ForceCount`] when the model has a
+/// different number of forces than coordinates.
 pub fn add_body_terms(model: &mut Model, system: &BodySystem) -> Result<BodyTerms> {
     if model.forces.len() != model.coordinates.len() {
         return Err(Error::Derivation(DerivationError::ForceCount {

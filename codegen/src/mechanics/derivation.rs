@@ -14,13 +14,14 @@ use crate::mechanics::nonholonomic::append_velocity_rows;
 /// (`mechanics::nonholonomic`). All expressions are built in `model.arena`.
 ///
 /// # Errors
-/// [`crate::error::DeclarationError::NoCoordinates`] (with no place), [`crate::error::DerivationError::NotASymbol`] for a coordinate that is
-/// not a symbol, [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the
-/// number of coordinates, [`crate::error::DerivationError::ForbiddenDependence`] when the potential or a
-/// constraint depends on a rate or an acceleration, or T or a force on an acceleration;
-/// [`crate::error::AlgebraError::InvalidId`] for a foreign id; a velocity constraint not linear in the
-/// rates (`DeclarationError::VelocityNotLinear`, at its row); differentiation
-/// errors.
+/// [`crate::error::DeclarationError::NoCoordinates`] (with no place),
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate that is not a symbol,
+/// [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the
+/// number of coordinates, [`crate::error::DerivationError::ForbiddenDependence`] when the
+/// potential or a constraint depends on a rate or an acceleration, or T or a force on an
+/// acceleration; [`crate::error::AlgebraError::InvalidId`] for a foreign id; a velocity
+/// constraint not linear in the rates (`DeclarationError::VelocityNotLinear`, at its row);
+/// differentiation errors.
 pub fn derive(model: &mut Model) -> Result<Equations> {
     let mut eqs = lagrange::derive(model)?;
     append_velocity_rows(model, &mut eqs)?;

@@ -112,11 +112,13 @@ fn reject_dependence(
 /// formulas). All expressions are built in `model.arena`.
 ///
 /// # Errors
-/// [`DeclarationError::NoCoordinates`] (with no place), [`crate::error::DerivationError::NotASymbol`] for a coordinate that is not a symbol,
-/// [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the number of coordinates,
-/// [`crate::error::DerivationError::ForbiddenDependence`] when the potential or a constraint depends on a rate or an
-/// acceleration, or T or a force on an acceleration;
-/// [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation errors.
+/// [`DeclarationError::NoCoordinates`] (with no place),
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate that is not a symbol,
+/// [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the
+/// number of coordinates, [`crate::error::DerivationError::ForbiddenDependence`] when the
+/// potential or a constraint depends on a rate or an acceleration, or T or a force on an
+/// acceleration; [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation
+/// errors.
 pub fn derive(model: &mut Model) -> Result<Equations> {
     derive_with(model, Route::Auto)
 }
@@ -711,8 +713,8 @@ fn gamma(
 /// With it, M' - 2C is skew-symmetric, and C q' equals Khang's C q'.
 ///
 /// # Errors
-/// [`crate::error::AlgebraError::Shape`] when `eqs.mass` is not n x n for the model's n coordinates; as
-/// [`crate::derive()`] otherwise.
+/// [`crate::error::AlgebraError::Shape`] when `eqs.mass` is not n x n for the model's n
+/// coordinates; as [`crate::derive()`] otherwise.
 pub fn christoffel_coriolis_matrix(model: &mut Model, eqs: &Equations) -> Result<Matrix> {
     let s = Symbols::of(model)?;
     let n = s.q.len();

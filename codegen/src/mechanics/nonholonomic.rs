@@ -30,8 +30,8 @@ use crate::mechanics::model::Model;
 ///
 /// # Errors
 /// [`DeclarationError::VelocityNotLinear`] at the row for a row not linear in the rates;
-/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
-/// errors.
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol;
+/// differentiation errors.
 pub(crate) fn append_velocity_rows(model: &mut Model, eqs: &mut Equations) -> Result<()> {
     let k = model.velocity_constraints.len();
     if k == 0 {

@@ -110,8 +110,8 @@ fn der_error(name: &str, role: SymbolRole, at: Location) -> Error {
 /// Builds the canonical node of `ast` in `arena`, resolving names with `resolver`.
 ///
 /// Errors: unknown names (from the resolver), `der` of something that is not a coordinate,
-/// division by (or a negative power of) the constant 0 ([`DeclarationError::ZeroDivisor`]), a function
-/// outside its domain at a constant argument (`ln(0)`), constants whose folded sum or
+/// division by (or a negative power of) the constant 0 ([`DeclarationError::ZeroDivisor`]), a
+/// function outside its domain at a constant argument (`ln(0)`), constants whose folded sum or
 /// product overflows ([`DeclarationError::ConstantOverflow`], at the innermost such
 /// expression).
 pub(crate) fn resolve(arena: &mut Arena, ast: &Ast, resolver: &mut dyn Resolver) -> Result<Id> {
@@ -260,9 +260,9 @@ fn resolve_call(
 /// # Errors
 /// [`Error::Parse`] with line and column for text that does not follow the grammar,
 /// [`DeclarationError::UnknownSymbol`] (with the closest declared name when one is near),
-/// [`DeclarationError::UnknownFunction`], [`DeclarationError::ZeroDivisor`] for a division by a constant 0,
-/// [`Error::Declaration`] for `der` of a non-coordinate or a function outside its domain at a
-/// constant argument.
+/// [`DeclarationError::UnknownFunction`], [`DeclarationError::ZeroDivisor`] for a division by a
+/// constant 0, [`Error::Declaration`] for `der` of a non-coordinate or a function outside its
+/// domain at a constant argument.
 ///
 /// # Example
 /// ```

@@ -157,8 +157,8 @@ fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id
 /// compiling to have [`crate::Role::ConstraintTangent`] compiled (linearisation).
 ///
 /// # Errors
-/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol; differentiation
-/// errors.
+/// [`crate::error::DerivationError::NotASymbol`] for a coordinate or rate that is not a symbol;
+/// differentiation errors.
 pub fn constraint_tangent(model: &mut Model, eqs: &Equations) -> Result<ConstraintTangent> {
     let (q, qd, qdd) = motion_symbols(model)?;
     rows_tangent(

@@ -179,10 +179,10 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
     out
 }
 
-/// The derived equations of `model` as readable text: a header with q, then the sections
-/// M, C (Khang), C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi, each with its definition
-/// and its non-zero entries (for links, their shared subexpressions first, by name). This is the text the snapshot tests pin and that
-/// `mechanism equations NAME` shows.
+/// The derived equations of `model` as readable text: a header with q, then the sections M, C
+/// (Khang), C q', g, tau, Phi, Phi_q, Phi_t, gamma, T and Pi, each with its definition and its
+/// non-zero entries (for links, their shared subexpressions first, by name). This is the text
+/// the snapshot tests pin and that `mechanism equations NAME` shows.
 pub fn equations_text(model: &Model, eqs: &Equations) -> String {
     let mut r = Renderer::new(&model.arena, Text);
     let mut out = header(model, eqs);

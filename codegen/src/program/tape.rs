@@ -146,9 +146,9 @@ impl Tape {
     /// operation); a NaN or infinity propagates to an output, and the outputs are checked.
     ///
     /// # Errors
-    /// [`crate::error::EvalError::MissingValue`] when `inputs` is too short for a symbol the program reads,
-    /// [`crate::error::EvalError::NonFinite`] for a non-finite input or output, [`crate::error::ProgramError::OutputCount`] when
-    /// `out` has the wrong length.
+    /// [`crate::error::EvalError::MissingValue`] when `inputs` is too short for a symbol the
+    /// program reads, [`crate::error::EvalError::NonFinite`] for a non-finite input or output,
+    /// [`crate::error::ProgramError::OutputCount`] when `out` has the wrong length.
     pub fn eval(&mut self, inputs: &[f64], out: &mut [f64]) -> Result<()> {
         if out.len() != self.outputs.len() {
             return Err(Error::Program(ProgramError::OutputCount {

@@ -37,11 +37,11 @@
 //!                                                              contact height), 2 velocity rows
 //!               | vexpr ["=" vexpr]                           one row per entry (B = C: 3 rows)
 //! ```
-//! `vexpr` is the vector expression language of [`crate::syntax::expression`] (points, axes and bodies
-//! are names of 3-vectors; `B.z` is a component). A body without `orientation` is a point
-//! mass (it may not carry `inertia`, points or axes). In `revolute` and `prismatic`, `b`
-//! (and, for `prismatic`, `a`) must be a declared axis: its two perpendiculars are fixed to
-//! its body (see [`crate::mechanics::joints`]).
+//! `vexpr` is the vector expression language of [`crate::syntax::expression`] (points, axes and
+//! bodies are names of 3-vectors; `B.z` is a component). A body without `orientation` is a
+//! point mass (it may not carry `inertia`, points or axes). In `revolute` and `prismatic`, `b`
+//! (and, for `prismatic`, `a`) must be a declared axis: its two perpendiculars are fixed to its
+//! body (see [`crate::mechanics::joints`]).
 //!
 //! With bodies (or springs) declared, `kinetic` and `potential` are optional: T and Pi are
 //! derived (see [`crate::mechanics::bodies`]), and hand-written energies are added to them.

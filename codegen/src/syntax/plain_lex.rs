@@ -1,7 +1,8 @@
 //! The tokens of a text (a `.mech` file): a direct lexer for the plain text most files are
 //! (ASCII names, numbers, punctuation, brackets and `//` comments), else proc_macro2's
 //! ([`general_tokens`]). The direct lexer gives exactly the tokens and locations of
-//! proc_macro2's and declines (returns `None`) at the first thing it does not cover (a string, a doc or block comment, a character outside
+//! proc_macro2's and declines (returns `None`) at the first thing it does not cover (a string, a
+//! doc or block comment, a character outside
 //! ASCII, a carriage return, a number with a suffix, an unbalanced bracket), so the caller
 //! lexes that text the general way, with its error messages.
 //!
@@ -288,6 +289,8 @@ mod tests {
             "th_1 = 0.1; der(th_1) = 0;\n\t// note\n  k2 = 3;\n",
             "  trailing  \n\n",
             "x//y\nz",
+            "_ + _x * a__b - x.0.1 + a.5 // a // b\n",
+            "k1e3 = 1e3; e = 2.5E-7;",
         ] {
             texts.push(snippet.to_string());
         }
@@ -299,7 +302,7 @@ mod tests {
             }
         }
         // Every declaration without its doc comments, and every snippet, is plain text.
-        assert!(accepted >= 16 + 9, "{accepted} accepted");
+        assert!(accepted >= 16 + 11, "{accepted} accepted");
     }
 
     /// What the direct lexer declines, proc_macro2 lexes (or reports) its own way.

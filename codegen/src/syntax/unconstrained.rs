@@ -1,8 +1,8 @@
 //! A declaration without constraint rows (no `constraints`, no `velocity_constraints`, no
-//! `joints` rows, no helper joints) and without an `independent` section: every coordinate is independent, at its
-//! initial value, at rest. With m = 0 there is nothing to solve for, so the n - m = n
-//! degrees of freedom are the coordinates themselves (an open tree of links, particles in a
-//! field, a chain in relative angles).
+//! `joints` rows, no helper joints) and without an `independent` section: every coordinate is
+//! independent, at its initial value, at rest. With m = 0 there is nothing to solve for, so the
+//! n - m = n degrees of freedom are the coordinates themselves (an open tree of links,
+//! particles in a field, a chain in relative angles).
 //!
 //! It is a rewrite of the syntax tree, so every later check sees an ordinary `independent`.
 

@@ -41,10 +41,10 @@ pub struct UrdfOptions {
 
 /// The declaration text of the robot the URDF `xml` describes.
 ///
-/// Links are written parents before children (depth-first from the root, siblings in the
-/// order their `<link>`s are declared); each movable joint's coordinate is named after the joint, each link
-/// after the link, with characters other than ASCII letters, digits and `_` replaced by
-/// `_` (and `j_` or `l_` in front of a leading digit). Gravity is g = 9.81 m/s^2 along -z.
+/// Links are written parents before children (depth-first from the root, siblings in the order
+/// their `<link>`s are declared); each movable joint's coordinate is named after the joint,
+/// each link after the link, with characters other than ASCII letters, digits and `_` replaced
+/// by `_` (and `j_` or `l_` in front of a leading digit). Gravity is g = 9.81 m/s^2 along -z.
 ///
 /// # Example
 ///

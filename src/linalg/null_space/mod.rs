@@ -30,12 +30,12 @@
 //! of-freedom mechanisms (n = 3 or 4), about 1.5x fewer for a 32-bar chain.
 //!
 //! Accuracy: the route is backward stable when B and Z^T M Z are well conditioned. The
-//! factorisation returns an indicator of both, max(max_k |Phi_q,k|_inf / |u_kk|, s / p_min):
-//! a pivot u_kk is the part of constraint row k independent of the rows before it (so the
-//! first term is large near redundant rows and singular positions, whatever the units of
-//! each row), s is the largest |M_ii| times the largest |Z_j|^2 and p_min the smallest
-//! pivot D_jj of the L D L^T factorisation of Z^T M Z (large when M is nearly singular on an allowed motion).
-//! The caller hands the solve to a route with a true condition estimate when it is large.
+//! factorisation returns an indicator of both, max(max_k |Phi_q,k|_inf / |u_kk|, s / p_min): a
+//! pivot u_kk is the part of constraint row k independent of the rows before it (so the first
+//! term is large near redundant rows and singular positions, whatever the units of each row), s
+//! is the largest |M_ii| times the largest |Z_j|^2 and p_min the smallest pivot D_jj of the L D
+//! L^T factorisation of Z^T M Z (large when M is nearly singular on an allowed motion). The
+//! caller hands the solve to a route with a true condition estimate when it is large.
 
 use nalgebra::SMatrix;
 
@@ -50,10 +50,10 @@ use kernel::Parts;
 pub trait NullSpaceSolve: Send + Sync + core::fmt::Debug {
     /// (n, m): the number of coordinates and of constraint rows.
     fn dims(&self) -> (usize, usize);
-    /// Factors Phi_q^T and Z^T M Z. Returns the condition indicator
-    /// max(max_k |Phi_q,k|_inf / |u_kk|, s / p_min) (at least 1), or `None` when there are more rows than
-    /// coordinates, a pivot of Phi_q vanishes (rank below m), or Z^T M Z is not positive
-    /// definite to working precision; nothing can be solved then.
+    /// Factors Phi_q^T and Z^T M Z. Returns the condition indicator max(max_k |Phi_q,k|_inf /
+    /// |u_kk|, s / p_min) (at least 1), or `None` when there are more rows than coordinates, a
+    /// pivot of Phi_q vanishes (rank below m), or Z^T M Z is not positive definite to working
+    /// precision; nothing can be solved then.
     fn factor(&mut self, mass: &[f64], phi_q: &[f64]) -> Option<f64>;
     /// Solves in place: `sol` holds [Q; gamma] (n + m values) and receives [q''; lambda],
     /// from the last successful [`NullSpaceSolve::factor`].
@@ -329,9 +329,10 @@ mod tests {
     }
 
     /// What `Dynamics::solve` relies on to check its inputs only on failure: a NaN or an
-    /// infinity in any entry of M (a symmetric pair), Phi_q or the right-hand side makes `factor` decline
-    /// (`None`, or an indicator that is not a finite number) or leaves a non-finite value
-    /// in the solution. Every entry of each input, for every d = n - m, singular M or not.
+    /// infinity in any entry of M (a symmetric pair), Phi_q or the right-hand side makes
+    /// `factor` decline (`None`, or an indicator that is not a finite number) or leaves a
+    /// non-finite value in the solution. Every entry of each input, for every d = n - m,
+    /// singular M or not.
     #[test]
     fn a_non_finite_input_never_gives_a_finite_solution() {
         for n in 1..=5 {

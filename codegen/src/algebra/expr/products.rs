@@ -104,7 +104,8 @@ impl Arena {
         Ok(self.mul2(a, inv))
     }
 
-    /// base ^ exponent, canonical; 0 to a negative constant power is [`crate::error::AlgebraError::DivisionByZero`].
+    /// base ^ exponent, canonical; 0 to a negative constant power is
+    /// [`crate::error::AlgebraError::DivisionByZero`].
     pub fn pow(&mut self, base: Id, exp: Id) -> Result<Id> {
         let e = self.as_number(exp);
         if let Some(en) = e {
