@@ -2,7 +2,9 @@
 //! declaration (parse, derive, the routines without the tangent, the equations text), once
 //! each, printed one per line (the stage that dominates a large mechanism's derivation);
 //! then what an implicit integrator adds (the residual's tangent, and the routines compiled
-//! with it), each with the peak resident memory so far; then the arena's work and size (`mechanism_codegen::Effort`).
+//! with it), each with the peak resident memory and the arena's work and size so far
+//! (`mechanism_codegen::Effort`). With `--equations` it stops after the text: the stages of
+//! `mechanism equations`.
 
 use std::time::Instant;
 
@@ -12,7 +14,7 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
     let Some(path) = std::env::args().nth(1) else {
-        eprintln!("usage: stage_times FILE.mech");
+        eprintln!("usage: stage_times FILE.mech [--equations]");
         std::process::exit(2);
     };
     let source = std::fs::read_to_string(&path).unwrap_or_else(|e| {
@@ -26,39 +28,48 @@ fn main() {
     let clock = Instant::now();
     let cpu = || mechanism_bench::thread_cpu().unwrap_or(f64::NAN);
     let (mut last, mut last_cpu) = (0.0, cpu());
-    let mut lap = |stage: &str| {
+    let mut lap = |stage: &str, effort: mechanism_codegen::Effort| {
         let (now, now_cpu) = (clock.elapsed().as_secs_f64(), cpu());
         println!(
-            "{stage:<10} {:8.3} s wall {:8.3} s CPU {:7.0} MB peak",
+            "{stage:<10} {:8.3} s wall {:8.3} s CPU {:7.0} MB peak; work {:>11}, size {:>11}",
             now - last,
             now_cpu - last_cpu,
-            mechanism_bench::peak_memory_mb().unwrap_or(f64::NAN)
+            mechanism_bench::peak_memory_mb().unwrap_or(f64::NAN),
+            effort.work,
+            effort.size
         );
         (last, last_cpu) = (now, now_cpu);
     };
-    let mut model = mechanism_codegen::parse_model_str(&source).unwrap_or_else(|e| fail(e));
-    lap("parse");
+    // The budget the command-line tool reads (`MECHANISM_MAX_SIZE` and the others).
+    let budget = mechanism_codegen::Budget::from_lookup(|name| std::env::var(name).ok())
+        .unwrap_or_else(|e| {
+            eprintln!("stage_times: {e}");
+            std::process::exit(2);
+        });
+    let mut model =
+        mechanism_codegen::parse_model_str_with(&source, budget).unwrap_or_else(|e| fail(e));
+    lap("parse", model.arena.effort());
     let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
-    lap("derive");
+    lap("derive", model.arena.effort());
     // The routines `mechanism equations` and an explicit integrator's run compile.
     let routines =
         mechanism_codegen::compile_interpreted(&mut model, &eqs, None).unwrap_or_else(|e| fail(e));
-    lap("compile");
+    lap("compile", model.arena.effort());
     let text = mechanism_codegen::equations_text(&model, &eqs);
-    lap("text");
+    lap("text", model.arena.effort());
+    if std::env::args().nth(2).as_deref() == Some("--equations") {
+        return;
+    }
     // What an implicit integrator adds: the residual's tangent, and the routines with it.
     let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
-    lap("tangent");
+    lap("tangent", model.arena.effort());
     let with_tangent = mechanism_codegen::compile_interpreted(&mut model, &eqs, Some(&tangent))
         .unwrap_or_else(|e| fail(e));
-    lap("compile+t");
+    lap("compile+t", model.arena.effort());
     assert_eq!(with_tangent.iter().count(), routines.iter().count() + 1);
-    let effort = model.arena.effort();
     println!(
-        "{} routines, {} bytes of text; work {}, size {}",
+        "{} routines, {} bytes of text",
         routines.iter().count(),
-        text.len(),
-        effort.work,
-        effort.size
+        text.len()
     );
 }

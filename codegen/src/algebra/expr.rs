@@ -226,6 +226,9 @@ impl Hasher for FxHasher {
 /// or a velocity of the body sections.
 pub type Vec3 = [Id; 3];
 
+/// The id no node has (a placeholder in tables indexed by id).
+pub(crate) const NO_ID: Id = Id(u32::MAX);
+
 /// A HashMap with [`FxHasher`].
 pub type FxHashMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;
 
@@ -251,6 +254,11 @@ pub struct Arena {
     size: usize,
     /// Calls of the constructors (found or new): what the derivation spends time on.
     work: u64,
+    /// For a product c * f1 * ... * fk (k >= 2) built by scaling the product f1 * ... * fk,
+    /// that product, by the id of the scaled one (`NO_ID` elsewhere): so splitting a
+    /// term into coefficient and rest, which every sum does to each of its terms, is a
+    /// look-up instead of building and interning the rest again.
+    coefficient_free: Vec<Id>,
     /// The limits on size and work, and who hears of the progress.
     budget: Budget,
 }

@@ -432,20 +432,19 @@ fn khang_coriolis_matrix(
             }
         }
     }
-    // C = first - 1/2 second^T.
-    let half = arena.rational(1, 2)?;
-    let mut scaled = vec![zero; n * n];
+    // C = first - 1/2 second^T: -1/2 distributed over each sum once (not 1/2, then -1).
+    let minus_half = arena.rational(-1, 2)?;
+    let mut data = Vec::with_capacity(n * n);
     for i in 0..n {
         for j in 0..n {
-            let b = second[j * n + i];
-            if b != zero {
-                scaled[i * n + j] = arena.mul2(half, b);
-            }
+            let (a, b) = (first[i * n + j], second[j * n + i]);
+            data.push(if b == zero {
+                a
+            } else {
+                let scaled = arena.mul2(minus_half, b);
+                arena.add2(a, scaled)
+            });
         }
-    }
-    let mut data = Vec::with_capacity(n * n);
-    for (&a, &b) in first.iter().zip(&scaled) {
-        data.push(if b == zero { a } else { arena.sub(a, b) });
     }
     Matrix::new(n, n, data)
 }

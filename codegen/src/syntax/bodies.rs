@@ -342,7 +342,7 @@ fn link_joint(c: &mut Cursor<'_>) -> Result<Ast> {
 }
 
 fn joint(c: &mut Cursor<'_>) -> Result<Joint> {
-    let at = c.peek().location;
+    let at = c.peek().location();
     let lhs = parse(c, Language::Vector)?;
     if c.eat(&Tok::Punct('=')) {
         let rhs = parse(c, Language::Vector)?;

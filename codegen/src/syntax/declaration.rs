@@ -146,17 +146,17 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         c.eat(&Tok::Punct('!'));
         c.expect(&Tok::Open(Delim::Bracket), Expected::AttributeOpen)?;
         match &c.peek().tok {
-            Tok::Ident(s) if s == "doc" => {}
+            Tok::Ident(s) if &**s == "doc" => {}
             _ => return Err(c.error_here(ParseError::NotADocComment { found: c.found() })),
         }
         c.next();
         c.expect(&Tok::Punct('='), Expected::DocEquals)?;
         let t = c.next();
         let Tok::Literal(lit) = &t.tok else {
-            return Err(Error::parse(ParseError::MissingDocText, t.location));
+            return Err(Error::parse(ParseError::MissingDocText, t.location()));
         };
         let text =
-            unquote(lit).ok_or_else(|| Error::parse(ParseError::DocNotAString, t.location))?;
+            unquote(lit).ok_or_else(|| Error::parse(ParseError::DocNotAString, t.location()))?;
         d.doc.extend(
             text.lines()
                 .map(|l| l.strip_prefix(' ').unwrap_or(l).to_string()),
@@ -164,13 +164,13 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
         c.expect(&Tok::Close(Delim::Bracket), Expected::AttributeClose)?;
     }
     if let Tok::Ident(s) = &c.peek().tok
-        && s == "pub"
+        && &**s == "pub"
     {
         d.public = true;
         c.next();
     }
     match &c.peek().tok {
-        Tok::Ident(s) if s == "struct" => {
+        Tok::Ident(s) if &**s == "struct" => {
             c.next();
         }
         _ => return Err(c.error_here(ParseError::NoStruct { found: c.found() })),
@@ -178,10 +178,10 @@ fn header(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     let t = c.next();
     match &t.tok {
         Tok::Ident(name) => {
-            d.name = name.clone();
-            d.name_at = t.location;
+            d.name = name.to_string();
+            d.name_at = t.location();
         }
-        _ => return Err(Error::parse(ParseError::NoStructName, t.location)),
+        _ => return Err(Error::parse(ParseError::NoStructName, t.location())),
     }
     c.expect(&Tok::Punct(';'), Expected::StructSemicolon)?;
     Ok(())
@@ -238,9 +238,9 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     let Tok::Ident(keyword) = &t.tok else {
         return Err(c.expected(Expected::Section { sections: SECTIONS }));
     };
-    let at = t.location;
+    let at = t.location();
     c.next();
-    let keyword = keyword.as_str();
+    let keyword: &str = keyword;
     match keyword {
         "parameters" => fill(&mut d.parameters, keyword, at, named_values(c, keyword)?),
         "coordinates" => fill(&mut d.coordinates, keyword, at, named_values(c, keyword)?),
@@ -352,7 +352,7 @@ fn forces(c: &mut Cursor<'_>) -> Result<Vec<Force>> {
 
 /// One constraint statement: a scalar row or a vector of rows.
 fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
-    let at = c.peek().location;
+    let at = c.peek().location();
     if !c.at(&Tok::Open(Delim::Bracket)) {
         let lhs = parse(c, Language::Scalar)?;
         let rhs = if c.eat(&Tok::Punct('=')) {
@@ -381,7 +381,7 @@ fn row(c: &mut Cursor<'_>) -> Result<Vec<Row>> {
             })
             .collect());
     }
-    let eq = c.next().location;
+    let eq = c.next().location();
     if !c.at(&Tok::Open(Delim::Bracket)) {
         return Err(c.error_here(ParseError::ScalarRightOfVector { found: c.found() }));
     }
@@ -411,7 +411,7 @@ fn vector(c: &mut Cursor<'_>) -> Result<Vec<(Ast, Location)>> {
     c.next(); // `[`
     let mut out = Vec::new();
     while !c.at(&Tok::Close(Delim::Bracket)) {
-        let at = c.peek().location;
+        let at = c.peek().location();
         out.push((parse(c, Language::Scalar)?, at));
         if !c.eat(&Tok::Punct(',')) {
             break;

@@ -157,7 +157,7 @@ impl Parser<'_, '_> {
             lhs = match op {
                 // Right-associative: the exponent takes the following `^` too.
                 Infix::Pow => {
-                    let at = self.c.next().location;
+                    let at = self.c.next().location();
                     let exponent = self.expr(op.power())?;
                     Ast::Pow(Box::new(lhs), Box::new(exponent), at)
                 }
@@ -180,7 +180,7 @@ impl Parser<'_, '_> {
                 (Infix::Product(_), Infix::Product(div)) => div,
                 _ => break,
             };
-            let at = self.c.next().location;
+            let at = self.c.next().location();
             if next == Infix::Product(false) && self.c.at_punct('*') {
                 return Err(self.c.error_here(ParseError::DoubleStar));
             }
@@ -192,7 +192,7 @@ impl Parser<'_, '_> {
     /// A prefix sign and its operand, or a postfix expression.
     fn prefix(&mut self) -> Result<Ast> {
         if self.c.at_punct('-') {
-            let at = self.c.next().location;
+            let at = self.c.next().location();
             return Ok(Ast::Neg(Box::new(self.expr(PREFIX)?), at));
         }
         if self.c.at_punct('+') {
@@ -201,11 +201,11 @@ impl Parser<'_, '_> {
         }
         let mut a = self.atom()?;
         while self.language == Language::Vector && self.c.at_punct('.') {
-            let at = self.c.next().location;
+            let at = self.c.next().location();
             let k = match &self.c.peek().tok {
-                Tok::Ident(s) if s == "x" => 0,
-                Tok::Ident(s) if s == "y" => 1,
-                Tok::Ident(s) if s == "z" => 2,
+                Tok::Ident(s) if &**s == "x" => 0,
+                Tok::Ident(s) if &**s == "y" => 1,
+                Tok::Ident(s) if &**s == "z" => 2,
                 _ => return Err(self.c.expected(Expected::Component)),
             };
             self.c.next();
@@ -218,16 +218,16 @@ impl Parser<'_, '_> {
         let t = self.c.peek();
         match &t.tok {
             Tok::Literal(s) => {
-                let n = parse_number(s).map_err(|kind| Error::parse(kind, t.location))?;
+                let n = parse_number(s).map_err(|kind| Error::parse(kind, t.location()))?;
                 self.c.next();
-                Ok(Ast::Number(n, t.location))
+                Ok(Ast::Number(n, t.location()))
             }
             Tok::Ident(name) => {
                 self.c.next();
                 if self.c.at(&Tok::Open(Delim::Paren)) {
-                    self.call(name, t.location)
+                    self.call(name, t.location())
                 } else {
-                    Ok(Ast::Name(name.clone(), t.location))
+                    Ok(Ast::Name(name.to_string(), t.location()))
                 }
             }
             Tok::Open(Delim::Paren) => {
@@ -241,9 +241,9 @@ impl Parser<'_, '_> {
                 self.c.next();
                 let items = self.list(Delim::Bracket, Expected::VectorSeparator)?;
                 if items.is_empty() {
-                    return Err(Error::parse(ParseError::EmptyVector, t.location));
+                    return Err(Error::parse(ParseError::EmptyVector, t.location()));
                 }
-                Ok(Ast::Brackets(items, t.location))
+                Ok(Ast::Brackets(items, t.location()))
             }
             Tok::Punct('^') => Err(self.c.error_here(ParseError::CaretWithoutBase)),
             _ => Err(self.c.expected(match self.language {

@@ -9,10 +9,12 @@
 //! token, their contents and a closing token; every token keeps its [`Location`] (1-based
 //! line and column, and its index in the list) and, for the token-stream route, its span.
 
+use std::rc::Rc;
 use std::str::FromStr;
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
+use crate::algebra::expr::FxHashMap;
 use crate::error::{Error, Expected, Location, ParseError, Result};
 
 /// A bracket kind.
@@ -40,12 +42,12 @@ impl Delim {
 /// What a token is.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Tok {
-    /// A name or keyword.
-    Ident(String),
+    /// A name or keyword (one shared string per distinct name of the input).
+    Ident(Rc<str>),
     /// One punctuation character (`+`, `^`, `;`, ...).
     Punct(char),
     /// A literal, as written (`0.04`, `2`, `1e-4`, `"doc text"`).
-    Literal(String),
+    Literal(Rc<str>),
     /// An opening bracket.
     Open(Delim),
     /// A closing bracket.
@@ -68,15 +70,39 @@ impl Tok {
     }
 }
 
-/// One token with where it is.
+/// One token with where it is: its line, column (1-based, in characters) and index in the
+/// token list, kept in 32 bits each (40 bytes a token, against 80 with a [`Location`] and
+/// a span each: a generated declaration of an 800-bar chain has 9 million tokens).
 #[derive(Clone, Debug)]
 pub(crate) struct Token {
     /// The token.
     pub(crate) tok: Tok,
+    line: u32,
+    column: u32,
+    index: u32,
+}
+
+impl Token {
+    /// `tok` at `location` (whose token index is the token's own). A place beyond 32 bits
+    /// is kept as `u32::MAX`: inputs are bounded far below (`MECHANISM_MAX_INPUT_BYTES`).
+    pub(crate) fn new(tok: Tok, location: Location) -> Self {
+        let narrow = |x: usize| u32::try_from(x).unwrap_or(u32::MAX);
+        Self {
+            tok,
+            line: narrow(location.line),
+            column: narrow(location.column),
+            index: narrow(location.token.unwrap_or(usize::MAX)),
+        }
+    }
+
     /// Line, column and index.
-    pub(crate) location: Location,
-    /// Its span (token-stream route only: spans of lexed text are not usable by a macro).
-    pub(crate) span: Option<Span>,
+    pub(crate) fn location(&self) -> Location {
+        Location {
+            line: self.line as usize,
+            column: self.column as usize,
+            token: Some(self.index as usize),
+        }
+    }
 }
 
 /// The flat token list of an input, always ending with [`Tok::End`].
@@ -84,15 +110,32 @@ pub(crate) struct Token {
 pub(crate) struct Tokens {
     /// The tokens.
     pub(crate) list: Vec<Token>,
+    /// The span of each token, by index (token-stream route only: empty for text, whose
+    /// spans a macro could not use).
+    pub(crate) spans: Vec<Span>,
 }
 
 impl Tokens {
     /// The spans of all tokens, by index (empty for the text route).
     pub(crate) fn spans(&self) -> Vec<Span> {
-        if self.list.iter().any(|t| t.span.is_none()) {
-            return Vec::new();
+        self.spans.clone()
+    }
+}
+
+/// One shared string per distinct name: the names of a large declaration repeat (`th12`,
+/// `cos`, `der`), so each token holds a reference, not a copy.
+#[derive(Debug, Default)]
+pub(crate) struct Names(FxHashMap<Rc<str>, ()>);
+
+impl Names {
+    /// The shared string equal to `text`.
+    pub(crate) fn get(&mut self, text: &str) -> Rc<str> {
+        if let Some((k, ())) = self.0.get_key_value(text) {
+            return Rc::clone(k);
         }
-        self.list.iter().filter_map(|t| t.span).collect()
+        let k: Rc<str> = Rc::from(text);
+        self.0.insert(Rc::clone(&k), ());
+        k
     }
 }
 
@@ -117,13 +160,14 @@ fn location_after(span: Span, index: usize) -> Location {
 /// Flattens a token stream (iteratively: deep nesting cannot overflow the stack).
 fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
     let mut list: Vec<Token> = Vec::new();
-    let push = |list: &mut Vec<Token>, tok: Tok, span: Span| {
+    let mut spans: Vec<Span> = Vec::new();
+    let mut names = Names::default();
+    let mut push = |list: &mut Vec<Token>, tok: Tok, span: Span| {
         let location = location_of(span, list.len());
-        list.push(Token {
-            tok,
-            location,
-            span: keep_spans.then_some(span),
-        });
+        list.push(Token::new(tok, location));
+        if keep_spans {
+            spans.push(span);
+        }
     };
     // Each frame: the remaining trees of a group, and the group's close token (if any).
     let mut stack: Vec<(proc_macro2::token_stream::IntoIter, Option<(Delim, Span)>)> =
@@ -142,7 +186,7 @@ fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
             }
             Some(TokenTree::Ident(i)) => {
                 last_span = Some(i.span());
-                push(&mut list, Tok::Ident(i.to_string()), i.span());
+                push(&mut list, Tok::Ident(names.get(&i.to_string())), i.span());
             }
             Some(TokenTree::Punct(p)) => {
                 last_span = Some(p.span());
@@ -150,7 +194,7 @@ fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
             }
             Some(TokenTree::Literal(l)) => {
                 last_span = Some(l.span());
-                push(&mut list, Tok::Literal(l.to_string()), l.span());
+                push(&mut list, Tok::Literal(l.to_string().into()), l.span());
             }
             None => {
                 if let Some((_, Some((d, span)))) = stack.pop() {
@@ -169,13 +213,11 @@ fn flatten(stream: TokenStream, keep_spans: bool) -> Tokens {
             token: Some(index),
         },
     };
-    let span = keep_spans.then(|| last_span.unwrap_or_else(Span::call_site));
-    list.push(Token {
-        tok: Tok::End,
-        location,
-        span,
-    });
-    Tokens { list }
+    if keep_spans {
+        spans.push(last_span.unwrap_or_else(Span::call_site));
+    }
+    list.push(Token::new(Tok::End, location));
+    Tokens { list, spans }
 }
 
 /// The tokens of macro input (spans kept, so errors can point at the user's token).
@@ -280,7 +322,7 @@ impl<'a> Cursor<'a> {
 
     /// A parse error of `kind` at the current token.
     pub(crate) fn error_here(&self, kind: ParseError) -> Error {
-        Error::parse(kind, self.peek().location)
+        Error::parse(kind, self.peek().location())
     }
 
     /// "expected {expected}, found {the current token}", at the current token.
@@ -298,7 +340,7 @@ pub(crate) fn name(c: &mut Cursor<'_>, section: &str) -> Result<(String, Locatio
     match &t.tok {
         Tok::Ident(s) => {
             c.next();
-            Ok((s.clone(), t.location))
+            Ok((s.to_string(), t.location()))
         }
         _ => Err(c.expected(Expected::Name {
             section: section.to_string(),

@@ -11,7 +11,7 @@
 //! of a 400-bar chain is 4.7 MB.
 
 use crate::error::{Location, Result};
-use crate::syntax::lex::{Delim, Tok, Token, Tokens, general_tokens};
+use crate::syntax::lex::{Delim, Names, Tok, Token, Tokens, general_tokens};
 
 /// The punctuation characters proc_macro2 lexes as one `Punct` each (`'` starts a
 /// lifetime or a character literal there, and is declined here).
@@ -40,6 +40,7 @@ pub(crate) fn plain_tokens(text: &str) -> Option<Tokens> {
         list: Vec::with_capacity(count_hint(bytes)),
         open: Vec::new(),
         last_end: None,
+        names: Names::default(),
     };
     lexer.run()?;
     if !lexer.open.is_empty() {
@@ -58,12 +59,11 @@ pub(crate) fn plain_tokens(text: &str) -> Option<Tokens> {
             token: Some(index),
         },
     };
-    lexer.list.push(Token {
-        tok: Tok::End,
-        location,
-        span: None,
-    });
-    Some(Tokens { list: lexer.list })
+    lexer.list.push(Token::new(Tok::End, location));
+    Some(Tokens {
+        list: lexer.list,
+        spans: Vec::new(),
+    })
 }
 
 /// An upper bound of the number of tokens that is close for generated text (each token
@@ -90,9 +90,10 @@ struct Lexer<'a> {
     open: Vec<Delim>,
     /// Line and column just after the last token that is not an opening bracket.
     last_end: Option<(usize, usize)>,
+    names: Names,
 }
 
-impl Lexer<'_> {
+impl<'a> Lexer<'a> {
     fn peek(&self, ahead: usize) -> Option<u8> {
         self.bytes.get(self.pos + ahead).copied()
     }
@@ -105,11 +106,7 @@ impl Lexer<'_> {
             column: start - self.line_start + 1,
             token: Some(self.list.len()),
         };
-        self.list.push(Token {
-            tok,
-            location,
-            span: None,
-        });
+        self.list.push(Token::new(tok, location));
         if !is_open {
             self.last_end = Some((self.line, self.pos - self.line_start + 1));
         }
@@ -143,7 +140,7 @@ impl Lexer<'_> {
                 }
                 b'0'..=b'9' => {
                     self.number()?;
-                    let text = self.text(start);
+                    let text = self.text(start).into();
                     self.push(Tok::Literal(text), start);
                 }
                 b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
@@ -158,6 +155,7 @@ impl Lexer<'_> {
                         return None;
                     }
                     let text = self.text(start);
+                    let text = self.names.get(text);
                     self.push(Tok::Ident(text), start);
                 }
                 _ if PUNCT.contains(&b) => {
@@ -219,8 +217,11 @@ impl Lexer<'_> {
         }
     }
 
-    fn text(&self, start: usize) -> String {
-        String::from_utf8_lossy(&self.bytes[start..self.pos]).into_owned()
+    /// The text from byte `start` to the current position (ASCII: the lexer declines the
+    /// rest).
+    fn text(&self, start: usize) -> &'a str {
+        let bytes: &'a [u8] = self.bytes;
+        std::str::from_utf8(&bytes[start..self.pos]).unwrap_or_default()
     }
 }
 
@@ -242,12 +243,23 @@ mod tests {
             .unwrap()
             .list
             .into_iter()
-            .map(|t| (t.tok, t.location))
+            .map(|t| {
+                let at = t.location();
+                (t.tok, at)
+            })
             .collect()
     }
 
     fn plain(text: &str) -> Option<Vec<(Tok, Location)>> {
-        plain_tokens(text).map(|t| t.list.into_iter().map(|t| (t.tok, t.location)).collect())
+        plain_tokens(text).map(|t| {
+            t.list
+                .into_iter()
+                .map(|t| {
+                    let at = t.location();
+                    (t.tok, at)
+                })
+                .collect()
+        })
     }
 
     /// Wherever the direct lexer accepts a text, its tokens are proc_macro2's: on every

@@ -5,6 +5,7 @@
 mod common;
 mod eval_support;
 
+mod chain_work_growth;
 mod cse_props;
 mod diff_props;
 mod diff_rules;

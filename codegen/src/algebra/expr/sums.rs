@@ -1,7 +1,7 @@
 //! Sums of the arena: the canonical sum (flat, like terms collected, constants folded,
 //! sin^2 + cos^2 pairs merged), its coefficients, and negation.
 
-use crate::algebra::expr::{Arena, Func, Id, Node, Overflow};
+use crate::algebra::expr::{Arena, Func, Id, NO_ID, Node, Overflow};
 use crate::number::Number;
 
 impl Arena {
@@ -15,7 +15,10 @@ impl Arena {
                     let rest = if fs.len() == 2 {
                         fs[1]
                     } else {
-                        self.intern(Node::Mul(fs[1..].into()))
+                        match self.coefficient_free.get(id.index()) {
+                            Some(&r) if r != NO_ID => r,
+                            _ => self.intern(Node::Mul(fs[1..].into())),
+                        }
                     };
                     (c, Some(rest))
                 }
@@ -40,7 +43,13 @@ impl Arena {
                 let mut v = Vec::with_capacity(fs.len() + 1);
                 v.push(cn);
                 v.extend_from_slice(&fs);
-                self.intern(Node::Mul(v.into()))
+                let scaled = self.intern(Node::Mul(v.into()));
+                let k = scaled.index();
+                if k >= self.coefficient_free.len() {
+                    self.coefficient_free.resize(k + 1, NO_ID);
+                }
+                self.coefficient_free[k] = e;
+                scaled
             }
             Node::Add(ts) => {
                 let terms: Vec<Id> = ts.iter().map(|&t| self.scale_term(c, t)).collect();
