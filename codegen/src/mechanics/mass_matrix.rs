@@ -11,8 +11,10 @@
 //!
 //! accumulated numerically per pair of monomials (r, s). Each linear form L_k is decomposed
 //! once and shared by every momentum that reads it, so the nodes created are those of the
-//! entries and of the decompositions (n^2 in the chain); the n^3 part is an addition of
-//! numbers per (i, j, k).
+//! entries and of the decompositions (n^2 in the chain). Summed afresh per row, the
+//! numbers cost one addition per (i, j, k), n^3 / 3 in the chain; `running_rows.rs` carries
+//! each row's sums over to the next and adds only what changed (O(n) per row in the chain),
+//! and a row it declines (a float coefficient) is summed afresh here.
 //!
 //! The result is the canonical sum of the same terms as the term-by-term derivative
 //! (exact for rational coefficients; for float coefficients the groups are summed first,
@@ -27,11 +29,12 @@ use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::Result;
+use crate::mechanics::running_rows::RunningRows;
 use crate::number::Number;
 
 /// A linear form in the rates: (rate index j, coefficient d, rate-free monomial s) per
 /// term, s = `None` for 1; one term per rate, sorted by rate index.
-type LinearForm = Rc<Vec<(usize, Number, Option<Id>)>>;
+pub(crate) type LinearForm = Rc<Vec<(usize, Number, Option<Id>)>>;
 
 /// The groups of one column in the row being accumulated: per rate-free monomial pair
 /// (r, s), the summed coefficient, in order of first appearance. A column holds as many
@@ -44,7 +47,7 @@ type ColumnGroups = Vec<(Option<Id>, Option<Id>, Sum)>;
 /// kept over a denominator that every rational added so far divides, and reduced when the
 /// sum is read or when it leaves 64 bits (where `checked_add` would turn to a float).
 #[derive(Clone, Copy, Debug)]
-enum Sum {
+pub(crate) enum Sum {
     Exact { num: i128, den: i64 },
     Float(f64),
 }
@@ -60,8 +63,13 @@ impl Sum {
         }
     }
 
+    /// Whether the sum has turned to a float.
+    pub(crate) fn is_float(self) -> bool {
+        matches!(self, Sum::Float(_))
+    }
+
     /// The sum as `checked_add` would hold it.
-    fn value(self) -> Option<Number> {
+    pub(crate) fn value(self) -> Option<Number> {
         match self {
             Sum::Exact { num, den } => Self::reduced(num, den),
             Sum::Float(f) => Number::float(f),
@@ -75,7 +83,7 @@ impl Sum {
 
     /// The product c d of two coefficients as a sum (unreduced when both are rational and
     /// the products of numerators and denominators fit in 64 bits).
-    fn product(c: Number, d: Number) -> Option<Sum> {
+    pub(crate) fn product(c: Number, d: Number) -> Option<Sum> {
         match Self::parts(c, d) {
             Some((num, den)) => Some(Sum::Exact {
                 num: num.into(),
@@ -98,7 +106,7 @@ impl Sum {
     /// Adds c d; `None` when a float sum or product overflows (as `checked_mul` and
     /// `checked_add` report). The exact value added is that of `checked_mul(c, d)` whenever
     /// the unreduced fraction fits, so the sum is the one of adding those products.
-    fn add_product(&mut self, c: Number, d: Number) -> Option<()> {
+    pub(crate) fn add_product(&mut self, c: Number, d: Number) -> Option<()> {
         match (*self, Self::parts(c, d)) {
             (Sum::Exact { num, den }, Some((p, q))) => {
                 let (num, den) = if q == den {
@@ -143,21 +151,58 @@ pub(crate) fn mass_from_momenta(
     momenta: &[Id],
     rates: &[SymbolId],
 ) -> Result<Option<Matrix>> {
+    let mut running = RunningRows::default();
+    mass_from_momenta_with(arena, d, momenta, rates, Some(&mut running))
+}
+
+/// [`mass_from_momenta`] with the rows' sums carried over by `running`
+/// (`running_rows.rs`), or each row summed afresh for `None` (the reference the running
+/// sums are tested against).
+///
+/// # Errors
+/// As [`mass_from_momenta`].
+pub(crate) fn mass_from_momenta_with(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    momenta: &[Id],
+    rates: &[SymbolId],
+    mut running: Option<&mut RunningRows>,
+) -> Result<Option<Matrix>> {
     let n = momenta.len();
     let mut reader = LinearReader::new(arena, rates);
     let mut mass = Matrix::zeros(arena, n, n);
     // Per column, reused row after row; `touched` lists the columns the row has reached.
     let mut columns: Vec<ColumnGroups> = vec![Vec::new(); n];
     let mut touched: Vec<usize> = Vec::new();
+    let mut read: Vec<(Number, Option<Id>, LinearForm)> = Vec::new();
     for (i, &p) in momenta.iter().enumerate() {
         let terms: Vec<Id> = match arena.node(p) {
             Node::Add(ts) => ts.to_vec(),
             _ => vec![p],
         };
+        read.clear();
         for t in terms {
-            let Some((c, r, form)) = reader.term(arena, d, t)? else {
+            let Some(term) = reader.term(arena, d, t)? else {
                 return Ok(None);
             };
+            read.push(term);
+        }
+        if let Some(entries) = running.as_deref_mut().and_then(|r| r.row(i, &read)) {
+            for (j, parts) in entries {
+                let mut entry = Vec::with_capacity(parts.len());
+                for (r, s, coef) in parts {
+                    let mut factors = vec![arena.number(coef)];
+                    factors.extend(r);
+                    factors.extend(s);
+                    entry.push(arena.mul(&factors));
+                }
+                let mij = arena.add(&entry);
+                mass.set(i, j, mij);
+                mass.set(j, i, mij);
+            }
+            continue;
+        }
+        for (c, r, form) in read.iter().map(|(c, r, f)| (*c, *r, f)) {
             // A form is sorted by rate: the entries of the upper triangle (j >= i) are a tail.
             let upper = form.partition_point(|e| e.0 < i);
             for &(j, dj, s) in &form[upper..] {

@@ -36,6 +36,7 @@ pub(crate) mod nonholonomic;
 pub(crate) mod recursive;
 pub(crate) mod resolve;
 pub(crate) mod rolling;
+pub(crate) mod running_rows;
 pub(crate) mod tangent;
 pub(crate) mod tree;
 pub(crate) mod vectors;

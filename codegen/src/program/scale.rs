@@ -30,10 +30,12 @@ use crate::program::latency::Ready;
 pub(crate) fn scale_early(instrs: &[Instr], outputs: &[Output], parameter: &[bool]) -> Vec<Instr> {
     let uses = read_counts(instrs, outputs);
     let nregs = uses.len();
-    // The position of each register's instruction, and each position's instructions
-    // after the rewrite (a rewritten product moves its scaling into its own position).
+    // The position of each register's instruction; the positions whose instructions the
+    // rewrite replaces (a rewritten product moves its scaling into its own position) and
+    // the positions it empties. Every other position keeps its instruction.
     let mut def = vec![usize::MAX; nregs];
-    let mut slots: Vec<Vec<Instr>> = instrs.iter().map(|i| vec![*i]).collect();
+    let mut replaced: HashMap<usize, Vec<Instr>> = HashMap::new();
+    let mut emptied = vec![false; instrs.len()];
     let mut ready = Ready::new(nregs);
     // Registers whose values depend on parameters (and constants) only.
     let mut fixed = vec![false; nregs];
@@ -78,8 +80,8 @@ pub(crate) fn scale_early(instrs: &[Instr], outputs: &[Output], parameter: &[boo
                 }
                 ready.define(m);
             }
-            slots[at] = moved;
-            slots[j].clear();
+            replaced.insert(at, moved);
+            emptied[j] = true;
             continue;
         }
         let mut all_fixed = true;
@@ -90,7 +92,15 @@ pub(crate) fn scale_early(instrs: &[Instr], outputs: &[Output], parameter: &[boo
         }
         ready.define(i);
     }
-    slots.concat()
+    let mut out = Vec::with_capacity(instrs.len() + replaced.values().map(Vec::len).sum::<usize>());
+    for (j, i) in instrs.iter().enumerate() {
+        match replaced.remove(&j) {
+            Some(moved) => out.extend(moved),
+            None if emptied[j] => {}
+            None => out.push(*i),
+        }
+    }
+    out
 }
 
 /// `(dst, c, x)` for `dst = c * x` with c a power of two (either side) and x a register.
