@@ -5,7 +5,7 @@
 //! in a closed chain of n bars the bar velocities are sums of up to n terms, differentiated
 //! by each of the n rates, n^3 / 6 look-ups in all. The second time a node of at least
 //! [`WIDE`] children is asked about, its children are indexed by symbol (one entry per
-//! (child, symbol of the child's set)), and later questions cost a bisection of the index.
+//! (child, symbol of the child's set)), and later questions cost a look-up of the index.
 
 use crate::algebra::dependencies::DependencySets;
 use crate::algebra::expr::{FxHashMap, Id, SymbolId};
@@ -13,15 +13,27 @@ use crate::algebra::expr::{FxHashMap, Id, SymbolId};
 /// Nodes with at least this many children are indexed.
 const WIDE: usize = 32;
 
-/// The most index entries kept in all (16 bytes each): past it, wide nodes are filtered
-/// term by term as narrow ones are, so the index never outweighs the derivation.
+/// The most index entries kept in all (4 bytes each, and a run per distinct symbol): past
+/// it, wide nodes are filtered term by term as narrow ones are, so the index never
+/// outweighs the derivation.
 const MAX_ENTRIES: usize = 1 << 24;
+
+/// One wide node's children by symbol: the positions of the children depending on each
+/// symbol, in increasing order, one run per symbol in `positions`. A hash look-up per
+/// question: bisecting one sorted array of (symbol, position) pairs missed the cache at
+/// every step once the index of a long sum outgrew it (1.3 million pairs for the 800-bar
+/// chain's kinetic energy).
+#[derive(Clone, Debug, Default)]
+struct Indexed {
+    runs: FxHashMap<SymbolId, (u32, u32)>,
+    positions: Box<[u32]>,
+}
 
 /// The index of the wide nodes asked about twice or more.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct WideChildren {
-    /// Per indexed node: (symbol, child position), sorted.
-    index: FxHashMap<Id, Box<[(SymbolId, u32)]>>,
+    /// Per indexed node, its children by symbol.
+    index: FxHashMap<Id, Indexed>,
     /// How often each wide node not indexed yet was asked about.
     asked: FxHashMap<Id, u32>,
     /// Entries of all indexes.
@@ -46,10 +58,10 @@ impl WideChildren {
     ) {
         out.clear();
         if children.len() >= WIDE && self.indexed(deps, node, children) {
-            let entries = &self.index[&node];
-            let from = entries.partition_point(|e| e.0 < sym);
-            let to = from + entries[from..].partition_point(|e| e.0 == sym);
-            out.extend(entries[from..to].iter().map(|e| e.1));
+            let indexed = &self.index[&node];
+            if let Some(&(from, to)) = indexed.runs.get(&sym) {
+                out.extend_from_slice(&indexed.positions[from as usize..to as usize]);
+            }
             return;
         }
         out.extend(
@@ -82,7 +94,16 @@ impl WideChildren {
         entries.sort_unstable();
         self.entries += entries.len();
         self.asked.remove(&node);
-        self.index.insert(node, entries.into_boxed_slice());
+        let mut runs: FxHashMap<SymbolId, (u32, u32)> = FxHashMap::default();
+        let mut from = 0;
+        for k in 1..=entries.len() {
+            if k == entries.len() || entries[k].0 != entries[from].0 {
+                runs.insert(entries[from].0, (from as u32, k as u32));
+                from = k;
+            }
+        }
+        let positions = entries.iter().map(|e| e.1).collect();
+        self.index.insert(node, Indexed { runs, positions });
         true
     }
 }
