@@ -186,6 +186,9 @@ impl Parser<'_, '_> {
             }
             items.push((inverse, self.expr(op.power() + 1)?, at));
         }
+        // Most chains are short (a product of two factors): the growth's spare capacity
+        // would be most of a large declaration's syntax tree.
+        items.shrink_to_fit();
         Ok(items)
     }
 
@@ -296,6 +299,8 @@ impl Parser<'_, '_> {
             }
         }
         self.c.expect(&Tok::Close(close), expected)?;
+        // Most lists are one argument: without this, four slots each.
+        out.shrink_to_fit();
         Ok(out)
     }
 }
