@@ -28,6 +28,7 @@
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::number::Number;
+use crate::program::factor_counts::{FactorCounts, Tier};
 
 /// Most monomials one sum may expand into (a larger one keeps its terms as they are).
 pub(crate) const EXPANSION_LIMIT: usize = 2048;
@@ -255,17 +256,28 @@ impl Factoring<'_> {
 
     /// The sum of `monomials`, the most frequent factor taken out while one is shared by
     /// two or more: sum = f * (the quotients) + (the rest), the quotients factored again.
-    fn horner(&mut self, mut monomials: Vec<Monomial>) -> Id {
+    /// The counts are kept as monomials leave (`factor_counts.rs`), not made afresh per
+    /// choice.
+    fn horner(&mut self, monomials: Vec<Monomial>) -> Id {
         let mut terms: Vec<Id> = Vec::new();
-        while monomials.len() > 1 {
-            let Some(f) = self.most_frequent(&monomials) else {
+        let mut left: Vec<(Monomial, Vec<(Id, Tier)>)> = monomials
+            .into_iter()
+            .map(|m| {
+                let counted = self.counted_factors(&m);
+                (m, counted)
+            })
+            .collect();
+        let mut counts = FactorCounts::new(left.iter().map(|(_, c)| c.as_slice()));
+        while left.len() > 1 {
+            let Some(f) = counts.best() else {
                 break;
             };
-            let (with, without): (Vec<Monomial>, Vec<Monomial>) =
-                monomials.into_iter().partition(|m| m.factors.contains(&f));
+            let (with, without): (Vec<_>, Vec<_>) =
+                left.into_iter().partition(|(m, _)| m.factors.contains(&f));
             let quotients: Vec<Monomial> = with
                 .into_iter()
-                .map(|mut m| {
+                .map(|(mut m, counted)| {
+                    counts.remove(&counted);
                     let k = m.factors.iter().position(|&x| x == f);
                     if let Some(k) = k {
                         m.factors.remove(k);
@@ -275,8 +287,9 @@ impl Factoring<'_> {
                 .collect();
             let inner = self.horner(quotients);
             terms.push(self.arena.mul2(f, inner));
-            monomials = without;
+            left = without;
         }
+        let monomials: Vec<Monomial> = left.into_iter().map(|(m, _)| m).collect();
         let (rest, scaled) = self.common_coefficient(monomials);
         if scaled {
             // The canonical sum would distribute the coefficient again.
@@ -325,38 +338,29 @@ impl Factoring<'_> {
         self.arena.mul(&parts)
     }
 
-    /// The factor to take out of `monomials`: the one contained in the most of them, if two
-    /// or more contain it, preferring factors that are not parameter-only (ties: the
-    /// smallest id, so that the result does not depend on hash order). Parameter-only
-    /// values are computed once per parameter set (the cache), so a parameter-only factor
-    /// is taken out only of monomials that also have a varying factor, where it saves a
-    /// multiplication per call; among parameter-only monomials it would only split what the
-    /// cache folds into one constant.
-    fn most_frequent(&mut self, monomials: &[Monomial]) -> Option<Id> {
-        let mut varying: FxHashMap<Id, usize> = FxHashMap::default();
-        let mut invariant: FxHashMap<Id, usize> = FxHashMap::default();
-        for m in monomials {
-            let fixed: Vec<bool> = m.factors.iter().map(|&f| self.is_invariant(f)).collect();
-            let varies = fixed.iter().any(|i| !i);
-            for (k, &f) in m.factors.iter().enumerate() {
-                if m.factors[..k].contains(&f) {
-                    continue;
-                }
-                if !fixed[k] {
-                    *varying.entry(f).or_default() += 1;
-                } else if varies {
-                    *invariant.entry(f).or_default() += 1;
-                }
+    /// The factors of `m` that count towards the choice of the factor to take out, each
+    /// once: the one contained in the most monomials is taken out, if two or more contain
+    /// it, preferring factors that are not parameter-only (ties: the smallest id, so that
+    /// the result does not depend on hash order). Parameter-only values are computed once
+    /// per parameter set (the cache), so a parameter-only factor is taken out only of
+    /// monomials that also have a varying factor, where it saves a multiplication per call;
+    /// among parameter-only monomials it would only split what the cache folds into one
+    /// constant.
+    fn counted_factors(&mut self, m: &Monomial) -> Vec<(Id, Tier)> {
+        let fixed: Vec<bool> = m.factors.iter().map(|&f| self.is_invariant(f)).collect();
+        let varies = fixed.iter().any(|i| !i);
+        let mut out = Vec::with_capacity(m.factors.len());
+        for (k, &f) in m.factors.iter().enumerate() {
+            if m.factors[..k].contains(&f) {
+                continue;
+            }
+            if !fixed[k] {
+                out.push((f, Tier::Varying));
+            } else if varies {
+                out.push((f, Tier::Invariant));
             }
         }
-        let best = |count: FxHashMap<Id, usize>| {
-            count
-                .into_iter()
-                .filter(|&(_, n)| n >= 2)
-                .max_by_key(|&(f, n)| (n, std::cmp::Reverse(f)))
-                .map(|(f, _)| f)
-        };
-        best(varying).or_else(|| best(invariant))
+        out
     }
 
     /// Whether `id` depends on parameters and constants only.

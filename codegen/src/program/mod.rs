@@ -21,6 +21,7 @@
 pub(crate) mod builder;
 pub(crate) mod cse;
 pub(crate) mod factor;
+pub(crate) mod factor_counts;
 pub(crate) mod fuse;
 pub(crate) mod hoist;
 pub(crate) mod instructions;
