@@ -29,6 +29,7 @@ pub(crate) mod equations;
 pub(crate) mod joints;
 pub(crate) mod kinetic_form;
 pub(crate) mod lagrange;
+pub(crate) mod linear_form;
 pub(crate) mod links;
 pub(crate) mod mass_matrix;
 pub(crate) mod model;

@@ -20,7 +20,7 @@
 use std::collections::BTreeMap;
 
 use crate::algebra::expr::{FxHashMap, FxHashSet, Id};
-use crate::mechanics::mass_matrix::{LinearForm, Sum};
+use crate::mechanics::linear_form::{LinearForm, Sum};
 use crate::number::Number;
 
 /// A linear form's identity: the address of its shared decomposition.
@@ -205,68 +205,5 @@ impl RunningRows {
         }
         self.groups = next;
         Some(entries)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::algebra::diff::Differentiator;
-    use crate::algebra::expr::{Arena, SymbolId};
-    use crate::fixtures::closed_chain_source;
-    use crate::mechanics::mass_matrix::mass_from_momenta_with;
-    use crate::pipeline::parse_model_str;
-
-    /// M of `source` from its momenta with the running rows on and off: the entries (as
-    /// canonical nodes of one arena) and the forms the running rows applied.
-    fn both_routes(source: &str) -> (Vec<Id>, Vec<Id>, usize) {
-        let mut model = parse_model_str(source).unwrap();
-        let qd: Vec<SymbolId> = model
-            .coordinates
-            .iter()
-            .map(|c| model.arena.as_symbol(c.qd).unwrap())
-            .collect();
-        let arena: &mut Arena = &mut model.arena;
-        let mut d = Differentiator::new();
-        let p = d.gradient(arena, model.kinetic, &qd).unwrap();
-        let mut rows = RunningRows::default();
-        let running = mass_from_momenta_with(arena, &mut d, &p, &qd, Some(&mut rows))
-            .unwrap()
-            .unwrap();
-        let fresh = mass_from_momenta_with(arena, &mut d, &p, &qd, None)
-            .unwrap()
-            .unwrap();
-        (running.data, fresh.data, rows.applied)
-    }
-
-    /// On the closed chain the running rows give the entries of summing every row afresh,
-    /// and apply O(n) forms in all after the first row's n per group (not n^2 / 2 per
-    /// row): the chain's rows share all forms but the two at the row's own bar.
-    #[test]
-    fn chain_rows_carry_over_and_equal_fresh_sums() {
-        for n in [3, 8, 24] {
-            let (running, fresh, applied) = both_routes(&closed_chain_source(n));
-            assert_eq!(running, fresh, "N = {n}");
-            // Two groups (x and y velocities): n forms each in the first row, then the two
-            // at the row's own bar per group and row (6.7 n measured at N = 24). Summing
-            // afresh applies n (n + 1) (600 at N = 24).
-            assert!(applied <= 7 * n + 8, "N = {n}: {applied} forms applied");
-            assert!(applied >= 2 * n, "N = {n}: {applied} forms applied");
-        }
-    }
-
-    /// A float coefficient declines the running sums for that row: the row is summed
-    /// afresh, and M is still the fresh route's.
-    #[test]
-    fn float_coefficients_fall_back_to_fresh_sums() {
-        let source = "pub struct X; coordinates { x = 0.1; y = 0.2; } independent { x = 0.1; \
-                      der(x) = 0; y = 0.2; der(y) = 0; } \
-                      kinetic = 0.3*(der(x) + cos(x)*der(y))^2 + 1/2*der(y)^2; potential = 0;";
-        let (running, fresh, applied) = both_routes(source);
-        assert_eq!(running, fresh);
-        assert_eq!(
-            applied, 0,
-            "a float coefficient must not be summed by difference"
-        );
     }
 }
