@@ -387,8 +387,8 @@ fn khang_coriolis_matrix(
     let deps = coordinate_dependencies(arena, d, mass, s)?;
     check_kronecker_size(arena, n, deps.iter().map(Vec::len).sum())?;
     // The passes run in the order of the dense products they replace (every derivative,
-    // then the first product row by row, the second, the scaling, the difference), so the
-    // expressions are created in the same order and print the same.
+    // then the first product row by row, the second, then entry by entry the scaling and
+    // the difference), so the expressions are created in that order and print the same.
     for i in 0..n {
         for j in 0..n {
             for &k in &deps[i * n + j] {
