@@ -89,7 +89,7 @@ pub(crate) fn mass_from_momenta_with(
         }
         if let Some(entries) = running.as_deref_mut().and_then(|r| r.row(i, &read)) {
             for (j, parts) in entries {
-                let mij = entry(arena, parts.into_iter().map(Some));
+                let mij = entry(arena, parts);
                 mass.set(i, j, mij);
                 mass.set(j, i, mij);
             }
@@ -116,16 +116,14 @@ pub(crate) fn mass_from_momenta_with(
         // the order in which the term-by-term derivative creates them.
         touched.sort_unstable();
         for &j in &touched {
-            let parts: Vec<_> = columns[j].drain(..).collect();
-            if parts.iter().any(|p| p.2.value().is_none()) {
-                return Ok(None);
+            let mut parts = Vec::with_capacity(columns[j].len());
+            for (r, s, sum) in columns[j].drain(..) {
+                let Some(coef) = sum.value() else {
+                    return Ok(None);
+                };
+                parts.push((r, s, coef));
             }
-            let mij = entry(
-                arena,
-                parts
-                    .into_iter()
-                    .map(|(r, s, sum)| sum.value().map(|coef| (r, s, coef))),
-            );
+            let mij = entry(arena, parts);
             mass.set(i, j, mij);
             mass.set(j, i, mij);
         }
@@ -135,13 +133,10 @@ pub(crate) fn mass_from_momenta_with(
 }
 
 /// The entry sum_g coef_g r_g s_g of M from its groups (r, s, coefficient), each term made
-/// in the order given (`None` parts, which the callers have excluded, are skipped).
-fn entry(
-    arena: &mut Arena,
-    parts: impl Iterator<Item = Option<(Option<Id>, Option<Id>, Number)>>,
-) -> Id {
-    let mut terms = Vec::new();
-    for (r, s, coef) in parts.flatten() {
+/// in the order given (the order fixes the ids of new nodes, and so the printed order).
+fn entry(arena: &mut Arena, parts: Vec<(Option<Id>, Option<Id>, Number)>) -> Id {
+    let mut terms = Vec::with_capacity(parts.len());
+    for (r, s, coef) in parts {
         let mut factors = vec![arena.number(coef)];
         factors.extend(r);
         factors.extend(s);

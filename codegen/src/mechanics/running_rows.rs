@@ -23,7 +23,9 @@ use crate::algebra::expr::{FxHashMap, FxHashSet, Id};
 use crate::mechanics::linear_form::{LinearForm, Sum};
 use crate::number::Number;
 
-/// A linear form's identity: the address of its shared decomposition.
+/// A linear form's identity: the address of its shared decomposition. Addresses are not
+/// reused while M is read: the reader keeps every decomposition for the whole matrix, and
+/// a running combination holds its own reference to each form in it.
 type FormKey = usize;
 
 fn key(form: &LinearForm) -> FormKey {
@@ -60,7 +62,7 @@ impl Running {
     /// Makes the combination `forms` (form, coefficient; keys distinct): adds the
     /// difference for each form whose coefficient changed or that joined, and removes the
     /// forms that left; the number of forms so added or removed.
-    fn become_(&mut self, forms: &[(FormKey, LinearForm, Number)]) -> Option<usize> {
+    fn set_to(&mut self, forms: &[(FormKey, LinearForm, Number)]) -> Option<usize> {
         let mut applied = 0;
         let mut present: FxHashSet<FormKey> = FxHashSet::default();
         for (k, form, c) in forms {
@@ -172,7 +174,7 @@ impl RunningRows {
                 .iter()
                 .find_map(|(k, ..)| self.owner.get(k).and_then(|&a| previous[a].take()));
             let mut running = taken.unwrap_or_default();
-            self.applied += running.become_(forms)?;
+            self.applied += running.set_to(forms)?;
             next.push(running);
         }
         self.owner.clear();

@@ -14,7 +14,7 @@ use std::str::FromStr;
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
-use crate::algebra::expr::FxHashMap;
+use crate::algebra::expr::FxHashSet;
 use crate::error::{Error, Expected, Location, ParseError, Result};
 
 /// A bracket kind.
@@ -125,16 +125,16 @@ impl Tokens {
 /// One shared string per distinct name: the names of a large declaration repeat (`th12`,
 /// `cos`, `der`), so each token holds a reference, not a copy.
 #[derive(Debug, Default)]
-pub(crate) struct Names(FxHashMap<Rc<str>, ()>);
+pub(crate) struct Names(FxHashSet<Rc<str>>);
 
 impl Names {
     /// The shared string equal to `text`.
     pub(crate) fn get(&mut self, text: &str) -> Rc<str> {
-        if let Some((k, ())) = self.0.get_key_value(text) {
+        if let Some(k) = self.0.get(text) {
             return Rc::clone(k);
         }
         let k: Rc<str> = Rc::from(text);
-        self.0.insert(Rc::clone(&k), ());
+        self.0.insert(Rc::clone(&k));
         k
     }
 }
