@@ -15,6 +15,7 @@
 
 use crate::algebra::dependencies::DependencySets;
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::memo_table::MemoTable;
 use crate::algebra::wide_children::WideChildren;
 use crate::error::AlgebraError;
 use crate::error::{Error, Result};
@@ -40,7 +41,7 @@ use crate::number::Number;
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct Differentiator {
-    memo: FxHashMap<(Id, SymbolId), Id>,
+    memo: MemoTable,
     deps: DependencySets,
     wide: WideChildren,
     /// Scratch for the positions of a node's dependent children.
@@ -151,7 +152,7 @@ impl Differentiator {
         if !self.deps.contains(id, sym) {
             return Ok(arena.int(0));
         }
-        if let Some(&d) = self.memo.get(&(id, sym)) {
+        if let Some(d) = self.memo.get(id, sym) {
             return Ok(d);
         }
         // Collect the nodes below `id` that depend on `sym` and are not cached yet.
@@ -159,7 +160,7 @@ impl Differentiator {
         let mut stack = vec![id];
         let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
         while let Some(n) = stack.pop() {
-            if seen.insert(n, ()).is_some() || self.memo.contains_key(&(n, sym)) {
+            if seen.insert(n, ()).is_some() || self.memo.get(n, sym).is_some() {
                 continue;
             }
             todo.push(n);
@@ -170,11 +171,10 @@ impl Differentiator {
         todo.sort_unstable();
         for n in todo {
             let d = self.rule(arena, n, sym)?;
-            self.memo.insert((n, sym), d);
+            self.memo.insert(n, sym, d);
         }
         self.memo
-            .get(&(id, sym))
-            .copied()
+            .get(id, sym)
             .ok_or(Error::Algebra(AlgebraError::InvalidId {
                 id: id.0,
                 len: arena.len(),
@@ -195,8 +195,8 @@ impl Differentiator {
         if !self.deps.contains(c, sym) {
             return arena.int(0);
         }
-        match self.memo.get(&(c, sym)) {
-            Some(&d) => d,
+        match self.memo.get(c, sym) {
+            Some(d) => d,
             None => arena.int(0), // unreachable: children are processed first
         }
     }

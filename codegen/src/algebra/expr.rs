@@ -18,6 +18,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 use crate::algebra::budget::{Budget, Effort, PROGRESS_EVERY};
+use crate::algebra::intern_table::InternTable;
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -242,7 +243,7 @@ pub struct Arena {
     /// The intern table by a 32-bit node hash: the first node of each hash. A node is
     /// stored once, in `nodes`; the table holds its id, 8 bytes a slot (the table is the
     /// largest structure of a large derivation after the nodes themselves).
-    intern: FxHashMap<u32, Id>,
+    intern: InternTable,
     /// The nodes whose hash an earlier, different node has: by value (about k^2 / 2^33 of
     /// k nodes, some 50,000 of the 800-bar chain's 20 million).
     collisions: FxHashMap<Node, Id>,
@@ -373,17 +374,15 @@ impl Arena {
         }
         let hash = node_hash(&node);
         let id = Id(self.nodes.len() as u32);
-        match self.intern.get(&hash) {
-            Some(&first) if self.nodes[first.index()] == node => return first,
+        match self.intern.find_or_claim(hash, id.0).map(Id) {
+            Some(first) if self.nodes[first.index()] == node => return first,
             Some(_) => {
                 if let Some(&other) = self.collisions.get(&node) {
                     return other;
                 }
                 self.collisions.insert(node.clone(), id);
             }
-            None => {
-                self.intern.insert(hash, id);
-            }
+            None => {}
         }
         let mut children = 0;
         node.for_each_child(|_| children += 1);
@@ -744,7 +743,7 @@ mod tests {
         let x = a.symbol("x", SymbolKind::Free);
         let y = a.symbol("y", SymbolKind::Free);
         let colliding = Node::Pow(x, y);
-        a.intern.insert(node_hash(&colliding), x);
+        a.intern.insert(node_hash(&colliding), x.0);
         let before = a.len();
         let p = a.intern(colliding.clone());
         assert_eq!(p.index(), before, "a new node, not the planted one");

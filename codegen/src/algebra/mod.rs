@@ -22,6 +22,8 @@ pub(crate) mod dependencies;
 pub(crate) mod diff;
 pub(crate) mod eval;
 pub(crate) mod expr;
+pub(crate) mod intern_table;
 pub(crate) mod matrix;
+pub(crate) mod memo_table;
 pub(crate) mod rotation;
 pub(crate) mod wide_children;

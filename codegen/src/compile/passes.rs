@@ -135,8 +135,12 @@ pub(crate) fn lower(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
             entries: m.data.iter().map(|i| selection.op(*i)).collect(),
         })
         .collect();
-    let symbols = named_symbols(arena, selection.used_symbols);
+    let symbols = named_symbols(arena, std::mem::take(&mut selection.used_symbols));
     let live = compact(&selection.b.instrs, outs, &symbols);
+    // Each pass's input is dropped as soon as its output exists: on a large mechanism one
+    // copy of the instructions is hundreds of megabytes, and the next pass reuses its pages
+    // instead of faulting in fresh ones.
+    drop(selection);
     let parameter: Vec<bool> = arena
         .symbols()
         .iter()
@@ -144,9 +148,13 @@ pub(crate) fn lower(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
         .collect();
     let (instrs, outputs) = live.into_parts();
     let scaled = scale_early(&instrs, &outputs, &parameter);
-    let scaled = scale_early(&scaled, &outputs, &parameter);
-    let fused = fuse_multiply_add(&scaled, &outputs);
+    drop(instrs);
+    let rescaled = scale_early(&scaled, &outputs, &parameter);
+    drop(scaled);
+    let fused = fuse_multiply_add(&rescaled, &outputs);
+    drop(rescaled);
     let scheduled = schedule(&fused, &outputs);
+    drop(fused);
     Ok(compact(&scheduled, outputs, &symbols))
 }
 

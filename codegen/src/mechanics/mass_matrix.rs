@@ -172,9 +172,7 @@ impl LinearReader {
 
     /// Whether `id` depends on a rate.
     fn has_rate(&self, arena: &Arena, d: &mut Differentiator, id: Id) -> Result<bool> {
-        Ok(d.symbols_of(arena, id)?
-            .iter()
-            .any(|s| self.is_rate.get(s.index()).copied().unwrap_or(false)))
+        d.depends_on_any(arena, id, &self.is_rate)
     }
 
     /// A term of a momentum as c * r * L: its coefficient, its rate-free monomial r and

@@ -12,6 +12,7 @@ use crate::program::instructions::{BinOp, Instr, Operand, Reg, UnOp};
 // ----- instruction builder with value numbering and constant folding -----
 
 /// Hashable identity of an instruction (f64 constants by their bits).
+/// A value-numbering key: the operation and its operands' keys.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 enum Key {
     Un(UnOp, OpKey),
@@ -21,26 +22,32 @@ enum Key {
     MulAdd(OpKey, OpKey, OpKey, bool, bool),
 }
 
+/// An operand as 64 bits: a constant is its own bits (finite, so never a NaN); a symbol or
+/// register is a NaN whose payload holds its index, so the three kinds never meet. Eight
+/// bytes instead of an enum's sixteen: the value-numbering table of a large mechanism holds
+/// millions of keys.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-enum OpKey {
-    Const(u64),
-    Sym(u32),
-    Reg(u32),
-}
+struct OpKey(u64);
+
+/// The NaN patterns that tag a symbol's and a register's key.
+const SYM_KEY: u64 = 0x7ff1 << 48;
+const REG_KEY: u64 = 0x7ff2 << 48;
 
 fn key(o: Operand) -> OpKey {
-    match o {
-        Operand::Const(c) => OpKey::Const(c.to_bits()),
-        Operand::Sym(s) => OpKey::Sym(s.0),
-        Operand::Reg(r) => OpKey::Reg(r.0),
-    }
+    OpKey(match o {
+        Operand::Const(c) => c.to_bits(),
+        Operand::Sym(s) => SYM_KEY | u64::from(s.0),
+        Operand::Reg(r) => REG_KEY | u64::from(r.0),
+    })
 }
 
 #[derive(Default)]
 pub(crate) struct Builder {
     pub(crate) instrs: Vec<Instr>,
     next: u32,
-    vn: FxHashMap<Key, (Operand, Operand)>,
+    /// The first register of each distinct instruction (`sin_cos` writes two, the second
+    /// one after it).
+    vn: FxHashMap<Key, Reg>,
 }
 
 fn finite(v: f64, op: &str, args: &[f64]) -> Result<Operand> {
@@ -65,18 +72,17 @@ impl Builder {
         Reg(self.next - 1)
     }
 
-    fn lookup(
-        &mut self,
-        k: Key,
-        make: impl FnOnce(&mut Self) -> (Instr, Operand, Operand),
-    ) -> (Operand, Operand) {
+    /// The register of instruction `k`, made (`make` is handed its first register) when
+    /// it is new.
+    fn lookup(&mut self, k: Key, make: impl FnOnce(&mut Self, Reg) -> Instr) -> Reg {
         if let Some(&r) = self.vn.get(&k) {
             return r;
         }
-        let (i, a, b) = make(self);
+        let dst = self.reg();
+        let i = make(self, dst);
         self.instrs.push(i);
-        self.vn.insert(k, (a, b));
-        (a, b)
+        self.vn.insert(k, dst);
+        dst
     }
 
     pub(crate) fn un(&mut self, op: UnOp, arg: Operand) -> Result<Operand> {
@@ -95,15 +101,8 @@ impl Builder {
         }
         let k = Key::Un(op, key(arg));
         Ok(self
-            .lookup(k, |b| {
-                let dst = b.reg();
-                (
-                    Instr::Unary { dst, op, arg },
-                    Operand::Reg(dst),
-                    Operand::Reg(dst),
-                )
-            })
-            .0)
+            .lookup(k, |_, dst| Instr::Unary { dst, op, arg })
+            .into())
     }
 
     pub(crate) fn bin(&mut self, op: BinOp, lhs: Operand, rhs: Operand) -> Result<Operand> {
@@ -162,15 +161,8 @@ impl Builder {
             _ => Key::Bin(op, ka, kb),
         };
         Ok(self
-            .lookup(k, |b| {
-                let dst = b.reg();
-                (
-                    Instr::Binary { dst, op, lhs, rhs },
-                    Operand::Reg(dst),
-                    Operand::Reg(dst),
-                )
-            })
-            .0)
+            .lookup(k, |_, dst| Instr::Binary { dst, op, lhs, rhs })
+            .into())
     }
 
     pub(crate) fn powi(&mut self, base: Operand, exp: i32) -> Result<Operand> {
@@ -179,15 +171,8 @@ impl Builder {
         }
         let k = Key::Powi(key(base), exp);
         Ok(self
-            .lookup(k, |b| {
-                let dst = b.reg();
-                (
-                    Instr::Powi { dst, base, exp },
-                    Operand::Reg(dst),
-                    Operand::Reg(dst),
-                )
-            })
-            .0)
+            .lookup(k, |_, dst| Instr::Powi { dst, base, exp })
+            .into())
     }
 
     /// (+-a) b + (+-c), one fused instruction (see [`crate::program::fuse`]).
@@ -204,37 +189,27 @@ impl Builder {
         }
         let k = Key::MulAdd(key(a), key(b), key(c), negate_product, negate_addend);
         Ok(self
-            .lookup(k, |bd| {
-                let dst = bd.reg();
-                (
-                    Instr::MulAdd {
-                        dst,
-                        a,
-                        b,
-                        c,
-                        negate_product,
-                        negate_addend,
-                    },
-                    Operand::Reg(dst),
-                    Operand::Reg(dst),
-                )
+            .lookup(k, |_, dst| Instr::MulAdd {
+                dst,
+                a,
+                b,
+                c,
+                negate_product,
+                negate_addend,
             })
-            .0)
+            .into())
     }
 
     pub(crate) fn sin_cos(&mut self, arg: Operand) -> Result<(Operand, Operand)> {
         if let Operand::Const(c) = arg {
             return Ok((finite(c.sin(), "sin", &[c])?, finite(c.cos(), "cos", &[c])?));
         }
-        Ok(self.lookup(Key::SinCos(key(arg)), |b| {
-            let sin = b.reg();
-            let cos = b.reg();
-            (
-                Instr::SinCos { sin, cos, arg },
-                Operand::Reg(sin),
-                Operand::Reg(cos),
-            )
-        }))
+        let sin = self.lookup(Key::SinCos(key(arg)), |b, sin| Instr::SinCos {
+            sin,
+            cos: b.reg(),
+            arg,
+        });
+        Ok((Operand::Reg(sin), Operand::Reg(Reg(sin.0 + 1))))
     }
 }
 
@@ -246,7 +221,10 @@ const MAX_CHAIN: i64 = 4;
 pub(crate) struct InstructionSelection<'a> {
     arena: &'a Arena,
     order: Vec<Id>,
-    node_op: FxHashMap<Id, Operand>,
+    /// Each lowered node's operand, by id (a dense table: on a large mechanism most nodes up
+    /// to the largest output are lowered, and a hash map of them costs more memory and a
+    /// cache miss per look-up).
+    node_op: Vec<Operand>,
     /// For each argument u: (sin u needed, cos u needed).
     trig: FxHashMap<Id, (bool, bool)>,
     /// x^k by (base node, k), shared between products.
@@ -303,10 +281,11 @@ impl<'a> InstructionSelection<'a> {
                 }
             }
         }
+        let lowered = top.map_or(0, |top| top + 1);
         InstructionSelection {
             arena,
             order,
-            node_op: FxHashMap::default(),
+            node_op: vec![Operand::Const(0.0); lowered],
             trig,
             powers: FxHashMap::default(),
             products: FxHashMap::default(),
@@ -320,7 +299,7 @@ impl<'a> InstructionSelection<'a> {
         for k in 0..self.order.len() {
             let id = self.order[k];
             let op = self.lower_node(id)?;
-            self.node_op.insert(id, op);
+            self.node_op[id.index()] = op;
         }
         Ok(())
     }
@@ -328,7 +307,7 @@ impl<'a> InstructionSelection<'a> {
     pub(crate) fn op(&self, id: Id) -> Operand {
         // Children are lowered before parents (id order); a miss cannot happen.
         self.node_op
-            .get(&id)
+            .get(id.index())
             .copied()
             .unwrap_or(Operand::Const(0.0))
     }

@@ -36,6 +36,13 @@ pub enum Operand {
     Const(f64),
 }
 
+impl From<Reg> for Operand {
+    /// The register's value as an operand.
+    fn from(r: Reg) -> Operand {
+        Operand::Reg(r)
+    }
+}
+
 /// A unary operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum UnOp {
