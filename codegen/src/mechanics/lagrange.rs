@@ -27,11 +27,12 @@
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
-use crate::error::{AlgebraError, BudgetError, DerivationError};
+use crate::error::{AlgebraError, DerivationError};
 use crate::error::{DeclarationError, Error, Location, Result};
 use crate::mechanics::equations::{Equations, FrameEquations};
 use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::mass_matrix::mass_from_momenta;
+use crate::mechanics::mass_slopes::MassSlopes;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 use crate::mechanics::tree::Link;
@@ -180,11 +181,13 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let arena = &mut model.arena;
     check_mass(arena, &mut d, &mass, &view)?;
 
-    let coriolis_matrix = khang_coriolis_matrix(arena, &mut d, &mass, &s)?;
+    let slopes = MassSlopes::new(arena, &mut d, &mass, &s.q)?;
+    let coriolis_matrix = khang_coriolis_matrix(arena, &slopes, &s)?;
     let coriolis_forces = match &tree {
         Some(t) => t.coriolis_forces.clone(),
-        None => coriolis_forces(arena, &mut d, kinetic, &momenta, &mass, &s)?,
+        None => coriolis_forces(arena, &mut d, kinetic, &momenta, &mass, &slopes, &s)?,
     };
+    drop(slopes);
     let (gravity, potential) = match tree.as_ref().and_then(|t| t.gravity.clone()) {
         Some((g, pi)) => (g, pi),
         None => (
@@ -300,10 +303,11 @@ fn coriolis_forces(
     kinetic: Id,
     momenta: &[Id],
     mass: &Matrix,
+    slopes: &MassSlopes,
     s: &Symbols,
 ) -> Result<Matrix> {
     if is_quadratic_form(arena, d, kinetic, momenta, mass, s)? {
-        return lean_coriolis_forces(arena, d, mass, s);
+        return lean_coriolis_forces(arena, slopes, s);
     }
     let mut h = Vec::with_capacity(momenta.len());
     for (&p, &q) in momenta.iter().zip(&s.q) {
@@ -377,35 +381,21 @@ fn quadratic_form(arena: &mut Arena, mass: &Matrix, s: &Symbols) -> Id {
 /// entry depends on that coordinate. The n x n^2 matrices are never formed, so the work is
 /// the number of such (entry, coordinate) pairs (2 n^2 for a chain in absolute angles, 0
 /// for an M free of q) plus the n^2 entries of C.
-fn khang_coriolis_matrix(
-    arena: &mut Arena,
-    d: &mut Differentiator,
-    mass: &Matrix,
-    s: &Symbols,
-) -> Result<Matrix> {
+fn khang_coriolis_matrix(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> Result<Matrix> {
     let n = s.q.len();
-    let deps = coordinate_dependencies(arena, d, mass, s)?;
-    check_kronecker_size(arena, n, deps.iter().map(Vec::len).sum())?;
-    // The passes run in the order of the dense products they replace (every derivative,
-    // then the first product row by row, the second, then entry by entry the scaling and
-    // the difference), so the expressions are created in that order and print the same.
-    for i in 0..n {
-        for j in 0..n {
-            for &k in &deps[i * n + j] {
-                d.diff(arena, mass.get(i, j), s.q[k])?;
-            }
-        }
-    }
+    // The slopes were formed first; the passes below run in the order of the dense
+    // products they replace (the first product row by row, the second, then entry by
+    // entry the scaling and the difference), so the expressions are created in that order
+    // and print the same.
     let zero = arena.int(0);
     let mut acc: Vec<Vec<Id>> = vec![Vec::new(); n];
     // (dM/dq)(I kron q')_ij = sum_k dM_ij/dq_k q_k'.
     let mut first = vec![zero; n * n];
     for i in 0..n {
-        for j in 0..n {
-            for &k in &deps[i * n + j] {
-                let e = d.diff(arena, mass.get(i, j), s.q[k])?;
+        for (j, column) in acc.iter_mut().enumerate() {
+            for (k, e) in slopes.of(i, j) {
                 let v = arena.symbol_node(s.qd[k]);
-                acc[j].push(arena.mul2(e, v));
+                column.push(arena.mul2(e, v));
             }
         }
         for (j, terms) in acc.iter_mut().enumerate() {
@@ -419,8 +409,7 @@ fn khang_coriolis_matrix(
     let mut second = vec![zero; n * n];
     for i in 0..n {
         for k in 0..n {
-            for &j in &deps[i * n + k] {
-                let e = d.diff(arena, mass.get(i, k), s.q[j])?;
+            for (j, e) in slopes.of(i, k) {
                 let v = arena.symbol_node(s.qd[k]);
                 acc[j].push(arena.mul2(e, v));
             }
@@ -447,22 +436,6 @@ fn khang_coriolis_matrix(
         }
     }
     Matrix::new(n, n, data)
-}
-
-/// [`crate::error::BudgetError::Entries`] when dM/dq of n coordinates has more nonzero entries
-/// (`entries`, counted before any is formed) than the arena's [`crate::Budget::entries`].
-/// dM/dq is formed sparsely, only where M_ij depends on q_k: a closed chain in absolute
-/// angles has 2 n^2 such entries of its n^3.
-fn check_kronecker_size(arena: &Arena, n: usize, entries: usize) -> Result<()> {
-    let limit = arena.budget().entries;
-    if entries > limit {
-        return Err(Error::Budget(BudgetError::Entries {
-            coordinates: n,
-            entries,
-            limit,
-        }));
-    }
-    Ok(())
 }
 
 /// True when T = 1/2 q'^T M(q) q' exactly: T and M free of t, M free of q', and T and
@@ -566,47 +539,17 @@ pub(crate) fn substitute_all(
         .collect())
 }
 
-/// For each upper-triangle entry of `mass`, the coordinates (indices) it depends on.
-fn coordinate_dependencies(
-    arena: &Arena,
-    d: &mut Differentiator,
-    mass: &Matrix,
-    s: &Symbols,
-) -> Result<Vec<Vec<usize>>> {
-    let n = s.q.len();
-    let index: FxHashMap<SymbolId, usize> = s.q.iter().enumerate().map(|(k, &q)| (q, k)).collect();
-    let mut deps = vec![Vec::new(); n * n];
-    for i in 0..n {
-        for j in i..n {
-            let ks: Vec<usize> = d
-                .symbols_of(arena, mass.get(i, j))?
-                .iter()
-                .filter_map(|x| index.get(x).copied())
-                .collect();
-            deps[i * n + j] = ks.clone();
-            deps[j * n + i] = ks;
-        }
-    }
-    Ok(deps)
-}
-
 /// C q' as one lean expression per row: (C q')_k = sum_{i <= j} c_kij q_i' q_j' with
 /// c_kij = dM_ki/dq_j + dM_kj/dq_i - dM_ij/dq_k for i < j and
 /// c_kii = dM_ki/dq_i - 1/2 dM_ii/dq_k, each coefficient one canonical sum.
-fn lean_coriolis_forces(
-    arena: &mut Arena,
-    d: &mut Differentiator,
-    mass: &Matrix,
-    s: &Symbols,
-) -> Result<Matrix> {
+fn lean_coriolis_forces(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> Result<Matrix> {
     let n = s.q.len();
-    let deps = coordinate_dependencies(arena, d, mass, s)?;
-    // by_coord[k]: upper entries (i, j) of M that depend on q_k.
-    let mut by_coord: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+    // by_coord[k]: the upper entries (i, j) of M that depend on q_k, and dM_ij/dq_k.
+    let mut by_coord: Vec<Vec<(usize, usize, Id)>> = vec![Vec::new(); n];
     for i in 0..n {
         for j in i..n {
-            for &k in &deps[i * n + j] {
-                by_coord[k].push((i, j));
+            for (k, e) in slopes.of(i, j) {
+                by_coord[k].push((i, j, e));
             }
         }
     }
@@ -614,16 +557,14 @@ fn lean_coriolis_forces(
     let minus_one = arena.int(-1);
     let mut out = Vec::with_capacity(n);
     let mut parts: Vec<((usize, usize), Id)> = Vec::new();
-    for k in 0..n {
+    for (k, upper) in by_coord.iter().enumerate() {
         parts.clear();
         for i in 0..n {
-            for &j in &deps[k * n + i] {
-                let e = d.diff(arena, mass.get(k, i), s.q[j])?;
+            for (j, e) in slopes.of(k, i) {
                 parts.push(((i.min(j), i.max(j)), e));
             }
         }
-        for &(i, j) in &by_coord[k] {
-            let e = d.diff(arena, mass.get(i, j), s.q[k])?;
+        for &(i, j, e) in upper {
             let w = if i == j { minus_half } else { minus_one };
             parts.push(((i, j), arena.mul2(w, e)));
         }

@@ -32,6 +32,7 @@ pub(crate) mod lagrange;
 pub(crate) mod linear_form;
 pub(crate) mod links;
 pub(crate) mod mass_matrix;
+pub(crate) mod mass_slopes;
 pub(crate) mod model;
 pub(crate) mod nonholonomic;
 pub(crate) mod recursive;
