@@ -168,7 +168,7 @@ mod tests {
         let q = [a.lookup("q1").unwrap()];
         let s1 = a.sin(q1);
         let mass = Matrix::new(1, 1, vec![s1]).unwrap();
-        let mut budget = a.budget().clone();
+        let mut budget = *a.budget();
         budget.entries = 0;
         a.set_budget(budget);
         let before = a.len();
