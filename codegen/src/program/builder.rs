@@ -282,6 +282,11 @@ impl<'a> InstructionSelection<'a> {
             }
         }
         let lowered = top.map_or(0, |top| top + 1);
+        // About one instruction per node lowered: the builder's tables sized once rather
+        // than grown by doubling (each growth copies them and faults in fresh pages).
+        let mut b = Builder::default();
+        b.instrs.reserve(order.len());
+        b.vn.reserve(order.len());
         InstructionSelection {
             arena,
             order,
@@ -291,7 +296,7 @@ impl<'a> InstructionSelection<'a> {
             products: FxHashMap::default(),
             invariant,
             used_symbols: Vec::new(),
-            b: Builder::default(),
+            b,
         }
     }
 
