@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 use crate::algebra::budget::{Budget, Effort, PROGRESS_EVERY};
-use crate::algebra::intern_table::InternTable;
+use crate::algebra::probe_table::ProbeTable;
 use crate::error::{Error, Result};
 use crate::number::Number;
 
@@ -240,13 +240,10 @@ pub type FxHashSet<K> = std::collections::HashSet<K, BuildHasherDefault<FxHasher
 #[derive(Clone, Default)]
 pub struct Arena {
     nodes: Vec<Node>,
-    /// The intern table by a 32-bit node hash: the first node of each hash. A node is
-    /// stored once, in `nodes`; the table holds its id, 8 bytes a slot (the table is the
-    /// largest structure of a large derivation after the nodes themselves).
-    intern: InternTable,
-    /// The nodes whose hash an earlier, different node has: by value (about k^2 / 2^33 of
-    /// k nodes, some 50,000 of the 800-bar chain's 20 million).
-    collisions: FxHashMap<Node, Id>,
+    /// The intern table: node ids by a 32-bit node hash, nodes of one hash told apart by
+    /// value. A node is stored once, in `nodes`; the table holds its id, 8 bytes a slot
+    /// (the table is the largest structure of a large derivation after the nodes).
+    intern: ProbeTable,
     symbols: Vec<Symbol>,
     symbol_nodes: Vec<Id>,
     by_name: FxHashMap<String, SymbolId>,
@@ -374,15 +371,12 @@ impl Arena {
         }
         let hash = node_hash(&node);
         let id = Id(self.nodes.len() as u32);
-        match self.intern.find_or_claim(hash, id.0).map(Id) {
-            Some(first) if self.nodes[first.index()] == node => return first,
-            Some(_) => {
-                if let Some(&other) = self.collisions.get(&node) {
-                    return other;
-                }
-                self.collisions.insert(node.clone(), id);
-            }
-            None => {}
+        let nodes = &self.nodes;
+        if let Some(found) = self
+            .intern
+            .find_or_insert(hash, id.0, |k| nodes[k as usize] == node)
+        {
+            return Id(found);
         }
         let mut children = 0;
         node.for_each_child(|_| children += 1);
@@ -743,7 +737,10 @@ mod tests {
         let x = a.symbol("x", SymbolKind::Free);
         let y = a.symbol("y", SymbolKind::Free);
         let colliding = Node::Pow(x, y);
-        a.intern.insert(node_hash(&colliding), x.0);
+        let planted = a
+            .intern
+            .find_or_insert(node_hash(&colliding), x.0, |_| false);
+        assert_eq!(planted, None);
         let before = a.len();
         let p = a.intern(colliding.clone());
         assert_eq!(p.index(), before, "a new node, not the planted one");

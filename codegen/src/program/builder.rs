@@ -2,12 +2,14 @@
 //! in the `cse` module docs, on top of an instruction builder with value numbering (one
 //! register per distinct instruction) and constant folding.
 
-use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::expr::{Arena, Func, FxHashMap, FxHasher, Id, Node, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
+use crate::algebra::probe_table::ProbeTable;
 use crate::error::EvalError;
 use crate::error::{Error, Result};
 use crate::number::Number;
 use crate::program::instructions::{BinOp, Instr, Operand, Reg, UnOp};
+use std::hash::{Hash, Hasher};
 
 // ----- instruction builder with value numbering and constant folding -----
 
@@ -41,13 +43,52 @@ fn key(o: Operand) -> OpKey {
     })
 }
 
+/// The key of `lhs op rhs`: value numbering sees `a + b` and `b + a` as one instruction.
+fn binary_key(op: BinOp, lhs: Operand, rhs: Operand) -> Key {
+    let (ka, kb) = (key(lhs), key(rhs));
+    match op {
+        BinOp::Add | BinOp::Mul if kb < ka => Key::Bin(op, kb, ka),
+        _ => Key::Bin(op, ka, kb),
+    }
+}
+
+/// The key an instruction the builder made was looked up by.
+fn key_of(i: &Instr) -> Key {
+    match *i {
+        Instr::Unary { op, arg, .. } => Key::Un(op, key(arg)),
+        Instr::Binary { op, lhs, rhs, .. } => binary_key(op, lhs, rhs),
+        Instr::Powi { base, exp, .. } => Key::Powi(key(base), exp),
+        Instr::SinCos { arg, .. } => Key::SinCos(key(arg)),
+        Instr::MulAdd {
+            a,
+            b,
+            c,
+            negate_product,
+            negate_addend,
+            ..
+        } => Key::MulAdd(key(a), key(b), key(c), negate_product, negate_addend),
+    }
+}
+
+/// The first register an instruction writes (`sin_cos` writes two, the second one after
+/// it).
+fn first_register(i: &Instr) -> Reg {
+    match *i {
+        Instr::Unary { dst, .. }
+        | Instr::Binary { dst, .. }
+        | Instr::Powi { dst, .. }
+        | Instr::MulAdd { dst, .. } => dst,
+        Instr::SinCos { sin, .. } => sin,
+    }
+}
+
 #[derive(Default)]
 pub(crate) struct Builder {
     pub(crate) instrs: Vec<Instr>,
     next: u32,
-    /// The first register of each distinct instruction (`sin_cos` writes two, the second
-    /// one after it).
-    vn: FxHashMap<Key, Reg>,
+    /// Value numbering: the position in `instrs` of each distinct instruction, by the hash
+    /// of its key (the key is read back off the instruction, so an entry is 8 bytes).
+    vn: ProbeTable,
 }
 
 fn finite(v: f64, op: &str, args: &[f64]) -> Result<Operand> {
@@ -75,13 +116,22 @@ impl Builder {
     /// The register of instruction `k`, made (`make` is handed its first register) when
     /// it is new.
     fn lookup(&mut self, k: Key, make: impl FnOnce(&mut Self, Reg) -> Instr) -> Reg {
-        if let Some(&r) = self.vn.get(&k) {
-            return r;
+        let mut h = FxHasher::default();
+        k.hash(&mut h);
+        let hash = h.finish();
+        let instrs = &self.instrs;
+        let at = instrs.len() as u32;
+        if let Some(found) = self
+            .vn
+            .find_or_insert((hash ^ (hash >> 32)) as u32, at, |i| {
+                key_of(&instrs[i as usize]) == k
+            })
+        {
+            return first_register(&self.instrs[found as usize]);
         }
         let dst = self.reg();
         let i = make(self, dst);
         self.instrs.push(i);
-        self.vn.insert(k, dst);
         dst
     }
 
@@ -155,11 +205,7 @@ impl Builder {
         }
         // Value numbering sees `a + b` and `b + a` as one instruction (the emitted order is
         // the first one met).
-        let (ka, kb) = (key(lhs), key(rhs));
-        let k = match op {
-            BinOp::Add | BinOp::Mul if kb < ka => Key::Bin(op, kb, ka),
-            _ => Key::Bin(op, ka, kb),
-        };
+        let k = binary_key(op, lhs, rhs);
         Ok(self
             .lookup(k, |_, dst| Instr::Binary { dst, op, lhs, rhs })
             .into())
@@ -286,7 +332,7 @@ impl<'a> InstructionSelection<'a> {
         // than grown by doubling (each growth copies them and faults in fresh pages).
         let mut b = Builder::default();
         b.instrs.reserve(order.len());
-        b.vn.reserve(order.len());
+        b.vn = ProbeTable::with_capacity(order.len());
         InstructionSelection {
             arena,
             order,
