@@ -388,6 +388,11 @@ fn khang_coriolis_matrix(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) ->
     // entry the scaling and the difference), so the expressions are created in that order
     // and print the same.
     let zero = arena.int(0);
+    if slopes.is_empty() {
+        // M is free of q: C = 0, without the passes' n x n scratch (at 5,000 coordinates
+        // each is 100 MB).
+        return Ok(Matrix::zeros(arena, n, n));
+    }
     let mut acc: Vec<Vec<Id>> = vec![Vec::new(); n];
     // (dM/dq)(I kron q')_ij = sum_k dM_ij/dq_k q_k'.
     let mut first = vec![zero; n * n];
@@ -544,6 +549,10 @@ pub(crate) fn substitute_all(
 /// c_kii = dM_ki/dq_i - 1/2 dM_ii/dq_k, each coefficient one canonical sum.
 fn lean_coriolis_forces(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> Result<Matrix> {
     let n = s.q.len();
+    if slopes.is_empty() {
+        // M is free of q: C q' = 0.
+        return Ok(Matrix::zeros(arena, n, 1));
+    }
     // by_coord[k]: the upper entries (i, j) of M that depend on q_k, and dM_ij/dq_k.
     let mut by_coord: Vec<Vec<(usize, usize, Id)>> = vec![Vec::new(); n];
     for i in 0..n {

@@ -30,7 +30,7 @@ impl MassSlopes {
     ///
     /// # Errors
     /// [`BudgetError::Entries`] when there are more slopes than the arena's
-    /// [`crate::Budget::entries`] (counted before any is formed); what
+    /// [`crate::Budget::entries`] or 2^32 - 1 (counted before any is formed); what
     /// [`Differentiator::diff`] reports.
     pub(crate) fn new(
         arena: &mut Arena,
@@ -44,32 +44,44 @@ impl MassSlopes {
             coordinate_of[s.index()] = Some(k as u32);
         }
         // The coordinates of each upper entry (row-major), mirrored below the diagonal.
-        let mut upper_starts = Vec::with_capacity(n * (n + 1) / 2 + 1);
+        // They are counted over all n^2 entries as they are listed, and kept only while
+        // the count is within the budget, so a dense dM/dq (n^3 entries) is reported with
+        // its size instead of being listed; within the budget every offset fits in 32 bits.
+        let limit = arena.budget().entries.min(u32::MAX as usize);
+        let mut total = 0usize;
+        let mut upper_starts: Vec<u32> = Vec::with_capacity(n * (n + 1) / 2 + 1);
         let mut upper = Vec::new();
         upper_starts.push(0);
         for i in 0..n {
             for j in i..n {
                 let symbols = d.symbols_of(arena, mass.get(i, j))?;
-                upper.extend(
-                    symbols
-                        .iter()
-                        .filter_map(|x| coordinate_of.get(x.index()).copied().flatten()),
-                );
-                upper_starts.push(upper.len());
+                let ks = symbols
+                    .iter()
+                    .filter_map(|x| coordinate_of.get(x.index()).copied().flatten());
+                let count = if total <= limit {
+                    let before = upper.len();
+                    upper.extend(ks);
+                    upper.len() - before
+                } else {
+                    ks.count()
+                };
+                total += if i == j { count } else { 2 * count };
+                upper_starts.push(upper.len() as u32);
             }
         }
+        check_kronecker_size(n, total, limit)?;
         let mut starts = Vec::with_capacity(n * n + 1);
-        let mut coordinates = Vec::new();
+        let mut coordinates = Vec::with_capacity(total);
         starts.push(0);
         for i in 0..n {
             for j in 0..n {
                 let (a, b) = (i.min(j), i.max(j));
                 let entry = a * n - a * (a + 1) / 2 + b;
-                coordinates.extend_from_slice(&upper[upper_starts[entry]..upper_starts[entry + 1]]);
+                let run = upper_starts[entry] as usize..upper_starts[entry + 1] as usize;
+                coordinates.extend_from_slice(&upper[run]);
                 starts.push(coordinates.len() as u32);
             }
         }
-        check_kronecker_size(arena, n, coordinates.len())?;
         let mut slopes = Vec::with_capacity(coordinates.len());
         for i in 0..n {
             for j in 0..n {
@@ -88,6 +100,11 @@ impl MassSlopes {
         })
     }
 
+    /// Whether M is free of every coordinate.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.slopes.is_empty()
+    }
+
     /// (k, dM_ij/dq_k) for each coordinate q_k that M_ij depends on.
     pub(crate) fn of(&self, i: usize, j: usize) -> impl Iterator<Item = (usize, Id)> + '_ {
         let run = self.starts[i * self.n + j] as usize..self.starts[i * self.n + j + 1] as usize;
@@ -99,11 +116,11 @@ impl MassSlopes {
 }
 
 /// [`crate::error::BudgetError::Entries`] when dM/dq of n coordinates has more nonzero entries
-/// (`entries`, counted before any is formed) than the arena's [`crate::Budget::entries`].
-/// dM/dq is formed sparsely, only where M_ij depends on q_k: a closed chain in absolute
-/// angles has 2 n^2 such entries of its n^3.
-fn check_kronecker_size(arena: &Arena, n: usize, entries: usize) -> Result<()> {
-    let limit = arena.budget().entries;
+/// (`entries`, counted before any is formed) than `limit`: the arena's
+/// [`crate::Budget::entries`], and never more than 2^32 - 1. dM/dq is formed sparsely, only
+/// where M_ij depends on q_k: a closed chain in absolute angles has 2 n^2 such entries of
+/// its n^3.
+fn check_kronecker_size(n: usize, entries: usize, limit: usize) -> Result<()> {
     if entries > limit {
         return Err(Error::Budget(BudgetError::Entries {
             coordinates: n,
@@ -183,5 +200,32 @@ mod tests {
             }))
         ));
         assert_eq!(a.len(), before, "no slope was formed");
+    }
+
+    /// Past the budget, the slopes are still counted to the end (the error names the size
+    /// of dM/dq, not where the count stopped): every entry of a 2 x 2 M in both
+    /// coordinates, 8 slopes, against a budget of 3.
+    #[test]
+    fn the_error_names_every_slope() {
+        let mut a = Arena::new();
+        let [q1, ..] = a.coordinate("q1");
+        let [q2, ..] = a.coordinate("q2");
+        let q = ["q1", "q2"].map(|n| a.lookup(n).unwrap());
+        let sum = a.add2(q1, q2);
+        let c = a.cos(sum);
+        let mass = Matrix::new(2, 2, vec![c; 4]).unwrap();
+        let mut budget = *a.budget();
+        budget.entries = 3;
+        a.set_budget(budget);
+        let mut d = Differentiator::new();
+        let err = MassSlopes::new(&mut a, &mut d, &mass, &q).err();
+        assert!(matches!(
+            err,
+            Some(Error::Budget(BudgetError::Entries {
+                entries: 8,
+                limit: 3,
+                ..
+            }))
+        ));
     }
 }
