@@ -7,7 +7,7 @@
 //! general-purpose map keeps its control bytes apart from its slots and stores the keys
 //! themselves, so every look-up in a table larger than the cache misses twice and each
 //! entry costs the key's size. On a large derivation these tables hold tens of millions of
-//! entries, and looking them up is a fifth of the derivation's time.
+//! entries, far beyond the cache, and every node made or instruction selected looks one up.
 
 /// 32-bit hash to index, open addressing with linear probing; entries of one hash that
 /// the owner tells apart (a 32-bit collision) each have a slot.

@@ -13,8 +13,7 @@ use std::hash::{Hash, Hasher};
 
 // ----- instruction builder with value numbering and constant folding -----
 
-/// Hashable identity of an instruction (f64 constants by their bits).
-/// A value-numbering key: the operation and its operands' keys.
+/// A value-numbering key: the operation and its operands' keys (constants by their bits).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 enum Key {
     Un(UnOp, OpKey),
@@ -37,7 +36,12 @@ const REG_KEY: u64 = 0x7ff2 << 48;
 
 fn key(o: Operand) -> OpKey {
     OpKey(match o {
-        Operand::Const(c) => c.to_bits(),
+        Operand::Const(c) => {
+            // Constants are folded through `finite` or come from the arena's numbers, never
+            // NaN: a NaN's bits could be a symbol's or a register's key.
+            debug_assert!(!c.is_nan(), "a NaN constant operand");
+            c.to_bits()
+        }
         Operand::Sym(s) => SYM_KEY | u64::from(s.0),
         Operand::Reg(r) => REG_KEY | u64::from(r.0),
     })
@@ -70,15 +74,14 @@ fn key_of(i: &Instr) -> Key {
     }
 }
 
-/// The first register an instruction writes (`sin_cos` writes two, the second one after
-/// it).
-fn first_register(i: &Instr) -> Reg {
+/// The registers an instruction writes: (dst, dst), or (sin, cos) for `sin_cos`.
+fn written(i: &Instr) -> (Reg, Reg) {
     match *i {
         Instr::Unary { dst, .. }
         | Instr::Binary { dst, .. }
         | Instr::Powi { dst, .. }
-        | Instr::MulAdd { dst, .. } => dst,
-        Instr::SinCos { sin, .. } => sin,
+        | Instr::MulAdd { dst, .. } => (dst, dst),
+        Instr::SinCos { sin, cos, .. } => (sin, cos),
     }
 }
 
@@ -113,9 +116,9 @@ impl Builder {
         Reg(self.next - 1)
     }
 
-    /// The register of instruction `k`, made (`make` is handed its first register) when
-    /// it is new.
-    fn lookup(&mut self, k: Key, make: impl FnOnce(&mut Self, Reg) -> Instr) -> Reg {
+    /// The registers instruction `k` writes (see [`written`]), the instruction made when it
+    /// is new (`make` is handed its first register).
+    fn lookup(&mut self, k: Key, make: impl FnOnce(&mut Self, Reg) -> Instr) -> (Reg, Reg) {
         let mut h = FxHasher::default();
         k.hash(&mut h);
         let hash = h.finish();
@@ -127,12 +130,13 @@ impl Builder {
                 key_of(&instrs[i as usize]) == k
             })
         {
-            return first_register(&self.instrs[found as usize]);
+            return written(&self.instrs[found as usize]);
         }
         let dst = self.reg();
         let i = make(self, dst);
+        let regs = written(&i);
         self.instrs.push(i);
-        dst
+        regs
     }
 
     pub(crate) fn un(&mut self, op: UnOp, arg: Operand) -> Result<Operand> {
@@ -152,6 +156,7 @@ impl Builder {
         let k = Key::Un(op, key(arg));
         Ok(self
             .lookup(k, |_, dst| Instr::Unary { dst, op, arg })
+            .0
             .into())
     }
 
@@ -208,6 +213,7 @@ impl Builder {
         let k = binary_key(op, lhs, rhs);
         Ok(self
             .lookup(k, |_, dst| Instr::Binary { dst, op, lhs, rhs })
+            .0
             .into())
     }
 
@@ -218,6 +224,7 @@ impl Builder {
         let k = Key::Powi(key(base), exp);
         Ok(self
             .lookup(k, |_, dst| Instr::Powi { dst, base, exp })
+            .0
             .into())
     }
 
@@ -243,6 +250,7 @@ impl Builder {
                 negate_product,
                 negate_addend,
             })
+            .0
             .into())
     }
 
@@ -250,12 +258,12 @@ impl Builder {
         if let Operand::Const(c) = arg {
             return Ok((finite(c.sin(), "sin", &[c])?, finite(c.cos(), "cos", &[c])?));
         }
-        let sin = self.lookup(Key::SinCos(key(arg)), |b, sin| Instr::SinCos {
+        let (sin, cos) = self.lookup(Key::SinCos(key(arg)), |b, sin| Instr::SinCos {
             sin,
             cos: b.reg(),
             arg,
         });
-        Ok((Operand::Reg(sin), Operand::Reg(Reg(sin.0 + 1))))
+        Ok((sin.into(), cos.into()))
     }
 }
 
@@ -570,5 +578,44 @@ impl<'a> InstructionSelection<'a> {
         };
         self.powers.insert((base, k), r);
         Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Value numbering: `x + y` and `y + x` are one instruction, `x - y` and `y - x` two;
+    /// a symbol, a register and a constant whose bits equal the same index are three
+    /// different operands; `sin_cos` found again gives the pair it made.
+    #[test]
+    fn value_numbering_merges_exactly_the_same_instructions() {
+        let mut b = Builder::default();
+        let (x, y) = (Operand::Sym(SymbolId(1)), Operand::Sym(SymbolId(2)));
+        let xy = b.bin(BinOp::Add, x, y).unwrap();
+        assert_eq!(b.bin(BinOp::Add, y, x).unwrap(), xy);
+        let d1 = b.bin(BinOp::Sub, x, y).unwrap();
+        let d2 = b.bin(BinOp::Sub, y, x).unwrap();
+        assert_ne!(d1, d2);
+        assert_eq!(b.instrs.len(), 3);
+        // z + Sym(1), z + Reg(1) and z + (the constant whose bits are 1, the smallest
+        // subnormal): three instructions.
+        let z = Operand::Sym(SymbolId(5));
+        let before = b.instrs.len();
+        let with_sym = b.bin(BinOp::Add, z, Operand::Sym(SymbolId(1))).unwrap();
+        let with_reg = b.bin(BinOp::Add, z, Operand::Reg(Reg(1))).unwrap();
+        let with_const = b
+            .bin(BinOp::Add, z, Operand::Const(f64::from_bits(1)))
+            .unwrap();
+        assert_ne!(with_sym, with_reg);
+        assert_ne!(with_sym, with_const);
+        assert_ne!(with_reg, with_const);
+        assert_eq!(b.instrs.len(), before + 3);
+        let before = b.instrs.len();
+        let pair = b.sin_cos(y).unwrap();
+        let _ = b.un(UnOp::Neg, x).unwrap();
+        assert_eq!(b.sin_cos(y).unwrap(), pair);
+        assert_ne!(pair.0, pair.1);
+        assert_eq!(b.instrs.len(), before + 2);
     }
 }

@@ -257,7 +257,7 @@ impl Factoring<'_> {
     /// The sum of `monomials`, the most frequent factor taken out while one is shared by
     /// two or more: sum = f * (the quotients) + (the rest), the quotients factored again.
     /// The counts are kept as monomials leave (`factor_counts.rs`), not made afresh per
-    /// choice.
+    /// choice; the monomials left are split by the chosen factor in one pass per choice.
     fn horner(&mut self, monomials: Vec<Monomial>) -> Id {
         let mut terms: Vec<Id> = Vec::new();
         let mut left: Vec<(Monomial, Vec<(Id, Tier)>)> = monomials

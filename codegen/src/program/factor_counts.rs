@@ -2,13 +2,16 @@
 //! (`factor.rs`) takes monomials out, with the most frequent factor found in O(log) time.
 //!
 //! The scheme takes out a factor, then chooses again among the monomials left. Counting
-//! afresh for every choice costs the sum's length each time, and a sum whose factors are
-//! each shared by two monomials (a row of C q' in a chain: the rates q_j' pair the terms)
-//! is taken apart two monomials at a time: O(k^2) for k monomials, n^3 over the chain's
-//! rows. Here the counts are made once per sum and decremented as monomials leave, and
-//! the largest is read from a heap whose stale entries (a count that has since dropped)
-//! are discarded when they surface, so the choices cost O(F log F) for F factor
-//! occurrences, and they are the choices of counting afresh.
+//! afresh for every choice hashes every factor of every monomial left, each time; a sum
+//! whose factors are each shared by two monomials (a row of C q' in a chain: the rates
+//! q_j' pair the terms) is taken apart two monomials at a time, so that counting is
+//! O(k^2 d) for k monomials of d factors. Here the counts are made once per sum and
+//! decremented as monomials leave, and the largest is read from a heap whose stale entries
+//! (a count that has since dropped) are discarded when they surface: the choices cost
+//! O(F log F) for F factor occurrences, and they are the choices of counting afresh. (The
+//! scheme still splits the monomials left into those with and without the factor at each
+//! choice, one comparison per monomial; the expansion limit of `factor.rs` bounds
+//! k.)
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
