@@ -25,7 +25,7 @@
 //! off the two graphs decides. The A02 N four-bar's Phi_q stays as derived; its combined
 //! program and every shipped mechanism's are factored.
 
-use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolKind};
+use crate::algebra::expr::{Arena, FxHashMap, Id, NO_ID, Node, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::number::Number;
 use crate::program::factor_counts::{FactorCounts, Tier};
@@ -85,8 +85,8 @@ pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix>
     let mut f = Factoring {
         readers,
         arena,
-        done: FxHashMap::default(),
-        invariant: FxHashMap::default(),
+        done: Vec::new(),
+        invariant: Vec::new(),
         budget,
     };
     outputs
@@ -99,14 +99,23 @@ pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix>
         .collect()
 }
 
+/// A fact about a node not yet looked at, true or false.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Known {
+    Unknown,
+    Yes,
+    No,
+}
+
 struct Factoring<'a> {
     arena: &'a mut Arena,
     /// How many nodes and output entries read each node of the arena as given.
     readers: Vec<u32>,
-    /// Rewritten node by original node.
-    done: FxHashMap<Id, Id>,
-    /// Whether a node depends on parameters and constants only.
-    invariant: FxHashMap<Id, bool>,
+    /// Rewritten node by node id (`NO_ID`: not yet rewritten); a table indexed by id, as
+    /// every node the outputs reach is looked up.
+    done: Vec<Id>,
+    /// Whether a node depends on parameters and constants only, by node id.
+    invariant: Vec<Known>,
     /// Monomials all expansions together may still produce.
     budget: usize,
 }
@@ -115,7 +124,9 @@ impl Factoring<'_> {
     /// `id` with its sums factored: a sum as a whole, a product factor by factor, anything
     /// else as it stands.
     fn rewrite(&mut self, id: Id) -> Id {
-        if let Some(&r) = self.done.get(&id) {
+        if let Some(&r) = self.done.get(id.index())
+            && r != NO_ID
+        {
             return r;
         }
         let r = match self.arena.node(id).clone() {
@@ -132,7 +143,10 @@ impl Factoring<'_> {
             }
             _ => id,
         };
-        self.done.insert(id, r);
+        if self.done.len() <= id.index() {
+            self.done.resize(self.arena.len(), NO_ID);
+        }
+        self.done[id.index()] = r;
         r
     }
 
@@ -365,19 +379,24 @@ impl Factoring<'_> {
 
     /// Whether `id` depends on parameters and constants only.
     fn is_invariant(&mut self, id: Id) -> bool {
-        if let Some(&v) = self.invariant.get(&id) {
-            return v;
+        match self.invariant.get(id.index()) {
+            Some(Known::Yes) => return true,
+            Some(Known::No) => return false,
+            _ => {}
         }
-        let v = match self.arena.node(id).clone() {
+        let v = match self.arena.node(id) {
             Node::Num(_) | Node::Pi => true,
-            Node::Sym(s) => self.arena.symbol_info(s).kind == SymbolKind::Parameter,
+            &Node::Sym(s) => self.arena.symbol_info(s).kind == SymbolKind::Parameter,
             node => {
                 let mut children = Vec::new();
                 node.for_each_child(|c| children.push(c));
                 children.into_iter().all(|c| self.is_invariant(c))
             }
         };
-        self.invariant.insert(id, v);
+        if self.invariant.len() <= id.index() {
+            self.invariant.resize(self.arena.len(), Known::Unknown);
+        }
+        self.invariant[id.index()] = if v { Known::Yes } else { Known::No };
         v
     }
 }
