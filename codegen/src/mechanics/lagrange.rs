@@ -34,6 +34,7 @@ use crate::mechanics::kinetic_form::{ModelView, check_mass};
 use crate::mechanics::mass_matrix::mass_from_momenta;
 use crate::mechanics::mass_slopes::MassSlopes;
 use crate::mechanics::model::Model;
+use crate::mechanics::rate_degree::is_homogeneous_quadratic;
 use crate::mechanics::recursive::{frame_jacobian, tree_equations};
 use crate::mechanics::tree::Link;
 
@@ -470,6 +471,16 @@ fn is_quadratic_form(
         if arena.as_number(e).is_none() && d.depends_on_any(arena, e, &is_varying)? {
             return Ok(false);
         }
+    }
+    // Every monomial of degree 2 in q' proves it in one pass over T's graph; the
+    // substitution below is exact also where a q'-free or linear part cancels, but it
+    // rebuilds T and every momentum (n^2 terms in a chain).
+    let mut is_rate = vec![false; arena.symbols().len()];
+    for v in &s.qd {
+        is_rate[v.index()] = true;
+    }
+    if is_homogeneous_quadratic(arena, kinetic, &is_rate) {
+        return Ok(true);
     }
     let zero = arena.int(0);
     let at_rest: FxHashMap<SymbolId, Id> = s.qd.iter().map(|&v| (v, zero)).collect();

@@ -35,6 +35,7 @@ pub(crate) mod mass_matrix;
 pub(crate) mod mass_slopes;
 pub(crate) mod model;
 pub(crate) mod nonholonomic;
+pub(crate) mod rate_degree;
 pub(crate) mod recursive;
 pub(crate) mod resolve;
 pub(crate) mod rolling;
