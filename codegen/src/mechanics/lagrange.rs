@@ -573,31 +573,46 @@ fn lean_coriolis_forces(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> 
             }
         }
     }
-    let minus_half = arena.rational(-1, 2)?;
-    let minus_one = arena.int(-1);
+    // Each part is (pair, weight in halves, slope). Parts of one pair with the same slope
+    // are added up before any node is made: M is symmetric, so for j = k the parts
+    // dM_ki/dq_k and -dM_ik/dq_k are one node and cancel (half of a chain's parts).
     let mut out = Vec::with_capacity(n);
-    let mut parts: Vec<((usize, usize), Id)> = Vec::new();
+    let mut parts: Vec<((usize, usize), Id, i32)> = Vec::new();
+    let mut group = Vec::new();
     for (k, upper) in by_coord.iter().enumerate() {
         parts.clear();
         for i in 0..n {
             for (j, e) in slopes.of(k, i) {
-                parts.push(((i.min(j), i.max(j)), e));
+                parts.push(((i.min(j), i.max(j)), e, 2));
             }
         }
         for &(i, j, e) in upper {
-            let w = if i == j { minus_half } else { minus_one };
-            parts.push(((i, j), arena.mul2(w, e)));
+            parts.push(((i, j), e, if i == j { -1 } else { -2 }));
         }
-        parts.sort_by_key(|p| p.0);
+        parts.sort_by_key(|p| (p.0, p.1));
         let mut terms = Vec::new();
         let mut a = 0;
         while a < parts.len() {
             let pair = parts[a].0;
-            let mut b = a;
-            while b < parts.len() && parts[b].0 == pair {
-                b += 1;
+            group.clear();
+            while a < parts.len() && parts[a].0 == pair {
+                let (e, mut halves) = (parts[a].1, 0);
+                while a < parts.len() && parts[a].0 == pair && parts[a].1 == e {
+                    halves += parts[a].2;
+                    a += 1;
+                }
+                match halves {
+                    0 => {}
+                    2 => group.push(e),
+                    _ => {
+                        let w = arena.rational(i64::from(halves), 2)?;
+                        group.push(arena.mul2(w, e));
+                    }
+                }
             }
-            let group: Vec<Id> = parts[a..b].iter().map(|p| p.1).collect();
+            if group.is_empty() {
+                continue;
+            }
             let coef = arena.add(&group);
             if !arena.is_zero(coef) {
                 let (vi, vj) = (
@@ -606,7 +621,6 @@ fn lean_coriolis_forces(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> 
                 );
                 terms.push(arena.mul(&[coef, vi, vj]));
             }
-            a = b;
         }
         out.push(arena.add(&terms));
     }
