@@ -65,10 +65,17 @@ impl Program {
     pub fn new(arena: &Arena, outputs: &[&Matrix]) -> Result<Program> {
         check(arena, outputs)?;
         let plain_estimate = graph_ops(arena, outputs);
-        let (mut local, factored) = factored_copy(arena, outputs);
+        let (mut local, factored, rewritten) = factored_copy(arena, outputs);
         if local.take_overflow().is_some() {
             // A constant of the rewrite overflowed (exponents near f64::MAX) and folded to 0
             // there: that form is wrong, the derived one is not.
+            return lower(arena, outputs);
+        }
+        if !rewritten {
+            // The factored form is a copy of the derived one: both lower to the same
+            // program, and a tie keeps the derived one (below). Lowering it once spares
+            // an n x n mass matrix's second output list (400 MB at 5,000 coordinates).
+            drop(local);
             return lower(arena, outputs);
         }
         let factored: Vec<&Matrix> = factored.iter().collect();
@@ -243,7 +250,7 @@ mod tests {
                     .unwrap();
                 let outputs: Vec<&Matrix> = outputs.iter().collect();
                 let arena = &model.arena;
-                let (local, factored) = factored_copy(arena, &outputs);
+                let (local, factored, _) = factored_copy(arena, &outputs);
                 let factored: Vec<&Matrix> = factored.iter().collect();
                 let (ep, ef) = (graph_ops(arena, &outputs), graph_ops(&local, &factored));
                 let decisive =
@@ -264,5 +271,27 @@ mod tests {
         }
         // The evaluations of the larger mechanisms (Bricard, Panda, Whipple, ...) are decided.
         assert!(decided >= 8, "{decided} decisive cases");
+    }
+
+    /// Outputs without a sum are not rewritten: the factored copy says so, and the one
+    /// program lowered for them is the derived form's, as when both forms are lowered and
+    /// tie. A sum of products sharing a factor is rewritten.
+    #[test]
+    fn outputs_without_a_sum_lower_once_to_the_derived_program() {
+        use crate::algebra::expr::{Arena, SymbolKind};
+        let mut a = Arena::new();
+        let [x, y] = ["x", "y"].map(|n| a.symbol(n, SymbolKind::Coordinate));
+        let s = a.sin(x);
+        let two = a.int(2);
+        let entries = vec![a.mul(&[two, s, y]), a.mul(&[s, x]), a.pow(y, two).unwrap()];
+        let m = Matrix::column(entries);
+        let (_, factored, rewritten) = factored_copy(&a, &[&m]);
+        assert!(!rewritten);
+        assert_eq!(factored[0].data.len(), 3);
+        assert_eq!(Program::new(&a, &[&m]).unwrap(), lower(&a, &[&m]).unwrap());
+        let xy = a.mul2(x, y);
+        let sy = a.mul2(s, y);
+        let shared = Matrix::column(vec![a.add2(xy, sy)]);
+        assert!(factored_copy(&a, &[&shared]).2);
     }
 }

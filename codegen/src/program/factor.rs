@@ -45,10 +45,10 @@ struct Monomial {
     factors: Vec<Id>,
 }
 
-/// A new arena holding what `outputs` reach (see [`Arena::reachable`]), and the outputs
-/// there with every sum rewritten: the factored forms are for lowering only, and the
-/// caller's arena stays as the derivation left it.
-pub(crate) fn factored_copy(arena: &Arena, outputs: &[&Matrix]) -> (Arena, Vec<Matrix>) {
+/// A new arena holding what `outputs` reach (see [`Arena::reachable`]), the outputs there
+/// with every sum rewritten, and whether any entry changed: the factored forms are for
+/// lowering only, and the caller's arena stays as the derivation left it.
+pub(crate) fn factored_copy(arena: &Arena, outputs: &[&Matrix]) -> (Arena, Vec<Matrix>, bool) {
     let roots: Vec<Id> = outputs
         .iter()
         .flat_map(|m| m.data.iter().copied())
@@ -69,7 +69,8 @@ pub(crate) fn factored_copy(arena: &Arena, outputs: &[&Matrix]) -> (Arena, Vec<M
         .collect();
     let copied: Vec<&Matrix> = copied.iter().collect();
     let factored = factor_sums(&mut local, &copied);
-    (local, factored)
+    let rewritten = factored.iter().zip(&copied).any(|(f, c)| f.data != c.data);
+    (local, factored, rewritten)
 }
 
 /// The matrices `outputs` with every sum rewritten (see the module docs), in `arena`.
@@ -604,7 +605,7 @@ mod tests {
         let eqs = crate::derive(&mut model).expect("derived");
         let a = &model.arena;
         let plain = crate::compile::passes::lower(a, &[&eqs.phi_q]).expect("program");
-        let (local, f) = factored_copy(a, &[&eqs.phi_q]);
+        let (local, f, _) = factored_copy(a, &[&eqs.phi_q]);
         let factored = crate::compile::passes::lower(&local, &[&f[0]]).expect("program");
         assert!(
             factored.ops_per_call(a) > plain.ops_per_call(a),
@@ -631,7 +632,7 @@ mod tests {
         let t2 = a.mul2(p, s2);
         let e = a.add2(t1, t2);
         let m = Matrix::column(vec![e]);
-        let (mut local, f) = factored_copy(&a, &[&m]);
+        let (mut local, f, _) = factored_copy(&a, &[&m]);
         assert!(local.take_overflow().is_some());
         let factored = crate::compile::passes::lower(&local, &[&f[0]]).expect("program");
         let plain = crate::compile::passes::lower(&a, &[&m]).expect("program");
