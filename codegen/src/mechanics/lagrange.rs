@@ -573,7 +573,7 @@ fn lean_coriolis_forces(arena: &mut Arena, slopes: &MassSlopes, s: &Symbols) -> 
             }
         }
     }
-    // Each part is (pair, weight in halves, slope). Parts of one pair with the same slope
+    // Each part is (pair, slope, weight in halves). Parts of one pair with the same slope
     // are added up before any node is made: M is symmetric, so for j = k the parts
     // dM_ki/dq_k and -dM_ik/dq_k are one node and cancel (half of a chain's parts).
     let mut out = Vec::with_capacity(n);
