@@ -90,7 +90,7 @@ impl ProbeTable {
         let bits = table.slots.len().trailing_zeros();
         let shift = bits.saturating_sub(BUCKET_BITS);
         let bucket = |h: u32| Self::home(h, bits) >> shift;
-        // start[b]: where bucket b's entries begin in `order`.
+        // start[b]: where bucket b's entries begin in `sorted`.
         let mut start = vec![0usize; (1 << (bits - shift)) + 1];
         for &h in hashes {
             start[bucket(h) + 1] += 1;
@@ -105,13 +105,8 @@ impl ProbeTable {
             sorted[*next] = pack(h, i as u32);
             *next += 1;
         }
-        let mask = table.slots.len() - 1;
         for slot in sorted {
-            let mut k = Self::home((slot >> 32) as u32, bits);
-            while table.slots[k] != 0 {
-                k = (k + 1) & mask;
-            }
-            table.slots[k] = slot;
+            Self::place(&mut table.slots, bits, slot);
         }
         table.len = hashes.len();
         table
@@ -121,14 +116,21 @@ impl ProbeTable {
     fn grow(&mut self) {
         let size = (self.slots.len() * 2).max(MIN_SLOTS);
         let old = std::mem::replace(&mut self.slots, vec![0; size]);
-        let (mask, bits) = (size - 1, size.trailing_zeros());
+        let bits = size.trailing_zeros();
         for slot in old.into_iter().filter(|&s| s != 0) {
-            let mut k = Self::home((slot >> 32) as u32, bits);
-            while self.slots[k] != 0 {
-                k = (k + 1) & mask;
-            }
-            self.slots[k] = slot;
+            Self::place(&mut self.slots, bits, slot);
         }
+    }
+
+    /// Writes the filled `slot` into the first empty slot from its hash's home on, in
+    /// `slots` of length 2^`bits` (an entry known to be absent: nothing is compared).
+    fn place(slots: &mut [u64], bits: u32, slot: u64) {
+        let mask = slots.len() - 1;
+        let mut k = Self::home((slot >> 32) as u32, bits);
+        while slots[k] != 0 {
+            k = (k + 1) & mask;
+        }
+        slots[k] = slot;
     }
 }
 

@@ -185,12 +185,8 @@ mod tests {
         let q = [a.lookup("q1").unwrap()];
         let s1 = a.sin(q1);
         let mass = Matrix::new(1, 1, vec![s1]).unwrap();
-        let mut budget = *a.budget();
-        budget.entries = 0;
-        a.set_budget(budget);
         let before = a.len();
-        let mut d = Differentiator::new();
-        let err = MassSlopes::new(&mut a, &mut d, &mass, &q).err();
+        let err = slopes_within(&mut a, &mass, &q, 0);
         assert!(matches!(
             err,
             Some(Error::Budget(BudgetError::Entries {
@@ -214,11 +210,7 @@ mod tests {
         let sum = a.add2(q1, q2);
         let c = a.cos(sum);
         let mass = Matrix::new(2, 2, vec![c; 4]).unwrap();
-        let mut budget = *a.budget();
-        budget.entries = 3;
-        a.set_budget(budget);
-        let mut d = Differentiator::new();
-        let err = MassSlopes::new(&mut a, &mut d, &mass, &q).err();
+        let err = slopes_within(&mut a, &mass, &q, 3);
         assert!(matches!(
             err,
             Some(Error::Budget(BudgetError::Entries {
@@ -227,5 +219,13 @@ mod tests {
                 ..
             }))
         ));
+    }
+
+    /// The error of forming the slopes of `mass` with the entry budget set to `limit`.
+    fn slopes_within(a: &mut Arena, mass: &Matrix, q: &[SymbolId], limit: usize) -> Option<Error> {
+        let mut budget = *a.budget();
+        budget.entries = limit;
+        a.set_budget(budget);
+        MassSlopes::new(a, &mut Differentiator::new(), mass, q).err()
     }
 }

@@ -100,7 +100,7 @@ pub(crate) fn factor_sums(arena: &mut Arena, outputs: &[&Matrix]) -> Vec<Matrix>
         .collect()
 }
 
-/// A fact about a node not yet looked at, true or false.
+/// Whether a fact holds of a node: not yet worked out, yes or no.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Known {
     Unknown,

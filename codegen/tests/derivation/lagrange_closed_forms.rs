@@ -345,6 +345,19 @@ fn time_dependent_constraints() {
     oracle_check(&mut model, &eqs, &[("A", 0.4), ("w", 3.0)]);
 }
 
+/// T = 1/2 m ((x' - w y)^2 + (y' + w x)^2): a particle of mass m seen from a frame rotating
+/// at the rate w (`x`, `y`: each coordinate and its rate).
+fn rotating_frame(a: &mut Arena, m: Id, w: Id, [x, xd]: [Id; 2], [y, yd]: [Id; 2]) -> Id {
+    let wy = a.mul2(w, y);
+    let wx = a.mul2(w, x);
+    let vx = a.sub(xd, wy);
+    let vy = a.add2(yd, wx);
+    let (vx2, vy2) = (a.powi(vx, 2).unwrap(), a.powi(vy, 2).unwrap());
+    let v2 = a.add2(vx2, vy2);
+    let half = a.rational(1, 2).unwrap();
+    a.mul(&[half, m, v2])
+}
+
 /// T with parts linear in q' and a q'-free part (a particle seen from a frame rotating at
 /// rate w) and an explicitly time-dependent inertia: coriolis_forces is the full
 /// h = d/dt(dT/dq')|_{q''=0} - dT/dq.
@@ -356,14 +369,8 @@ fn general_kinetic_energy() {
     let [y, yd, ydd] = a.coordinate("y");
     let [z, zd, zdd] = a.coordinate("z");
     let t = a.symbol("t", SymbolKind::Time);
-    let wy = a.mul2(w, y);
-    let wx = a.mul2(w, x);
-    let vx = a.sub(xd, wy);
-    let vy = a.add2(yd, wx);
-    let (vx2, vy2) = (a.powi(vx, 2).unwrap(), a.powi(vy, 2).unwrap());
-    let v2 = a.add2(vx2, vy2);
+    let rot = rotating_frame(&mut a, m, w, [x, xd], [y, yd]);
     let half = a.rational(1, 2).unwrap();
-    let rot = a.mul(&[half, m, v2]);
     // + 1/2 (1 + t^2) exp(z) z'^2
     let one = a.int(1);
     let t2 = a.powi(t, 2).unwrap();
@@ -404,6 +411,49 @@ fn general_kinetic_energy() {
     // h_z = d/dt((1 + t^2) e^z z') - 1/2 (1 + t^2) e^z z'^2 at z'' = 0
     let hz = 2.0 * tv * zv.exp() * zdv + 0.5 * (1.0 + tv * tv) * zv.exp() * zdv * zdv;
     assert!(close(h[2], hz, TOL), "{} vs {hz}", h[2]);
+    oracle_check(&mut model, &eqs, &[("m", 1.5), ("w", 0.7)]);
+}
+
+/// A particle seen from a frame rotating at the constant rate w, without time in T:
+/// T = 1/2 m ((x' - w y)^2 + (y' + w x)^2) has parts linear in q' and free of q', and M = m I
+/// is constant. The shortcut for quadratic forms (whose C q' comes from dM/dq alone, here
+/// zero) must not be taken: h_x = -2 m w y' - m w^2 x and h_y = 2 m w x' - m w^2 y are the
+/// Coriolis and centrifugal forces.
+#[test]
+fn rotating_frame_without_time_is_not_a_quadratic_form() {
+    let mut a = Arena::new();
+    let (m, w) = (param(&mut a, "m"), param(&mut a, "w"));
+    let [x, xd, xdd] = a.coordinate("x");
+    let [y, yd, ydd] = a.coordinate("y");
+    let kinetic = rotating_frame(&mut a, m, w, [x, xd], [y, yd]);
+    let potential = a.int(0);
+    let coordinates = [("x", [x, xd, xdd]), ("y", [y, yd, ydd])];
+    let mut model = bare_model(a, &coordinates, kinetic, potential, vec![]);
+    let eqs = derive(&mut model).unwrap();
+    let a = &model.arena;
+    let vals = [
+        ("m", 1.5),
+        ("w", 0.7),
+        ("x", 0.3),
+        ("y", -0.4),
+        ("der(x)", 0.9),
+        ("der(y)", -1.1),
+    ];
+    let env = |s| {
+        vals.iter()
+            .find(|(n, _)| a.lookup(n) == Some(s))
+            .map(|p| p.1)
+    };
+    let [mv, wv, xv, yv, xdv, ydv] = vals.map(|p| p.1);
+    let h = eval_matrix(a, &eqs.coriolis_forces, &env).unwrap();
+    assert!(
+        close(h[0], -2.0 * mv * wv * ydv - mv * wv * wv * xv, TOL),
+        "{h:?}"
+    );
+    assert!(
+        close(h[1], 2.0 * mv * wv * xdv - mv * wv * wv * yv, TOL),
+        "{h:?}"
+    );
     oracle_check(&mut model, &eqs, &[("m", 1.5), ("w", 0.7)]);
 }
 
