@@ -154,17 +154,17 @@ pub use crate::simulation::singular::SingularPassage;
 pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
-#[cfg(feature = "interpreter")]
-pub use crate::system::Interpreted;
 pub use crate::system::{
     Accelerations, Coordinates, EvaluationSlices, Independent, Mechanism, Multipliers,
     StaticEvaluation, StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
-    Compiled, ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Sparsity, System,
-    SystemInfo, Tangent,
+    Compiled, ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Kinematic,
+    Sparsity, System, SystemInfo, Tangent,
 };
+#[cfg(feature = "interpreter")]
+pub use crate::system::{Interpreted, InterpretedConstraints};
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].
 pub use mechanism_macros::mechanism;
@@ -183,8 +183,8 @@ pub mod prelude {
     };
     #[cfg(feature = "std")]
     pub use crate::{
-        AssemblyOptions, Compiled, Error, InitialState, SimulationOptions, System, Trajectory,
-        inverse_dynamics, simulate,
+        AssemblyOptions, Compiled, Error, InitialState, Kinematic, SimulationOptions, System,
+        Trajectory, inverse_dynamics, simulate,
     };
     #[cfg(feature = "interpreter")]
     pub use crate::{Interpreted, parse_drive};

@@ -359,6 +359,17 @@ fn list_and_equations_report_rank_and_redundant_rows() {
     assert!(text.contains("rank Phi_q = 17"), "{text}");
     assert!(text.contains("Redundant rows: row "), "{text}");
     assert!(text.contains("are not unique"), "{text}");
+    // The same declaration as a file takes the interpreter (its constraint rows alone,
+    // `InterpretedConstraints`) instead of the compiled built-in: the same paragraph.
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/mechanisms/planar_four_bar_bodies.mech"
+    );
+    let o = mechanism(&["equations", file]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let from_file = String::from_utf8_lossy(&o.stdout);
+    let paragraph = |t: &str| t[t.find("Mobility at").expect("a mobility paragraph")..].to_string();
+    assert_eq!(paragraph(&from_file), paragraph(&text));
 }
 
 /// A run that stops midway writes what it computed, says where and why in summary.json,

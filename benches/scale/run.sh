@@ -1,7 +1,7 @@
 #!/bin/sh
 # Derivation at scale (issue 28): user and system CPU time, wall time and peak memory of
-# `mechanism equations` (parse, derive, the interpreter's routines for the mobility, the
-# text) on the closed N-bar chain and on N free coordinates. Usage:
+# `mechanism equations` (parse, derive, the constraint rows' routines for the mobility,
+# the text) on the closed N-bar chain and on N free coordinates. Usage:
 # benches/scale/run.sh [chain sizes] [free sizes] from the repository root, after
 # `cargo build --release` (N = 800 needs MECHANISM_MAX_SIZE=100000000 in the environment).
 set -eu

@@ -19,7 +19,7 @@
 //! same augmented solve and integrators run on it.
 
 use mechanism::nalgebra::DMatrix;
-use mechanism::{Evaluation, System, SystemInfo};
+use mechanism::{Evaluation, Kinematic, System, SystemInfo};
 use num_dual::{Dual64, DualNum, HyperDual64};
 
 /// A mechanism written by hand as generic functions of dual numbers: `N` coordinates, `M`
@@ -153,10 +153,20 @@ fn fixed<const N: usize>(x: &[f64]) -> [f64; N] {
     std::array::from_fn(|i| x[i])
 }
 
-impl<A: AdModel<N, M>, const N: usize, const M: usize> System for AutoDiff<A, N, M> {
+impl<A: AdModel<N, M>, const N: usize, const M: usize> Kinematic for AutoDiff<A, N, M> {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
+        phi.copy_from_slice(&self.model.constraints(&fixed::<N>(q)));
+    }
+    fn constraint_jacobian(&self, _t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        self.jacobian(&fixed::<N>(q), phi_q);
+        phi_t.fill(0.0);
+    }
+}
+
+impl<A: AdModel<N, M>, const N: usize, const M: usize> System for AutoDiff<A, N, M> {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.values);
     }
@@ -184,12 +194,5 @@ impl<A: AdModel<N, M>, const N: usize, const M: usize> System for AutoDiff<A, N,
         self.gamma(&q, &qd, out.gamma.as_mut_slice());
         out.kinetic = self.model.kinetic(&q, &qd);
         out.potential = self.model.potential(&q);
-    }
-    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
-        phi.copy_from_slice(&self.model.constraints(&fixed::<N>(q)));
-    }
-    fn constraint_jacobian(&self, _t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        self.jacobian(&fixed::<N>(q), phi_q);
-        phi_t.fill(0.0);
     }
 }

@@ -3,7 +3,7 @@
 //! 80, byte for byte (rerun with `MECHANISM_BLESS=1` to rewrite the files after changing the
 //! generator), and a small member derives and moves as the benchmark's exact solution says.
 
-use mechanism::{Evaluation, Interpreted, System};
+use mechanism::{Evaluation, Interpreted, Kinematic, System};
 use mechanism_bench::n_four_bar::n_four_bar_source;
 use nalgebra::{DMatrix, DVector};
 

@@ -89,7 +89,8 @@ pub use algebra::eval::{eval, eval_matrix};
 pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
 pub use compile::{
-    Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_interpreted,
+    Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
+    compile_interpreted,
 };
 pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};

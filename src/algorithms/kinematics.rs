@@ -23,7 +23,7 @@ use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::algorithms::velocity_rows::check_velocity_rows;
 use crate::error::Error;
 use crate::linalg::{inf_norm, least_squares, rank_and_least_squares};
-use crate::system::{Evaluation, Independent, System, SystemInfo};
+use crate::system::{Evaluation, Independent, Kinematic, System, SystemInfo};
 
 /// Tolerances of the position Newton iteration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,7 +145,7 @@ fn not_determined(info: &SystemInfo, fixed: &[usize], dependent: usize, rank: us
 /// Converged when |Phi|_inf <= tolerance and the step is below step_tolerance (1 + |q|_inf).
 /// Returns the iterations used.
 pub fn solve_positions(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     fixed: &[usize],
     q: &mut [f64],
@@ -228,7 +228,7 @@ pub fn solve_positions(
 /// `trial`; `None` when none decreases the residual (a stalled least-squares point). `phi`
 /// holds Phi(q) on entry and Phi(trial) on exit.
 fn line_search(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     q: &[f64],
     dep: &[usize],
@@ -260,7 +260,7 @@ fn line_search(
 /// almost entirely outside the span of the well-conditioned left singular directions of
 /// Phi_v (Gauss-Newton creeping towards a fold of the constraint manifold).
 fn cannot_pass(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     q: &[f64],
     dep: &[usize],
@@ -298,7 +298,7 @@ fn cannot_pass(
 /// (`qd` holds the fixed rates on entry). Least squares by SVD; reports
 /// [`Error::SingularConfiguration`] when Phi_v is rank deficient at q.
 pub fn solve_velocities(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     q: &[f64],
     fixed: &[usize],
@@ -389,7 +389,7 @@ fn solve_dependent(
 /// the guesses the error is [`Error::ConstraintsUnsatisfiable`], naming the rows left with
 /// a residual.
 pub fn assemble_from(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     independent: &[Independent],
     guess: &[f64],
@@ -432,7 +432,7 @@ pub fn assemble_from(
 /// of freedom (n minus the rank of Phi_q at `q`, the guesses with the given values),
 /// naming the constraint rows the values violate when every coordinate is given.
 fn over_specified(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     independent: &[Independent],
     q: &[f64],
@@ -469,7 +469,7 @@ fn over_specified(
 
 /// [`Error::ConstraintsUnsatisfiable`] at `q`, naming the rows whose residual is within a
 /// factor 10 of the largest.
-fn unsatisfiable(system: &dyn System, t: f64, q: Vec<f64>) -> Error {
+fn unsatisfiable(system: &dyn Kinematic, t: f64, q: Vec<f64>) -> Error {
     let info = system.info();
     let mut phi = vec![0.0; info.m()];
     system.constraints(t, &q, &mut phi);
@@ -488,7 +488,7 @@ fn unsatisfiable(system: &dyn System, t: f64, q: Vec<f64>) -> Error {
 
 /// [`assemble_from`] with the declared independent coordinates and initial guesses.
 pub fn assemble(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     options: &AssemblyOptions,
 ) -> Result<KinematicState, Error> {

@@ -19,7 +19,7 @@ use nalgebra::DMatrix;
 use crate::algorithms::finite::check_jacobian;
 use crate::error::Error;
 use crate::linalg::RowBasis;
-use crate::system::System;
+use crate::system::Kinematic;
 
 /// The mobility of a mechanism at one configuration.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,7 +51,7 @@ impl Mobility {
 }
 
 /// The [`Mobility`] of `system` at (q, t).
-pub fn mobility(system: &dyn System, t: f64, q: &[f64]) -> Result<Mobility, Error> {
+pub fn mobility(system: &dyn Kinematic, t: f64, q: &[f64]) -> Result<Mobility, Error> {
     let info = system.info();
     let (n, m) = (info.n(), info.m());
     if q.len() != n {

@@ -21,7 +21,7 @@ use nalgebra::DMatrix;
 use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::error::Error;
 use crate::linalg::{least_squares, numerical_rank};
-use crate::system::System;
+use crate::system::Kinematic;
 
 /// |d| above this times the scale max(1, |a_j|, sum_i |c_i b_i|) is a contradiction: the
 /// right-hand sides then differ by more than the round-off of forming c^T b (about n ulps
@@ -37,7 +37,7 @@ const MISMATCH: f64 = 1e-9;
 /// [`Error::VelocityRowContradicts`], naming it and the rows it is a combination of;
 /// [`Error::NonFinite`] for a non-finite entry of Phi_q or Phi_t.
 pub(crate) fn check_velocity_rows(
-    system: &dyn System,
+    system: &dyn Kinematic,
     t: f64,
     q: &[f64],
     rank_tolerance: f64,

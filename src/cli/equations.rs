@@ -8,16 +8,15 @@ use super::CliError;
 use super::budget::{derivation_budget, derivation_done};
 use super::input::read_input;
 use super::load::{is_file_spec, load, located};
-use mechanism::Interpreted;
-use mechanism::System;
 use mechanism::builtin::{builtin, builtin_names};
 use mechanism::{AssemblyOptions, assemble};
+use mechanism::{InterpretedConstraints, Kinematic};
 use mechanism::{Mobility, mobility};
 use mechanism_codegen::Tangents;
 
 /// The mobility of `system` at its assembled initial configuration (declared independent
 /// coordinates and guesses), or why it could not be assembled.
-fn assembled_mobility(system: &dyn System) -> Result<Mobility, mechanism::Error> {
+fn assembled_mobility(system: &dyn Kinematic) -> Result<Mobility, mechanism::Error> {
     let state = assemble(system, 0.0, &AssemblyOptions::default())?;
     mobility(system, 0.0, &state.q)
 }
@@ -67,7 +66,7 @@ pub fn list() -> Result<String, CliError> {
 }
 
 /// The mobility paragraph of `mechanism equations`.
-fn mobility_text(system: &dyn System) -> String {
+fn mobility_text(system: &dyn Kinematic) -> String {
     let info = system.info();
     let mut s = String::new();
     match assembled_mobility(system) {
@@ -122,13 +121,15 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
     }
     let mut text = mechanism_codegen::equations_text(&model, &eqs);
     text.push('\n');
-    let system: Box<dyn System> = match builtin_system {
-        Some(system) => system,
-        None => Box::new(
-            Interpreted::from_equations_with(model, eqs, Tangents::None)
+    // A file's mobility needs its constraint rows only: compiling the dynamics as well
+    // would be most of the command's work on a large mechanism.
+    let mobility = match builtin_system {
+        Some(system) => mobility_text(system.as_ref()),
+        None => mobility_text(
+            &InterpretedConstraints::from_equations(model, &eqs)
                 .map_err(|e| CliError::Mechanism(format!("{spec}: {e}")))?,
         ),
     };
-    text.push_str(&mobility_text(system.as_ref()));
+    text.push_str(&mobility);
     Ok(text)
 }

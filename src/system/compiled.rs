@@ -3,7 +3,7 @@
 use nalgebra::{DMatrix, SVector};
 
 use super::drawing::Drawing;
-use super::dynamic::{Evaluation, SolverKey, System, Tangent};
+use super::dynamic::{Evaluation, Kinematic, SolverKey, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
 use super::sparsity::Sparsity;
@@ -62,10 +62,30 @@ fn to_static<const N: usize>(x: &[f64]) -> SVector<f64, N> {
     SVector::<f64, N>::from_fn(|i, _| x[i])
 }
 
-impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, N, M> {
+impl<T: Mechanism<N, M>, const N: usize, const M: usize> Kinematic for Compiled<T, N, M> {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
+        let p = self.mechanism.constraints(t, &to_static(q));
+        phi.copy_from_slice(p.as_slice());
+    }
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        let qs = to_static(q);
+        if N * M > SPARSE_ABOVE
+            && self.sparsity.is_some()
+            && self
+                .mechanism
+                .constraint_jacobian_sparse_into(t, &qs, phi_q.as_mut_slice(), phi_t)
+        {
+            return;
+        }
+        phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
+        phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
+    }
+}
+
+impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, N, M> {
     fn parameter_values(&self, out: &mut [f64]) {
         for (i, o) in out.iter_mut().enumerate() {
             *o = self.mechanism.parameter(i).unwrap_or(f64::NAN);
@@ -101,23 +121,6 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         out.gamma.copy_from(&e.gamma);
         out.kinetic = e.kinetic;
         out.potential = e.potential;
-    }
-    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
-        let p = self.mechanism.constraints(t, &to_static(q));
-        phi.copy_from_slice(p.as_slice());
-    }
-    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        let qs = to_static(q);
-        if N * M > SPARSE_ABOVE
-            && self.sparsity.is_some()
-            && self
-                .mechanism
-                .constraint_jacobian_sparse_into(t, &qs, phi_q.as_mut_slice(), phi_t)
-        {
-            return;
-        }
-        phi_q.copy_from(&self.mechanism.constraint_jacobian(t, &qs));
-        phi_t.copy_from_slice(self.mechanism.constraint_time_derivative(t, &qs).as_slice());
     }
     fn sparsity(&self) -> Option<&Sparsity> {
         self.sparsity.as_ref()

@@ -62,12 +62,27 @@ impl Evaluation {
     }
 }
 
-/// The object-safe, run-time-sized view of a mechanism that the solvers use.
+/// The constraint rows of a mechanism, Phi(q, t) = 0, and its names: all that assembly,
+/// the position and velocity analyses and the [`crate::mobility()`] read. Every
+/// [`System`] is one; [`crate::InterpretedConstraints`] is one without the dynamics.
 ///
 /// Every method writes into caller-owned buffers and allocates nothing.
-pub trait System: Send + Sync {
+pub trait Kinematic: Send + Sync {
     /// Names, sizes and declared data.
     fn info(&self) -> &SystemInfo;
+    /// Phi(q, t) into `phi` (length m).
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
+    /// Phi_q (m x n) and Phi_t (m) at (q, t). As in [`System::evaluate`], a system may
+    /// write Phi_q at its structural nonzeros only (those of [`System::sparsity`] for a
+    /// [`System`]): `phi_q` must be made zero once and written by this system alone.
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
+}
+
+/// The object-safe, run-time-sized view of a mechanism that the solvers use: its
+/// [`Kinematic`] constraint rows and the dynamics.
+///
+/// Every method writes into caller-owned buffers and allocates nothing.
+pub trait System: Kinematic {
     /// Current parameter values, in declaration order (written into `out`).
     fn parameter_values(&self, out: &mut [f64]);
     /// Sets parameter `index`; returns false when out of range.
@@ -82,12 +97,6 @@ pub trait System: Send + Sync {
     fn sparsity(&self) -> Option<&Sparsity> {
         None
     }
-    /// Phi(q, t) into `phi` (length m).
-    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]);
-    /// Phi_q (m x n) and Phi_t (m) at (q, t). As in [`System::evaluate`], a system with a
-    /// [`System::sparsity`] may write Phi_q at its pattern only (`phi_q` made zero once and
-    /// written by this system alone).
-    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]);
     /// World positions of the drawn points of [`SystemInfo::drawing`] at (t, q), 3 values per
     /// point into `out` (see [`crate::Mechanism::draw_points`]); nothing by default.
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {

@@ -19,37 +19,28 @@ use mechanism_codegen::{
 };
 use nalgebra::DMatrix;
 
+use crate::system::constraint_rows::ConstraintRows;
+use crate::system::model_info::system_info;
+use crate::system::parameters::Parameters;
 use crate::system::routine::{Routine, Values};
-use crate::system::scatter::{EvaluationScatter, matrix_scatter, write_matrix};
+use crate::system::scatter::EvaluationScatter;
 use crate::system::sparsity::Sparsity;
-use crate::system::{
-    ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Independent, System,
-    SystemInfo, Tangent,
-};
+use crate::system::{ConstraintTangent, Evaluation, Kinematic, System, SystemInfo, Tangent};
 
 /// A mechanism interpreted from its declaration.
 #[derive(Clone)]
 pub struct Interpreted {
     info: SystemInfo,
-    parameters: Vec<f64>,
-    /// The parameter-only values of `parameters`, in cache-slot order.
-    cache: Vec<f64>,
-    /// Computes `cache` from the parameters ([`Role::ParameterCache`]).
-    parameter_cache: Routine,
+    /// The parameters and their cache ([`Role::ParameterCache`]).
+    parameters: Parameters,
     /// M, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi ([`Role::Evaluation`]).
     full: Routine,
     /// The structural pattern of M and Phi_q ([`mechanism_codegen::Routines::sparsity`]).
     sparsity: Sparsity,
     /// Where `full`'s outputs go: M and Phi_q at their pattern only.
     scatter: EvaluationScatter,
-    /// Phi ([`Role::Constraints`]).
-    phi: Routine,
-    /// Phi_q ([`Role::ConstraintJacobian`]).
-    jacobian: Routine,
-    /// Where `jacobian`'s structural nonzeros go in a column-major Phi_q.
-    jacobian_scatter: Vec<(usize, usize)>,
-    /// Phi_t ([`Role::ConstraintTimeDerivative`]).
-    time_derivative: Routine,
+    /// Phi, Phi_q, Phi_t ([`Role::constraint_rows`]).
+    rows: ConstraintRows,
     /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
     /// ([`Role::Tangent`]); `None` when built without ([`Tangents::None`]).
     tangent: Option<Routine>,
@@ -184,40 +175,25 @@ impl Interpreted {
                 outputs: 0,
             },
         ))?;
-        let jacobian = routine(Role::ConstraintJacobian, m * n)?;
-        let jacobian_scatter = matrix_scatter(&jacobian, 0, (m, n), &sparsity.jacobian).ok_or(
-            Error::Program(ProgramError::OutputCount {
-                what: "constraint Jacobian outputs",
-                given: m * n,
-                outputs: 0,
-            }),
-        )?;
         let constraint_tangent = match routines.get(Role::ConstraintTangent) {
             Some(_) => Some(routine(Role::ConstraintTangent, 3 * m * n)?),
             None => None,
         };
-        let mut interpreted = Self {
+        Ok(Self {
             draw,
             constraint_tangent,
-            parameter_cache: routine(Role::ParameterCache, routines.cache_len())?,
+            rows: ConstraintRows::new(&routines, &sparsity.jacobian, (m, n))?,
             full,
             sparsity,
             scatter,
-            phi: routine(Role::Constraints, m)?,
-            jacobian,
-            jacobian_scatter,
-            time_derivative: routine(Role::ConstraintTimeDerivative, m)?,
             tangent: match routines.get(Role::Tangent) {
                 Some(_) => Some(routine(Role::Tangent, 2 * n * n)?),
                 None => None,
             },
-            cache: vec![0.0; routines.cache_len()],
-            parameters: model.parameters.iter().map(|p| p.default).collect(),
+            parameters: Parameters::new(&model, &routines)?,
             routines: routines.fingerprint(),
             info: system_info(&model, m),
-        };
-        interpreted.refresh_cache();
-        Ok(interpreted)
+        })
     }
 
     /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run:
@@ -229,26 +205,9 @@ impl Interpreted {
         self.routines
     }
 
-    /// Computes the parameter cache of the current parameters.
-    fn refresh_cache(&mut self) {
-        let values = Values {
-            parameters: &self.parameters,
-            ..Values::default()
-        };
-        let cache = &mut self.cache;
-        self.parameter_cache
-            .run(&values, |v| cache.copy_from_slice(v));
-    }
-
     /// The values of an evaluation at (t, q) with the current parameters.
     fn at<'a>(&'a self, t: f64, q: &'a [f64]) -> Values<'a> {
-        Values {
-            parameters: &self.parameters,
-            cache: &self.cache,
-            t,
-            q,
-            ..Values::default()
-        }
+        self.parameters.at(t, q)
     }
 }
 
@@ -261,26 +220,29 @@ fn copy_block(src: &[f64], rows: usize, cols: usize, dst: &mut DMatrix<f64>) {
     }
 }
 
-impl System for Interpreted {
+impl Kinematic for Interpreted {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
+        self.rows.constraints(&self.at(t, q), phi);
+    }
 
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        // Phi_q at its structural nonzeros only (the others stay zero; see System::sparsity).
+        self.rows.jacobian(&self.at(t, q), phi_q, phi_t);
+    }
+}
+
+impl System for Interpreted {
     fn parameter_values(&self, out: &mut [f64]) {
-        for (o, v) in out.iter_mut().zip(&self.parameters) {
+        for (o, v) in out.iter_mut().zip(self.parameters.values()) {
             *o = *v;
         }
     }
 
     fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        match self.parameters.get_mut(index) {
-            Some(p) => {
-                *p = value;
-                self.refresh_cache();
-                true
-            }
-            None => false,
-        }
+        self.parameters.set(index, value)
     }
 
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
@@ -304,19 +266,6 @@ impl System for Interpreted {
                 }
             });
         }
-    }
-
-    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
-        self.phi.run(&self.at(t, q), |v| phi.copy_from_slice(v));
-    }
-
-    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        let at = self.at(t, q);
-        // Phi_q at its structural nonzeros only (the others stay zero; see System::sparsity).
-        self.jacobian.execute(&at, |registers| {
-            write_matrix(&self.jacobian_scatter, registers, phi_q.as_mut_slice());
-        });
-        self.time_derivative.run(&at, |v| phi_t.copy_from_slice(v));
     }
 
     fn tangent(
@@ -369,56 +318,5 @@ impl System for Interpreted {
             copy_block(&v[2 * m * n..], m, n, &mut out.damping);
             Some(())
         })
-    }
-}
-
-/// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
-fn system_info(model: &Model, m: usize) -> SystemInfo {
-    SystemInfo {
-        name: model.name.clone(),
-        coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
-        parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
-        initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
-        independent: model
-            .independent
-            .iter()
-            .map(|i| Independent {
-                coordinate: i.coordinate,
-                position: i.position,
-                velocity: i.velocity,
-            })
-            .collect(),
-        constraints: m,
-        velocity_rows: model.velocity_constraints.len(),
-        constraint_rows: model
-            .constraints
-            .iter()
-            .chain(&model.velocity_constraints)
-            .enumerate()
-            .map(|(k, c)| {
-                if c.joint.is_empty() {
-                    // A hand-built Model that did not name its rows.
-                    ConstraintRow::unnamed(k)
-                } else {
-                    ConstraintRow {
-                        joint: c.joint.clone(),
-                        component: c.component.clone(),
-                    }
-                }
-            })
-            .collect(),
-        drawing: Drawing {
-            points: model
-                .drawing
-                .points
-                .iter()
-                .map(|p| DrawnPoint {
-                    name: p.name.clone(),
-                    ground: p.ground,
-                })
-                .collect(),
-            lines: model.drawing.lines.clone(),
-            traces: model.drawing.traces.clone(),
-        },
     }
 }

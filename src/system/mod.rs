@@ -16,6 +16,8 @@
 
 #[cfg(feature = "std")]
 mod compiled;
+#[cfg(feature = "interpreter")]
+mod constraint_rows;
 #[cfg(feature = "std")]
 mod drawing;
 #[cfg(feature = "std")]
@@ -24,7 +26,13 @@ mod dynamic;
 mod info;
 #[cfg(feature = "interpreter")]
 mod interpreted;
+#[cfg(feature = "interpreter")]
+mod interpreted_constraints;
 mod mechanism;
+#[cfg(feature = "interpreter")]
+mod model_info;
+#[cfg(feature = "interpreter")]
+mod parameters;
 #[cfg(feature = "interpreter")]
 mod registers;
 #[cfg(feature = "interpreter")]
@@ -40,11 +48,13 @@ pub use drawing::{Drawing, DrawnPoint};
 #[cfg(feature = "std")]
 pub(crate) use dynamic::SolverKey;
 #[cfg(feature = "std")]
-pub use dynamic::{ConstraintTangent, Evaluation, System, Tangent};
+pub use dynamic::{ConstraintTangent, Evaluation, Kinematic, System, Tangent};
 #[cfg(feature = "std")]
 pub use info::{ConstraintRow, SystemInfo};
 #[cfg(feature = "interpreter")]
 pub use interpreted::Interpreted;
+#[cfg(feature = "interpreter")]
+pub use interpreted_constraints::InterpretedConstraints;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
 };

@@ -4,7 +4,7 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::{Duration, Instant};
 
-use mechanism::{Interpreted, SimulationOptions, System, simulate};
+use mechanism::{Interpreted, Kinematic, SimulationOptions, simulate};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 

@@ -416,8 +416,8 @@ fn assert_rows<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(
         })
         .collect();
     for (route, info) in [
-        ("Compiled", mechanism::System::info(&compiled)),
-        ("Interpreted", mechanism::System::info(&interpreted)),
+        ("Compiled", mechanism::Kinematic::info(&compiled)),
+        ("Interpreted", mechanism::Kinematic::info(&interpreted)),
     ] {
         assert_eq!(info.constraint_rows, expected, "{}: {route}", T::NAME);
         assert_eq!(info.m(), M, "{}: {route}", T::NAME);
@@ -442,7 +442,7 @@ fn body_joint_rows_are_labelled_on_both_routes() {
         ],
     );
     let compiled = mechanism::Compiled::new(LabelledCrankSlider::default());
-    let info = mechanism::System::info(&compiled);
+    let info = mechanism::Kinematic::info(&compiled);
     assert_eq!(info.constraint_label(1), "revolute(A, O, k, up) y");
     assert_eq!(info.constraint_label(3), "revolute(A, O, k, up) axis 1");
     assert_eq!(info.constraint_label(5), "distance(B, slider, L)");
@@ -467,7 +467,7 @@ fn constraint_block_rows_are_labelled_on_both_routes() {
         ],
     );
     let compiled = mechanism::Compiled::new(LabelledBlock::default());
-    let info = mechanism::System::info(&compiled);
+    let info = mechanism::Kinematic::info(&compiled);
     assert_eq!(info.constraint_label(0), "constraint 1");
     assert_eq!(info.constraint_label(2), "constraint 2 y");
     assert_eq!(info.joints_of(&[2, 1, 0]), ["constraint 2", "constraint 1"]);
@@ -484,7 +484,7 @@ fn library_rows_are_labelled_like_the_interpreter() {
         let rows = &compiled.info().constraint_rows;
         assert_eq!(
             rows,
-            &mechanism::System::info(&interpreted).constraint_rows,
+            &mechanism::Kinematic::info(&interpreted).constraint_rows,
             "{name}"
         );
         assert_eq!(rows.len(), compiled.info().m(), "{name}");

@@ -2,7 +2,7 @@
 //! the `let`s into nested blocks (more than `BLOCK_LETS_ABOVE` instructions) so that a
 //! debuginfo build (this test profile's) compiles, and must still equal the interpreter route.
 
-use mechanism::{Compiled, Evaluation, Interpreted, System};
+use mechanism::{Compiled, Evaluation, Interpreted, Kinematic, System};
 
 mechanism::mechanism!(file = "benches/mechanisms/closed_chain_32.mech");
 

@@ -4,7 +4,7 @@
 //! the same.
 
 use mechanism::builtin::{builtin, builtin_names, builtin_source};
-use mechanism::{Interpreted, SimulationOptions, System, simulate};
+use mechanism::{Interpreted, Kinematic, SimulationOptions, System, simulate};
 
 /// States along 1 s of the declared motion.
 fn states(system: &dyn System) -> Vec<(f64, Vec<f64>)> {

@@ -1,8 +1,8 @@
 //! Loading the mechanisms of `mechanisms/`, their states, and the checks of a run.
 
 use mechanism::{
-    AssemblyOptions, Independent, InitialState, IntegratorOptions, Interpreted, KinematicState,
-    Method, SimulationOptions, System, Trajectory, assemble_from,
+    AssemblyOptions, Independent, InitialState, IntegratorOptions, Interpreted, Kinematic,
+    KinematicState, Method, SimulationOptions, System, Trajectory, assemble_from,
 };
 
 /// The text of `mechanisms/{name}.mech`.

@@ -1,7 +1,7 @@
 //! The rolling disc (`mechanisms/rolling_disc.mech`): steady rolling on a circle against its
 //! closed form, energy conserved, the rolling constraints held.
 
-use mechanism::{Dynamics, InitialState, System, simulate};
+use mechanism::{Dynamics, InitialState, Kinematic, simulate};
 
 use crate::common::{drifts, load, tight};
 

@@ -2,7 +2,7 @@
 //! a linearisation at a state that is not steady: each one error naming the cause.
 
 use mechanism::{
-    AssemblyOptions, Interpreted, SteadyOptions, System, assemble_from, linearize_steady,
+    AssemblyOptions, Interpreted, Kinematic, SteadyOptions, assemble_from, linearize_steady,
 };
 
 use crate::common::{independent_with, load, source};

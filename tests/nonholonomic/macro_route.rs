@@ -6,7 +6,9 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use mechanism::nalgebra::SVector;
-use mechanism::{Compiled, Evaluation, Interpreted, Mechanism, StaticEvaluation, System};
+use mechanism::{
+    Compiled, Evaluation, Interpreted, Kinematic, Mechanism, StaticEvaluation, System,
+};
 
 use crate::common::source;
 

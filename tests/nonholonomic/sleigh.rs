@@ -1,7 +1,7 @@
 //! The Chaplygin sleigh (`mechanisms/chaplygin_sleigh.mech`): a `velocity_constraints`
 //! row; energy conserved and the forward speed tending to its closed-form limit.
 
-use mechanism::{InitialState, System, simulate};
+use mechanism::{InitialState, Kinematic, simulate};
 
 use crate::common::{drifts, load, tight};
 

@@ -8,7 +8,7 @@
 //! minimum-norm solution: q'' (unique) and the minimum-norm multipliers.
 
 use mechanism::nalgebra::{DMatrix, DVector};
-use mechanism::{Dynamics, Interpreted, System};
+use mechanism::{Dynamics, Interpreted, Kinematic, System};
 
 use crate::sparsity::Lcg;
 

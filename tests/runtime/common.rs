@@ -6,7 +6,9 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use mechanism::nalgebra::DMatrix;
-use mechanism::{ConstraintRow, Evaluation, Independent, System, SystemInfo, Trajectory};
+use mechanism::{
+    ConstraintRow, Evaluation, Independent, Kinematic, System, SystemInfo, Trajectory,
+};
 
 /// A generalised force on one coordinate as a function of (t, q, q').
 pub type Force = Arc<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
@@ -74,10 +76,29 @@ impl Pendulum {
     }
 }
 
-impl System for Pendulum {
+impl Kinematic for Pendulum {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
+        let l = self.p[1];
+        phi[0] = q[0] * q[0] + q[1] * q[1] - l * l;
+        if self.redundant {
+            phi[1] = 2.0 * phi[0];
+        }
+    }
+    fn constraint_jacobian(&self, _t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        phi_q[(0, 0)] = 2.0 * q[0];
+        phi_q[(0, 1)] = 2.0 * q[1];
+        if self.redundant {
+            phi_q[(1, 0)] = 4.0 * q[0];
+            phi_q[(1, 1)] = 4.0 * q[1];
+        }
+        phi_t.fill(0.0);
+    }
+}
+
+impl System for Pendulum {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
@@ -107,22 +128,6 @@ impl System for Pendulum {
         }
         e.kinetic = 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
         e.potential = m * g * q[1];
-    }
-    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
-        let l = self.p[1];
-        phi[0] = q[0] * q[0] + q[1] * q[1] - l * l;
-        if self.redundant {
-            phi[1] = 2.0 * phi[0];
-        }
-    }
-    fn constraint_jacobian(&self, _t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        phi_q[(0, 0)] = 2.0 * q[0];
-        phi_q[(0, 1)] = 2.0 * q[1];
-        if self.redundant {
-            phi_q[(1, 0)] = 4.0 * q[0];
-            phi_q[(1, 1)] = 4.0 * q[1];
-        }
-        phi_t.fill(0.0);
     }
 }
 
@@ -179,10 +184,31 @@ impl FourBar {
     }
 }
 
-impl System for FourBar {
+impl Kinematic for FourBar {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
+        let [l1, _, l2, _, l3, _, d, _] = self.p;
+        phi[0] = l1 * q[0].cos() + l2 * q[1].cos() - l3 * q[2].cos() - d;
+        phi[1] = l1 * q[0].sin() + l2 * q[1].sin() - l3 * q[2].sin();
+    }
+    fn constraint_jacobian(&self, _t: f64, q: &[f64], j: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        let [l1, _, l2, _, l3, _, _, _] = self.p;
+        let (s1, c1) = q[0].sin_cos();
+        let (s2, c2) = q[1].sin_cos();
+        let (s3, c3) = q[2].sin_cos();
+        j[(0, 0)] = -l1 * s1;
+        j[(0, 1)] = -l2 * s2;
+        j[(0, 2)] = l3 * s3;
+        j[(1, 0)] = l1 * c1;
+        j[(1, 1)] = l2 * c2;
+        j[(1, 2)] = -l3 * c3;
+        phi_t.fill(0.0);
+    }
+}
+
+impl System for FourBar {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
@@ -227,24 +253,6 @@ impl System for FourBar {
             + 0.5 * (m3 * l3 * l3 / 3.0) * w3 * w3;
         e.potential =
             g * (m1 * l1 / 2.0 * s1 + m2 * (l1 * s1 + l2 / 2.0 * s2) + m3 * l3 / 2.0 * s3);
-    }
-    fn constraints(&self, _t: f64, q: &[f64], phi: &mut [f64]) {
-        let [l1, _, l2, _, l3, _, d, _] = self.p;
-        phi[0] = l1 * q[0].cos() + l2 * q[1].cos() - l3 * q[2].cos() - d;
-        phi[1] = l1 * q[0].sin() + l2 * q[1].sin() - l3 * q[2].sin();
-    }
-    fn constraint_jacobian(&self, _t: f64, q: &[f64], j: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        let [l1, _, l2, _, l3, _, _, _] = self.p;
-        let (s1, c1) = q[0].sin_cos();
-        let (s2, c2) = q[1].sin_cos();
-        let (s3, c3) = q[2].sin_cos();
-        j[(0, 0)] = -l1 * s1;
-        j[(0, 1)] = -l2 * s2;
-        j[(0, 2)] = l3 * s3;
-        j[(1, 0)] = l1 * c1;
-        j[(1, 1)] = l2 * c2;
-        j[(1, 2)] = -l3 * c3;
-        phi_t.fill(0.0);
     }
 }
 
@@ -297,10 +305,41 @@ impl CrankSlider {
     }
 }
 
-impl System for CrankSlider {
+impl Kinematic for CrankSlider {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+    fn constraints(&self, _t: f64, q: &[f64], f: &mut [f64]) {
+        let [h, l1, l2, d, al, ..] = self.p;
+        let (sp, cp) = q[0].sin_cos();
+        let (sb, cb) = q[1].sin_cos();
+        let (sg, cg) = q[2].sin_cos();
+        let (sa, ca) = al.sin_cos();
+        f[0] = l1 * sp * sa + l2 * sg * cb - q[3];
+        f[1] = -l1 * sp * ca + l2 * sg * sb - d;
+        f[2] = h + l1 * cp - l2 * cg;
+    }
+    fn constraint_jacobian(&self, _t: f64, q: &[f64], j: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        let [_, l1, l2, _, al, ..] = self.p;
+        let (sp, cp) = q[0].sin_cos();
+        let (sb, cb) = q[1].sin_cos();
+        let (sg, cg) = q[2].sin_cos();
+        let (sa, ca) = al.sin_cos();
+        j.fill(0.0);
+        j[(0, 0)] = l1 * cp * sa;
+        j[(0, 1)] = -l2 * sg * sb;
+        j[(0, 2)] = l2 * cg * cb;
+        j[(0, 3)] = -1.0;
+        j[(1, 0)] = -l1 * cp * ca;
+        j[(1, 1)] = l2 * sg * cb;
+        j[(1, 2)] = l2 * cg * sb;
+        j[(2, 0)] = -l1 * sp;
+        j[(2, 2)] = l2 * sg;
+        phi_t.fill(0.0);
+    }
+}
+
+impl System for CrankSlider {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
@@ -339,34 +378,6 @@ impl System for CrankSlider {
         e.kinetic =
             0.5 * (j1 + m2 / 2.0 * l1 * l1) * wp * wp + 0.5 * (m2 / 2.0 + m3) * qd[3] * qd[3];
         e.potential = m1 * g * (a1 * cp + h) + m2 / 2.0 * g * (l1 * cp + h);
-    }
-    fn constraints(&self, _t: f64, q: &[f64], f: &mut [f64]) {
-        let [h, l1, l2, d, al, ..] = self.p;
-        let (sp, cp) = q[0].sin_cos();
-        let (sb, cb) = q[1].sin_cos();
-        let (sg, cg) = q[2].sin_cos();
-        let (sa, ca) = al.sin_cos();
-        f[0] = l1 * sp * sa + l2 * sg * cb - q[3];
-        f[1] = -l1 * sp * ca + l2 * sg * sb - d;
-        f[2] = h + l1 * cp - l2 * cg;
-    }
-    fn constraint_jacobian(&self, _t: f64, q: &[f64], j: &mut DMatrix<f64>, phi_t: &mut [f64]) {
-        let [_, l1, l2, _, al, ..] = self.p;
-        let (sp, cp) = q[0].sin_cos();
-        let (sb, cb) = q[1].sin_cos();
-        let (sg, cg) = q[2].sin_cos();
-        let (sa, ca) = al.sin_cos();
-        j.fill(0.0);
-        j[(0, 0)] = l1 * cp * sa;
-        j[(0, 1)] = -l2 * sg * sb;
-        j[(0, 2)] = l2 * cg * cb;
-        j[(0, 3)] = -1.0;
-        j[(1, 0)] = -l1 * cp * ca;
-        j[(1, 1)] = l2 * sg * cb;
-        j[(1, 2)] = l2 * cg * sb;
-        j[(2, 0)] = -l1 * sp;
-        j[(2, 2)] = l2 * sg;
-        phi_t.fill(0.0);
     }
 }
 

@@ -6,7 +6,7 @@
 use mechanism::builtin::{PlanarFourBar, PlanarFourBarBodies, SpatialCrankSlider, SpatialFourBar};
 use mechanism::fixed::{FixedError, FixedStep, State, kkt_solve};
 use mechanism::{
-    Compiled, Dynamics, IntegratorOptions, Mechanism, Method, Sample, SimulationOptions, System,
+    Compiled, Dynamics, IntegratorOptions, Kinematic, Mechanism, Method, Sample, SimulationOptions,
     Trajectory, simulate,
 };
 use nalgebra::SVector;

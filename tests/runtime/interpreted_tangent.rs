@@ -4,8 +4,8 @@
 
 use mechanism::builtin::{builtin, builtin_names, builtin_source};
 use mechanism::{
-    Evaluation, IntegratorOptions, Interpreted, Method, SimulationOptions, Stabilization, System,
-    Tangent, simulate,
+    Evaluation, IntegratorOptions, Interpreted, Kinematic, Method, SimulationOptions,
+    Stabilization, System, Tangent, simulate,
 };
 
 /// F = M q'' + C q' + g - tau + Phi_q^T lambda, through `evaluate` (a route independent of

@@ -2,7 +2,7 @@
 //! file, with no lock between them, and gets what one thread alone gets, bit for bit.
 
 use mechanism::builtin::builtin_source;
-use mechanism::{Evaluation, Interpreted, System};
+use mechanism::{Evaluation, Interpreted, Kinematic, System};
 
 #[test]
 fn threads_sharing_one_interpreted_system_agree_with_one_thread() {

@@ -15,6 +15,7 @@ mod energy;
 mod fail_fast;
 mod fixed;
 mod integrators;
+mod interpreted_constraints;
 mod interpreted_errors;
 mod interpreted_tangent;
 mod interpreted_threads;

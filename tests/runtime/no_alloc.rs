@@ -8,8 +8,8 @@
 use crate::common::{CrankSlider, FourBar};
 use mechanism::builtin::builtin_source;
 use mechanism::{
-    ConstraintTangent, IntegratorOptions, Interpreted, Method, SimulationOptions, Simulator,
-    Stabilization, System, assemble,
+    ConstraintTangent, IntegratorOptions, Interpreted, Kinematic, Method, SimulationOptions,
+    Simulator, Stabilization, System, assemble,
 };
 
 fn allocations_in_steps(

@@ -3,7 +3,7 @@
 //! at the time and configuration where it appeared, by the assembly and by the dynamics,
 //! never hidden by a norm that skips NaN.
 
-use mechanism::{AssemblyOptions, Dynamics, Error, Interpreted, System, assemble};
+use mechanism::{AssemblyOptions, Dynamics, Error, Interpreted, Kinematic, assemble};
 
 fn interpreted(source: &str) -> Interpreted {
     Interpreted::from_source(source).expect("the declaration derives")

@@ -2,7 +2,7 @@
 //! dispatch from a model name to the generic timing code.
 
 use mechanism::builtin::{PlanarFourBar, SpatialCrankSlider, SpatialFourBar};
-use mechanism::{Compiled, System};
+use mechanism::{Compiled, Kinematic, System};
 
 use crate::json_list;
 use crate::simulate::{reference, simulate_runs};

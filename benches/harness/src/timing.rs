@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use mechanism::nalgebra::{SMatrix, SVector};
 use mechanism::{
-    AssemblyOptions, Compiled, Dynamics, Mechanism, StaticEvaluation, System, assemble_from,
+    AssemblyOptions, Compiled, Dynamics, Kinematic, Mechanism, StaticEvaluation, assemble_from,
 };
 
 /// The state every timing starts from.

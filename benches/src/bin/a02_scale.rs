@@ -18,7 +18,7 @@
 use mechanism_bench::thread_cpu;
 use std::time::Instant;
 
-use mechanism::{InitialState, Interpreted, SimulationOptions, System, simulate};
+use mechanism::{InitialState, Interpreted, Kinematic, SimulationOptions, System, simulate};
 use mechanism_bench::a02::{self, B0_TOLERANCE, exact_crossings};
 use mechanism_bench::n_four_bar::n_four_bar_source;
 

@@ -13,7 +13,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use mechanism::{Dynamics, Interpreted, System};
+use mechanism::{Dynamics, Interpreted, Kinematic};
 
 fn source(k: usize) -> String {
     let mut s = String::from(

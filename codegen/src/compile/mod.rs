@@ -114,6 +114,38 @@ pub fn compile_interpreted(
     compile_roles(model, eqs, tangent, &roles)
 }
 
+/// The routines of the constraint rows alone ([`Role::constraint_rows`]: Phi, Phi_q, Phi_t)
+/// and their parameter cache: what assembly and the mobility need, without M, C q', g and
+/// the rest of the evaluation, which on a large mechanism are almost all of the stage's
+/// work. Their cache slots are numbered among these roles only, so the programs equal
+/// [`compile`]'s for the same roles only up to the slot numbers; they compute the same
+/// values. [`Routines::sparsity`] reads Phi_q's pattern off the Jacobian's program.
+///
+/// # Errors
+/// As [`compile`].
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{EvaluationOutput, Role, compile_constraints, derive, parse_model_str};
+///
+/// let mut model = parse_model_str(
+///     "pub struct Pair;
+///      coordinates { x0 = 0.0; x1 = 1.0; }
+///      independent { x0 = 0.0; }
+///      kinetic = der(x0)^2/2 + der(x1)^2;
+///      potential = 0;
+///      constraints { x1 - x0 - 1; }",
+/// )?;
+/// let eqs = derive(&mut model)?;
+/// let routines = compile_constraints(&mut model, &eqs)?;
+/// assert!(routines.get(Role::Evaluation).is_none());
+/// assert_eq!(routines.sparsity(EvaluationOutput::PhiQ)?.entries, [(0, 0), (0, 1)]);
+/// # Ok::<(), mechanism_codegen::Error>(())
+/// ```
+pub fn compile_constraints(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    compile_roles(model, eqs, None, &Role::constraint_rows())
+}
+
 /// The stage's steps (module docs) for `roles`, in their order.
 fn compile_roles(
     model: &mut Model,

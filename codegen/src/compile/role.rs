@@ -102,6 +102,16 @@ impl Role {
         roles
     }
 
+    /// The roles of the constraint rows alone: Phi, Phi_q and Phi_t, in [`Role::compiled`]
+    /// order. What assembly and the mobility read (see [`crate::compile_constraints`]).
+    pub fn constraint_rows() -> [Role; 3] {
+        [
+            Role::Constraints,
+            Role::ConstraintJacobian,
+            Role::ConstraintTimeDerivative,
+        ]
+    }
+
     /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
     /// order (the order in which hoisting numbers the cache slots): the roles of
     /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics

@@ -63,11 +63,13 @@ impl Sparsity {
 
 impl Routines {
     /// The structural pattern of the evaluation output `which` (M and Phi_q are the ones the
-    /// solvers use), read off the [`Role::Evaluation`] program.
+    /// solvers use), read off the [`Role::Evaluation`] program; for routines of the
+    /// constraint rows alone ([`crate::compile_constraints`]), Phi_q's off the
+    /// [`Role::ConstraintJacobian`] program.
     ///
     /// # Errors
     /// [`crate::error::ProgramError::NoSuchRoutine`] when the evaluation was not compiled (never for
-    /// routines made by [`crate::compile`]).
+    /// routines made by [`crate::compile`]), except for Phi_q as above.
     ///
     /// # Example
     /// ```
@@ -90,6 +92,17 @@ impl Routines {
     /// # Ok::<(), mechanism_codegen::Error>(())
     /// ```
     pub fn sparsity(&self, which: EvaluationOutput) -> Result<Sparsity> {
+        let jacobian = self.get(Role::ConstraintJacobian);
+        if let (None, Some(program), EvaluationOutput::PhiQ) =
+            (self.get(Role::Evaluation), jacobian, which)
+        {
+            // Routines of the constraint rows alone: Phi_q is the Jacobian's one output.
+            return Ok(program
+                .outputs()
+                .first()
+                .map(Sparsity::of)
+                .unwrap_or_default());
+        }
         let program = self.program(Role::Evaluation)?;
         let k = EvaluationOutput::ORDER
             .iter()

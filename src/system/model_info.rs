@@ -1,0 +1,57 @@
+//! The [`SystemInfo`] of a derived [`Model`]: what the interpreted systems report as their
+//! names, guesses, independent coordinates, row labels and drawing.
+
+use mechanism_codegen::Model;
+
+use crate::system::{ConstraintRow, Drawing, DrawnPoint, Independent, SystemInfo};
+
+/// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
+pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
+    SystemInfo {
+        name: model.name.clone(),
+        coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
+        parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
+        initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
+        independent: model
+            .independent
+            .iter()
+            .map(|i| Independent {
+                coordinate: i.coordinate,
+                position: i.position,
+                velocity: i.velocity,
+            })
+            .collect(),
+        constraints: m,
+        velocity_rows: model.velocity_constraints.len(),
+        constraint_rows: model
+            .constraints
+            .iter()
+            .chain(&model.velocity_constraints)
+            .enumerate()
+            .map(|(k, c)| {
+                if c.joint.is_empty() {
+                    // A hand-built Model that did not name its rows.
+                    ConstraintRow::unnamed(k)
+                } else {
+                    ConstraintRow {
+                        joint: c.joint.clone(),
+                        component: c.component.clone(),
+                    }
+                }
+            })
+            .collect(),
+        drawing: Drawing {
+            points: model
+                .drawing
+                .points
+                .iter()
+                .map(|p| DrawnPoint {
+                    name: p.name.clone(),
+                    ground: p.ground,
+                })
+                .collect(),
+            lines: model.drawing.lines.clone(),
+            traces: model.drawing.traces.clone(),
+        },
+    }
+}
