@@ -3,8 +3,8 @@
 //! each, printed one per line (the stage that dominates a large mechanism's derivation);
 //! then what an implicit integrator adds (the residual's tangent, and the routines compiled
 //! with it), each with the peak resident memory and the arena's work and size so far
-//! (`mechanism_codegen::Effort`). With `--equations` it stops after the text: the stages of
-//! `mechanism equations`.
+//! (`mechanism_codegen::Effort`). With `--equations`, the stages of `mechanism equations`
+//! instead: parse, derive, the text and the constraint rows' routines (for the mobility).
 
 use std::time::Instant;
 
@@ -51,15 +51,20 @@ fn main() {
     lap("parse", model.arena.effort());
     let eqs = mechanism_codegen::derive(&mut model).unwrap_or_else(|e| fail(e));
     lap("derive", model.arena.effort());
-    // The routines `mechanism equations` and an explicit integrator's run compile.
+    if std::env::args().nth(2).as_deref() == Some("--equations") {
+        // `mechanism equations`: the text, then the constraint rows alone for the mobility.
+        let _ = mechanism_codegen::equations_text(&model, &eqs);
+        lap("text", model.arena.effort());
+        mechanism_codegen::compile_constraints(&mut model, &eqs).unwrap_or_else(|e| fail(e));
+        lap("rows", model.arena.effort());
+        return;
+    }
+    // The routines an explicit integrator's run compiles.
     let routines =
         mechanism_codegen::compile_interpreted(&mut model, &eqs, None).unwrap_or_else(|e| fail(e));
     lap("compile", model.arena.effort());
     let text = mechanism_codegen::equations_text(&model, &eqs);
     lap("text", model.arena.effort());
-    if std::env::args().nth(2).as_deref() == Some("--equations") {
-        return;
-    }
     // What an implicit integrator adds: the residual's tangent, and the routines with it.
     let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap_or_else(|e| fail(e));
     lap("tangent", model.arena.effort());
