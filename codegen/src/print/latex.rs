@@ -144,7 +144,7 @@ impl Style for Latex {
         Rendered {
             s: format!("{head}{arg}"),
             prec: Prec::Atom,
-            head: Some((head.to_string(), arg)),
+            head: Some(Box::new((head.to_string(), arg))),
         }
     }
 
@@ -163,7 +163,7 @@ impl Style for Latex {
     }
 
     fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered {
-        if let Some((head, arg)) = &base.head {
+        if let Some((head, arg)) = base.head.as_deref() {
             return Rendered::new(format!("{head}^{{{}}}{arg}", exp.s), Prec::Power);
         }
         Rendered::new(

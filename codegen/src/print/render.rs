@@ -12,7 +12,6 @@
 //!
 //! A [`Style`] supplies the spelling (plain text or LaTeX).
 
-use crate::algebra::expr::FxHashMap;
 use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
 use crate::number::Number;
 
@@ -37,8 +36,9 @@ pub(crate) struct Rendered {
     /// How tightly it binds.
     pub(crate) prec: Prec,
     /// For a function application f(x): the function's spelling and the bracketed argument
-    /// (LaTeX writes a power of it as `\sin^{2}{\left(x\right)}`).
-    pub(crate) head: Option<(String, String)>,
+    /// (LaTeX writes a power of it as `\sin^{2}{\left(x\right)}`). Boxed: the renderer holds
+    /// one rendering per node, and most have none.
+    pub(crate) head: Option<Box<(String, String)>>,
 }
 
 impl Rendered {
@@ -84,12 +84,25 @@ enum Exp {
 pub(crate) struct Renderer<'a, S: Style> {
     arena: &'a Arena,
     style: S,
-    memo: FxHashMap<Id, Rendered>,
-    /// Bytes of text held in `memo`.
+    /// Per node id: 0 when not rendered, [`PENDING`] while a render collects it, k + 1 when
+    /// its rendering is `rendered[k]`. A table indexed by id, not a hash map: printing a
+    /// large mechanism renders millions of nodes.
+    slots: Vec<u32>,
+    /// The renderings, in the order they were made.
+    rendered: Vec<Rendered>,
+    /// What an id without a rendering prints as.
+    unknown: Rendered,
+    /// The nodes one render still has to render, and its walk's stack (kept for reuse).
+    todo: Vec<Id>,
+    stack: Vec<Id>,
+    /// Bytes of text held in `rendered`.
     held: usize,
     /// Whether a subexpression was too long to print (see [`MAX_TEXT_BYTES`]).
     pub(crate) elided: bool,
 }
+
+/// The slot of a node collected by the render under way (see `Renderer::slots`).
+const PENDING: u32 = u32::MAX;
 
 /// The text the printers hold at most (64 MiB). A tree printed from a DAG repeats every
 /// shared subexpression at each use, so its text can grow exponentially with the size of
@@ -115,7 +128,11 @@ impl<'a, S: Style> Renderer<'a, S> {
         Self {
             arena,
             style,
-            memo: FxHashMap::default(),
+            slots: vec![0; arena.len()],
+            rendered: Vec::new(),
+            unknown: Rendered::new(String::from("?"), Prec::Atom),
+            todo: Vec::new(),
+            stack: Vec::new(),
             held: 0,
             elided: false,
         }
@@ -126,17 +143,24 @@ impl<'a, S: Style> Renderer<'a, S> {
         if id.index() >= self.arena.len() {
             return Rendered::new(format!("<invalid id {}>", id.0), Prec::Atom);
         }
-        let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
-        let mut stack = vec![id];
+        let (mut todo, mut stack) = (
+            std::mem::take(&mut self.todo),
+            std::mem::take(&mut self.stack),
+        );
+        stack.push(id);
         while let Some(n) = stack.pop() {
-            if self.memo.contains_key(&n) || seen.insert(n, ()).is_some() {
-                continue;
+            let slot = &mut self.slots[n.index()];
+            if *slot != 0 {
+                continue; // rendered, or already collected
             }
-            stack.extend(self.arena.children(n));
+            *slot = PENDING;
+            todo.push(n);
+            self.arena.node(n).for_each_child(|c| stack.push(c));
         }
-        let mut todo: Vec<Id> = seen.into_keys().collect();
+        // Children have smaller ids than their parents: in id order, each node's children
+        // are rendered before it.
         todo.sort_unstable();
-        for n in todo {
+        for &n in &todo {
             let r = if self.held > MAX_TEXT_BYTES {
                 self.elided = true;
                 Rendered::new(ELIDED.to_string(), Prec::Atom)
@@ -144,15 +168,19 @@ impl<'a, S: Style> Renderer<'a, S> {
                 self.node(n)
             };
             self.held += r.s.len();
-            self.memo.insert(n, r);
+            self.keep(n, r);
         }
-        self.get(id)
+        todo.clear();
+        (self.todo, self.stack) = (todo, stack);
+        self.get(id).clone()
     }
 
     /// From now on `id` prints as `name` (a shared subexpression defined once, above the
     /// equations that use it).
     pub(crate) fn name(&mut self, id: Id, name: String) {
-        self.memo.insert(id, Rendered::new(name, Prec::Atom));
+        if id.index() < self.slots.len() {
+            self.keep(id, Rendered::new(name, Prec::Atom));
+        }
     }
 
     /// True when `id` is a node of the arena and the constant 0.
@@ -160,11 +188,18 @@ impl<'a, S: Style> Renderer<'a, S> {
         id.index() < self.arena.len() && self.arena.is_zero(id)
     }
 
-    fn get(&self, id: Id) -> Rendered {
-        self.memo
-            .get(&id)
-            .cloned()
-            .unwrap_or_else(|| Rendered::new(String::from("?"), Prec::Atom))
+    /// Records `r` as the rendering of `id` (a node of the arena).
+    fn keep(&mut self, id: Id, r: Rendered) {
+        self.rendered.push(r);
+        // At most one rendering per node and name: fewer than 2^32 - 1.
+        self.slots[id.index()] = self.rendered.len() as u32;
+    }
+
+    fn get(&self, id: Id) -> &Rendered {
+        match self.slots.get(id.index()) {
+            Some(&k) if k != 0 && k != PENDING => &self.rendered[k as usize - 1],
+            _ => &self.unknown,
+        }
     }
 
     fn node(&self, id: Id) -> Rendered {
@@ -175,8 +210,8 @@ impl<'a, S: Style> Renderer<'a, S> {
                 let info = self.arena.symbol_info(*s);
                 self.style.symbol(&info.name, info.kind)
             }
-            Node::Func(f, x) => self.style.func(*f, &self.get(*x)),
-            Node::Atan2(y, x) => self.style.atan2(&self.get(*y), &self.get(*x)),
+            Node::Func(f, x) => self.style.func(*f, self.get(*x)),
+            Node::Atan2(y, x) => self.style.atan2(self.get(*y), self.get(*x)),
             Node::Pow(..) => self.product(Number::int(1), &[id]),
             Node::Mul(fs) => match self.arena.as_number(fs[0]) {
                 Some(c) if c.is_negative() => self.negate(self.product(-c, &fs[1..])),
@@ -236,7 +271,7 @@ impl<'a, S: Style> Renderer<'a, S> {
         {
             match self.negated(t) {
                 Some(r) => neg.push(r),
-                None => pos.push(self.get(t)),
+                None => pos.push(self.get(t).clone()),
             }
         }
         let wrap = |r: Rendered| {
@@ -312,18 +347,18 @@ impl<'a, S: Style> Renderer<'a, S> {
                 }
                 let exp = match self.arena.as_number(e) {
                     Some(n) => Exp::Num(n),
-                    None => Exp::Expr(self.get(e)),
+                    None => Exp::Expr(self.get(e).clone()),
                 };
                 num.push(self.power(b, exp));
                 continue;
             }
-            num.push(self.get(f));
+            num.push(self.get(f).clone());
         }
         self.style.product(num, den)
     }
 
     fn power(&self, b: Id, e: Exp) -> Rendered {
-        let base = self.get(b);
+        let base = self.get(b).clone();
         match e {
             // Only the exact 1: `x^-1.0` must print as `1/x^1.0` to read back as itself.
             Exp::Num(Number::Rational(1, 1)) => base,
