@@ -69,8 +69,9 @@
 //!
 //! - [`language`]: the declaration language, its grammar, sections and functions.
 //! - [`Mechanism`]: what `mechanism!` emits (static sizes, one method per derived
-//!   quantity); [`System`] is the run-time face the solvers read, [`Compiled`] adapts one to
-//!   the other.
+//!   quantity); [`System`] is the run-time face the solvers read (its supertrait
+//!   [`Kinematic`], the constraint rows, is all that assembly and the mobility read),
+//!   [`Compiled`] adapts one to the other.
 //! - [`simulate`], [`inverse_dynamics`], [`linearize`], [`mobility`], [`assemble`]: the
 //!   algorithms; [`integrators`] underneath; [`Trajectory`] the result.
 //! - [`fixed`]: the `no_std` KKT solve and fixed step; [`math`]: the real functions the
