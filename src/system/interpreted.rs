@@ -225,6 +225,7 @@ impl Kinematic for Interpreted {
     fn info(&self) -> &SystemInfo {
         &self.info
     }
+
     fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
         self.rows.constraints(&self.at(t, q), phi);
     }
