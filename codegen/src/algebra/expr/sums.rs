@@ -8,24 +8,24 @@ impl Arena {
     /// Splits a term into its numeric coefficient and its coefficient-free part
     /// (`None` for a pure constant).
     pub fn split_coefficient(&mut self, id: Id) -> (Number, Option<Id>) {
-        match self.node(id).clone() {
-            Node::Num(n) => (n, None),
-            Node::Mul(fs) => match self.as_number(fs[0]) {
-                Some(c) => {
-                    let rest = if fs.len() == 2 {
-                        fs[1]
-                    } else {
-                        match self.coefficient_free.get(id.index()) {
-                            Some(&r) if r != NO_ID => r,
-                            _ => self.intern(Node::Mul(fs[1..].into())),
-                        }
-                    };
-                    (c, Some(rest))
-                }
-                None => (Number::int(1), Some(id)),
+        // The node is read in place (a clone of a product would copy its factors): every
+        // term of every sum passes through here.
+        let (c, rest) = match self.node(id) {
+            Node::Num(n) => return (*n, None),
+            Node::Mul(fs) => match (self.as_number(fs[0]), &**fs) {
+                (Some(c), [_, rest]) => return (c, Some(*rest)),
+                (Some(c), [_, rest @ ..]) => (c, rest),
+                _ => return (Number::int(1), Some(id)),
             },
-            _ => (Number::int(1), Some(id)),
+            _ => return (Number::int(1), Some(id)),
+        };
+        if let Some(&r) = self.coefficient_free.get(id.index())
+            && r != NO_ID
+        {
+            return (c, Some(r));
         }
+        let rest: Box<[Id]> = rest.into();
+        (c, Some(self.intern(Node::Mul(rest))))
     }
 
     /// c * e for a numeric c, without re-canonicalising e's factors (e is canonical and
@@ -38,11 +38,11 @@ impl Arena {
             return e;
         }
         let cn = self.number(c);
-        match self.node(e).clone() {
+        match self.node(e) {
             Node::Mul(fs) => {
                 let mut v = Vec::with_capacity(fs.len() + 1);
                 v.push(cn);
-                v.extend_from_slice(&fs);
+                v.extend_from_slice(fs);
                 let scaled = self.intern(Node::Mul(v.into()));
                 let k = scaled.index();
                 if k >= self.coefficient_free.len() {
@@ -52,6 +52,7 @@ impl Arena {
                 scaled
             }
             Node::Add(ts) => {
+                let ts = ts.clone();
                 let terms: Vec<Id> = ts.iter().map(|&t| self.scale_term(c, t)).collect();
                 self.add(&terms)
             }
@@ -114,9 +115,11 @@ impl Arena {
             }
         }
         pairs.sort_by_key(|p| p.0);
-        let mut merged: Vec<(Id, Number)> = Vec::with_capacity(pairs.len());
-        for (r, c) in pairs {
-            match merged.last_mut() {
+        // Like terms merged in place: `merged` is the first `kept` pairs.
+        let mut kept: usize = 0;
+        for k in 0..pairs.len() {
+            let (r, c) = pairs[k];
+            match kept.checked_sub(1).map(|last| &mut pairs[last]) {
                 Some((lr, lc)) if *lr == r => {
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
                         self.overflow.get_or_insert(Overflow {
@@ -127,9 +130,14 @@ impl Arena {
                         Number::int(0)
                     })
                 }
-                _ => merged.push((r, c)),
+                _ => {
+                    pairs[kept] = (r, c);
+                    kept += 1;
+                }
             }
         }
+        pairs.truncate(kept);
+        let mut merged = pairs;
         merged.retain(|(_, c)| !c.is_zero());
         if let Some(extra) = self.pythagoras(&mut merged) {
             // sin^2 + cos^2 pairs were replaced; re-add so the survivors merge again.
@@ -139,7 +147,8 @@ impl Arena {
             again.push(k);
             return self.add(&again);
         }
-        let mut out = Vec::with_capacity(merged.len() + 1);
+        // Exactly the entries' capacity: the list becomes the node's boxed slice as it is.
+        let mut out = Vec::with_capacity(merged.len() + usize::from(!constant.is_zero()));
         if !constant.is_zero() {
             out.push(self.number(constant));
         }
@@ -157,6 +166,20 @@ impl Arena {
     /// removes both and returns the replacements c*u. `None` when there is no pair.
     fn pythagoras(&mut self, terms: &mut Vec<(Id, Number)>) -> Option<Vec<Id>> {
         let two = Number::int(2);
+        // Most sums have no sin(x)^2 factor: tell so without the scratch lists below.
+        let sin_squared = |f: Id| match *self.node(f) {
+            Node::Pow(b, e) => {
+                self.as_number(e) == Some(two) && matches!(self.node(b), Node::Func(Func::Sin, _))
+            }
+            _ => false,
+        };
+        let any = terms.iter().any(|&(r, _)| match self.node(r) {
+            Node::Mul(fs) => fs.iter().any(|&f| sin_squared(f)),
+            _ => sin_squared(r),
+        });
+        if !any {
+            return None;
+        }
         let mut found = Vec::new();
         let mut removed = vec![false; terms.len()];
         for i in 0..terms.len() {
