@@ -203,19 +203,24 @@ impl Differentiator {
 
     /// One differentiation rule, the children's derivatives being cached.
     fn rule(&mut self, arena: &mut Arena, n: Id, sym: SymbolId) -> Result<Id> {
-        let node = arena.node(n).clone();
+        let node = match arena.node(n) {
+            Node::Add(ts) => {
+                // Only the terms that depend on `sym`: the others' derivatives are zeros the
+                // sum would drop (a row of a large residual reads each coordinate in a few
+                // of its terms). Only they are copied out, not the whole sum: a kinetic
+                // energy of n^2 terms differentiated by each of n rates would copy n^3 ids.
+                self.dependent_children(n, ts, sym);
+                Node::Add(self.positions.iter().map(|&k| ts[k as usize]).collect())
+            }
+            other => other.clone(),
+        };
         Ok(match node {
             Node::Num(_) | Node::Pi => arena.int(0),
             Node::Sym(s) => arena.int(i64::from(s == sym)),
-            Node::Add(ts) => {
-                // Only the terms that depend on `sym`: the others' derivatives are zeros
-                // the sum would drop (a row of a large residual reads each coordinate in
-                // a few of its terms).
-                self.dependent_children(n, &ts, sym);
-                let ds: Vec<Id> = self
-                    .positions
+            Node::Add(dependent) => {
+                let ds: Vec<Id> = dependent
                     .iter()
-                    .map(|&k| self.child(arena, ts[k as usize], sym))
+                    .map(|&t| self.child(arena, t, sym))
                     .collect();
                 arena.add(&ds)
             }
