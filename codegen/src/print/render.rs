@@ -143,6 +143,12 @@ impl<'a, S: Style> Renderer<'a, S> {
         if id.index() >= self.arena.len() {
             return Rendered::new(format!("<invalid id {}>", id.0), Prec::Atom);
         }
+        if self.held > MAX_TEXT_BYTES && !self.is_rendered(id) {
+            // Past the budget every node not rendered yet prints as ELIDED, this one too:
+            // its subexpressions need not be collected (a large mechanism's last entries).
+            self.elided = true;
+            return Rendered::new(ELIDED.to_string(), Prec::Atom);
+        }
         let (mut todo, mut stack) = (
             std::mem::take(&mut self.todo),
             std::mem::take(&mut self.stack),
@@ -193,6 +199,11 @@ impl<'a, S: Style> Renderer<'a, S> {
         self.rendered.push(r);
         // At most one rendering per node and name: fewer than 2^32 - 1.
         self.slots[id.index()] = self.rendered.len() as u32;
+    }
+
+    /// Whether `id` has a rendering (or a name).
+    fn is_rendered(&self, id: Id) -> bool {
+        matches!(self.slots.get(id.index()), Some(&k) if k != 0 && k != PENDING)
     }
 
     fn get(&self, id: Id) -> &Rendered {
@@ -397,4 +408,36 @@ pub(crate) fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
         .map(|i| Id::new(i as u32))
         .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_)))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::print::text::Text;
+
+    /// Past the text budget a node rendered before still prints in full, and one not
+    /// rendered yet prints as ELIDED without its subexpressions being collected.
+    #[test]
+    fn past_the_budget_only_rendered_nodes_print() {
+        let mut a = Arena::new();
+        let [x, ..] = a.coordinate("x");
+        let [y, ..] = a.coordinate("y");
+        let shared = a.sin(x);
+        let mut e = shared;
+        // A tree of 2^60 copies of sin(x): far past the budget when printed.
+        for _ in 0..60 {
+            let p = a.mul2(e, y);
+            e = a.add(&[e, p]);
+        }
+        let fresh = a.cos(y);
+        let mut r = Renderer::new(&a, Text);
+        assert_eq!(r.render(shared).s, "sin(x)");
+        assert!(!r.elided);
+        assert!(r.render(e).s.contains(ELIDED));
+        assert!(r.elided && r.held > MAX_TEXT_BYTES);
+        assert_eq!(r.render(shared).s, "sin(x)");
+        assert_eq!(r.render(fresh).s, ELIDED);
+        // Not collected: no rendering was kept for cos(y) or its argument.
+        assert!(!r.is_rendered(fresh));
+    }
 }
