@@ -265,7 +265,7 @@ pub fn matrix_to_latex(arena: &Arena, m: &Matrix) -> String {
 /// quantity (M, C, C q', g, tau, Phi, Phi_q, Phi_t, gamma, T, Pi), in an `align*`-free form
 /// (`\[ ... \]`) that any LaTeX or MathJax renders.
 pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
-    let mut r = Renderer::new(&model.arena, Latex);
+    let mut r = Renderer::for_equations(&model.arena, Latex);
     let q: Vec<String> = model
         .coordinates
         .iter()

@@ -12,7 +12,7 @@
 //!
 //! A [`Style`] supplies the spelling (plain text or LaTeX).
 
-use crate::algebra::expr::{Arena, Func, Id, Node, SymbolKind};
+use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolKind};
 use crate::number::Number;
 
 /// How tightly a rendering binds, loosest first.
@@ -85,9 +85,8 @@ pub(crate) struct Renderer<'a, S: Style> {
     arena: &'a Arena,
     style: S,
     /// Per node id: 0 when not rendered, [`PENDING`] while a render collects it, k + 1 when
-    /// its rendering is `rendered[k]`. A table indexed by id, not a hash map: printing a
-    /// large mechanism renders millions of nodes.
-    slots: Vec<u32>,
+    /// its rendering is `rendered[k]`.
+    slots: Slots,
     /// The renderings, in the order they were made.
     rendered: Vec<Rendered>,
     /// What an id without a rendering prints as.
@@ -103,6 +102,37 @@ pub(crate) struct Renderer<'a, S: Style> {
 
 /// The slot of a node collected by the render under way (see `Renderer::slots`).
 const PENDING: u32 = u32::MAX;
+
+/// A renderer's slot per node id, 0 for a node without one.
+enum Slots {
+    /// Indexed by id, every node of the arena: for whole equations.
+    Table(Vec<u32>),
+    /// Only the nodes given a slot: for single expressions of a possibly large arena.
+    Map(FxHashMap<Id, u32>),
+}
+
+impl Slots {
+    fn get(&self, id: Id) -> u32 {
+        match self {
+            Slots::Table(t) => t.get(id.index()).copied().unwrap_or(0),
+            Slots::Map(m) => m.get(&id).copied().unwrap_or(0),
+        }
+    }
+
+    /// Sets the slot of `id`, a node of the renderer's arena (the table covers them all).
+    fn set(&mut self, id: Id, slot: u32) {
+        match self {
+            Slots::Table(t) => {
+                if let Some(s) = t.get_mut(id.index()) {
+                    *s = slot;
+                }
+            }
+            Slots::Map(m) => {
+                m.insert(id, slot);
+            }
+        }
+    }
+}
 
 /// The text the printers hold at most (64 MiB). A tree printed from a DAG repeats every
 /// shared subexpression at each use, so its text can grow exponentially with the size of
@@ -123,18 +153,29 @@ pub(crate) fn elided_note() -> String {
 }
 
 impl<'a, S: Style> Renderer<'a, S> {
-    /// A renderer over `arena`.
+    /// A renderer over `arena`, for a few expressions (see [`Renderer::for_equations`]).
     pub(crate) fn new(arena: &'a Arena, style: S) -> Self {
         Self {
             arena,
             style,
-            slots: vec![0; arena.len()],
+            slots: Slots::Map(FxHashMap::default()),
             rendered: Vec::new(),
             unknown: Rendered::new(String::from("?"), Prec::Atom),
             todo: Vec::new(),
             stack: Vec::new(),
             held: 0,
             elided: false,
+        }
+    }
+
+    /// A renderer for the equations of a whole model, which reach most of `arena`: its
+    /// slots are a table indexed by node id (4 bytes per node of the arena, made once)
+    /// instead of [`Renderer::new`]'s map, which costs nothing to make and holds only the
+    /// nodes one expression reaches.
+    pub(crate) fn for_equations(arena: &'a Arena, style: S) -> Self {
+        Self {
+            slots: Slots::Table(vec![0; arena.len()]),
+            ..Self::new(arena, style)
         }
     }
 
@@ -155,11 +196,10 @@ impl<'a, S: Style> Renderer<'a, S> {
         );
         stack.push(id);
         while let Some(n) = stack.pop() {
-            let slot = &mut self.slots[n.index()];
-            if *slot != 0 {
+            if self.slots.get(n) != 0 {
                 continue; // rendered, or already collected
             }
-            *slot = PENDING;
+            self.slots.set(n, PENDING);
             todo.push(n);
             self.arena.node(n).for_each_child(|c| stack.push(c));
         }
@@ -184,7 +224,7 @@ impl<'a, S: Style> Renderer<'a, S> {
     /// From now on `id` prints as `name` (a shared subexpression defined once, above the
     /// equations that use it).
     pub(crate) fn name(&mut self, id: Id, name: String) {
-        if id.index() < self.slots.len() {
+        if id.index() < self.arena.len() {
             self.keep(id, Rendered::new(name, Prec::Atom));
         }
     }
@@ -197,19 +237,20 @@ impl<'a, S: Style> Renderer<'a, S> {
     /// Records `r` as the rendering of `id` (a node of the arena).
     fn keep(&mut self, id: Id, r: Rendered) {
         self.rendered.push(r);
-        // At most one rendering per node and name: fewer than 2^32 - 1.
-        self.slots[id.index()] = self.rendered.len() as u32;
+        // At most one rendering per node and one per name, so fewer than PENDING: the
+        // arena's ids are 32-bit and its size budget keeps it far below 2^31 nodes.
+        self.slots.set(id, self.rendered.len() as u32);
     }
 
     /// Whether `id` has a rendering (or a name).
     fn is_rendered(&self, id: Id) -> bool {
-        matches!(self.slots.get(id.index()), Some(&k) if k != 0 && k != PENDING)
+        !matches!(self.slots.get(id), 0 | PENDING)
     }
 
     fn get(&self, id: Id) -> &Rendered {
-        match self.slots.get(id.index()) {
-            Some(&k) if k != 0 && k != PENDING => &self.rendered[k as usize - 1],
-            _ => &self.unknown,
+        match self.slots.get(id) {
+            0 | PENDING => &self.unknown,
+            k => &self.rendered[k as usize - 1],
         }
     }
 
@@ -430,14 +471,35 @@ mod tests {
             e = a.add(&[e, p]);
         }
         let fresh = a.cos(y);
+        // Both kinds of slots: the map of single expressions, the table of equations.
+        for mut r in [Renderer::new(&a, Text), Renderer::for_equations(&a, Text)] {
+            assert_eq!(r.render(shared).s, "sin(x)");
+            assert!(!r.elided);
+            assert!(r.render(e).s.contains(ELIDED));
+            assert!(r.elided && r.held > MAX_TEXT_BYTES);
+            assert_eq!(r.render(shared).s, "sin(x)");
+            assert_eq!(r.render(fresh).s, ELIDED);
+            // Not collected: no rendering was kept for cos(y) or its argument.
+            assert!(!r.is_rendered(fresh));
+        }
+    }
+
+    /// A renderer for one expression holds slots for that expression's nodes only, not
+    /// one per node of the arena: printing an early node of a large arena reads it alone.
+    #[test]
+    fn one_expression_holds_only_its_nodes() {
+        let mut a = Arena::new();
+        let [x, ..] = a.coordinate("x");
+        let early = a.sin(x);
+        for k in 0..10_000 {
+            let c = a.int(k + 2);
+            a.mul2(c, x);
+        }
         let mut r = Renderer::new(&a, Text);
-        assert_eq!(r.render(shared).s, "sin(x)");
-        assert!(!r.elided);
-        assert!(r.render(e).s.contains(ELIDED));
-        assert!(r.elided && r.held > MAX_TEXT_BYTES);
-        assert_eq!(r.render(shared).s, "sin(x)");
-        assert_eq!(r.render(fresh).s, ELIDED);
-        // Not collected: no rendering was kept for cos(y) or its argument.
-        assert!(!r.is_rendered(fresh));
+        assert_eq!(r.render(early).s, "sin(x)");
+        let Slots::Map(m) = &r.slots else {
+            panic!("a single expression's slots are a map")
+        };
+        assert_eq!(m.len(), 2, "sin(x) and x");
     }
 }

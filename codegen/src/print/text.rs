@@ -184,7 +184,7 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
 /// non-zero entries (for links, their shared subexpressions first, by name). This is the text
 /// the snapshot tests pin and that `mechanism equations NAME` shows.
 pub fn equations_text(model: &Model, eqs: &Equations) -> String {
-    let mut r = Renderer::new(&model.arena, Text);
+    let mut r = Renderer::for_equations(&model.arena, Text);
     let mut out = header(model, eqs);
     if model.kinetic_from_links {
         out.push_str(&shared_subexpressions(&mut r, &model.arena, eqs));
