@@ -12,6 +12,7 @@ use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::number::Number;
 use crate::print::render::{Prec, Rendered, Renderer, Style, elided_note};
+use std::borrow::Cow;
 
 /// The LaTeX spelling.
 pub(crate) struct Latex;
@@ -97,11 +98,24 @@ fn paren(s: &str) -> String {
     format!("\\left({s}\\right)")
 }
 
-fn wrap(r: &Rendered, min: Prec) -> String {
+fn wrap(r: &Rendered, min: Prec) -> Cow<'_, str> {
     if r.prec < min {
-        paren(&r.s)
+        Cow::Owned(paren(&r.s))
     } else {
-        r.s.clone()
+        Cow::Borrowed(&r.s)
+    }
+}
+
+/// The parts side by side, each in brackets if it binds looser than a product.
+fn join_factors(out: &mut String, parts: &[Cow<'_, Rendered>]) {
+    for (i, r) in parts.iter().enumerate() {
+        let piece = wrap(r, Prec::Product);
+        if i > 0 {
+            // Juxtaposition, except between two digits (`2 \cdot 3^{x}`).
+            let digit = piece.starts_with(|c: char| c.is_ascii_digit());
+            out.push_str(if digit { " \\cdot " } else { " " });
+        }
+        out.push_str(&piece);
     }
 }
 
@@ -172,35 +186,26 @@ impl Style for Latex {
         )
     }
 
-    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered {
-        if den.is_empty() && num.len() == 1 {
-            return num
-                .into_iter()
-                .next()
-                .unwrap_or_else(|| Rendered::new("1".into(), Prec::Atom));
+    fn product(&self, num: &[Cow<'_, Rendered>], den: &[Cow<'_, Rendered>]) -> Rendered {
+        if let ([only], []) = (num, den) {
+            return only.as_ref().clone();
         }
-        let join = |parts: &[Rendered]| {
-            let mut s = String::new();
-            for (i, r) in parts.iter().enumerate() {
-                let piece = wrap(r, Prec::Product);
-                if i > 0 {
-                    // Juxtaposition, except between two digits (`2 \cdot 3^{x}`).
-                    let digit = piece.starts_with(|c: char| c.is_ascii_digit());
-                    s.push_str(if digit { " \\cdot " } else { " " });
-                }
-                s.push_str(&piece);
-            }
-            s
-        };
-        let top = if num.is_empty() {
-            "1".to_string()
+        let len: usize = num.iter().chain(den).map(|r| r.s.len() + 20).sum();
+        let mut s = String::with_capacity(len + 10);
+        if !den.is_empty() {
+            s.push_str("\\frac{");
+        }
+        if num.is_empty() {
+            s.push('1');
         } else {
-            join(&num)
-        };
-        if den.is_empty() {
-            return Rendered::new(top, Prec::Product);
+            join_factors(&mut s, num);
         }
-        Rendered::new(format!("\\frac{{{top}}}{{{}}}", join(&den)), Prec::Product)
+        if !den.is_empty() {
+            s.push_str("}{");
+            join_factors(&mut s, den);
+            s.push('}');
+        }
+        Rendered::new(s, Prec::Product)
     }
 
     fn paren(&self, s: &str) -> String {
@@ -223,7 +228,7 @@ impl Style for Latex {
 /// assert_eq!(to_latex(&a, e), r"\frac{m_{2} l_{1}^{2} \dot{\phi}^{2} \cos^{2}{\left(\phi\right)}}{2}");
 /// ```
 pub fn to_latex(arena: &Arena, id: Id) -> String {
-    Renderer::new(arena, Latex).render(id).s
+    Renderer::new(arena, Latex).render(id).s.clone()
 }
 
 fn bmatrix(r: &mut Renderer<'_, Latex>, m: &Matrix) -> String {
@@ -233,7 +238,7 @@ fn bmatrix(r: &mut Renderer<'_, Latex>, m: &Matrix) -> String {
             .map(|j| {
                 m.data
                     .get(i * m.cols + j)
-                    .map_or_else(|| "?".into(), |&e| r.render(e).s)
+                    .map_or_else(|| "?".into(), |&e| r.render(e).s.clone())
             })
             .collect();
         rows.push(row.join(" & "));
@@ -290,7 +295,7 @@ pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
             .into_iter()
             .enumerate()
         {
-            let def = r.render(id).s;
+            let def = &r.render(id).s;
             out.push_str(&format!("\\[ w_{{{}}} = {def} \\]\n", k + 1));
             r.name(id, format!("w_{{{}}}", k + 1));
         }

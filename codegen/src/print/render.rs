@@ -14,6 +14,7 @@
 
 use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolKind};
 use crate::number::Number;
+use std::borrow::Cow;
 
 /// How tightly a rendering binds, loosest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -68,16 +69,18 @@ pub(crate) trait Style {
     fn sqrt(&self, x: &Rendered) -> Rendered;
     /// base^exp (the style parenthesises as needed).
     fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered;
-    /// num_1 * num_2 ... / (den_1 * den_2 ...); all parts are positive.
-    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered;
+    /// num_1 * num_2 ... / (den_1 * den_2 ...); all parts are positive. The parts are
+    /// mostly the memo's own renderings of the factors, borrowed (a copy of each factor's
+    /// text per product would copy the text of every level of an expression once more).
+    fn product(&self, num: &[Cow<'_, Rendered>], den: &[Cow<'_, Rendered>]) -> Rendered;
     /// x in brackets.
     fn paren(&self, s: &str) -> String;
 }
 
 /// An exponent as the renderer sees it: a plain number, or an expression's rendering.
-enum Exp {
+enum Exp<'r> {
     Num(Number),
-    Expr(Rendered),
+    Expr(Cow<'r, Rendered>),
 }
 
 /// The bottom-up renderer with its memo of rendered nodes.
@@ -91,6 +94,9 @@ pub(crate) struct Renderer<'a, S: Style> {
     rendered: Vec<Rendered>,
     /// What an id without a rendering prints as.
     unknown: Rendered,
+    /// What [`Renderer::render`] returns that is not in the memo: an invalid id's text,
+    /// or [`ELIDED`].
+    scratch: Rendered,
     /// The nodes one render still has to render, and its walk's stack (kept for reuse).
     todo: Vec<Id>,
     stack: Vec<Id>,
@@ -161,6 +167,7 @@ impl<'a, S: Style> Renderer<'a, S> {
             slots: Slots::Map(FxHashMap::default()),
             rendered: Vec::new(),
             unknown: Rendered::new(String::from("?"), Prec::Atom),
+            scratch: Rendered::new(String::new(), Prec::Atom),
             todo: Vec::new(),
             stack: Vec::new(),
             held: 0,
@@ -179,16 +186,19 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
     }
 
-    /// The rendering of `id` (`<invalid id N>` when `id` is not a node of the arena).
-    pub(crate) fn render(&mut self, id: Id) -> Rendered {
+    /// The rendering of `id` (`<invalid id N>` when `id` is not a node of the arena),
+    /// borrowed from the memo: printing it writes it out without a copy.
+    pub(crate) fn render(&mut self, id: Id) -> &Rendered {
         if id.index() >= self.arena.len() {
-            return Rendered::new(format!("<invalid id {}>", id.0), Prec::Atom);
+            self.scratch = Rendered::new(format!("<invalid id {}>", id.0), Prec::Atom);
+            return &self.scratch;
         }
         if self.held > MAX_TEXT_BYTES && !self.is_rendered(id) {
             // Past the budget every node not rendered yet prints as ELIDED, this one too:
             // its subexpressions need not be collected (a large mechanism's last entries).
             self.elided = true;
-            return Rendered::new(ELIDED.to_string(), Prec::Atom);
+            self.scratch = Rendered::new(ELIDED.to_string(), Prec::Atom);
+            return &self.scratch;
         }
         let (mut todo, mut stack) = (
             std::mem::take(&mut self.todo),
@@ -218,7 +228,7 @@ impl<'a, S: Style> Renderer<'a, S> {
         }
         todo.clear();
         (self.todo, self.stack) = (todo, stack);
-        self.get(id).clone()
+        self.get(id)
     }
 
     /// From now on `id` prints as `name` (a shared subexpression defined once, above the
@@ -313,7 +323,7 @@ impl<'a, S: Style> Renderer<'a, S> {
 
     fn sum(&self, ts: &[Id]) -> Rendered {
         let is_const = |t: &Id| self.arena.as_number(*t).is_some();
-        let mut pos: Vec<Rendered> = Vec::new();
+        let mut pos: Vec<&Rendered> = Vec::new();
         let mut neg: Vec<Rendered> = Vec::new();
         // Non-constant terms first, the constant last within its sign group.
         for &t in ts
@@ -323,23 +333,27 @@ impl<'a, S: Style> Renderer<'a, S> {
         {
             match self.negated(t) {
                 Some(r) => neg.push(r),
-                None => pos.push(self.get(t).clone()),
+                None => pos.push(self.get(t)),
             }
         }
-        let wrap = |r: Rendered| {
+        let wrap = |s: &mut String, r: &Rendered| {
             if r.prec == Prec::Sum {
-                self.style.paren(&r.s)
+                s.push_str(&self.style.paren(&r.s));
             } else {
-                r.s
+                s.push_str(&r.s);
             }
         };
-        let mut s = String::new();
+        // Each term with its separator and possible brackets (sized once: the text of a
+        // large entry is written into one buffer).
+        let len = pos.iter().map(|r| r.s.len() + 5).sum::<usize>()
+            + neg.iter().map(|r| r.s.len() + 5).sum::<usize>();
+        let mut s = String::with_capacity(len);
         let mut first = true;
         for r in pos {
             if !first {
                 s.push_str(" + ");
             }
-            s.push_str(&wrap(r));
+            wrap(&mut s, r);
             first = false;
         }
         for r in neg {
@@ -347,7 +361,7 @@ impl<'a, S: Style> Renderer<'a, S> {
                 s.push_str(&self.negate(r).s);
             } else {
                 s.push_str(" - ");
-                s.push_str(&wrap(r));
+                wrap(&mut s, &r);
             }
             first = false;
         }
@@ -355,13 +369,13 @@ impl<'a, S: Style> Renderer<'a, S> {
     }
 
     /// The exponent -e when e is in negative form, for a factor that goes below the bar.
-    fn negated_exponent(&self, e: Id) -> Option<Exp> {
+    fn negated_exponent(&self, e: Id) -> Option<Exp<'_>> {
         match self.arena.node(e) {
             // x^-1.0 stays as written: the arena folds x^1.0 to x, so `1/x^1.0` would read
             // back as x^-1, another node.
             Node::Num(n) if n.is_float() && (-*n).is_one() => None,
             Node::Num(n) if n.is_negative() => Some(Exp::Num(-*n)),
-            Node::Mul(_) => self.negated(e).map(Exp::Expr),
+            Node::Mul(_) => self.negated(e).map(|r| Exp::Expr(Cow::Owned(r))),
             _ => None,
         }
     }
@@ -369,19 +383,19 @@ impl<'a, S: Style> Renderer<'a, S> {
     /// c * factors for a positive coefficient c, factors with a negative exponent below the
     /// fraction bar.
     fn product(&self, c: Number, factors: &[Id]) -> Rendered {
-        let mut num = Vec::new();
-        let mut den = Vec::new();
+        let mut num: Vec<Cow<'_, Rendered>> = Vec::new();
+        let mut den: Vec<Cow<'_, Rendered>> = Vec::new();
         match c {
             Number::Rational(p, q) => {
                 if p != 1 {
-                    num.push(self.style.number(Number::int(p)));
+                    num.push(Cow::Owned(self.style.number(Number::int(p))));
                 }
                 if q != 1 {
-                    den.push(self.style.number(Number::int(q)));
+                    den.push(Cow::Owned(self.style.number(Number::int(q))));
                 }
             }
             // A float coefficient always prints, even 1.0 (from -1.0): `-1.0*x` is not `-x`.
-            Number::Float(_) => num.push(self.style.number(c)),
+            Number::Float(_) => num.push(Cow::Owned(self.style.number(c))),
         }
         for &f in factors {
             if let Node::Pow(b, e) = *self.arena.node(f) {
@@ -399,25 +413,26 @@ impl<'a, S: Style> Renderer<'a, S> {
                 }
                 let exp = match self.arena.as_number(e) {
                     Some(n) => Exp::Num(n),
-                    None => Exp::Expr(self.get(e).clone()),
+                    None => Exp::Expr(Cow::Borrowed(self.get(e))),
                 };
                 num.push(self.power(b, exp));
                 continue;
             }
-            num.push(self.get(f).clone());
+            num.push(Cow::Borrowed(self.get(f)));
         }
-        self.style.product(num, den)
+        self.style.product(&num, &den)
     }
 
-    fn power(&self, b: Id, e: Exp) -> Rendered {
-        let base = self.get(b).clone();
-        match e {
+    /// b^e; the base's own rendering when e is exactly 1.
+    fn power(&self, b: Id, e: Exp<'_>) -> Cow<'_, Rendered> {
+        let base = self.get(b);
+        Cow::Owned(match e {
             // Only the exact 1: `x^-1.0` must print as `1/x^1.0` to read back as itself.
-            Exp::Num(Number::Rational(1, 1)) => base,
-            Exp::Num(Number::Rational(1, 2)) => self.style.sqrt(&base),
-            Exp::Num(n) => self.style.power(&base, &self.signed_number(n)),
-            Exp::Expr(r) => self.style.power(&base, &r),
-        }
+            Exp::Num(Number::Rational(1, 1)) => return Cow::Borrowed(base),
+            Exp::Num(Number::Rational(1, 2)) => self.style.sqrt(base),
+            Exp::Num(n) => self.style.power(base, &self.signed_number(n)),
+            Exp::Expr(r) => self.style.power(base, &r),
+        })
     }
 }
 

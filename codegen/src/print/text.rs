@@ -12,16 +12,33 @@ use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::number::Number;
 use crate::print::render::{Prec, Rendered, Renderer, Style, elided_note};
+use std::borrow::Cow;
+use std::fmt::Write;
 
 /// The plain-text spelling.
 pub(crate) struct Text;
 
-fn wrap(r: &Rendered, min: Prec) -> String {
+fn wrap(r: &Rendered, min: Prec) -> Cow<'_, str> {
     if r.prec < min {
-        format!("({})", r.s)
+        Cow::Owned(format!("({})", r.s))
     } else {
-        r.s.clone()
+        Cow::Borrowed(&r.s)
     }
+}
+
+/// The parts joined by `*`, each in brackets if it binds looser than a power.
+fn join_factors(out: &mut String, parts: &[Cow<'_, Rendered>]) {
+    for (k, r) in parts.iter().enumerate() {
+        if k > 0 {
+            out.push('*');
+        }
+        out.push_str(&wrap(r, Prec::Power));
+    }
+}
+
+/// The text length of `parts` with a separator and brackets each, for sizing a buffer.
+fn text_len(parts: &[Cow<'_, Rendered>]) -> usize {
+    parts.iter().map(|r| r.s.len() + 3).sum()
 }
 
 impl Style for Text {
@@ -64,37 +81,34 @@ impl Style for Text {
         )
     }
 
-    fn product(&self, num: Vec<Rendered>, den: Vec<Rendered>) -> Rendered {
-        if den.is_empty() && num.len() == 1 {
-            return num
-                .into_iter()
-                .next()
-                .unwrap_or_else(|| Rendered::new("1".into(), Prec::Atom));
+    fn product(&self, num: &[Cow<'_, Rendered>], den: &[Cow<'_, Rendered>]) -> Rendered {
+        if let ([only], []) = (num, den) {
+            return only.as_ref().clone();
         }
-        let top: Vec<String> = num.iter().map(|r| wrap(r, Prec::Power)).collect();
-        let top = if top.is_empty() {
-            "1".to_string()
+        let mut s = String::with_capacity(text_len(num) + text_len(den) + 4);
+        if num.is_empty() {
+            s.push('1');
         } else {
-            top.join("*")
-        };
-        if den.is_empty() {
-            return Rendered::new(top, Prec::Product);
+            join_factors(&mut s, num);
         }
-        // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the arena's
-        // canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
-        if let [q, sum] = den.as_slice()
-            && q.s.bytes().all(|b| b.is_ascii_digit())
-            && sum.prec == Prec::Sum
-        {
-            return Rendered::new(format!("{top}/{}/({})", q.s, sum.s), Prec::Product);
+        match den {
+            [] => {}
+            // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the
+            // arena's canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
+            [q, sum] if q.s.bytes().all(|b| b.is_ascii_digit()) && sum.prec == Prec::Sum => {
+                let _ = write!(s, "/{}/({})", q.s, sum.s);
+            }
+            [one] => {
+                s.push('/');
+                s.push_str(&wrap(one, Prec::Power));
+            }
+            _ => {
+                s.push_str("/(");
+                join_factors(&mut s, den);
+                s.push(')');
+            }
         }
-        let bottom: Vec<String> = den.iter().map(|r| wrap(r, Prec::Power)).collect();
-        let bottom = if bottom.len() == 1 {
-            bottom.join("")
-        } else {
-            format!("({})", bottom.join("*"))
-        };
-        Rendered::new(format!("{top}/{bottom}"), Prec::Product)
+        Rendered::new(s, Prec::Product)
     }
 
     fn paren(&self, s: &str) -> String {
@@ -118,16 +132,16 @@ impl Style for Text {
 /// assert_eq!(parse_expr(&mut a, &text).unwrap(), e);
 /// ```
 pub fn to_text(arena: &Arena, id: Id) -> String {
-    Renderer::new(arena, Text).render(id).s
+    Renderer::new(arena, Text).render(id).s.clone()
 }
 
-/// The entry name `name[i,j]` (1-based), or `name[i]` for a column vector.
-fn entry_name(name: &str, m: &Matrix, i: usize, j: usize) -> String {
-    if m.cols == 1 {
-        format!("{name}[{}]", i + 1)
+/// Writes the entry name `name[i,j]` (1-based), or `name[i]` for a column vector.
+fn entry_name(out: &mut String, name: &str, m: &Matrix, i: usize, j: usize) {
+    let _ = if m.cols == 1 {
+        write!(out, "{name}[{}]", i + 1)
     } else {
-        format!("{name}[{},{}]", i + 1, j + 1)
-    }
+        write!(out, "{name}[{},{}]", i + 1, j + 1)
+    };
 }
 
 /// The non-zero entries of `m`, one per line as `name[i,j] = entry` (1-based; `name[i]` for a
@@ -146,12 +160,20 @@ fn entry_name(name: &str, m: &Matrix, i: usize, j: usize) -> String {
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn matrix_to_text(arena: &Arena, name: &str, m: &Matrix) -> String {
-    let mut r = Renderer::new(arena, Text);
-    matrix_lines(&mut r, name, m, "")
+    let mut out = String::new();
+    matrix_lines(&mut out, &mut Renderer::new(arena, Text), name, m, "");
+    out
 }
 
-fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str) -> String {
-    let mut out = String::new();
+/// Writes [`matrix_to_text`]'s lines to `out`, each indented by `indent`.
+fn matrix_lines(
+    out: &mut String,
+    r: &mut Renderer<'_, Text>,
+    name: &str,
+    m: &Matrix,
+    indent: &str,
+) {
+    let start = out.len();
     let mut zeros = 0;
     for i in 0..m.rows {
         for j in 0..m.cols {
@@ -162,21 +184,22 @@ fn matrix_lines(r: &mut Renderer<'_, Text>, name: &str, m: &Matrix, indent: &str
                 zeros += 1;
                 continue;
             }
-            out.push_str(&format!(
-                "{indent}{} = {}\n",
-                entry_name(name, m, i, j),
-                r.render(e).s
-            ));
+            out.push_str(indent);
+            entry_name(out, name, m, i, j);
+            out.push_str(" = ");
+            out.push_str(&r.render(e).s);
+            out.push('\n');
         }
     }
-    if m.rows * m.cols == 0 {
-        out.push_str(&format!("{indent}(empty: {} x {})\n", m.rows, m.cols));
-    } else if out.is_empty() {
-        out.push_str(&format!("{indent}(all entries 0)\n"));
+    let _ = if m.rows * m.cols == 0 {
+        writeln!(out, "{indent}(empty: {} x {})", m.rows, m.cols)
+    } else if out.len() == start {
+        writeln!(out, "{indent}(all entries 0)")
     } else if zeros > 0 {
-        out.push_str(&format!("{indent}(all other entries 0)\n"));
-    }
-    out
+        writeln!(out, "{indent}(all other entries 0)")
+    } else {
+        Ok(())
+    };
 }
 
 /// The derived equations of `model` as readable text: a header with q, then the sections M, C
@@ -198,16 +221,18 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
             out.push_str("  (Khang's C of the M above: not written out for links)\n");
             continue;
         }
-        out.push_str(&matrix_lines(&mut r, name, mat, "  "));
+        matrix_lines(&mut out, &mut r, name, mat, "  ");
     }
-    out.push_str(&format!(
-        "\nT, the kinetic energy:\n  T = {}\n",
+    let _ = writeln!(
+        out,
+        "\nT, the kinetic energy:\n  T = {}",
         r.render(eqs.kinetic).s
-    ));
-    out.push_str(&format!(
-        "\nPi, the potential energy:\n  Pi = {}\n",
+    );
+    let _ = writeln!(
+        out,
+        "\nPi, the potential energy:\n  Pi = {}",
         r.render(eqs.potential).s
-    ));
+    );
     if r.elided {
         out.push_str(&format!("\nnote: {}\n", elided_note()));
     }
@@ -256,8 +281,7 @@ fn shared_subexpressions(r: &mut Renderer<'_, Text>, arena: &Arena, eqs: &Equati
             shared.len()
         ));
         for (k, id) in shared.into_iter().enumerate() {
-            let def = r.render(id).s;
-            out.push_str(&format!("  w{} = {def}\n", k + 1));
+            let _ = writeln!(out, "  w{} = {}", k + 1, r.render(id).s);
             r.name(id, format!("w{}", k + 1));
         }
     }
