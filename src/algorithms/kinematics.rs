@@ -11,8 +11,10 @@
 //! accelerations  Phi_v v'' = gamma - Phi_u u''            linear, gamma as in `Evaluation`
 //! ```
 //!
-//! These routines allocate (they use an SVD for rank-robust least-squares steps); they run at
-//! assembly time and per output sample, never inside the integrator's step loop.
+//! These routines allocate (they use an SVD for rank-robust least-squares steps, or LU where
+//! the system is square and certainly well-conditioned, which gives the SVD's answer:
+//! [`crate::linalg::conditioned_solve`]); they run at assembly time and per output sample,
+//! never inside the integrator's step loop.
 
 use std::fmt;
 use std::sync::Arc;
@@ -22,7 +24,9 @@ use nalgebra::DMatrix;
 use crate::algorithms::finite::{check_jacobian, check_rows};
 use crate::algorithms::velocity_rows::check_velocity_rows;
 use crate::error::Error;
-use crate::linalg::{inf_norm, least_squares, rank_and_least_squares};
+use crate::linalg::{
+    MAX_CERTIFIED_CONDITION, conditioned_solve, inf_norm, least_squares, rank_and_least_squares,
+};
 use crate::system::{Evaluation, Independent, Kinematic, System, SystemInfo};
 
 /// Tolerances of the position Newton iteration.
@@ -192,7 +196,10 @@ pub fn solve_positions(
         check_jacobian(&phi_q, info, t, q)?;
         let a = columns(&phi_q, &dep);
         let rhs: Vec<f64> = phi.iter().map(|v| -v).collect();
-        let dx = least_squares(&a, &rhs, 1e-14);
+        // A square, well-conditioned Phi_v (a mechanism away from its singular positions)
+        // by LU; the SVD's minimum-norm least squares otherwise.
+        let dx = conditioned_solve(&a, &rhs, MAX_CERTIFIED_CONDITION)
+            .unwrap_or_else(|| least_squares(&a, &rhs, 1e-14));
         let step = inf_norm(&dx);
         let Some(alpha) = line_search(system, t, q, &dep, &dx, &mut trial, &mut phi) else {
             if r <= options.tolerance {
@@ -356,8 +363,16 @@ fn solve_dependent(
         return Ok(());
     }
     let a = columns(phi_q, &dep);
-    // One SVD, O(m d^2), for both the rank test and the solution.
-    let (rank, s, x) = rank_and_least_squares(&a, rhs, options.rank_tolerance, 1e-14);
+    // A square Phi_v whose condition is certainly small has full rank by the SVD's test as
+    // well (its tolerance is above 1 / MAX_CERTIFIED_CONDITION), and LU gives the SVD's
+    // solution. Otherwise one SVD, O(m d^2), for both the rank test and the solution.
+    let certified = (options.rank_tolerance * MAX_CERTIFIED_CONDITION < 1.0)
+        .then(|| conditioned_solve(&a, rhs, MAX_CERTIFIED_CONDITION))
+        .flatten();
+    let (rank, s, x) = match certified {
+        Some(x) => (dep.len(), Vec::new(), x),
+        None => rank_and_least_squares(&a, rhs, options.rank_tolerance, 1e-14),
+    };
     if rank < dep.len() {
         if info.m() < dep.len() {
             return Err(not_determined(info, fixed, dep.len(), rank));

@@ -14,7 +14,8 @@
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
 //! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
-//!   SVD-based, for work outside the step loop;
+//!   SVD-based, for work outside the step loop; [`conditioned_solve`], the same answer by
+//!   LU for a square system whose condition is certainly small;
 //! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
 //!   uses them, so a NaN entry is never read as a small residual).
 //!
@@ -22,6 +23,7 @@
 
 mod band_lu;
 mod band_order;
+mod conditioned_solve;
 mod envelope;
 mod kernels;
 mod lu;
@@ -33,6 +35,7 @@ mod svd;
 
 pub use band_lu::BandLu;
 pub use band_order::BandOrder;
+pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};

@@ -148,3 +148,39 @@ fn an_independent_set_that_leaves_coordinates_free_is_reported() {
         })
     ));
 }
+
+/// Two routes to the same consistent state: by default a square, well-conditioned Phi_v
+/// is solved by LU (`conditioned_solve`), and a rank tolerance of 1e-6 sends the same
+/// steps through the SVD (LU is then not used: its certificate, kappa < 1e7, would not
+/// imply full rank at that tolerance). Both solve systems of condition below 100 with
+/// backward-stable factorisations and stop at the same Newton tolerance, so the states
+/// agree to a few units of round-off of q and q' (1e-12 leaves a margin of 100 over kappa
+/// eps |x|).
+#[test]
+fn lu_and_svd_routes_assemble_the_same_state() {
+    let svd_route = AssemblyOptions {
+        rank_tolerance: 1e-6,
+        ..Default::default()
+    };
+    let seed = CrankSlider::seed();
+    let four_bar = FourBar::crank_rocker();
+    for (name, lu, svd) in [
+        (
+            "seed",
+            assemble(&seed, 0.0, &AssemblyOptions::default()).unwrap(),
+            assemble(&seed, 0.0, &svd_route).unwrap(),
+        ),
+        (
+            "four-bar",
+            assemble(&four_bar, 0.0, &AssemblyOptions::default()).unwrap(),
+            assemble(&four_bar, 0.0, &svd_route).unwrap(),
+        ),
+    ] {
+        for (a, b) in lu.q.iter().zip(&svd.q).chain(lu.qd.iter().zip(&svd.qd)) {
+            assert!(
+                (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                "{name}: {a} vs {b}"
+            );
+        }
+    }
+}
