@@ -11,11 +11,15 @@
 //! kappa_2(A) = |A|_2 |A^-1|_2 <= |A|_F |A^-1|_F
 //! ```
 //!
-//! with A^-1 from the LU factors. Its relative error is about kappa eps, negligible below
-//! the bound accepted here; above it, or for a singular or non-square A, the caller takes
-//! the SVD.
+//! with |A^-1|_F from the LU factors, one solve per column of the identity. The step loop's
+//! [`Lu`] does the factoring and the solves; its `condition_estimate` is not used here, as
+//! Hager's estimate is a lower bound of the condition, not a certificate. The bound's
+//! relative error is about kappa eps, negligible below the bound accepted here; above it,
+//! or for a singular or non-square A, the caller takes the SVD.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
+
+use super::lu::Lu;
 
 /// The largest certified condition number accepted (the bound |A|_F |A^-1|_F): far below
 /// the inverse of every rank tolerance the solvers use (1e-8 and 1e-10) and of the least
@@ -24,29 +28,41 @@ use nalgebra::{DMatrix, DVector};
 pub const MAX_CERTIFIED_CONDITION: f64 = 1e7;
 
 /// x = A^-1 b when A is square and |A|_F |A^-1|_F < `max_condition`; `None` otherwise
-/// (not square, singular to working precision, or the bound not met). Allocates.
+/// (not square, a zero or non-finite pivot, or the bound not met). Allocates.
 pub fn conditioned_solve(a: &DMatrix<f64>, b: &[f64], max_condition: f64) -> Option<Vec<f64>> {
     let n = a.nrows();
     if n == 0 || a.ncols() != n || b.len() != n {
         return None;
     }
-    let lu = a.clone().lu();
-    let inverse = lu.try_inverse()?;
+    let mut lu = Lu::new(n);
+    lu.matrix_mut().copy_from(a);
+    if !lu.factor() {
+        return None;
+    }
+    // |A^-1|_F^2, column by column: A^-1 e_j.
+    let mut column = vec![0.0; n];
+    let mut inverse_squared = 0.0;
+    for j in 0..n {
+        column.fill(0.0);
+        column[j] = 1.0;
+        lu.solve(&mut column);
+        inverse_squared += column.iter().map(|v| v * v).sum::<f64>();
+    }
     // NaN (an overflowing inverse) fails the test too.
-    let certified = (a.norm() * inverse.norm()).partial_cmp(&max_condition);
+    let certified = (a.norm() * inverse_squared.sqrt()).partial_cmp(&max_condition);
     if certified != Some(std::cmp::Ordering::Less) {
         return None;
     }
-    let x = lu.solve(&DVector::from_column_slice(b))?;
-    x.iter()
-        .all(|v| v.is_finite())
-        .then(|| x.iter().copied().collect())
+    let mut x = b.to_vec();
+    lu.solve(&mut x);
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::linalg::rank_and_least_squares;
+    use nalgebra::DVector;
 
     /// A well-conditioned square system: the answer is the SVD's, to rounding, and the
     /// residual is at round-off.

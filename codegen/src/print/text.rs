@@ -191,15 +191,14 @@ fn matrix_lines(
             out.push('\n');
         }
     }
-    let _ = if m.rows * m.cols == 0 {
-        writeln!(out, "{indent}(empty: {} x {})", m.rows, m.cols)
+    // Writing to a String cannot fail.
+    if m.rows * m.cols == 0 {
+        let _ = writeln!(out, "{indent}(empty: {} x {})", m.rows, m.cols);
     } else if out.len() == start {
-        writeln!(out, "{indent}(all entries 0)")
+        let _ = writeln!(out, "{indent}(all entries 0)");
     } else if zeros > 0 {
-        writeln!(out, "{indent}(all other entries 0)")
-    } else {
-        Ok(())
-    };
+        let _ = writeln!(out, "{indent}(all other entries 0)");
+    }
 }
 
 /// The derived equations of `model` as readable text: a header with q, then the sections M, C
