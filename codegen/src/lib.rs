@@ -86,7 +86,7 @@ pub use algebra::budget::{
 };
 pub use algebra::diff::Differentiator;
 pub use algebra::eval::{eval, eval_matrix};
-pub use algebra::expr::{Arena, Func, Id, Node, Symbol, SymbolId, SymbolKind};
+pub use algebra::expr::{Arena, Func, Id, Node, Operands, Symbol, SymbolId, SymbolKind};
 pub use algebra::matrix::Matrix;
 pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,

@@ -14,8 +14,9 @@
 //! increasing id order, which is topological), so deep expressions cannot overflow the stack.
 
 use crate::algebra::dependencies::DependencySets;
-use crate::algebra::expr::{Arena, Func, FxHashMap, Id, Node, SymbolId, SymbolKind};
+use crate::algebra::expr::{Arena, Func, Id, Node, Short, SymbolId, SymbolKind};
 use crate::algebra::memo_table::MemoTable;
+use crate::algebra::visit_marks::VisitMarks;
 use crate::algebra::wide_children::WideChildren;
 use crate::error::AlgebraError;
 use crate::error::{Error, Result};
@@ -46,6 +47,12 @@ pub struct Differentiator {
     wide: WideChildren,
     /// Scratch for the positions of a node's dependent children.
     positions: Vec<u32>,
+    /// Scratch of [`Differentiator::diff`]'s walk (the nodes to differentiate, the nodes
+    /// still to visit, and which were visited), kept between calls: a matrix's derivative
+    /// is many calls, each of a few nodes.
+    todo: Vec<Id>,
+    stack: Vec<Id>,
+    visited: VisitMarks,
 }
 
 impl Differentiator {
@@ -156,23 +163,28 @@ impl Differentiator {
             return Ok(d);
         }
         // Collect the nodes below `id` that depend on `sym` and are not cached yet.
-        let mut todo = Vec::new();
-        let mut stack = vec![id];
-        let mut seen: FxHashMap<Id, ()> = FxHashMap::default();
+        let mut todo = std::mem::take(&mut self.todo);
+        let mut stack = std::mem::take(&mut self.stack);
+        todo.clear();
+        stack.clear();
+        stack.push(id);
+        self.visited.start();
         while let Some(n) = stack.pop() {
-            if seen.insert(n, ()).is_some() || self.memo.get(n, sym).is_some() {
+            if !self.visited.first_visit(n) || self.memo.get(n, sym).is_some() {
                 continue;
             }
             todo.push(n);
-            let children = arena.children(n);
+            let children = arena.child_list(n);
             self.dependent_children(n, &children, sym);
             stack.extend(self.positions.iter().map(|&k| children[k as usize]));
         }
         todo.sort_unstable();
-        for n in todo {
+        self.stack = stack;
+        for &n in &todo {
             let d = self.rule(arena, n, sym)?;
             self.memo.insert(n, sym, d);
         }
+        self.todo = todo;
         self.memo
             .get(id, sym)
             .ok_or(Error::Algebra(AlgebraError::InvalidId {
@@ -218,14 +230,14 @@ impl Differentiator {
             Node::Num(_) | Node::Pi => arena.int(0),
             Node::Sym(s) => arena.int(i64::from(s == sym)),
             Node::Add(dependent) => {
-                let ds: Vec<Id> = dependent
+                let ds: Short<Id> = dependent
                     .iter()
                     .map(|&t| self.child(arena, t, sym))
                     .collect();
                 arena.add(&ds)
             }
             Node::Mul(fs) => {
-                let mut terms = Vec::new();
+                let mut terms: Short<Id> = Short::new();
                 self.dependent_children(n, &fs, sym);
                 for i in std::mem::take(&mut self.positions) {
                     let (i, f) = (i as usize, fs[i as usize]);
@@ -233,7 +245,7 @@ impl Differentiator {
                     if arena.is_zero(df) {
                         continue;
                     }
-                    let mut factors: Vec<Id> = Vec::with_capacity(fs.len());
+                    let mut factors: Short<Id> = Short::with_capacity(fs.len());
                     factors.extend(
                         fs.iter()
                             .enumerate()

@@ -22,9 +22,17 @@ use crate::algebra::probe_table::ProbeTable;
 use crate::error::{Error, Result};
 use crate::number::Number;
 
+mod operands;
 mod products;
 mod reachable;
 mod sums;
+
+pub use operands::Operands;
+
+/// A scratch list of a constructor (the flattened operands of a sum or product, their
+/// pairs, the result): on the stack up to eight entries, which holds nearly every sum and
+/// product a derivation builds, so building one allocates nothing but its node.
+pub(crate) type Short<T> = smallvec::SmallVec<[T; 8]>;
 
 /// Index of a node in an [`Arena`]. Children always have smaller ids than their parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -129,9 +137,9 @@ pub enum Node {
     Sym(SymbolId),
     /// n-ary sum; a numeric constant, if any, comes first; other terms sorted by their
     /// coefficient-free part.
-    Add(Box<[Id]>),
+    Add(Operands),
     /// n-ary product; a numeric coefficient, if any, comes first; other factors sorted by id.
-    Mul(Box<[Id]>),
+    Mul(Operands),
     /// base ^ exponent.
     Pow(Id, Id),
     /// A unary function.
@@ -649,6 +657,17 @@ impl Arena {
             Node::Add(v) | Node::Mul(v) => v.to_vec(),
             Node::Pow(a, b) | Node::Atan2(a, b) => vec![*a, *b],
             Node::Func(_, a) => vec![*a],
+        }
+    }
+
+    /// The direct children of `id`, on the stack (up to eight): for walks that visit many
+    /// nodes and would otherwise allocate a list per node.
+    pub(crate) fn child_list(&self, id: Id) -> Short<Id> {
+        match self.node(id) {
+            Node::Num(_) | Node::Pi | Node::Sym(_) => Short::new(),
+            Node::Add(v) | Node::Mul(v) => Short::from_slice(v),
+            Node::Pow(a, b) | Node::Atan2(a, b) => Short::from_slice(&[*a, *b]),
+            Node::Func(_, a) => Short::from_slice(&[*a]),
         }
     }
 

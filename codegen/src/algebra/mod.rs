@@ -26,4 +26,5 @@ pub(crate) mod matrix;
 pub(crate) mod memo_table;
 pub(crate) mod probe_table;
 pub(crate) mod rotation;
+pub(crate) mod visit_marks;
 pub(crate) mod wide_children;

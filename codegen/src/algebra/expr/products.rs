@@ -1,7 +1,9 @@
 //! Products and powers of the arena: the canonical product (flat, like powers collected,
 //! a numeric factor distributed over a single sum), quotients, powers and square roots.
 
-use crate::algebra::expr::{Arena, Id, Node};
+use smallvec::SmallVec;
+
+use crate::algebra::expr::{Arena, Id, Node, Operands, Short};
 use crate::error::AlgebraError;
 use crate::error::{Error, Result};
 use crate::number::Number;
@@ -17,7 +19,7 @@ impl Arena {
 
     /// The canonical product of `factors`.
     pub fn mul(&mut self, factors: &[Id]) -> Id {
-        let mut flat = Vec::with_capacity(factors.len());
+        let mut flat: Short<Id> = SmallVec::with_capacity(factors.len());
         for &f in factors {
             match self.node(f) {
                 Node::Mul(fs) => flat.extend_from_slice(fs),
@@ -25,7 +27,7 @@ impl Arena {
             }
         }
         let mut coef = Number::int(1);
-        let mut pairs: Vec<(Id, Id)> = Vec::with_capacity(flat.len());
+        let mut pairs: Short<(Id, Id)> = SmallVec::with_capacity(flat.len());
         for f in flat {
             match self.node(f) {
                 Node::Num(n) => {
@@ -39,7 +41,7 @@ impl Arena {
             }
         }
         pairs.sort_by_key(|p| p.0);
-        let mut rest: Vec<Id> = Vec::with_capacity(pairs.len());
+        let mut rest: Short<Id> = SmallVec::with_capacity(pairs.len());
         let mut redo = false;
         let mut i = 0;
         while i < pairs.len() {
@@ -51,7 +53,7 @@ impl Arena {
             let exp = if j == i + 1 {
                 pairs[i].1
             } else {
-                let es: Vec<Id> = pairs[i..j].iter().map(|p| p.1).collect();
+                let es: Short<Id> = pairs[i..j].iter().map(|p| p.1).collect();
                 self.add(&es)
             };
             // pow of a canonical base with collected exponent; a 0^negative cannot arise from a
@@ -86,7 +88,7 @@ impl Arena {
             0 => self.number(coef),
             1 => self.scale(coef, rest[0]),
             _ => {
-                let body = self.intern(Node::Mul(rest.into()));
+                let body = self.intern(Node::Mul(Operands::from(rest)));
                 self.scale(coef, body)
             }
         }

@@ -1,7 +1,9 @@
 //! Sums of the arena: the canonical sum (flat, like terms collected, constants folded,
 //! sin^2 + cos^2 pairs merged), its coefficients, and negation.
 
-use crate::algebra::expr::{Arena, Func, Id, NO_ID, Node, Overflow};
+use smallvec::SmallVec;
+
+use crate::algebra::expr::{Arena, Func, Id, NO_ID, Node, Operands, Overflow, Short};
 use crate::number::Number;
 
 impl Arena {
@@ -24,7 +26,7 @@ impl Arena {
         {
             return (c, Some(r));
         }
-        let rest: Box<[Id]> = rest.into();
+        let rest = Operands::from(rest);
         (c, Some(self.intern(Node::Mul(rest))))
     }
 
@@ -40,10 +42,10 @@ impl Arena {
         let cn = self.number(c);
         match self.node(e) {
             Node::Mul(fs) => {
-                let mut v = Vec::with_capacity(fs.len() + 1);
+                let mut v: Short<Id> = SmallVec::with_capacity(fs.len() + 1);
                 v.push(cn);
                 v.extend_from_slice(fs);
-                let scaled = self.intern(Node::Mul(v.into()));
+                let scaled = self.intern(Node::Mul(Operands::from(&v[..])));
                 let k = scaled.index();
                 if k >= self.coefficient_free.len() {
                     self.coefficient_free.resize(k + 1, NO_ID);
@@ -56,7 +58,7 @@ impl Arena {
                 let terms: Vec<Id> = ts.iter().map(|&t| self.scale_term(c, t)).collect();
                 self.add(&terms)
             }
-            _ => self.intern(Node::Mul(vec![cn, e].into())),
+            _ => self.intern(Node::Mul(Operands::from([cn, e]))),
         }
     }
 
@@ -68,7 +70,7 @@ impl Arena {
             return self.scale(c, e);
         }
         let cn = self.number(c);
-        self.intern(Node::Mul(vec![cn, e].into()))
+        self.intern(Node::Mul(Operands::from([cn, e])))
     }
 
     /// The sum of `terms` as one node, in the given order, without merging or
@@ -98,7 +100,7 @@ impl Arena {
 
     /// The canonical sum of `terms`.
     pub fn add(&mut self, terms: &[Id]) -> Id {
-        let mut flat = Vec::with_capacity(terms.len());
+        let mut flat: Short<Id> = SmallVec::with_capacity(terms.len());
         for &t in terms {
             match self.node(t) {
                 Node::Add(ts) => flat.extend_from_slice(ts),
@@ -106,7 +108,7 @@ impl Arena {
             }
         }
         let mut constant = Number::int(0);
-        let mut pairs: Vec<(Id, Number)> = Vec::with_capacity(flat.len());
+        let mut pairs: Short<(Id, Number)> = SmallVec::with_capacity(flat.len());
         for t in flat {
             let (c, rest) = self.split_coefficient(t);
             match rest {
@@ -147,8 +149,8 @@ impl Arena {
             again.push(k);
             return self.add(&again);
         }
-        // Exactly the entries' capacity: the list becomes the node's boxed slice as it is.
-        let mut out = Vec::with_capacity(merged.len() + usize::from(!constant.is_zero()));
+        let mut out: Short<Id> =
+            SmallVec::with_capacity(merged.len() + usize::from(!constant.is_zero()));
         if !constant.is_zero() {
             out.push(self.number(constant));
         }
@@ -158,13 +160,13 @@ impl Arena {
         match out.len() {
             0 => self.int(0),
             1 => out[0],
-            _ => self.intern(Node::Add(out.into())),
+            _ => self.intern(Node::Add(Operands::from(out))),
         }
     }
 
     /// Finds pairs c*u*sin(x)^2 and c*u*cos(x)^2 in `terms` (coefficient-free part, coefficient),
     /// removes both and returns the replacements c*u. `None` when there is no pair.
-    fn pythagoras(&mut self, terms: &mut Vec<(Id, Number)>) -> Option<Vec<Id>> {
+    fn pythagoras(&mut self, terms: &mut Short<(Id, Number)>) -> Option<Vec<Id>> {
         let two = Number::int(2);
         // Most sums have no sin(x)^2 factor: tell so without the scratch lists below.
         let sin_squared = |f: Id| match *self.node(f) {
