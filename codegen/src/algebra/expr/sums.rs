@@ -108,21 +108,33 @@ impl Arena {
             }
         }
         let mut constant = Number::int(0);
-        let mut pairs: Short<(Id, Number)> = SmallVec::with_capacity(flat.len());
+        // (coefficient-free part, coefficient, the term itself while no like term merged
+        // into it: `scale` would build that very node again, at the cost of two look-ups).
+        let mut pairs: Short<(Id, Number, Id)> = SmallVec::with_capacity(flat.len());
         for t in flat {
             let (c, rest) = self.split_coefficient(t);
             match rest {
                 None => constant = self.fold_add(constant, c),
-                Some(r) => pairs.push((r, c)),
+                Some(r) => {
+                    // c * (a sum) is a sum again, distributed, not the term (only a
+                    // lowering's `scaled_sum` makes such a term).
+                    let same = if matches!(self.node(r), Node::Add(_)) {
+                        NO_ID
+                    } else {
+                        t
+                    };
+                    pairs.push((r, c, same));
+                }
             }
         }
         pairs.sort_by_key(|p| p.0);
         // Like terms merged in place: `merged` is the first `kept` pairs.
         let mut kept: usize = 0;
         for k in 0..pairs.len() {
-            let (r, c) = pairs[k];
+            let (r, c, same) = pairs[k];
             match kept.checked_sub(1).map(|last| &mut pairs[last]) {
-                Some((lr, lc)) if *lr == r => {
+                Some((lr, lc, lsame)) if *lr == r => {
+                    *lsame = NO_ID;
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
                         self.overflow.get_or_insert(Overflow {
                             lhs: *lc,
@@ -133,17 +145,17 @@ impl Arena {
                     })
                 }
                 _ => {
-                    pairs[kept] = (r, c);
+                    pairs[kept] = (r, c, same);
                     kept += 1;
                 }
             }
         }
         pairs.truncate(kept);
         let mut merged = pairs;
-        merged.retain(|(_, c)| !c.is_zero());
+        merged.retain(|(_, c, _)| !c.is_zero());
         if let Some(extra) = self.pythagoras(&mut merged) {
             // sin^2 + cos^2 pairs were replaced; re-add so the survivors merge again.
-            let mut again: Vec<Id> = merged.iter().map(|&(r, c)| self.scale(c, r)).collect();
+            let mut again: Vec<Id> = merged.iter().map(|&(r, c, _)| self.scale(c, r)).collect();
             again.extend(extra);
             let k = self.number(constant);
             again.push(k);
@@ -154,8 +166,12 @@ impl Arena {
         if !constant.is_zero() {
             out.push(self.number(constant));
         }
-        for (r, c) in merged {
-            out.push(self.scale(c, r));
+        for (r, c, same) in merged {
+            out.push(if same == NO_ID {
+                self.scale(c, r)
+            } else {
+                same
+            });
         }
         match out.len() {
             0 => self.int(0),
@@ -166,7 +182,7 @@ impl Arena {
 
     /// Finds pairs c*u*sin(x)^2 and c*u*cos(x)^2 in `terms` (coefficient-free part, coefficient),
     /// removes both and returns the replacements c*u. `None` when there is no pair.
-    fn pythagoras(&mut self, terms: &mut Short<(Id, Number)>) -> Option<Vec<Id>> {
+    fn pythagoras(&mut self, terms: &mut Short<(Id, Number, Id)>) -> Option<Vec<Id>> {
         let two = Number::int(2);
         // Most sums have no sin(x)^2 factor: tell so without the scratch lists below.
         let sin_squared = |f: Id| match *self.node(f) {
@@ -175,7 +191,7 @@ impl Arena {
             }
             _ => false,
         };
-        let any = terms.iter().any(|&(r, _)| match self.node(r) {
+        let any = terms.iter().any(|&(r, _, _)| match self.node(r) {
             Node::Mul(fs) => fs.iter().any(|&f| sin_squared(f)),
             _ => sin_squared(r),
         });
@@ -188,7 +204,7 @@ impl Arena {
             if removed[i] {
                 continue;
             }
-            let (r, c) = terms[i];
+            let (r, c, _) = terms[i];
             let factors: Vec<Id> = match self.node(r) {
                 Node::Mul(fs) => fs.to_vec(),
                 _ => vec![r],
@@ -216,7 +232,7 @@ impl Arena {
                 let hit = terms
                     .iter()
                     .enumerate()
-                    .position(|(j, &(pr, pc))| !removed[j] && j != i && pr == pkey && pc == c);
+                    .position(|(j, &(pr, pc, _))| !removed[j] && j != i && pr == pkey && pc == c);
                 if let Some(j) = hit {
                     removed[i] = true;
                     removed[j] = true;
