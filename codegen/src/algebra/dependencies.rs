@@ -68,14 +68,20 @@ impl DependencySets {
     /// total size (times a logarithm), not the widest run's; a run found inside another once
     /// is remembered, so a sum over a chain's bars, whose sets nest, costs one look-up per
     /// term after the first. The symbols the widest lacks are stamped as they are found, so
-    /// each is sorted and merged once however many children hold it.
+    /// each is sorted and merged once however many children hold it. Two short runs, the
+    /// usual case, are merged directly instead ([`DependencySets::merge_two`]).
     fn union(&mut self, children: &[Id]) -> (u32, u32) {
         let mut widest = (0u32, 0u32);
         let mut distinct = 0;
+        // The first two distinct non-empty runs, for the common case of two.
+        let mut two = [(0u32, 0u32); 2];
         for c in children {
             let run = self.runs[c.index()];
             if run.1 == 0 || run == widest {
                 continue;
+            }
+            if distinct < 2 {
+                two[distinct] = run;
             }
             distinct += 1;
             if run.1 > widest.1 {
@@ -86,6 +92,9 @@ impl DependencySets {
             return widest;
         }
         let range = |(start, len): (u32, u32)| start as usize..(start + len) as usize;
+        if distinct == 2 && two[0] != two[1] && two.iter().all(|r| r.1 <= SMALL_RUN) {
+            return self.merge_two(range(two[0]), range(two[1]));
+        }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
             // The stamps wrapped around: no stale stamp may equal a new generation.
@@ -139,6 +148,44 @@ impl DependencySets {
             }
         }
         (start as u32, (self.pool.len() - start) as u32)
+    }
+
+    /// The union of two short runs (both non-empty and different) by one merge of the two:
+    /// the run that holds the other when one does, else a new run at the pool's end. For
+    /// the two-operand nodes that most of an arena is, this is cheaper than looking each
+    /// symbol up in the wider run and sorting what it lacks.
+    fn merge_two(&mut self, a: std::ops::Range<usize>, b: std::ops::Range<usize>) -> (u32, u32) {
+        let start = self.pool.len();
+        let (mut i, mut j) = (a.start, b.start);
+        let (mut a_only, mut b_only) = (false, false);
+        while i < a.end || j < b.end {
+            let s = if j == b.end || (i < a.end && self.pool[i] < self.pool[j]) {
+                a_only = true;
+                i += 1;
+                self.pool[i - 1]
+            } else if i == a.end || self.pool[j] < self.pool[i] {
+                b_only = true;
+                j += 1;
+                self.pool[j - 1]
+            } else {
+                i += 1;
+                j += 1;
+                self.pool[i - 1]
+            };
+            self.pool.push(s);
+        }
+        let whole = |r: std::ops::Range<usize>| (r.start as u32, (r.end - r.start) as u32);
+        match (a_only, b_only) {
+            (_, false) => {
+                self.pool.truncate(start);
+                whole(a)
+            }
+            (false, true) => {
+                self.pool.truncate(start);
+                whole(b)
+            }
+            (true, true) => (start as u32, (self.pool.len() - start) as u32),
+        }
     }
 
     /// The symbols of node `id` (covered), in increasing order.
