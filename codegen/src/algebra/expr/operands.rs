@@ -126,8 +126,7 @@ impl PartialEq for Operands {
 
 impl Eq for Operands {}
 
-/// Hashed as the slice, as `Box<[Id]>` was: the same hash for the same operands whatever
-/// their form.
+/// Hashed as the slice: equal operands hash alike whatever their form.
 impl Hash for Operands {
     fn hash<H: Hasher>(&self, state: &mut H) {
         self.as_slice().hash(state);
