@@ -77,6 +77,17 @@ pub(crate) trait Style {
     fn paren(&self, s: &str) -> String;
 }
 
+/// The parts written one after the other into a string of exactly their length: the
+/// printers make one string per rendered node, and `format!`'s machinery cost more than
+/// the copying itself.
+pub(crate) fn concat(parts: &[&str]) -> String {
+    let mut s = String::with_capacity(parts.iter().map(|p| p.len()).sum());
+    for p in parts {
+        s.push_str(p);
+    }
+    s
+}
+
 /// An exponent as the renderer sees it: a plain number, or an expression's rendering.
 enum Exp<'r> {
     Num(Number),
@@ -301,9 +312,9 @@ impl<'a, S: Style> Renderer<'a, S> {
         // A unary minus binds to the first factor only, and the arena distributes -1 over a
         // sum: `-(a + b)*c` would read back as (-a - b)*c. `-1*(a + b)*c` reads back as written.
         if body.starts_with('(') {
-            return Rendered::new(format!("-1*{body}"), Prec::Sum);
+            return Rendered::new(concat(&["-1*", &body]), Prec::Sum);
         }
-        Rendered::new(format!("-{body}"), Prec::Sum)
+        Rendered::new(concat(&["-", &body]), Prec::Sum)
     }
 
     /// -t for a term t in negative form (a negative constant, or a product with a negative

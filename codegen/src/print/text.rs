@@ -11,7 +11,7 @@ use crate::algebra::matrix::Matrix;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::number::Number;
-use crate::print::render::{Prec, Rendered, Renderer, Style, elided_note};
+use crate::print::render::{Prec, Rendered, Renderer, Style, concat, elided_note};
 use std::borrow::Cow;
 use std::fmt::Write;
 
@@ -20,7 +20,7 @@ pub(crate) struct Text;
 
 fn wrap(r: &Rendered, min: Prec) -> Cow<'_, str> {
     if r.prec < min {
-        Cow::Owned(format!("({})", r.s))
+        Cow::Owned(concat(&["(", &r.s, ")"]))
     } else {
         Cow::Borrowed(&r.s)
     }
@@ -61,22 +61,22 @@ impl Style for Text {
     }
 
     fn func(&self, f: Func, x: &Rendered) -> Rendered {
-        Rendered::new(format!("{}({})", f.name(), x.s), Prec::Atom)
+        Rendered::new(concat(&[f.name(), "(", &x.s, ")"]), Prec::Atom)
     }
 
     fn atan2(&self, y: &Rendered, x: &Rendered) -> Rendered {
-        Rendered::new(format!("atan2({}, {})", y.s, x.s), Prec::Atom)
+        Rendered::new(concat(&["atan2(", &y.s, ", ", &x.s, ")"]), Prec::Atom)
     }
 
     fn sqrt(&self, x: &Rendered) -> Rendered {
-        Rendered::new(format!("sqrt({})", x.s), Prec::Atom)
+        Rendered::new(concat(&["sqrt(", &x.s, ")"]), Prec::Atom)
     }
 
     fn power(&self, base: &Rendered, exp: &Rendered) -> Rendered {
         // `^` is right-associative: a power in the exponent needs no brackets, one in the
         // base does.
         Rendered::new(
-            format!("{}^{}", wrap(base, Prec::Atom), wrap(exp, Prec::Power)),
+            concat(&[&wrap(base, Prec::Atom), "^", &wrap(exp, Prec::Power)]),
             Prec::Power,
         )
     }
@@ -96,7 +96,9 @@ impl Style for Text {
             // `x/(2*(a + b))` would read back with the 2 distributed over the sum (the
             // arena's canonical 2*a + 2*b); `x/2/(a + b)` reads back as written.
             [q, sum] if q.s.bytes().all(|b| b.is_ascii_digit()) && sum.prec == Prec::Sum => {
-                let _ = write!(s, "/{}/({})", q.s, sum.s);
+                for part in ["/", &q.s, "/(", &sum.s, ")"] {
+                    s.push_str(part);
+                }
             }
             [one] => {
                 s.push('/');
@@ -112,7 +114,7 @@ impl Style for Text {
     }
 
     fn paren(&self, s: &str) -> String {
-        format!("({s})")
+        concat(&["(", s, ")"])
     }
 }
 
@@ -137,11 +139,14 @@ pub fn to_text(arena: &Arena, id: Id) -> String {
 
 /// Writes the entry name `name[i,j]` (1-based), or `name[i]` for a column vector.
 fn entry_name(out: &mut String, name: &str, m: &Matrix, i: usize, j: usize) {
-    let _ = if m.cols == 1 {
-        write!(out, "{name}[{}]", i + 1)
-    } else {
-        write!(out, "{name}[{},{}]", i + 1, j + 1)
-    };
+    out.push_str(name);
+    out.push('[');
+    out.push_str(&(i + 1).to_string());
+    if m.cols != 1 {
+        out.push(',');
+        out.push_str(&(j + 1).to_string());
+    }
+    out.push(']');
 }
 
 /// The non-zero entries of `m`, one per line as `name[i,j] = entry` (1-based; `name[i]` for a
