@@ -28,7 +28,7 @@ impl Arena {
         }
         let mut coef = Number::int(1);
         let mut pairs: Short<(Id, Id)> = SmallVec::with_capacity(flat.len());
-        for f in flat {
+        for &f in flat.iter() {
             match self.node(f) {
                 Node::Num(n) => {
                     let n = *n;

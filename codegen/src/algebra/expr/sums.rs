@@ -111,7 +111,7 @@ impl Arena {
         // (coefficient-free part, coefficient, the term itself while no like term merged
         // into it: `scale` would build that very node again, at the cost of two look-ups).
         let mut pairs: Short<(Id, Number, Id)> = SmallVec::with_capacity(flat.len());
-        for t in flat {
+        for &t in flat.iter() {
             let (c, rest) = self.split_coefficient(t);
             match rest {
                 None => constant = self.fold_add(constant, c),
@@ -151,9 +151,10 @@ impl Arena {
             }
         }
         pairs.truncate(kept);
-        let mut merged = pairs;
+        // Borrowed, not moved: a move of the list copies its inline storage.
+        let merged = &mut pairs;
         merged.retain(|(_, c, _)| !c.is_zero());
-        if let Some(extra) = self.pythagoras(&mut merged) {
+        if let Some(extra) = self.pythagoras(merged) {
             // sin^2 + cos^2 pairs were replaced; re-add so the survivors merge again.
             let mut again: Vec<Id> = merged.iter().map(|&(r, c, _)| self.scale(c, r)).collect();
             again.extend(extra);
@@ -166,7 +167,7 @@ impl Arena {
         if !constant.is_zero() {
             out.push(self.number(constant));
         }
-        for (r, c, same) in merged {
+        for &(r, c, same) in merged.iter() {
             out.push(if same == NO_ID {
                 self.scale(c, r)
             } else {
