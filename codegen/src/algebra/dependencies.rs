@@ -8,6 +8,7 @@
 //! 15,000 symbols, and a dense bitset per node would cost 1.9 kB for each of its nodes.
 
 use crate::algebra::expr::{Arena, FxHashSet, Id, Node, SymbolId};
+use crate::algebra::visit_marks::VisitMarks;
 
 /// The sets, extended incrementally as the arena grows.
 #[derive(Clone, Debug, Default)]
@@ -18,21 +19,10 @@ pub(crate) struct DependencySets {
     pool: Vec<SymbolId>,
     /// Scratch for unions.
     scratch: Vec<SymbolId>,
-    /// Per symbol, the generation of the union that last added it to the scratch.
-    stamps: Vec<u32>,
-    /// The current union's generation.
-    generation: u32,
+    /// The symbols the current union has added to the scratch.
+    added: VisitMarks,
     /// Pairs of runs (a, b) with a found inside b, for runs longer than [`SMALL_RUN`].
     inside: FxHashSet<((u32, u32), (u32, u32))>,
-}
-
-/// Stamps symbol `s` with `generation`; true when it was not stamped so already.
-fn stamp(stamps: &mut Vec<u32>, s: SymbolId, generation: u32) -> bool {
-    let k = s.index();
-    if k >= stamps.len() {
-        stamps.resize(k + 1, 0);
-    }
-    std::mem::replace(&mut stamps[k], generation) != generation
 }
 
 /// Runs up to this length are looked up symbol by symbol every time; longer ones are
@@ -67,7 +57,7 @@ impl DependencySets {
     /// is it. The other runs are looked up in the widest by bisection, so the cost is their
     /// total size (times a logarithm), not the widest run's; a run found inside another once
     /// is remembered, so a sum over a chain's bars, whose sets nest, costs one look-up per
-    /// term after the first. The symbols the widest lacks are stamped as they are found, so
+    /// term after the first. The symbols the widest lacks are marked as they are found, so
     /// each is sorted and merged once however many children hold it. Two short runs, the
     /// usual case, are merged directly instead ([`DependencySets::merge_two`]).
     fn union(&mut self, children: &[Id]) -> (u32, u32) {
@@ -95,13 +85,7 @@ impl DependencySets {
         if distinct == 2 && two[0] != two[1] && two.iter().all(|r| r.1 <= SMALL_RUN) {
             return self.merge_two(range(two[0]), range(two[1]));
         }
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            // The stamps wrapped around: no stale stamp may equal a new generation.
-            self.stamps.fill(0);
-            self.generation = 1;
-        }
-        let generation = self.generation;
+        self.added.start();
         self.scratch.clear();
         for c in children {
             let r = self.runs[c.index()];
@@ -119,7 +103,7 @@ impl DependencySets {
                     inside = false;
                     // Each missing symbol enters the scratch once, however many children
                     // hold it.
-                    if stamp(&mut self.stamps, s, generation) {
+                    if self.added.first_visit(s.index()) {
                         self.scratch.push(s);
                     }
                 }
@@ -262,6 +246,13 @@ mod tests {
         let low = a.add(&ys[..16]);
         let high = a.add(&ys[8..]);
         a.mul(&[low, high, long[3]]);
+        // Two children that share symbols the widest lacks (ys[8..16]): each enters the
+        // union once.
+        let zs: Vec<Id> = (0..30)
+            .map(|k| a.symbol(&format!("z{k}"), SymbolKind::Free))
+            .collect();
+        let wide = a.add(&zs);
+        a.mul(&[wide, low, high]);
         let mut sets = DependencySets::default();
         sets.sync(&a);
         for n in 0..a.len() {

@@ -170,7 +170,7 @@ impl Differentiator {
         stack.push(id);
         self.visited.start();
         while let Some(n) = stack.pop() {
-            if !self.visited.first_visit(n) || self.memo.get(n, sym).is_some() {
+            if !self.visited.first_visit(n.index()) || self.memo.get(n, sym).is_some() {
                 continue;
             }
             todo.push(n);

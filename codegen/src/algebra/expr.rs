@@ -668,12 +668,7 @@ impl Arena {
 
     /// Ids of the direct children of `id`.
     pub fn children(&self, id: Id) -> Vec<Id> {
-        match self.node(id) {
-            Node::Num(_) | Node::Pi | Node::Sym(_) => vec![],
-            Node::Add(v) | Node::Mul(v) => v.to_vec(),
-            Node::Pow(a, b) | Node::Atan2(a, b) => vec![*a, *b],
-            Node::Func(_, a) => vec![*a],
-        }
+        self.child_list(id).into_vec()
     }
 
     /// The direct children of `id`, on the stack (up to eight): for walks that visit many

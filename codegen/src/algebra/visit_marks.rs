@@ -1,13 +1,12 @@
-//! Marks of the nodes one walk has visited, for walks repeated many times over one growing
-//! arena (one per derivative of a matrix entry).
+//! Marks of the indices one pass has visited, for passes repeated many times over one
+//! growing arena: the differentiator's walk per derivative (node indices), a dependency
+//! union's symbols (symbol indices).
 //!
-//! A node is marked with the walk's number, so starting a walk clears nothing: a fresh set
-//! or map per walk costs an allocation and, once it has grown, a clearing as large as the
-//! largest walk so far. Memory is one `u32` per node of the arena.
+//! An index is marked with the pass's number, so starting a pass clears nothing: a fresh
+//! set or map per pass costs an allocation and, once it has grown, a clearing as large as
+//! the largest pass so far. Memory is one `u32` per index.
 
-use crate::algebra::expr::Id;
-
-/// The visited marks: `marks[n]` is the number of the last walk that visited node `n`.
+/// The visited marks: `marks[k]` is the number of the last walk that visited index `k`.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct VisitMarks {
     marks: Vec<u32>,
@@ -15,7 +14,7 @@ pub(crate) struct VisitMarks {
 }
 
 impl VisitMarks {
-    /// Starts a walk: no node is marked visited.
+    /// Starts a walk: no index is marked visited.
     pub(crate) fn start(&mut self) {
         self.walk = self.walk.wrapping_add(1);
         if self.walk == 0 {
@@ -25,9 +24,8 @@ impl VisitMarks {
         }
     }
 
-    /// Marks `id` visited; true the first time in this walk.
-    pub(crate) fn first_visit(&mut self, id: Id) -> bool {
-        let k = id.index();
+    /// Marks index `k` visited; true the first time in this walk.
+    pub(crate) fn first_visit(&mut self, k: usize) -> bool {
         if k >= self.marks.len() {
             self.marks.resize(k + 1, 0);
         }
@@ -39,25 +37,31 @@ impl VisitMarks {
 mod tests {
     use super::*;
 
-    /// A node is visited once per walk, and again in the next walk; marks survive the
-    /// counter's wrap-around without a stale match.
+    /// An index is visited once per walk, and again in the next walk.
     #[test]
-    fn each_walk_visits_a_node_once() {
+    fn each_walk_visits_an_index_once() {
         let mut v = VisitMarks::default();
         for _ in 0..3 {
             v.start();
-            assert!(v.first_visit(Id::new(5)));
-            assert!(!v.first_visit(Id::new(5)));
-            assert!(v.first_visit(Id::new(0)));
-            assert!(v.first_visit(Id::new(100)));
-            assert!(!v.first_visit(Id::new(0)));
+            assert!(v.first_visit(5));
+            assert!(!v.first_visit(5));
+            assert!(v.first_visit(0));
+            assert!(v.first_visit(100));
+            assert!(!v.first_visit(0));
         }
+    }
+
+    /// When the walk counter wraps around to 1, a mark left by walk 1 long ago does not
+    /// read as visited in the new walk 1.
+    #[test]
+    fn a_wrapped_counter_leaves_no_stale_mark() {
+        let mut v = VisitMarks::default();
+        v.start();
+        assert!(v.first_visit(5), "marked by walk 1");
         v.walk = u32::MAX;
         v.start();
-        assert!(
-            v.first_visit(Id::new(5)),
-            "a wrapped counter clears old marks"
-        );
-        assert!(!v.first_visit(Id::new(5)));
+        assert_eq!(v.walk, 1);
+        assert!(v.first_visit(5), "walk 1 again, after the wrap");
+        assert!(!v.first_visit(5));
     }
 }

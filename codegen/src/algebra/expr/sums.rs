@@ -181,8 +181,9 @@ impl Arena {
         }
     }
 
-    /// Finds pairs c*u*sin(x)^2 and c*u*cos(x)^2 in `terms` (coefficient-free part, coefficient),
-    /// removes both and returns the replacements c*u. `None` when there is no pair.
+    /// Finds pairs c*u*sin(x)^2 and c*u*cos(x)^2 in `terms` (coefficient-free part,
+    /// coefficient, the kept term or `NO_ID`), removes both and returns the replacements c*u.
+    /// `None` when there is no pair.
     fn pythagoras(&mut self, terms: &mut Short<(Id, Number, Id)>) -> Option<Vec<Id>> {
         let two = Number::int(2);
         // Most sums have no sin(x)^2 factor: tell so without the scratch lists below.
