@@ -62,6 +62,19 @@ impl InterpretedConstraints {
             info: system_info(&model, m),
         })
     }
+
+    /// The current parameter values, in the declaration order of
+    /// [`SystemInfo::parameters`].
+    pub fn parameter_values(&self) -> &[f64] {
+        self.parameters.values()
+    }
+
+    /// Sets parameter `index` (in [`SystemInfo::parameters`]) to `value`, as
+    /// [`crate::System::set_parameter`] does for a whole system: the rows' parameter-only
+    /// values are recomputed. Returns false when `index` is out of range.
+    pub fn set_parameter(&mut self, index: usize, value: f64) -> bool {
+        self.parameters.set(index, value)
+    }
 }
 
 impl Kinematic for InterpretedConstraints {

@@ -94,3 +94,31 @@ fn jacobian_pattern_of_the_rows_alone_is_the_evaluations() {
         assert!(alone.sparsity(EvaluationOutput::Mass).is_err(), "{name}");
     }
 }
+
+/// Parameters set on the rows alone act as on the whole system: after each parameter of
+/// the seed (its lengths enter the rows) is changed in both, Phi, Phi_q and Phi_t agree bit
+/// for bit again, and they differ from the rows before the change for some parameter (so
+/// the setting reached the rows). An index past the parameters is refused by both.
+#[test]
+fn parameters_set_on_the_rows_alone_act_as_on_the_whole_system() {
+    use mechanism::System;
+    let (mut full, mut rows) = both("spatial_crank_slider");
+    let count = rows.info().parameters.len();
+    let mut declared = vec![f64::NAN; count];
+    full.parameter_values(&mut declared);
+    assert_eq!(rows.parameter_values(), &declared[..]);
+    let q = rows.info().initial_guess.clone();
+    let mut reached = false;
+    for (k, &old) in declared.iter().enumerate() {
+        let before = rows_at(&rows, 0.3, &q);
+        let value = 1.25 * old + 0.01;
+        assert!(rows.set_parameter(k, value) && full.set_parameter(k, value));
+        assert_eq!(rows.parameter_values()[k], value);
+        let after = rows_at(&rows, 0.3, &q);
+        assert_eq!(after, rows_at(&full, 0.3, &q), "parameter {k}");
+        reached |= after != before;
+    }
+    assert!(reached, "no parameter changed the rows");
+    assert!(!rows.set_parameter(count, 1.0));
+    assert!(!full.set_parameter(count, 1.0));
+}
