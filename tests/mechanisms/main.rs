@@ -1,7 +1,9 @@
 //! The mechanism library: derived equations pinned by snapshots (reviewed as equations),
+//! Andrews' squeezer against the book and the Test Set,
 //! the closed chain against its generator, and the body and joint declarations against
 //! hand derivations and their energy-declared twins.
 
+mod andrews_squeezer;
 mod bodies_dynamics;
 mod bodies_inline;
 mod bodies_joints;
