@@ -226,8 +226,9 @@ pub struct ImportArgs {
     /// Write the declaration to this file instead of printing it.
     #[arg(long, value_name = "FILE.mech")]
     pub out: Option<PathBuf>,
-    /// Lock a movable joint at q = 0, writing it as fixed (repeatable); a joint with
-    /// <mimic> must be locked. 0 must be within the joint's limits.
+    /// Lock a movable joint at q = 0, writing it as fixed (repeatable). 0 must be within
+    /// the joint's limits. A joint with <mimic> left free is held to its master by a
+    /// constraint row.
     #[arg(long = "lock", value_name = "JOINT")]
     pub lock: Vec<String>,
     /// The struct name (default: the robot's name in CamelCase).

@@ -4,13 +4,14 @@
 use std::path::Path;
 
 use mechanism::output::{OutputError, write_atomically};
-use mechanism_codegen::{UrdfOptions, urdf_to_mech};
+use mechanism_codegen::{UrdfOptions, urdf_import};
 
 use super::CliError;
 use super::args::ImportArgs;
 use super::input::read_input;
 
-/// Runs `mechanism import`.
+/// Runs `mechanism import`. What the import changed from the URDF (an inertia no rigid
+/// body has, a clashing name) is noted on stderr, one line each.
 ///
 /// # Errors
 /// A path that is not a readable regular file, a file over the input budget
@@ -23,7 +24,12 @@ pub fn run(args: &ImportArgs) -> Result<(), CliError> {
         struct_name: args.name.clone(),
         lock: args.lock.clone(),
     };
-    let text = urdf_to_mech(&xml, &options).map_err(|e| CliError::Import(e.to_string()))?;
+    let import = urdf_import(&xml, &options).map_err(|e| CliError::Import(e.to_string()))?;
+    // What the import changed from the URDF, one line each (also in the header).
+    for note in &import.notes {
+        eprintln!("note: {}: {note}", options.file_name);
+    }
+    let text = import.text;
     match &args.out {
         Some(path) => write_atomically(path, |partial| {
             std::fs::write(partial, &text).map_err(|source| OutputError::Io {

@@ -77,8 +77,9 @@ fn a_refused_urdf_is_one_line_and_exit_status_1() {
     ]);
     assert_one_line_error(
         &o,
-        "bad.urdf:4:1: <joint name=\"free\">: unknown joint type \"floating\" \
-         (supported: revolute, continuous, prismatic, fixed)",
+        "bad.urdf:4:1: <joint name=\"free\">: joint type \"floating\" (a free joint of six \
+         coordinates) is not supported (supported: revolute, continuous, prismatic, fixed): \
+         the imported tree is fixed to the world at its root link",
     );
     assert!(!out.exists(), "nothing written");
     // A lock that names no joint, a folder, a missing file.
@@ -93,5 +94,41 @@ fn a_refused_urdf_is_one_line_and_exit_status_1() {
     assert_one_line_error(
         &mechanism(&["import", dir.join("none.urdf").to_str().unwrap()]),
         "cannot read",
+    );
+}
+
+/// An inertia no rigid body has is balanced, not refused: the declaration is written, and
+/// stderr notes the change in one line (the header says it too).
+#[test]
+fn an_adjusted_inertia_is_noted_on_stderr() {
+    let dir = out_dir("import-note");
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("flat.urdf");
+    std::fs::write(
+        &urdf,
+        "<robot name=\"flat\">\n<link name=\"a\"/>\n<link name=\"b\"><inertial><mass value=\"1\"/>\
+         <inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"3\"/></inertial></link>\n\
+         <joint name=\"j\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    let out = dir.join("flat.mech");
+    let o = mechanism(&[
+        "import",
+        urdf.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.starts_with("note: ") && e.contains("inertia adjusted: link \"b\""),
+        "{e}"
+    );
+    let text = std::fs::read_to_string(&out).expect("written");
+    assert!(
+        text.contains("inertia = [[1.5, 0, 0], [0, 1.5, 0], [0, 0, 3]];"),
+        "{text}"
     );
 }

@@ -13,3 +13,4 @@ mod drawing;
 mod links_robot;
 mod panda_pinocchio;
 mod snapshots;
+mod urdf_mimic;

@@ -25,6 +25,16 @@ pub enum DeclarationError {
         /// True when the section is written but lists nothing.
         empty_section: bool,
     },
+    /// Links are declared but none of their joints moves (each is `fixed`): no coordinate.
+    #[error(
+        "no link of `{mechanism}` moves: every link's joint is fixed, so there are no \
+         coordinates; give a link a moving joint (`joint = revolute(q, [0, 0, 1]);`, \
+         `continuous` or `prismatic`)"
+    )]
+    NoMovingJoint {
+        /// The struct name.
+        mechanism: String,
+    },
     /// A name that is neither a coordinate, a parameter, nor `t` or `pi` (nor, in a body
     /// section, a body, point or axis).
     #[error("unknown symbol `{name}`{}", unknown_hint(.suggestion, .known))]

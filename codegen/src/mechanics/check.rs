@@ -10,6 +10,7 @@ use crate::error::{
 use crate::mechanics::model::Model;
 use crate::mechanics::resolve::unknown_symbol;
 use crate::syntax::ast::Ast;
+use crate::syntax::bodies::BodyItem;
 use crate::syntax::declaration::{Declaration, Item};
 use crate::syntax::spelling::closest;
 
@@ -116,6 +117,18 @@ fn check_coordinates_present(d: &Declaration, errors: &mut Vec<Error>) {
             let kind = DeclarationError::NoCoordinates {
                 mechanism: d.name.clone(),
                 empty_section: false,
+            };
+            errors.push(Error::declaration(kind, d.name_at));
+        }
+        Some(s)
+            if s.body.is_empty()
+                && d.bodies
+                    .items
+                    .iter()
+                    .any(|i| matches!(i, BodyItem::Link { .. })) =>
+        {
+            let kind = DeclarationError::NoMovingJoint {
+                mechanism: d.name.clone(),
             };
             errors.push(Error::declaration(kind, d.name_at));
         }

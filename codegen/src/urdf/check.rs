@@ -5,7 +5,8 @@
 use std::collections::HashMap;
 
 use super::error::{Place, UrdfError};
-use super::inertia::inertia_fault;
+use super::format::number;
+use super::inertia::{InertiaCheck, check_inertia_in, principal_axes};
 use super::names::{RESERVED, identifier};
 use super::robot::{JointKind, Robot};
 
@@ -26,6 +27,27 @@ pub(crate) struct Tree {
     /// Whether the root link is the URDF's `world` frame (named `world`, massless), which
     /// the declaration has already: it is not written, and its children have no parent.
     pub world_root: bool,
+    /// The `<mimic>` couplings of movable joints, each written as a constraint row.
+    pub mimics: Vec<MimicRow>,
+    /// The URDF names written otherwise than [`identifier`] gives, and why (a link named
+    /// like a joint's coordinate, a reserved name), for the header.
+    pub renamed: Vec<String>,
+    /// The inertias written otherwise than the URDF gives, and how, for the header.
+    pub adjusted: Vec<String>,
+}
+
+/// A movable joint whose coordinate follows another's: q_joint = multiplier * q_master +
+/// offset, with q_master = 0 when the master is fixed or locked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MimicRow {
+    /// The mimicking joint (its index in the robot's joints).
+    pub joint: usize,
+    /// The joint followed, when it is movable and not locked.
+    pub master: Option<usize>,
+    /// The ratio q_joint / q_master.
+    pub multiplier: f64,
+    /// q_joint where q_master = 0.
+    pub offset: f64,
 }
 
 /// Locks the joints `lock` names at q = 0, then checks `robot` and builds its [`Tree`].
@@ -35,13 +57,17 @@ pub(crate) struct Tree {
 pub(crate) fn check(robot: &mut Robot, lock: &[String], file: &str) -> Result<Tree, UrdfError> {
     check_unique_names(robot, file)?;
     apply_locks(robot, lock, file)?;
-    check_mimics(robot, file)?;
-    check_inertials(robot, file)?;
+    let mimics = check_mimics(robot, file)?;
+    let adjusted = check_inertials(robot, file)?;
     let parent_joint = check_parents(robot, file)?;
     let root = check_single_root(robot, &parent_joint, file)?;
     let order = check_connected(robot, &parent_joint, root, file)?;
     let world_root = robot.links[root].name == "world" && robot.links[root].inertial.is_none();
-    let (link_names, coordinates) = check_identifiers(robot, root, world_root, file)?;
+    let Identified {
+        link_names,
+        coordinates,
+        renamed,
+    } = check_identifiers(robot, root, world_root, file)?;
     let index = link_index(robot);
     let parent_link = parent_joint
         .iter()
@@ -54,6 +80,9 @@ pub(crate) fn check(robot: &mut Robot, lock: &[String], file: &str) -> Result<Tr
         link_names,
         coordinates,
         world_root,
+        mimics,
+        renamed,
+        adjusted,
     })
 }
 
@@ -144,32 +173,98 @@ fn apply_locks(robot: &mut Robot, lock: &[String], file: &str) -> Result<(), Urd
     Ok(())
 }
 
-/// A `<mimic>` couples a joint to another, which a tree of independent coordinates cannot
-/// say; a locked joint's mimic no longer matters.
-fn check_mimics(robot: &Robot, file: &str) -> Result<(), UrdfError> {
-    for joint in &robot.joints {
-        if let Some(mimic) = &joint.mimic
-            && joint.kind != JointKind::Fixed
-            && !joint.locked
-        {
-            return Err(mimic.error(
+/// The `<mimic>` couplings: each movable, unlocked joint with a `<mimic>` keeps its
+/// coordinate, held to its master's by a constraint row (a locked joint's mimic no longer
+/// matters). The master must be a declared joint, and no chain of masters may lead back
+/// to the joint (then no coordinate of the chain would be free).
+fn check_mimics(robot: &Robot, file: &str) -> Result<Vec<MimicRow>, UrdfError> {
+    let by_name: HashMap<&str, usize> = robot
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| (joint.name.as_str(), j))
+        .collect();
+    let movable = |j: usize| robot.joints[j].kind != JointKind::Fixed && !robot.joints[j].locked;
+    // The master each active mimic follows, when that master is movable.
+    let mut master_of: Vec<Option<usize>> = vec![None; robot.joints.len()];
+    let mut rows = Vec::new();
+    for (j, joint) in robot.joints.iter().enumerate() {
+        let Some(mimic) = joint.mimic.as_ref().filter(|_| movable(j)) else {
+            continue;
+        };
+        let Some(&master) = by_name.get(mimic.joint.as_str()) else {
+            return Err(mimic.place.error(
                 file,
                 format!(
-                    "joint \"{0}\" mimics another joint, which is not imported; lock it at q = 0 \
-                     (`--lock {0}`, or `lock = [\"{0}\"]` in mechanism!)",
-                    joint.name
+                    "joint \"{}\" mimics joint \"{}\", which the URDF does not declare",
+                    joint.name, mimic.joint
                 ),
             ));
+        };
+        let master = Some(master).filter(|&m| movable(m));
+        master_of[j] = master;
+        rows.push(MimicRow {
+            joint: j,
+            master,
+            multiplier: mimic.multiplier,
+            offset: mimic.offset,
+        });
+    }
+    for row in &rows {
+        let mut chain = vec![row.joint];
+        let mut next = master_of[row.joint];
+        while let Some(m) = next {
+            if m == row.joint {
+                let names: Vec<String> = chain
+                    .iter()
+                    .map(|&j| format!("\"{}\"", robot.joints[j].name))
+                    .collect();
+                let mimic = robot.joints[row.joint].mimic.as_ref().map(|m| &m.place);
+                return Err(mimic.unwrap_or(&robot.joints[row.joint].place).error(
+                    file,
+                    format!(
+                        "the <mimic> joints {} follow each other in a cycle, so none of them \
+                         moves freely; lock one (`--lock {}`)",
+                        names.join(", "),
+                        robot.joints[row.joint].name
+                    ),
+                ));
+            }
+            if chain.contains(&m) {
+                break;
+            }
+            chain.push(m);
+            next = master_of[m];
         }
     }
-    Ok(())
+    Ok(rows)
 }
 
-/// Mass not negative; inertia symmetric positive semi-definite with the triangle
-/// inequalities ([`inertia_fault`]).
-fn check_inertials(robot: &Robot, file: &str) -> Result<(), UrdfError> {
-    for link in &robot.links {
-        let Some(inertial) = &link.inertial else {
+/// Mass not negative, and an inertia a rigid body can have ([`check_inertia_in`]): one
+/// with a negative principal moment beyond round-off (of the link, or of the robot's
+/// largest link) is refused; one whose moments are all within
+/// the mass at a micrometre is set to zero (a point mass); one that breaks the triangle
+/// inequality I1 + I2 >= I3 is balanced (the two smaller moments raised, the principal
+/// axes kept). Published URDFs carry such inertias (placeholder links of 1e-6 kg with every
+/// entry 1e-6, printed round-off), which other tools load as given; each change made is
+/// returned as a note for the header.
+fn check_inertials(robot: &mut Robot, file: &str) -> Result<Vec<String>, UrdfError> {
+    let mut notes = Vec::new();
+    // The robot's scale of inertia: the largest sum of a link's principal moments.
+    let robot_scale = robot
+        .links
+        .iter()
+        .filter_map(|l| l.inertial.as_ref())
+        .map(|i| {
+            principal_axes(i.inertia)
+                .0
+                .iter()
+                .map(|m| m.abs())
+                .sum::<f64>()
+        })
+        .fold(0.0_f64, f64::max);
+    for link in &mut robot.links {
+        let Some(inertial) = &mut link.inertial else {
             continue;
         };
         if inertial.mass < 0.0 {
@@ -181,17 +276,54 @@ fn check_inertials(robot: &Robot, file: &str) -> Result<(), UrdfError> {
                 ),
             ));
         }
-        if let Some(fault) = inertia_fault(inertial.inertia) {
-            return Err(inertial.inertia_place.error(
-                file,
-                format!(
-                    "the inertia of link \"{}\" is not physical: {fault}",
-                    link.name
-                ),
-            ));
+        // Four significant digits: enough to recognise the file's numbers in a note.
+        let short = |x: f64| {
+            let exact = number(x);
+            if exact.len() <= 8 {
+                exact
+            } else {
+                format!("{x:.3e}")
+            }
+        };
+        let moments = |m: &[f64; 3]| format!("{}, {}, {}", short(m[0]), short(m[1]), short(m[2]));
+        match check_inertia_in(inertial.inertia, inertial.mass, robot_scale) {
+            Err(fault) => {
+                return Err(inertial.inertia_place.error(
+                    file,
+                    format!(
+                        "the inertia of link \"{}\" is not physical: {fault}",
+                        link.name
+                    ),
+                ));
+            }
+            Ok(InertiaCheck::Physical) => {}
+            Ok(InertiaCheck::Negligible { moments: m }) => {
+                inertial.inertia = [0.0; 6];
+                notes.push(format!(
+                    "link \"{}\": principal moments {} kg m^2, negligible for its {} kg \
+                     (within the mass at a micrometre), written as zero",
+                    link.name,
+                    moments(&m),
+                    inertial.mass
+                ));
+            }
+            Ok(InertiaCheck::Balanced {
+                moments: m,
+                balanced,
+                inertia,
+            }) => {
+                inertial.inertia = inertia;
+                notes.push(format!(
+                    "link \"{}\": principal moments {} kg m^2 (no rigid body has them) \
+                     raised to {} in the same axes",
+                    link.name,
+                    moments(&m),
+                    moments(&balanced)
+                ));
+            }
         }
     }
-    Ok(())
+    Ok(notes)
 }
 
 /// Each joint's parent and child links exist, and no link is the child of two joints.
@@ -297,38 +429,82 @@ fn check_connected(
     Ok(order)
 }
 
-/// The identifiers written: links' ([`identifier`] with `l_`) and the movable joints'
-/// coordinates (`j_`); none reserved ([`RESERVED`]), no two alike (a link and a coordinate
-/// share one namespace). A `world` root is not written and claims nothing.
+/// The identifiers written: the movable joints' coordinates ([`identifier`] with `j_`),
+/// then the links' (`l_`); no two alike (a link and a coordinate share one namespace). URDF
+/// keeps joints and links apart, so a link whose name is a coordinate's (`gripper` the
+/// joint and `gripper` the link) is written as `gripper_link`; a reserved name
+/// ([`RESERVED`]) gets `_joint` or `_link` the same way. Each such renaming is returned as
+/// a note for the header. Two joints, or two links, written alike are refused (one of
+/// them would have to be guessed). A `world` root is not written and claims nothing.
 fn check_identifiers(
     robot: &Robot,
     root: usize,
     world_root: bool,
     file: &str,
-) -> Result<(Vec<String>, Vec<Option<String>>), UrdfError> {
+) -> Result<Identified, UrdfError> {
     let mut taken = Identifiers {
         file,
         taken: HashMap::new(),
     };
-    let mut link_names = Vec::with_capacity(robot.links.len());
-    for (i, link) in robot.links.iter().enumerate() {
-        let id = identifier(&link.name, "l_");
-        if !(world_root && i == root) {
-            taken.claim(&id, "link", &link.name, &link.place)?;
-        }
-        link_names.push(id);
-    }
+    let mut renamed = Vec::new();
     let mut coordinates = Vec::with_capacity(robot.joints.len());
     for joint in &robot.joints {
         if joint.kind == JointKind::Fixed || joint.locked {
             coordinates.push(None);
             continue;
         }
-        let id = identifier(&joint.name, "j_");
+        let mut id = identifier(&joint.name, "j_");
+        if RESERVED.contains(&id.as_str()) {
+            id = format!("{id}_joint");
+            renamed.push(format!(
+                "joint \"{}\" as {id} (a reserved name)",
+                joint.name
+            ));
+        }
         taken.claim(&id, "joint", &joint.name, &joint.place)?;
         coordinates.push(Some(id));
     }
-    Ok((link_names, coordinates))
+    let mut link_names = Vec::with_capacity(robot.links.len());
+    for (i, link) in robot.links.iter().enumerate() {
+        let mut id = identifier(&link.name, "l_");
+        if !(world_root && i == root) {
+            let why = if RESERVED.contains(&id.as_str()) {
+                Some("a reserved name".to_string())
+            } else {
+                match taken.taken.get(&id) {
+                    Some(("joint", joint)) => Some(format!("joint \"{joint}\"'s coordinate")),
+                    _ => None,
+                }
+            };
+            if let Some(why) = why {
+                let base = format!("{id}_link");
+                id = base.clone();
+                let mut k = 2;
+                while taken.taken.contains_key(&id) {
+                    id = format!("{base}{k}");
+                    k += 1;
+                }
+                renamed.push(format!("link \"{}\" as {id} ({why})", link.name));
+            }
+            taken.claim(&id, "link", &link.name, &link.place)?;
+        }
+        link_names.push(id);
+    }
+    Ok(Identified {
+        link_names,
+        coordinates,
+        renamed,
+    })
+}
+
+/// What [`check_identifiers`] settles.
+struct Identified {
+    /// Each link's identifier.
+    link_names: Vec<String>,
+    /// Each joint's coordinate (`None` for a fixed or locked joint).
+    coordinates: Vec<Option<String>>,
+    /// The renamings, for the header.
+    renamed: Vec<String>,
 }
 
 /// The identifiers claimed so far, with the kind and URDF name of what claimed each.
@@ -346,16 +522,6 @@ impl Identifiers<'_> {
         name: &str,
         place: &Place,
     ) -> Result<(), UrdfError> {
-        if RESERVED.contains(&id) {
-            return Err(place.error(
-                self.file,
-                format!(
-                    "{kind} \"{name}\" would be written as `{id}`, a name the declaration \
-                     reserves (reserved: {}); rename it",
-                    RESERVED.join(", ")
-                ),
-            ));
-        }
         if let Some((other_kind, other)) = self.taken.get(id) {
             return Err(place.error(
                 self.file,

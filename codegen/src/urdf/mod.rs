@@ -11,7 +11,9 @@
 //! applied, the tree, the physics of each inertia, the identifiers) and [`write`] (the
 //! text). What is imported: links with their `<inertial>` (mass, centre of mass, inertia
 //! and its axes) and revolute, continuous, prismatic and fixed joints with their origin,
-//! axis and `<limit>`. What is not, because it carries no rigid-body dynamics: `<visual>`,
+//! axis and `<limit>`; a `<mimic>` (q = multiplier * q_master + offset) as a constraint
+//! row, the joints no mimic sets being the independent coordinates. What is not, because
+//! it carries no rigid-body dynamics: `<visual>`,
 //! `<collision>`, `<material>`, `<transmission>`, `<gazebo>`, `<safety_controller>`,
 //! `<calibration>`; and `<dynamics>` (joint damping and friction), which the header of the
 //! output counts.
@@ -35,7 +37,7 @@ pub struct UrdfOptions {
     /// The struct name; `None` for the robot's name in CamelCase (`panda` gives `Panda`).
     pub struct_name: Option<String>,
     /// URDF names of movable joints to lock at q = 0: each becomes a fixed joint (0 must
-    /// be within the joint's limits). A joint with `<mimic>` must be locked.
+    /// be within the joint's limits). A locked joint's `<mimic>` is dropped.
     pub lock: Vec<String>,
 }
 
@@ -71,12 +73,32 @@ pub struct UrdfOptions {
 /// # Errors
 /// The first problem found, as one line `FILE:LINE:COL: <element>: message`: malformed
 /// XML or numbers; a root other than `<robot>`; a joint type other than revolute,
-/// continuous, prismatic or fixed; a `<mimic>` on a joint not locked; a joint whose parent
+/// continuous, prismatic or fixed; a `<mimic>` of an undeclared joint, or mimics that
+/// follow each other in a cycle; a joint whose parent
 /// or child link is not declared; a link with two parent joints; a cycle, or more than one
 /// root link; a zero-length axis; a negative mass; an inertia that no rigid body has; two
 /// names written alike or a reserved name; a `lock` name that is not a movable joint, or
 /// whose limits exclude 0; a `struct_name` that is not an identifier.
 pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfError> {
+    urdf_import(xml, options).map(|import| import.text)
+}
+
+/// A URDF imported: the declaration text, and what the import changed on the way.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfImport {
+    /// The declaration (as [`urdf_to_mech`] returns it).
+    pub text: String,
+    /// Each change from what the URDF says, in a sentence (also in the text's header): an
+    /// inertia no rigid body has, balanced or written as zero; a name written otherwise
+    /// (a link named like a joint's coordinate, a reserved name).
+    pub notes: Vec<String>,
+}
+
+/// [`urdf_to_mech`], with the notes of what was changed.
+///
+/// # Errors
+/// As [`urdf_to_mech`].
+pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfError> {
     let file = options.file_name.as_str();
     let mut robot = read::read(xml, file)?;
     let struct_name = match &options.struct_name {
@@ -90,7 +112,16 @@ pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfErro
         None => names::struct_name(&robot.name),
     };
     let tree = check::check(&mut robot, &options.lock, file)?;
-    Ok(write::write(&robot, &tree, file, &struct_name))
+    let notes = tree
+        .adjusted
+        .iter()
+        .map(|a| format!("inertia adjusted: {a}"))
+        .chain(tree.renamed.iter().map(|r| format!("renamed: {r}")))
+        .collect();
+    Ok(UrdfImport {
+        text: write::write(&robot, &tree, file, &struct_name),
+        notes,
+    })
 }
 
 #[cfg(test)]

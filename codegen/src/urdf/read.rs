@@ -8,7 +8,7 @@
 use roxmltree::{Document, Node, ParsingOptions};
 
 use super::error::{Place, UrdfError};
-use super::robot::{Inertial, Joint, JointKind, Limit, Link, Robot};
+use super::robot::{Inertial, Joint, JointKind, Limit, Link, Mimic, Robot};
 
 /// The joint types the importer knows, as the messages list them.
 pub(crate) const SUPPORTED_JOINTS: &str = "revolute, continuous, prismatic, fixed";
@@ -245,6 +245,23 @@ impl<'a, 'input> Reader<'a, 'input> {
             "continuous" => JointKind::Continuous,
             "prismatic" => JointKind::Prismatic,
             "fixed" => JointKind::Fixed,
+            // Standard URDF types that an importer of trees of one-coordinate joints cannot
+            // write: said as such, not as unknown.
+            kind @ ("floating" | "planar") => {
+                let what = if kind == "floating" {
+                    "a free joint of six coordinates"
+                } else {
+                    "a joint of three coordinates in a plane"
+                };
+                return Err(self.error(
+                    node,
+                    format!(
+                        "joint type \"{kind}\" ({what}) is not supported (supported: \
+                         {SUPPORTED_JOINTS}): the imported tree is fixed to the world at its \
+                         root link"
+                    ),
+                ));
+            }
             other => {
                 return Err(self.error(
                     node,
@@ -280,7 +297,15 @@ impl<'a, 'input> Reader<'a, 'input> {
             rpy,
             axis,
             limit,
-            mimic: child(node, "mimic").map(|m| self.place(m)),
+            mimic: match child(node, "mimic") {
+                None => None,
+                Some(m) => Some(Mimic {
+                    joint: self.required(m, "joint")?.to_string(),
+                    multiplier: self.optional(m, "multiplier")?.unwrap_or(1.0),
+                    offset: self.optional(m, "offset")?.unwrap_or(0.0),
+                    place: self.place(m),
+                }),
+            },
             has_dynamics: child(node, "dynamics").is_some(),
             locked: false,
         })

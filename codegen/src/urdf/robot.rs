@@ -94,12 +94,26 @@ pub(crate) struct Joint {
     pub axis: [f64; 3],
     /// `<limit>`, when present.
     pub limit: Option<Limit>,
-    /// `<mimic>`, when present: where it is.
-    pub mimic: Option<Place>,
+    /// `<mimic>`, when present.
+    pub mimic: Option<Mimic>,
     /// Whether a `<dynamics>` element (damping, friction: not imported) is present.
     pub has_dynamics: bool,
     /// Locked at q = 0 by the options: written as a fixed joint.
     pub locked: bool,
+}
+
+/// A `<mimic>`: this joint's coordinate follows another's, q = multiplier * q_master +
+/// offset (URDF defaults: multiplier 1, offset 0).
+#[derive(Clone, Debug)]
+pub(crate) struct Mimic {
+    /// The URDF name of the joint followed.
+    pub joint: String,
+    /// The ratio of the two coordinates (rad/rad, m/m, or m/rad between kinds).
+    pub multiplier: f64,
+    /// The coordinate's value where the master's is 0 (rad or m).
+    pub offset: f64,
+    /// Where `<mimic>` is.
+    pub place: Place,
 }
 
 /// A `<limit>`: the joint range and the actuator's bounds, each as given.

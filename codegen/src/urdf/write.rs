@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use super::check::Tree;
+use super::check::{MimicRow, Tree};
 use super::format::{angles, number, vector};
 use super::robot::{Inertial, Joint, JointKind, Link, Robot};
 
@@ -24,8 +24,73 @@ pub(crate) fn write(robot: &Robot, tree: &Tree, file: &str, struct_name: &str) -
         out.push('\n');
         out.push_str(&link_block(robot, tree, l, joint));
     }
+    out.push_str(&mimic_rows(tree));
     out.push_str(&drawing(tree));
     out
+}
+
+/// The `<mimic>` couplings as `constraints` rows, q - multiplier * q_master - offset, and
+/// the coordinates they leave free as `independent` at q = 0 (the mimicking ones follow
+/// from the rows when the mechanism is assembled). Empty without couplings.
+fn mimic_rows(tree: &Tree) -> String {
+    if tree.mimics.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "\n// The URDF's <mimic> couplings, each a constraint row: the joint's coordinate is\n\
+         // multiplier * (its master's) + offset, with a master that is fixed or locked at 0.\n\
+         constraints {\n",
+    );
+    let coordinate = |j: usize| tree.coordinates[j].as_deref().unwrap_or_default();
+    for row in &tree.mimics {
+        let _ = writeln!(
+            out,
+            "    {};",
+            mimic_row(row, coordinate(row.joint), row.master.map(coordinate))
+        );
+    }
+    out.push_str("}\n");
+    let free: Vec<String> = tree
+        .coordinates
+        .iter()
+        .enumerate()
+        .filter(|&(j, q)| q.is_some() && !tree.mimics.iter().any(|r| r.joint == j))
+        .map(|(_, q)| format!("{} = 0;", q.as_deref().unwrap_or_default()))
+        .collect();
+    out.push_str(
+        "// The coordinates no <mimic> sets, at q = 0 (the others follow from the rows).\n",
+    );
+    // One line for a few, one per line for many (a humanoid's dozens).
+    if free.len() <= 4 {
+        let _ = writeln!(out, "independent {{ {} }}", free.join(" "));
+    } else {
+        let _ = writeln!(out, "independent {{\n    {}\n}}", free.join("\n    "));
+    }
+    out
+}
+
+/// One row, q - m * q_master - offset = 0, in its shortest form (`q - q_master` for the
+/// plain copy m = 1, offset 0).
+fn mimic_row(row: &MimicRow, q: &str, master: Option<&str>) -> String {
+    let mut text = q.to_string();
+    if let Some(master) = master.filter(|_| row.multiplier != 0.0) {
+        let m = row.multiplier;
+        let (sign, magnitude) = if m < 0.0 { ("+", -m) } else { ("-", m) };
+        if magnitude == 1.0 {
+            let _ = write!(text, " {sign} {master}");
+        } else {
+            let _ = write!(text, " {sign} {}*{master}", number(magnitude));
+        }
+    }
+    if row.offset != 0.0 {
+        let (sign, magnitude) = if row.offset < 0.0 {
+            ("+", -row.offset)
+        } else {
+            ("-", row.offset)
+        };
+        let _ = write!(text, " {sign} {}", number(magnitude));
+    }
+    text
 }
 
 /// A `draw` section: lines through the link origins from the root to each leaf (a branch
@@ -120,6 +185,20 @@ fn header(robot: &Robot, tree: &Tree, file: &str) -> String {
             out,
             "/// Locked at q = 0 (written as fixed joints): {}.",
             locked.join(", ")
+        );
+    }
+    for note in &tree.adjusted {
+        let _ = writeln!(out, "/// Inertia adjusted: {}.", comment_text(note));
+    }
+    if !tree.renamed.is_empty() {
+        let renamed: Vec<String> = tree.renamed.iter().map(|r| comment_text(r)).collect();
+        let _ = writeln!(out, "/// Renamed: {}.", renamed.join("; "));
+    }
+    if !tree.mimics.is_empty() {
+        let _ = writeln!(
+            out,
+            "/// <mimic> couplings: {}, each held as a constraint row (`constraints` below).",
+            tree.mimics.len()
         );
     }
     out.push_str("/// Gravity: z up, g = 9.81 m/s^2 along -z.\n");
