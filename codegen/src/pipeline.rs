@@ -244,6 +244,13 @@ fn finding_error(model: &Model, finding: ModelFinding) -> Error {
             };
             Error::declaration(kind, location)
         }
+        // Declared by links, T is theirs: say what the links lack, not how to write T.
+        ModelFinding::KineticWithoutRates { location, .. } if model.kinetic_from_links => {
+            let kind = DeclarationError::LinksWithoutMovingMass {
+                coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
+            };
+            Error::declaration(kind, location)
+        }
         ModelFinding::KineticWithoutRates { expr, location } => {
             let kind = DeclarationError::KineticWithoutRates {
                 kinetic: to_text(&model.arena, expr),

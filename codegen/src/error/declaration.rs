@@ -269,6 +269,17 @@ pub enum DeclarationError {
         /// T, as text.
         kinetic: String,
     },
+    /// Declared by links, none of the links the joints move carries mass or inertia:
+    /// T = 0, so M = 0.
+    #[error(
+        "no moving link carries mass: the links the joints {} move have neither `mass` nor \
+         `inertia`, so the kinetic energy is 0; give them their mass properties",
+        coordinates.join(", ")
+    )]
+    LinksWithoutMovingMass {
+        /// The joints' coordinates.
+        coordinates: Vec<String>,
+    },
     /// A constant (a default, an initial value) whose evaluation failed.
     #[error("{what} cannot be evaluated: {error}")]
     NotEvaluable {

@@ -313,6 +313,23 @@ fn unphysical_inertias_are_adjusted_and_noted() {
     assert!(!text.contains("inertia = "), "{text}");
 }
 
+/// A robot whose moving joint carries a link without mass imports, and is then refused in
+/// terms of its links (not as a kinetic energy written without rates).
+#[test]
+fn a_robot_whose_moving_links_have_no_mass_is_refused_as_such() {
+    let text = urdf_to_mech(&pair(&revolute("")), &options(&[])).expect("imported");
+    let e = crate::parse_model_str(&text)
+        .and_then(|mut m| crate::derive(&mut m).map(|_| ()))
+        .expect_err("no mass");
+    assert!(
+        e.to_string().contains(
+            "no moving link carries mass: the links the joints j move have neither `mass` nor \
+             `inertia`"
+        ),
+        "{e}"
+    );
+}
+
 /// Each refused input: the URDF, the line and element the error names, and a phrase of its
 /// message.
 #[test]
