@@ -102,6 +102,11 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
     let file = options.file_name.as_str();
     let mut robot = read::read(xml, file)?;
     let struct_name = match &options.struct_name {
+        Some(name) if names::is_keyword(name) => {
+            return Err(robot
+                .place
+                .error(file, format!("the struct name `{name}` is a Rust keyword")));
+        }
         Some(name) if names::is_identifier(name) => name.clone(),
         Some(name) => {
             return Err(robot.place.error(

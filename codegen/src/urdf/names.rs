@@ -39,9 +39,23 @@ pub(crate) fn is_identifier(name: &str) -> bool {
         && name != "_"
 }
 
+/// Rust's keywords (strict and reserved, 2024 edition): no struct may be named one.
+const RUST_KEYWORDS: &[&str] = &[
+    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum", "extern",
+    "false", "fn", "for", "gen", "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut",
+    "pub", "ref", "return", "self", "Self", "static", "struct", "super", "trait", "true", "type",
+    "unsafe", "use", "where", "while", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "try", "typeof", "unsized", "virtual", "yield",
+];
+
+/// True when `name` is one of Rust's keywords.
+pub(crate) fn is_keyword(name: &str) -> bool {
+    RUST_KEYWORDS.contains(&name)
+}
+
 /// The robot's name in CamelCase as a struct name: `panda` gives `Panda`, `ur5_robot`
-/// gives `Ur5Robot`; a name that would start with a digit gets `Robot` in front, and an
-/// empty one is `Robot`.
+/// gives `Ur5Robot`; a name that would start with a digit gets `Robot` in front, a Rust
+/// keyword (`self` gives `Self`) too, and an empty one is `Robot`.
 pub(crate) fn struct_name(robot: &str) -> String {
     let camel: String = robot
         .split(|c: char| !c.is_ascii_alphanumeric())
@@ -54,7 +68,7 @@ pub(crate) fn struct_name(robot: &str) -> String {
                 .unwrap_or_default()
         })
         .collect();
-    if camel.is_empty() || camel.starts_with(|c: char| c.is_ascii_digit()) {
+    if camel.is_empty() || camel.starts_with(|c: char| c.is_ascii_digit()) || is_keyword(&camel) {
         format!("Robot{camel}")
     } else {
         camel
@@ -88,6 +102,7 @@ mod tests {
             ("6dof", "Robot6dof"),
             ("", "Robot"),
             ("KUKA_lbr", "KUKALbr"),
+            ("self", "RobotSelf"),
         ] {
             assert_eq!(struct_name(robot), expected, "{robot}");
         }

@@ -101,6 +101,12 @@ fn the_struct_name_option_replaces_the_robot_name() {
     let e = urdf_to_mech(ARM, &o).expect_err("refused");
     assert_eq!(e.line, 5);
     assert!(e.message.contains("`2arm` is not an identifier"), "{e}");
+    o.struct_name = Some("fn".into());
+    let e = urdf_to_mech(ARM, &o).expect_err("refused");
+    assert!(
+        e.message.contains("the struct name `fn` is a Rust keyword"),
+        "{e}"
+    );
 }
 
 #[test]

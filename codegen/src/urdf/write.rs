@@ -204,6 +204,13 @@ fn header(robot: &Robot, tree: &Tree, file: &str) -> String {
     out.push_str("/// Gravity: z up, g = 9.81 m/s^2 along -z.\n");
     if tree.world_root {
         out.push_str("/// The URDF's root link `world` is the declaration's world frame.\n");
+    } else if let Some(&root) = tree.order.first() {
+        // A legged robot or humanoid is fixed where a floating base would be: say so.
+        let _ = writeln!(
+            out,
+            "/// The root link `{}` is fixed to the world (a floating base is not imported).",
+            tree.link_names[root]
+        );
     }
     let damped = robot.joints.iter().filter(|j| j.has_dynamics).count();
     if damped > 0 {
