@@ -125,6 +125,23 @@ impl Default for IntegratorOptions {
 }
 
 impl IntegratorOptions {
+    /// DOP853 with rtol = atol = `tolerance` and the other options at their defaults: the
+    /// method of reference runs (an 8th-order error per step makes a tight tolerance cheap).
+    ///
+    /// ```
+    /// use mechanism::{IntegratorOptions, Method};
+    /// let o = IntegratorOptions::dop853(1e-12);
+    /// assert_eq!((o.method, o.rtol, o.atol), (Method::Dop853, 1e-12, 1e-12));
+    /// ```
+    pub fn dop853(tolerance: f64) -> Self {
+        Self {
+            method: Method::Dop853,
+            rtol: tolerance,
+            atol: tolerance,
+            ..Self::default()
+        }
+    }
+
     /// The local error tolerance of these options.
     pub(crate) fn tolerance(&self) -> Tolerance {
         Tolerance {

@@ -6,7 +6,7 @@
 //! the macro emits and the interpreter.
 
 use mechanism::{
-    Compiled, Dynamics, IntegratorOptions, Interpreted, Method, SimulationOptions, System, simulate,
+    Compiled, Dynamics, IntegratorOptions, Interpreted, SimulationOptions, System, simulate,
 };
 
 mechanism::mechanism!(file = "examples/andrews_squeezer.mech");
@@ -207,12 +207,7 @@ fn the_motion_to_30_ms_is_the_test_sets_reference() {
     let options = SimulationOptions {
         t_end: 0.03,
         output_rate: 1000.0,
-        integrator: IntegratorOptions {
-            method: Method::Dop853,
-            rtol: 1e-12,
-            atol: 1e-12,
-            ..Default::default()
-        },
+        integrator: IntegratorOptions::dop853(1e-12),
         ..Default::default()
     };
     for (route, system) in routes() {

@@ -3,7 +3,7 @@
 //! the relation to round-off while gravity swings the wrist and the swing flings the
 //! fingers out, with the energy conserved.
 
-use mechanism::{IntegratorOptions, Interpreted, Method, SimulationOptions, simulate};
+use mechanism::{IntegratorOptions, Interpreted, SimulationOptions, simulate};
 use mechanism_codegen::{UrdfOptions, urdf_to_mech};
 
 /// A wrist (continuous, about y) carrying a palm 0.1 m out along x, and two fingers on
@@ -43,12 +43,7 @@ fn a_mimic_coupling_holds_through_a_swing() {
         &SimulationOptions {
             t_end: 0.3,
             output_rate: 200.0,
-            integrator: IntegratorOptions {
-                method: Method::Dop853,
-                rtol: 1e-11,
-                atol: 1e-11,
-                ..Default::default()
-            },
+            integrator: IntegratorOptions::dop853(1e-11),
             ..Default::default()
         },
     )

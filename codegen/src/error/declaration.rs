@@ -27,9 +27,7 @@ pub enum DeclarationError {
     },
     /// Links are declared but none of their joints moves (each is `fixed`): no coordinate.
     #[error(
-        "no link of `{mechanism}` moves: every link's joint is fixed, so there are no \
-         coordinates; give a link a moving joint (`joint = revolute(q, [0, 0, 1]);`, \
-         `continuous` or `prismatic`)"
+        "no link of `{mechanism}` moves: every link's joint is fixed, so there are no coordinates; give a link a moving joint (`joint = revolute(q, [0, 0, 1]);`, `continuous` or `prismatic`)"
     )]
     NoMovingJoint {
         /// The struct name.
@@ -271,11 +269,7 @@ pub enum DeclarationError {
     },
     /// Declared by links, none of the links the joints move carries mass or inertia:
     /// T = 0, so M = 0.
-    #[error(
-        "no moving link carries mass: the links the joints {} move have neither `mass` nor \
-         `inertia`, so the kinetic energy is 0; give them their mass properties",
-        coordinates.join(", ")
-    )]
+    #[error("no moving link carries mass: the links the joints {} move have neither `mass` nor `inertia`, so the kinetic energy is 0; give them their mass properties", coordinates.join(", "))]
     LinksWithoutMovingMass {
         /// The joints' coordinates.
         coordinates: Vec<String>,
