@@ -16,7 +16,8 @@ use crate::system::parameters::Parameters;
 use crate::system::{Kinematic, SystemInfo};
 
 /// The [`Kinematic`] face of a derived declaration: its names and constraint rows, with the
-/// parameters at their declared defaults.
+/// parameters at their declared defaults until [`InterpretedConstraints::set_parameter`]
+/// changes them.
 #[derive(Clone, Debug)]
 pub struct InterpretedConstraints {
     info: SystemInfo,

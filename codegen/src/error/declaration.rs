@@ -267,9 +267,8 @@ pub enum DeclarationError {
         /// T, as text.
         kinetic: String,
     },
-    /// Declared by links, none of the links the joints move carries mass or inertia:
-    /// T = 0, so M = 0.
-    #[error("no moving link carries mass: the links the joints {} move have neither `mass` nor `inertia`, so the kinetic energy is 0; give them their mass properties", coordinates.join(", "))]
+    /// Declared by links, no mass or inertia moves with the joints: T = 0, so M = 0.
+    #[error("no mass moves: the links the joints {} move carry no mass or inertia that moves with them (a mass on its joint's axis without inertia does not), so the kinetic energy is 0; give the moving links their mass properties", coordinates.join(", "))]
     LinksWithoutMovingMass {
         /// The joints' coordinates.
         coordinates: Vec<String>,

@@ -121,7 +121,8 @@ pub(crate) struct ModelView<'a> {
 /// updates a contiguous trailing block, a_ij -= (a_ik / a_kk) a_kj: n^3 / 3 multiply-adds
 /// over rows the compiler vectorises, where reading through a permutation could not be.
 fn negative_direction(a: &mut [f64], n: usize) -> Option<(usize, f64)> {
-    let scale = a[..n * n].iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+    let a = &mut a[..n * n];
+    let scale = a.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
     if scale == 0.0 {
         return None;
     }
@@ -286,5 +287,15 @@ mod tests {
             a[bad * n + bad] = -50.0;
             assert_eq!(negative_direction(&mut a, n), Some((bad, -50.0)));
         }
+    }
+
+    /// The coordinate named is the one at the pivot, not its position after the swaps: in
+    /// [[1, 2, 0], [2, 1, 0], [0, 0, 5]] the first pivot is coordinate 2 (5, swapped to the
+    /// front), the second coordinate 1 (1, the first of two equal diagonals), and the third,
+    /// coordinate 0 now at position 2, has the Schur complement 1 - 2 * 2 = -3.
+    #[test]
+    fn a_late_negative_pivot_names_its_coordinate() {
+        let mut a = vec![1.0, 2.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 5.0];
+        assert_eq!(negative_direction(&mut a, 3), Some((0, -3.0)));
     }
 }

@@ -2,7 +2,7 @@
 //! `check_*` function, and the [`Tree`] they establish (the links from the root down, each
 //! link's parent joint, the identifiers written).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use super::error::{Place, UrdfError};
 use super::format::number;
@@ -447,6 +447,24 @@ fn check_identifiers(
         taken: HashMap::new(),
     };
     let mut renamed = Vec::new();
+    // Every identifier the file's own names give: a renaming picks none of them, so a
+    // name written later (a link literally called `gripper_link`) keeps its own, whatever
+    // the order of the file.
+    let own: HashSet<String> = robot
+        .joints
+        .iter()
+        .map(|j| identifier(&j.name, "j_"))
+        .chain(robot.links.iter().map(|l| identifier(&l.name, "l_")))
+        .collect();
+    let fresh = |taken: &Identifiers<'_>, base: String| {
+        let mut id = base.clone();
+        let mut k = 2;
+        while taken.taken.contains_key(&id) || own.contains(&id) {
+            id = format!("{base}{k}");
+            k += 1;
+        }
+        id
+    };
     let mut coordinates = Vec::with_capacity(robot.joints.len());
     for joint in &robot.joints {
         if joint.kind == JointKind::Fixed || joint.locked {
@@ -455,7 +473,7 @@ fn check_identifiers(
         }
         let mut id = identifier(&joint.name, "j_");
         if RESERVED.contains(&id.as_str()) {
-            id = format!("{id}_joint");
+            id = fresh(&taken, format!("{id}_joint"));
             renamed.push(format!(
                 "joint \"{}\" as {id} (a reserved name)",
                 joint.name
@@ -477,13 +495,7 @@ fn check_identifiers(
                 }
             };
             if let Some(why) = why {
-                let base = format!("{id}_link");
-                id = base.clone();
-                let mut k = 2;
-                while taken.taken.contains_key(&id) {
-                    id = format!("{base}{k}");
-                    k += 1;
-                }
+                id = fresh(&taken, format!("{id}_link"));
                 renamed.push(format!("link \"{}\" as {id} ({why})", link.name));
             }
             taken.claim(&id, "link", &link.name, &link.place)?;

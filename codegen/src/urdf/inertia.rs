@@ -97,8 +97,9 @@ pub(crate) fn check_inertia(inertia: [f64; 6], mass: f64) -> Result<InertiaCheck
 }
 
 /// The steps of [`check_inertia`] (above) for a link of a robot whose links' largest sum
-/// of principal moments is `robot_scale`: a negative moment within INERTIA_TOLERANCE * `robot_scale` is
-/// treated as round-off too (raised to 0, then balanced), not refused. Such a moment is
+/// of principal moments is `robot_scale`: a negative moment within INERTIA_TOLERANCE *
+/// `robot_scale`, and no larger than the link's own largest moment I3 > 0, is treated as
+/// round-off too (raised to 0, then balanced), not refused. Such a moment is
 /// below any digit of the robot's mass matrix, whose entries are sums of the links'
 /// moments (TIAGo's 1e-6 kg antenna placeholders, moments -3.5e-8, 3.5e-8, 9.1e-8 kg m^2,
 /// bolted to a base of about 1 kg m^2); and a link that could still turn M indefinite is
@@ -118,7 +119,11 @@ pub(crate) fn check_inertia_in(
     if moments.iter().all(|m| m.abs() <= slack) {
         return Ok(InertiaCheck::Negligible { moments });
     }
-    if a < -(slack + INERTIA_TOLERANCE * robot_scale) {
+    // Round-off on the robot's scale only where the link's own largest moment is positive
+    // and outweighs the negative one: all three negative, or a negative moment larger than
+    // the link's own (a sign error, not round-off), is refused whatever the robot.
+    let robot_round_off = c > slack && -a <= c && -a <= INERTIA_TOLERANCE * robot_scale;
+    if a < -slack && !robot_round_off {
         return Err(negative_moment(moments));
     }
     // The declaration the inertia is written into tests the same two conditions with a
@@ -131,7 +136,8 @@ pub(crate) fn check_inertia_in(
     if a >= -strict && a + b >= c - strict {
         return Ok(InertiaCheck::Physical);
     }
-    // Here c > s >= 0, so only I1 and I2 can be raised to 0.
+    // Here c > s >= 0 (not all moments are within the slack, and a negative I3 was refused
+    // above), so only I1 and I2 can be raised to 0.
     let [a0, b0] = [a.max(0.0), b.max(0.0)];
     let d = if a0 + b0 < c {
         (c - a0 - b0) / 2.0
@@ -631,5 +637,9 @@ mod tests {
         }
         // A moment of 2 % of the robot's scale is still refused.
         assert!(check_inertia_in(rotated([-0.02, 0.05, 0.1]), 1.0, 1.0).is_err());
+        // Within the robot's round-off but larger than the link's own largest moment (a
+        // sign error), or all three negative: refused.
+        assert!(check_inertia_in(rotated([-2e-5, 1e-6, 1e-6]), 0.01, 30.0).is_err());
+        assert!(check_inertia_in(rotated([-1e-7, -1e-7, -1e-7]), 0.01, 0.15).is_err());
     }
 }

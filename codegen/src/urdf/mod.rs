@@ -46,7 +46,9 @@ pub struct UrdfOptions {
 /// Links are written parents before children (depth-first from the root, siblings in the order
 /// their `<link>`s are declared); each movable joint's coordinate is named after the joint,
 /// each link after the link, with characters other than ASCII letters, digits and `_` replaced
-/// by `_` (and `j_` or `l_` in front of a leading digit). Gravity is g = 9.81 m/s^2 along -z.
+/// by `_` (and `j_` or `l_` in front of a leading digit); a link named like a joint's
+/// coordinate, or a reserved name, gets `_link` (`_joint`), noted in the header. Gravity is
+/// g = 9.81 m/s^2 along -z.
 ///
 /// # Example
 ///
@@ -73,12 +75,13 @@ pub struct UrdfOptions {
 /// # Errors
 /// The first problem found, as one line `FILE:LINE:COL: <element>: message`: malformed
 /// XML or numbers; a root other than `<robot>`; a joint type other than revolute,
-/// continuous, prismatic or fixed; a `<mimic>` of an undeclared joint, or mimics that
-/// follow each other in a cycle; a joint whose parent
-/// or child link is not declared; a link with two parent joints; a cycle, or more than one
-/// root link; a zero-length axis; a negative mass; an inertia that no rigid body has; two
-/// names written alike or a reserved name; a `lock` name that is not a movable joint, or
-/// whose limits exclude 0; a `struct_name` that is not an identifier.
+/// continuous, prismatic or fixed; a `<mimic>` of a movable joint naming an undeclared
+/// joint, or mimics that follow each other in a cycle; a joint whose parent or child link
+/// is not declared; a link with two parent joints; a cycle, or more than one root link; a
+/// zero-length axis; a negative mass; an inertia with a negative principal moment beyond
+/// round-off (others no rigid body has are adjusted: [`UrdfImport::notes`]); two joints,
+/// or two links, written alike; a `lock` name that is not a movable joint, or whose limits
+/// exclude 0; a `struct_name` that is not an identifier, or is a Rust keyword.
 pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfError> {
     urdf_import(xml, options).map(|import| import.text)
 }

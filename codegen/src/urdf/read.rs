@@ -297,7 +297,9 @@ impl<'a, 'input> Reader<'a, 'input> {
             rpy,
             axis,
             limit,
-            mimic: match child(node, "mimic") {
+            // A fixed joint's `<mimic>` couples nothing: not read, so a placeholder one
+            // (no `joint`, a bad number) does not stop the import.
+            mimic: match child(node, "mimic").filter(|_| kind != JointKind::Fixed) {
                 None => None,
                 Some(m) => Some(Mimic {
                     joint: self.required(m, "joint")?.to_string(),

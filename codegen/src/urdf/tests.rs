@@ -180,6 +180,21 @@ fn clashing_and_reserved_names_are_renamed() {
     let model = crate::parse_model_str(&text).expect("the written text parses");
     let names: Vec<&str> = model.coordinates.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["gripper", "t_joint"]);
+    // A link literally named `gripper_link`, declared after the one renamed, keeps its
+    // name: the renamed one takes `gripper_link2`, whatever the order of the file.
+    let xml = robot(
+        "<link name=\"base\"/>\n<link name=\"gripper\"/>\n<link name=\"gripper_link\"/>\n\
+         <joint name=\"gripper\" type=\"continuous\"><parent link=\"base\"/>\
+         <child link=\"gripper\"/></joint>\n\
+         <joint name=\"tip\" type=\"fixed\"><parent link=\"gripper\"/>\
+         <child link=\"gripper_link\"/></joint>",
+    );
+    let text = urdf_to_mech(&xml, &options(&[])).expect("imported");
+    assert!(text.contains("link \"gripper\" as gripper_link2"), "{text}");
+    assert!(
+        text.contains("link gripper_link {\n    parent = gripper_link2;"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -263,6 +278,11 @@ fn a_mimic_joint_is_written_as_a_constraint_row() {
     // Locked, the mimicking joint needs no row.
     let text = urdf_to_mech(&xml, &options(&["right"])).expect("imported");
     assert!(!text.contains("constraints"), "{text}");
+    // A fixed joint's `<mimic>` couples nothing and is not read, even without a `joint`.
+    let xml = pair(
+        "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/><mimic/></joint>",
+    );
+    assert!(urdf_to_mech(&xml, &options(&[])).is_ok());
 }
 
 /// A robot whose joints are all fixed imports (its frames are a valid tree), and the
@@ -329,8 +349,8 @@ fn a_robot_whose_moving_links_have_no_mass_is_refused_as_such() {
         .expect_err("no mass");
     assert!(
         e.to_string().contains(
-            "no moving link carries mass: the links the joints j move have neither `mass` nor \
-             `inertia`"
+            "no mass moves: the links the joints j move carry no mass or inertia that moves \
+             with them"
         ),
         "{e}"
     );
