@@ -6,7 +6,7 @@ use std::collections::{HashMap, HashSet};
 
 use super::error::{Place, UrdfError};
 use super::format::number;
-use super::inertia::{InertiaCheck, check_inertia_in, principal_axes};
+use super::inertia::{InertiaCheck, check_inertia, principal_axes};
 use super::names::{RESERVED, identifier};
 use super::robot::{JointKind, Robot};
 
@@ -240,7 +240,7 @@ fn check_mimics(robot: &Robot, file: &str) -> Result<Vec<MimicRow>, UrdfError> {
     Ok(rows)
 }
 
-/// Mass not negative, and an inertia a rigid body can have ([`check_inertia_in`]): one
+/// Mass not negative, and an inertia a rigid body can have ([`check_inertia`]): one
 /// with a negative principal moment beyond round-off (of the link, or of the robot's
 /// largest link) is refused; one whose moments are all within
 /// the mass at a micrometre is set to zero (a point mass); one that breaks the triangle
@@ -286,7 +286,7 @@ fn check_inertials(robot: &mut Robot, file: &str) -> Result<Vec<String>, UrdfErr
             }
         };
         let moments = |m: &[f64; 3]| format!("{}, {}, {}", short(m[0]), short(m[1]), short(m[2]));
-        match check_inertia_in(inertial.inertia, inertial.mass, robot_scale) {
+        match check_inertia(inertial.inertia, inertial.mass, robot_scale) {
             Err(fault) => {
                 return Err(inertial.inertia_place.error(
                     file,

@@ -70,13 +70,14 @@ pub(crate) enum InertiaCheck {
 
 /// Sorts `inertia` (`ixx, ixy, ixz, iyy, iyz, izz`, about the centre of mass) of a link of
 /// mass `mass` (not negative; a negative one counts as 0) into an [`InertiaCheck`], or
-/// refuses it with the sentence [`inertia_fault`] gives for a negative moment.
+/// refuses it, naming the negative moment.
 ///
 /// With the principal moments I1 <= I2 <= I3 and the slack
 /// s = INERTIA_TOLERANCE * (|I1| + |I2| + |I3|) + NEGLIGIBLE_RADIUS^2 * mass:
 /// 1. all entries 0: [`InertiaCheck::Physical`] (a point mass already);
 /// 2. |Ik| <= s for every k: [`InertiaCheck::Negligible`];
-/// 3. I1 < -s: `Err` (a negative moment can make the mass matrix indefinite);
+/// 3. I1 < -s: `Err` (a negative moment can make the mass matrix indefinite), unless it
+///    is round-off on the robot's scale (below);
 /// 4. within [`DECLARATION_SLACK`] of the largest entry of both I1 >= 0 and I1 + I2 >= I3
 ///    (what the declaration's own check allows): [`InertiaCheck::Physical`], kept as
 ///    written;
@@ -90,21 +91,15 @@ pub(crate) enum InertiaCheck {
 ///    and [`InertiaCheck::Balanced`] with d = 0 (the matrix rebuilt with the raised moments)
 ///    when only a moment within the slack below 0 was wrong.
 ///
-/// The link alone (no robot around it); the importer calls [`check_inertia_in`].
-#[cfg(test)]
-pub(crate) fn check_inertia(inertia: [f64; 6], mass: f64) -> Result<InertiaCheck, String> {
-    check_inertia_in(inertia, mass, 0.0)
-}
-
-/// The steps of [`check_inertia`] (above) for a link of a robot whose links' largest sum
-/// of principal moments is `robot_scale`: a negative moment within INERTIA_TOLERANCE *
+/// `robot_scale` is the largest sum of principal moments among the robot's links (0 for a
+/// link judged alone): a negative moment within INERTIA_TOLERANCE *
 /// `robot_scale`, and no larger than the link's own largest moment I3 > 0, is treated as
 /// round-off too (raised to 0, then balanced), not refused. Such a moment is
 /// below any digit of the robot's mass matrix, whose entries are sums of the links'
 /// moments (TIAGo's 1e-6 kg antenna placeholders, moments -3.5e-8, 3.5e-8, 9.1e-8 kg m^2,
 /// bolted to a base of about 1 kg m^2); and a link that could still turn M indefinite is
 /// caught where M is checked (`mechanics::kinetic_form`).
-pub(crate) fn check_inertia_in(
+pub(crate) fn check_inertia(
     inertia: [f64; 6],
     mass: f64,
     robot_scale: f64,
@@ -152,37 +147,9 @@ pub(crate) fn check_inertia_in(
     })
 }
 
-/// Why an inertia is not physical, in a sentence (`None` when it is physical), with no
-/// repair: a negative moment or a broken triangle inequality beyond the relative slack.
-///
-/// `inertia` is `ixx, ixy, ixz, iyy, iyz, izz`.
-#[cfg(test)]
-pub(crate) fn inertia_fault(inertia: [f64; 6]) -> Option<String> {
-    let moments = principal_moments(inertia);
-    let [a, b, c] = moments;
-    let tolerance = INERTIA_TOLERANCE * (a.abs() + b.abs() + c.abs());
-    if a < -tolerance {
-        return Some(negative_moment(moments));
-    }
-    if a + b < c - tolerance {
-        return Some(format!(
-            "principal moments {a:e}, {b:e}, {c:e} break the triangle inequality \
-             {a:e} + {b:e} >= {c:e} (no rigid body has them)"
-        ));
-    }
-    None
-}
-
 /// The refusal of the ascending principal moments `moments`, whose first is negative.
 fn negative_moment([a, b, c]: [f64; 3]) -> String {
     format!("a negative principal moment ({a:e}; principal moments {a:e}, {b:e}, {c:e})")
-}
-
-/// The principal moments of the symmetric matrix `inertia` (`ixx, ixy, ixz, iyy, iyz,
-/// izz`), ascending (those of [`principal_axes`]).
-#[cfg(test)]
-pub(crate) fn principal_moments(inertia: [f64; 6]) -> [f64; 3] {
-    principal_axes(inertia).0
 }
 
 /// The principal moments of the symmetric matrix A = `inertia` (`ixx, ixy, ixz, iyy, iyz,
@@ -262,6 +229,17 @@ fn rebuild(axes: &[[f64; 3]; 3], moments: [f64; 3]) -> [f64; 6] {
 mod tests {
     use super::*;
 
+    /// [`check_inertia`] for a link judged alone (no robot around it).
+    fn alone(inertia: [f64; 6], mass: f64) -> Result<InertiaCheck, String> {
+        check_inertia(inertia, mass, 0.0)
+    }
+
+    /// The principal moments of the symmetric matrix `inertia` (`ixx, ixy, ixz, iyy, iyz,
+    /// izz`), ascending (those of [`principal_axes`]).
+    fn principal_moments(inertia: [f64; 6]) -> [f64; 3] {
+        principal_axes(inertia).0
+    }
+
     /// The rotation by `angle` about the axis along `axis` (not necessarily a unit vector):
     /// R = c 1 + (1 - c) n n^T + s [n]x with n = axis / |axis| (Rodrigues' formula).
     fn axis_angle(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
@@ -320,7 +298,7 @@ mod tests {
 
     /// The [`InertiaCheck::Balanced`] result of `inertia` and `mass`, or a panic.
     fn balanced(inertia: [f64; 6], mass: f64) -> ([f64; 3], [f64; 3], [f64; 6]) {
-        match check_inertia(inertia, mass) {
+        match alone(inertia, mass) {
             Ok(InertiaCheck::Balanced {
                 moments,
                 balanced,
@@ -368,35 +346,21 @@ mod tests {
     }
 
     #[test]
-    fn physical_and_unphysical_inertias() {
-        assert_eq!(inertia_fault([0.0; 6]), None, "a point mass");
-        assert_eq!(inertia_fault(rotated([0.0, 1.0, 1.0])), None, "a thin rod");
-        assert_eq!(
-            inertia_fault([1.0, 0.0, 0.0, 1.0, 0.0, 2.000001]),
-            None,
-            "rounded"
-        );
-        let triangle = inertia_fault(rotated([1.0, 1.0, 2.5])).expect("refused");
-        assert!(triangle.contains("triangle inequality"), "{triangle}");
-        let negative = inertia_fault([1.0, 2.0, 0.0, 1.0, 0.0, 1.0]).expect("refused");
-        assert!(negative.contains("negative principal moment"), "{negative}");
-    }
-
-    #[test]
     fn icub_round_off_is_negligible() {
         // icub.urdf's `head` (1.33687 kg): every entry 0 but ixz = 2.40741e-35.
         let icub = [0.0, 0.0, 2.40741e-35, 0.0, 0.0, 0.0];
         for mass in [1.33687, 0.1] {
-            let Ok(InertiaCheck::Negligible { moments }) = check_inertia(icub, mass) else {
-                panic!("{:?}", check_inertia(icub, mass));
+            let Ok(InertiaCheck::Negligible { moments }) = alone(icub, mass) else {
+                panic!("{:?}", alone(icub, mass));
             };
             assert!(
                 close(&moments, &[-2.40741e-35, 0.0, 2.40741e-35], 1e-12),
                 "{moments:?}"
             );
         }
-        // inertia_fault alone refuses it: the negative moment is the whole trace.
-        assert!(inertia_fault(icub).is_some());
+        // Without a mass the moments are judged against themselves alone, and the negative
+        // one is refused: it is the mass term that makes this round-off.
+        assert!(alone(icub, 0.0).is_err());
     }
 
     #[test]
@@ -406,20 +370,20 @@ mod tests {
         // inertia; the same moments on 1000 kg (0.045 micrometres) are negligible.
         let ball = |i: f64| [i, 0.0, 0.0, i, 0.0, i];
         assert!(matches!(
-            check_inertia(ball(0.5e-12), 1.0),
+            alone(ball(0.5e-12), 1.0),
             Ok(InertiaCheck::Negligible { .. })
         ));
-        assert_eq!(check_inertia(ball(2e-12), 1.0), Ok(InertiaCheck::Physical));
+        assert_eq!(alone(ball(2e-12), 1.0), Ok(InertiaCheck::Physical));
         assert!(matches!(
-            check_inertia(ball(2e-12), 1e3),
+            alone(ball(2e-12), 1e3),
             Ok(InertiaCheck::Negligible { .. })
         ));
         // A massless link's nonzero inertia is never negligible (the slack is then only
         // relative, a millionth of the moments), and the zero inertia is a point mass
         // already: nothing to replace.
-        assert_eq!(check_inertia(ball(1e-30), 0.0), Ok(InertiaCheck::Physical));
-        assert_eq!(check_inertia([0.0; 6], 0.0), Ok(InertiaCheck::Physical));
-        assert_eq!(check_inertia([0.0; 6], 2.0), Ok(InertiaCheck::Physical));
+        assert_eq!(alone(ball(1e-30), 0.0), Ok(InertiaCheck::Physical));
+        assert_eq!(alone([0.0; 6], 0.0), Ok(InertiaCheck::Physical));
+        assert_eq!(alone([0.0; 6], 2.0), Ok(InertiaCheck::Physical));
     }
 
     #[test]
@@ -492,7 +456,7 @@ mod tests {
         );
         // With the triangle inequality holding, it stays as written (the file's rounding).
         assert_eq!(
-            check_inertia([-1e-9, 0.0, 0.0, 1.0, 0.0, 1.0], 1.0),
+            alone([-1e-9, 0.0, 0.0, 1.0, 0.0, 1.0], 1.0),
             Ok(InertiaCheck::Physical)
         );
     }
@@ -502,12 +466,12 @@ mod tests {
         // A rod of 2 kg and 0.5 m along x: diag(0, 1, 1) m l^2 / 12.
         let rod = 2.0 * 0.5 * 0.5 / 12.0;
         assert_eq!(
-            check_inertia([0.0, 0.0, 0.0, rod, 0.0, rod], 2.0),
+            alone([0.0, 0.0, 0.0, rod, 0.0, rod], 2.0),
             Ok(InertiaCheck::Physical)
         );
         // The same rod turned (its computed I1 is a rounding error, of either sign).
         assert_eq!(
-            check_inertia(rotated([0.0, rod, rod]), 2.0),
+            alone(rotated([0.0, rod, rod]), 2.0),
             Ok(InertiaCheck::Physical)
         );
         // A turned 3 kg box of 0.1 x 0.2 x 0.4 m: m (b^2 + c^2) / 12 and so on.
@@ -517,16 +481,16 @@ mod tests {
             m * (a * a + c * c) / 12.0,
             m * (a * a + b * b) / 12.0,
         ]);
-        assert_eq!(check_inertia(box_, m), Ok(InertiaCheck::Physical));
+        assert_eq!(alone(box_, m), Ok(InertiaCheck::Physical));
         // A triangle inequality broken within the declaration's slack (1e-9 of the largest
         // entry) is kept; broken within this module's (1e-6 of the trace) but beyond the
         // declaration's, it is balanced, by half the excess each.
         assert_eq!(
-            check_inertia([1.0, 0.0, 0.0, 1.0, 0.0, 2.000000001], 1.0),
+            alone([1.0, 0.0, 0.0, 1.0, 0.0, 2.000000001], 1.0),
             Ok(InertiaCheck::Physical)
         );
         let Ok(InertiaCheck::Balanced { balanced, .. }) =
-            check_inertia([1.0, 0.0, 0.0, 1.0, 0.0, 2.000001], 1.0)
+            alone([1.0, 0.0, 0.0, 1.0, 0.0, 2.000001], 1.0)
         else {
             panic!("balanced");
         };
@@ -536,8 +500,7 @@ mod tests {
     #[test]
     fn a_clearly_negative_moment_is_refused() {
         let inertia = [-1e-3, 0.0, 0.0, 1e-3, 0.0, 1e-3];
-        let fault = check_inertia(inertia, 1.0).expect_err("refused");
-        assert_eq!(Some(fault.clone()), inertia_fault(inertia));
+        let fault = alone(inertia, 1.0).expect_err("refused");
         assert!(
             fault.starts_with("a negative principal moment (-1e-3;"),
             "{fault}"
@@ -546,22 +509,19 @@ mod tests {
         // refused, just within it the moment is raised to 0 (it is beyond the declaration's
         // 1e-9 * 1e-3); 1000 kg widen the slack by 1e-9 (NEGLIGIBLE_RADIUS^2 m).
         let slightly = |i1: f64| [i1, 0.0, 0.0, 1e-3, 0.0, 1e-3];
-        assert!(check_inertia(slightly(-2.1e-9), 1.0).is_err());
+        assert!(alone(slightly(-2.1e-9), 1.0).is_err());
         let raised = Ok(InertiaCheck::Balanced {
             moments: [-1.9e-9, 1e-3, 1e-3],
             balanced: [0.0, 1e-3, 1e-3],
             inertia: [0.0, 0.0, 0.0, 1e-3, 0.0, 1e-3],
         });
-        assert_eq!(check_inertia(slightly(-1.9e-9), 1.0), raised);
+        assert_eq!(alone(slightly(-1.9e-9), 1.0), raised);
         assert!(matches!(
-            check_inertia(slightly(-2.1e-9), 1e3),
+            alone(slightly(-2.1e-9), 1e3),
             Ok(InertiaCheck::Balanced { .. })
         ));
         // Within the declaration's slack it is kept as written.
-        assert_eq!(
-            check_inertia(slightly(-0.9e-12), 1.0),
-            Ok(InertiaCheck::Physical)
-        );
+        assert_eq!(alone(slightly(-0.9e-12), 1.0), Ok(InertiaCheck::Physical));
     }
 
     #[test]
@@ -574,8 +534,7 @@ mod tests {
             (rotated([0.0, 0.0, 1.0]), 1.0),
         ] {
             let (_, _, repaired) = balanced(inertia, mass);
-            assert_eq!(check_inertia(repaired, mass), Ok(InertiaCheck::Physical));
-            assert_eq!(inertia_fault(repaired), None);
+            assert_eq!(alone(repaired, mass), Ok(InertiaCheck::Physical));
         }
     }
 
@@ -614,7 +573,7 @@ mod tests {
                 [a, b, c],
                 [i1, i2, i3]
             );
-            assert_eq!(check_inertia(inertia, 0.0), Ok(InertiaCheck::Physical));
+            assert_eq!(alone(inertia, 0.0), Ok(InertiaCheck::Physical));
         }
     }
 
@@ -625,9 +584,9 @@ mod tests {
     #[test]
     fn a_negative_moment_small_on_the_robots_scale_is_balanced() {
         let antenna = [-3.5e-8, 3.5e-8, 9.1e-8];
-        assert!(check_inertia(rotated(antenna), 1e-6).is_err());
+        assert!(alone(rotated(antenna), 1e-6).is_err());
         let Ok(InertiaCheck::Balanced { balanced, .. }) =
-            check_inertia_in(rotated(antenna), 1e-6, 1.0)
+            check_inertia(rotated(antenna), 1e-6, 1.0)
         else {
             panic!("balanced");
         };
@@ -636,10 +595,10 @@ mod tests {
             assert!((got - want).abs() < 1e-20, "{balanced:?}");
         }
         // A moment of 2 % of the robot's scale is still refused.
-        assert!(check_inertia_in(rotated([-0.02, 0.05, 0.1]), 1.0, 1.0).is_err());
+        assert!(check_inertia(rotated([-0.02, 0.05, 0.1]), 1.0, 1.0).is_err());
         // Within the robot's round-off but larger than the link's own largest moment (a
         // sign error), or all three negative: refused.
-        assert!(check_inertia_in(rotated([-2e-5, 1e-6, 1e-6]), 0.01, 30.0).is_err());
-        assert!(check_inertia_in(rotated([-1e-7, -1e-7, -1e-7]), 0.01, 0.15).is_err());
+        assert!(check_inertia(rotated([-2e-5, 1e-6, 1e-6]), 0.01, 30.0).is_err());
+        assert!(check_inertia(rotated([-1e-7, -1e-7, -1e-7]), 0.01, 0.15).is_err());
     }
 }

@@ -40,6 +40,13 @@ fn inertial(inside: &str) -> String {
     ))
 }
 
+/// The error of parsing and deriving the imported `text`, which must be refused.
+fn refused_declaration(text: &str) -> crate::Error {
+    crate::parse_model_str(text)
+        .and_then(|mut m| crate::derive(&mut m).map(|_| ()))
+        .expect_err("the declaration is refused")
+}
+
 #[test]
 fn the_test_arm_as_a_declaration() {
     let text = urdf_to_mech(ARM, &options(&[])).expect("imported");
@@ -143,7 +150,7 @@ fn names_become_identifiers() {
 
 /// URDF keeps joint and link names apart, the declaration does not: a link named like a
 /// joint's coordinate is written with `_link`, a reserved name with `_joint` or `_link`,
-/// each renaming listed in the header, and the result derives.
+/// each renaming listed in the header, and the result parses with the renamed coordinates.
 #[test]
 fn clashing_and_reserved_names_are_renamed() {
     let xml = robot(&(
@@ -292,9 +299,7 @@ fn a_robot_without_a_moving_joint_is_refused_as_such() {
     let xml =
         pair("<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>");
     let text = urdf_to_mech(&xml, &options(&[])).expect("imported");
-    let e = crate::parse_model_str(&text)
-        .and_then(|mut m| crate::derive(&mut m).map(|_| ()))
-        .expect_err("no coordinates");
+    let e = refused_declaration(&text);
     assert!(
         e.to_string()
             .contains("no link of `R` moves: every link's joint is fixed"),
@@ -344,9 +349,7 @@ fn unphysical_inertias_are_adjusted_and_noted() {
 #[test]
 fn a_robot_whose_moving_links_have_no_mass_is_refused_as_such() {
     let text = urdf_to_mech(&pair(&revolute("")), &options(&[])).expect("imported");
-    let e = crate::parse_model_str(&text)
-        .and_then(|mut m| crate::derive(&mut m).map(|_| ()))
-        .expect_err("no mass");
+    let e = refused_declaration(&text);
     assert!(
         e.to_string().contains(
             "no mass moves: the links the joints j move carry no mass or inertia that moves \
