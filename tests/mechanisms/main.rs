@@ -10,6 +10,7 @@ mod bodies_joints;
 mod bodies_snapshots;
 mod closed_chain;
 mod drawing;
+mod g1_pinocchio;
 mod links_robot;
 mod panda_pinocchio;
 mod snapshots;
