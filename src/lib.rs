@@ -156,7 +156,7 @@ pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
 pub use crate::system::{
-    Accelerations, Coordinates, EvaluationSlices, Independent, Mechanism, Multipliers,
+    Accelerations, Coordinates, EvaluationSlices, Independent, JointLimits, Mechanism, Multipliers,
     StaticEvaluation, StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]

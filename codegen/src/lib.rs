@@ -104,7 +104,7 @@ pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{
     ConstraintTangent, ResidualTangent, constraint_tangent, residual_tangent,
 };
-pub use mechanics::tree::{Link, LinkJoint};
+pub use mechanics::tree::{DeclaredLimits, Link, LinkJoint, declared_limits};
 pub use number::Number;
 pub use pipeline::{
     SpannedError, check_parameter_values, parse_declaration, parse_declaration_str,

@@ -388,6 +388,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     let indices: Vec<usize> = (0..*p).collect();
     let methods = expand_equation_methods(decl, t, g);
     let drawing = drawing_constants(decl);
+    let joint_limits = joint_limit_constants(decl);
     let evaluate_into_avx2 = expand_evaluate_into_avx2(decl, t, g);
     let allows = method_allows();
     quote! {
@@ -403,6 +404,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
                 &[#((#row_joints, #row_components)),*];
             const VELOCITY_ROWS: usize = #velocity_rows;
             #drawing
+            #joint_limits
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
                 match index {
@@ -500,6 +502,41 @@ fn drawing_constants(decl: &Declaration) -> TokenStream {
         const DRAW_POINTS: &'static [(&'static str, bool)] = &[#((#names, #ground)),*];
         const DRAW_LINES: &'static [&'static [usize]] = &[#(#lines),*];
         const DRAW_TRACES: &'static [usize] = &[#(#traces),*];
+    }
+}
+
+/// `JOINT_LIMITS`: the link tree's declared joint limits (nothing without any).
+fn joint_limit_constants(decl: &Declaration) -> TokenStream {
+    let limits = mechanism_codegen::declared_limits(&decl.model.links);
+    if limits.is_empty() {
+        return quote!();
+    }
+    let krate = &decl.krate;
+    let option = |v: Option<TokenStream>| match v {
+        Some(v) => quote!(::core::option::Option::Some(#v)),
+        None => quote!(::core::option::Option::None),
+    };
+    let entries = limits.iter().map(|l| {
+        let coordinate = l.coordinate;
+        let linear = l.linear;
+        let position = option(l.position.map(|[lo, hi]| {
+            let (lo, hi) = (float(lo), float(hi));
+            quote!([#lo, #hi])
+        }));
+        let velocity = option(l.velocity.map(float));
+        let effort = option(l.effort.map(float));
+        quote! {
+            #krate::JointLimits {
+                coordinate: #coordinate,
+                linear: #linear,
+                position: #position,
+                velocity: #velocity,
+                effort: #effort,
+            }
+        }
+    });
+    quote! {
+        const JOINT_LIMITS: &'static [#krate::JointLimits] = &[#(#entries),*];
     }
 }
 

@@ -16,7 +16,8 @@ use mechanism::AssemblyOptions;
 use mechanism::output::Unit;
 use mechanism::output::{
     CoordinateSeries, Figure, FigureNames, Figures, InverseSummary, InverseTable, OutputError,
-    SUMMARY_FILE, plot_coordinates, plot_driving_torque, write_inverse_csv, write_inverse_summary,
+    SUMMARY_FILE, excursion_lines, inverse_excursions, plot_coordinates, plot_driving_torque,
+    write_inverse_csv, write_inverse_summary,
 };
 use mechanism::{Drive, System, parse_drive};
 use mechanism::{inverse_dynamics, sample_times};
@@ -76,6 +77,7 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     };
     let parameters = std::mem::take(&mut known.parameters);
     let mut summary = InverseSummary::new(&known.mechanism, parameters, &a.drive, &table);
+    summary.joint_limit_excursions = inverse_excursions(info, &table);
     let figures = a.common.figures.resolve(info.n());
     let names = figure_names(&loaded.key, system);
     let written = write_data(&table, out, &names, figures).and_then(|()| {
@@ -99,6 +101,17 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
             text,
             "{name}: max |tau| = {peak:.6e} over {samples} samples"
         );
+    }
+    let passed = &summary.joint_limit_excursions;
+    if !passed.is_empty() {
+        let _ = writeln!(
+            text,
+            "the motion passes {} declared joint limit(s) (summary.json, joint_limit_excursions):",
+            passed.len()
+        );
+        for line in excursion_lines(passed, 8) {
+            let _ = writeln!(text, "  {line}");
+        }
     }
     let _ = writeln!(text, "{}", out.wrote());
     loaded.source.clear();

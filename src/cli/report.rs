@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use mechanism::System;
-use mechanism::output::Summary;
+use mechanism::output::{Summary, excursion_lines};
 
 use super::seed::{SEED_PRINTED, is_seed};
 
@@ -143,6 +143,18 @@ fn run_lines(s: &mut String, summary: &Summary) {
             summary.singular_passages.len(),
             times.join(", ")
         );
+    }
+    let passed = &summary.joint_limit_excursions;
+    if !passed.is_empty() {
+        let _ = writeln!(
+            s,
+            "passed {} declared joint limit(s), which the simulation does not enforce \
+             (summary.json, joint_limit_excursions):",
+            passed.len()
+        );
+        for line in excursion_lines(passed, 8) {
+            let _ = writeln!(s, "  {line}");
+        }
     }
     if let Some(e) = &summary.outcome.error {
         let _ = writeln!(*s, "stopped at t = {} s: {e}", summary.outcome.t_last);

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::OutputError;
+use super::excursions::LimitExcursion;
 use super::outcome::Outcome;
 use super::summary::{NamedValues, write_json};
 use super::table::InverseTable;
@@ -27,6 +28,10 @@ pub struct InverseSummary {
     /// max_t |tau| of each driven coordinate, by column name `tau_<coordinate>` (N m for
     /// an angle, N for a length); NaN (`null`) when a sample's force is.
     pub max_abs_driving_force: NamedValues,
+    /// The declared joint limits the motion or the driving forces passed (nothing
+    /// enforces them); set by the caller, which knows the limits
+    /// (`output::inverse_excursions`), empty from [`InverseSummary::new`].
+    pub joint_limit_excursions: Vec<LimitExcursion>,
     /// How the run ended and the files it wrote: `status`, `t_last`, `error`, `stage`
     /// (`setup`, `inverse dynamics` or `output` for a failure), `files` (see [`Outcome`]).
     #[serde(flatten)]
@@ -55,6 +60,7 @@ impl InverseSummary {
             drives: drives.to_vec(),
             samples: table.rows.len(),
             max_abs_driving_force: NamedValues(peaks),
+            joint_limit_excursions: Vec::new(),
             outcome: Outcome::completed(table.times().last().copied().unwrap_or(f64::NAN)),
         }
     }

@@ -25,6 +25,8 @@ mod atomic;
 #[cfg(feature = "files")]
 pub mod csv;
 #[cfg(feature = "files")]
+mod excursions;
+#[cfg(feature = "files")]
 mod inverse_summary;
 mod lock;
 #[cfg(feature = "files")]
@@ -46,6 +48,8 @@ pub use self::animation::{MAX_FRAMES, animation_html, write_animation};
 pub use self::atomic::{temporary_path, write_atomically};
 #[cfg(feature = "files")]
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
+#[cfg(feature = "files")]
+pub use self::excursions::{LimitExcursion, LimitWatch, excursion_lines, inverse_excursions};
 #[cfg(feature = "files")]
 pub use self::inverse_summary::{InverseSummary, write_inverse_summary};
 pub use self::lock::{FolderLock, LOCK_FILE};

@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
+use super::excursions::{LimitExcursion, LimitWatch};
 use super::outcome::Outcome;
 use super::{OutputError, ensure_dir, write_atomically};
 use crate::algorithms::mobility::Mobility;
@@ -171,6 +172,15 @@ impl PassageReport {
     }
 }
 
+/// The declared joint limits the samples of `trajectory` pass.
+fn excursions(trajectory: &Trajectory) -> Vec<LimitExcursion> {
+    let mut watch = LimitWatch::new(&trajectory.info);
+    for s in trajectory.samples() {
+        watch.sample(s.t, s.q, s.qd, None);
+    }
+    watch.finish(&trajectory.info)
+}
+
 /// The contents of `summary.json` (keys in this order; tools and tests read them).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
@@ -210,6 +220,9 @@ pub struct Summary {
     pub mobility: MobilityReport,
     /// Singular configurations the motion passed through, in time order.
     pub singular_passages: Vec<PassageReport>,
+    /// The declared joint limits the motion passed (positions and rates; nothing enforces
+    /// them), in coordinate order.
+    pub joint_limit_excursions: Vec<LimitExcursion>,
     /// How the run ended and the files it wrote: `status`, `t_last`, `error`, `stage`,
     /// `files` (see [`Outcome`]).
     #[serde(flatten)]
@@ -272,6 +285,7 @@ impl Summary {
                 .iter()
                 .map(|p| PassageReport::new(p, info))
                 .collect(),
+            joint_limit_excursions: excursions(trajectory),
             outcome: Outcome::completed(trajectory.last().map_or(0.0, |s| s.t)),
         })
     }
@@ -305,6 +319,7 @@ impl Summary {
             banded_solves: 0,
             mobility: MobilityReport::default(),
             singular_passages: Vec::new(),
+            joint_limit_excursions: Vec::new(),
             outcome: Outcome {
                 t_last: f64::NAN,
                 ..Outcome::default()

@@ -42,6 +42,7 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                 .collect(),
             velocity_rows: T::VELOCITY_ROWS,
             drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
+            joint_limits: T::JOINT_LIMITS.to_vec(),
         };
         let sparsity = T::SPARSITY.map(|s| Sparsity::from_static(N, M, &s));
         Self {

@@ -2,6 +2,7 @@
 //! coordinates and initial guesses, and where each constraint row comes from.
 
 use super::drawing::Drawing;
+use super::joint_limits::JointLimits;
 use super::mechanism::Independent;
 
 /// Where one scalar constraint row comes from: the statement that declared it and which of
@@ -62,6 +63,9 @@ pub struct SystemInfo {
     pub velocity_rows: usize,
     /// The declared picture (`draw { .. }`); empty when the declaration has none.
     pub drawing: Drawing,
+    /// The joints' declared limits, one entry per coordinate that has any, in coordinate
+    /// order (see [`JointLimits`]); empty without a link tree.
+    pub joint_limits: Vec<JointLimits>,
 }
 
 impl SystemInfo {

@@ -146,6 +146,10 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     const DRAW_LINES: &'static [&'static [usize]] = &[];
     /// The drawn points whose paths are traced (indices into [`Mechanism::DRAW_POINTS`]).
     const DRAW_TRACES: &'static [usize] = &[];
+    /// The limits the moving joints of a link tree declare (`limit`, `velocity_limit`,
+    /// `effort_limit`), one entry per coordinate that has any, in coordinate order. Kept
+    /// for reference: nothing enforces them (see [`super::JointLimits`]).
+    const JOINT_LIMITS: &'static [super::JointLimits] = &[];
 
     /// Value of parameter `index` (declaration order), or `None` out of range.
     fn parameter(&self, index: usize) -> Option<f64>;

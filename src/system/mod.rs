@@ -28,6 +28,7 @@ mod info;
 mod interpreted;
 #[cfg(feature = "interpreter")]
 mod interpreted_constraints;
+mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
 mod model_info;
@@ -55,6 +56,7 @@ pub use info::{ConstraintRow, SystemInfo};
 pub use interpreted::Interpreted;
 #[cfg(feature = "interpreter")]
 pub use interpreted_constraints::InterpretedConstraints;
+pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
 };

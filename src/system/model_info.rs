@@ -1,9 +1,9 @@
 //! The [`SystemInfo`] of a derived [`Model`]: what the interpreted systems report as their
-//! names, guesses, independent coordinates, row labels and drawing.
+//! names, guesses, independent coordinates, row labels, drawing and joint limits.
 
 use mechanism_codegen::Model;
 
-use crate::system::{ConstraintRow, Drawing, DrawnPoint, Independent, SystemInfo};
+use crate::system::{ConstraintRow, Drawing, DrawnPoint, Independent, JointLimits, SystemInfo};
 
 /// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
 pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
@@ -53,5 +53,15 @@ pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
             lines: model.drawing.lines.clone(),
             traces: model.drawing.traces.clone(),
         },
+        joint_limits: mechanism_codegen::declared_limits(&model.links)
+            .into_iter()
+            .map(|l| JointLimits {
+                coordinate: l.coordinate,
+                linear: l.linear,
+                position: l.position,
+                velocity: l.velocity,
+                effort: l.effort,
+            })
+            .collect(),
     }
 }

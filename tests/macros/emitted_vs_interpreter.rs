@@ -510,6 +510,7 @@ fn unnamed_rows_are_numbered() {
         constraint_rows: (0..2).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
         drawing: Default::default(),
+        joint_limits: Vec::new(),
     };
     assert_eq!(info.constraint_label(0), "row 1");
     assert_eq!(info.constraint_label(1), "row 2");

@@ -133,6 +133,7 @@ fn awkward_values_round_trip() {
         constraint_rows: vec![ConstraintRow::unnamed(0)],
         velocity_rows: 0,
         drawing: Default::default(),
+        joint_limits: Vec::new(),
         ..info("awkward")
     };
     let mut tr = Trajectory::with_capacity(info, 2);

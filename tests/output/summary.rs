@@ -123,6 +123,7 @@ fn summary_json_has_every_key_with_its_value() {
         "banded_solves",
         "mobility",
         "singular_passages",
+        "joint_limit_excursions",
         "status",
         "t_last",
         "error",

@@ -35,6 +35,7 @@ pub fn info(name: &str) -> SystemInfo {
         constraint_rows: (0..3).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
         drawing: Default::default(),
+        joint_limits: Vec::new(),
     }
 }
 

@@ -31,6 +31,7 @@ fn info(
         constraint_rows: (0..m).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
         drawing: Default::default(),
+        joint_limits: Vec::new(),
     }
 }
 

@@ -20,6 +20,7 @@ mod interpreted_errors;
 mod interpreted_tangent;
 mod interpreted_threads;
 mod inverse;
+mod joint_limits;
 mod linearize;
 mod no_alloc;
 mod non_finite;

@@ -72,3 +72,40 @@ pub struct Link {
     /// Where the link is declared.
     pub location: Location,
 }
+
+/// The limits a moving joint declares, by the coordinate it moves (what a run reports
+/// against; nothing in the equations enforces them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeclaredLimits {
+    /// Index of the coordinate in q.
+    pub coordinate: usize,
+    /// True for a prismatic joint (q a length in m), false for a revolute one (rad).
+    pub linear: bool,
+    /// `limit = [lower, upper]`.
+    pub position: Option<[f64; 2]>,
+    /// `velocity_limit`: the largest |q'|.
+    pub velocity: Option<f64>,
+    /// `effort_limit`: the largest |tau|.
+    pub effort: Option<f64>,
+}
+
+/// The declared limits of the moving joints of `links`, one entry per coordinate that has
+/// any, in coordinate order.
+pub fn declared_limits(links: &[Link]) -> Vec<DeclaredLimits> {
+    let mut out: Vec<DeclaredLimits> = links
+        .iter()
+        .filter(|l| l.limit.is_some() || l.velocity_limit.is_some() || l.effort_limit.is_some())
+        .filter_map(|l| {
+            let coordinate = l.joint.coordinate()?;
+            Some(DeclaredLimits {
+                coordinate,
+                linear: matches!(l.joint, LinkJoint::Prismatic { .. }),
+                position: l.limit,
+                velocity: l.velocity_limit,
+                effort: l.effort_limit,
+            })
+        })
+        .collect();
+    out.sort_by_key(|l| l.coordinate);
+    out
+}
