@@ -76,8 +76,8 @@ fn file_literal(tokens: &TokenStream) -> Option<syn::Result<LitStr>> {
     }
 }
 
-/// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]` and `name = Struct`
-/// after it.
+/// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]`, `name = Struct` and
+/// `damping = true` after it.
 struct UrdfInput {
     /// The path as written.
     literal: LitStr,
@@ -85,6 +85,8 @@ struct UrdfInput {
     lock: Vec<String>,
     /// The struct name, when given.
     name: Option<Ident>,
+    /// `damping = true`: the joints' `<dynamics damping>` as forces.
+    damping: bool,
 }
 
 /// `urdf = "..."` and its options, recognised by its first two tokens.
@@ -101,12 +103,13 @@ fn urdf_input(tokens: &TokenStream) -> Option<syn::Result<UrdfInput>> {
     }
 }
 
-/// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [,]`.
+/// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [, damping = true] [,]`.
 fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
     let mut urdf = UrdfInput {
         literal: input.parse()?,
         lock: Vec::new(),
         name: None,
+        damping: false,
     };
     while !input.is_empty() {
         input.parse::<Token![,]>()?;
@@ -122,10 +125,13 @@ fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
             urdf.lock.extend(joints.iter().map(LitStr::value));
         } else if key == "name" {
             urdf.name = Some(input.parse()?);
+        } else if key == "damping" {
+            urdf.damping = input.parse::<syn::LitBool>()?.value;
         } else {
             return Err(syn::Error::new(
                 key.span(),
-                "expected `lock = [\"joint\", ...]` or `name = Struct` after the URDF path",
+                "expected `lock = [\"joint\", ...]`, `name = Struct` or `damping = true` \
+                 after the URDF path",
             ));
         }
     }
@@ -220,6 +226,7 @@ fn parse_urdf(urdf: UrdfInput) -> syn::Result<Declaration> {
         file_name: urdf.literal.value(),
         struct_name: urdf.name.map(|n| n.to_string()),
         lock: urdf.lock,
+        damping: urdf.damping,
     };
     let text = mechanism_codegen::urdf_to_mech(&xml, &options)
         .map_err(|e| syn::Error::new(urdf.literal.span(), e.to_string()))?;
@@ -373,13 +380,19 @@ mod tests {
     #[test]
     fn urdf_options_are_read() {
         let tokens: TokenStream =
-            format!(r#"urdf = "{ARM}", lock = ["slide", "shoulder"], name = Arm,"#)
+            format!(r#"urdf = "{ARM}", lock = ["slide", "shoulder"], name = Arm, damping = true,"#)
                 .parse()
                 .unwrap();
         let urdf = urdf_input(&tokens).expect("recognised").expect("parsed");
         assert_eq!(urdf.literal.value(), ARM);
         assert_eq!(urdf.lock, ["slide", "shoulder"]);
         assert_eq!(urdf.name.map(|n| n.to_string()).as_deref(), Some("Arm"));
+        assert!(urdf.damping);
+        let tokens: TokenStream = format!(r#"urdf = "{ARM}""#).parse().unwrap();
+        assert!(!urdf_input(&tokens).unwrap().unwrap().damping);
+        let tokens: TokenStream = format!(r#"urdf = "{ARM}", damping = 1"#).parse().unwrap();
+        let e = urdf_input(&tokens).unwrap().err().expect("refused");
+        assert!(e.to_string().contains("expected boolean literal"), "{e}");
         let tokens: TokenStream = format!(r#"urdf = "{ARM}", locked = []"#).parse().unwrap();
         let e = urdf_input(&tokens)
             .expect("recognised")

@@ -234,6 +234,10 @@ pub struct ImportArgs {
     /// The struct name (default: the robot's name in CamelCase).
     #[arg(long, value_name = "STRUCT")]
     pub name: Option<String>,
+    /// Import each moving joint's <dynamics damping> b as the force -b q' on its
+    /// coordinate (Coulomb friction is not imported).
+    #[arg(long)]
+    pub damping: bool,
 }
 
 /// Integrators offered on the command line.

@@ -23,6 +23,7 @@ pub fn run(args: &ImportArgs) -> Result<(), CliError> {
         file_name: args.urdf.display().to_string(),
         struct_name: args.name.clone(),
         lock: args.lock.clone(),
+        damping: args.damping,
     };
     let import = urdf_import(&xml, &options).map_err(|e| CliError::Import(e.to_string()))?;
     // What the import changed from the URDF, one line each (also in the header).

@@ -132,3 +132,37 @@ fn an_adjusted_inertia_is_noted_on_stderr() {
         "{text}"
     );
 }
+
+/// `--damping` writes the arm's one damped joint (b = 0.1, friction 0) as a force, and the
+/// written declaration runs through `simulate`, T + Pi - W kept (the decay itself is
+/// checked against the closed form in tests/mechanisms/urdf_damping.rs).
+#[test]
+fn damping_is_imported_on_request_and_simulates() {
+    let dir = out_dir("import-damping");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("arm.mech");
+    let o = mechanism(&["import", ARM, "--damping", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("forces {\n    shoulder: -0.1*der(shoulder);\n}"),
+        "{text}"
+    );
+    let run = dir.join("run");
+    let o = mechanism(&[
+        "simulate",
+        out.to_str().unwrap(),
+        "--t-end",
+        "0.5",
+        "--figures",
+        "none",
+        "--no-animation",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    let balance = summary["max_energy_balance_error"].as_f64().unwrap();
+    assert!(balance < 1e-8, "T + Pi - W drifted by {balance:e} J");
+}

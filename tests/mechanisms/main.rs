@@ -14,4 +14,5 @@ mod g1_pinocchio;
 mod links_robot;
 mod panda_pinocchio;
 mod snapshots;
+mod urdf_damping;
 mod urdf_mimic;

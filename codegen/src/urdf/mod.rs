@@ -12,11 +12,11 @@
 //! text). What is imported: links with their `<inertial>` (mass, centre of mass, inertia
 //! and its axes) and revolute, continuous, prismatic and fixed joints with their origin,
 //! axis and `<limit>`; a `<mimic>` (q = multiplier * q_master + offset) as a constraint
-//! row, the joints no mimic sets being the independent coordinates. What is not, because
-//! it carries no rigid-body dynamics: `<visual>`,
-//! `<collision>`, `<material>`, `<transmission>`, `<gazebo>`, `<safety_controller>`,
-//! `<calibration>`; and `<dynamics>` (joint damping and friction), which the header of the
-//! output counts.
+//! row, the joints no mimic sets being the independent coordinates; on request
+//! ([`UrdfOptions::damping`]), `<dynamics damping>` b as the force -b q'. What is not,
+//! because it carries no rigid-body dynamics: `<visual>`, `<collision>`, `<material>`,
+//! `<transmission>`, `<gazebo>`, `<safety_controller>`, `<calibration>`; and Coulomb
+//! friction (and the damping, without the option), which the header of the output counts.
 
 mod check;
 mod error;
@@ -39,6 +39,11 @@ pub struct UrdfOptions {
     /// URDF names of movable joints to lock at q = 0: each becomes a fixed joint (0 must
     /// be within the joint's limits). A locked joint's `<mimic>` is dropped.
     pub lock: Vec<String>,
+    /// Import each movable joint's `<dynamics damping>` b as the generalised force
+    /// -b q' on its coordinate (a viscous damper in the joint). Off by default: the
+    /// rigid-body references (Pinocchio's `rnea`, `crba`) leave damping out. Coulomb
+    /// `friction` is not imported either way (a force that jumps where q' changes sign).
+    pub damping: bool,
 }
 
 /// The declaration text of the robot the URDF `xml` describes.
@@ -120,6 +125,9 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
         None => names::struct_name(&robot.name),
     };
     let tree = check::check(&mut robot, &options.lock, file)?;
+    if options.damping {
+        check_damping(&robot, &tree, file)?;
+    }
     let notes = tree
         .adjusted
         .iter()
@@ -127,9 +135,27 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
         .chain(tree.renamed.iter().map(|r| format!("renamed: {r}")))
         .collect();
     Ok(UrdfImport {
-        text: write::write(&robot, &tree, file, &struct_name),
+        text: write::write(&robot, &tree, file, &struct_name, options.damping),
         notes,
     })
+}
+
+/// Refuses a damping to be imported that is negative (or not finite): such a damper would
+/// feed the joint energy.
+fn check_damping(robot: &robot::Robot, tree: &check::Tree, file: &str) -> Result<(), UrdfError> {
+    for (joint, q) in robot.joints.iter().zip(&tree.coordinates) {
+        if let (Some(d), Some(_)) = (&joint.dynamics, q)
+            && !(d.damping >= 0.0 && d.damping.is_finite())
+        {
+            let message = format!(
+                "the damping of joint \"{}\" is {}: a damper takes energy out, \
+                 so b >= 0",
+                joint.name, d.damping
+            );
+            return Err(d.place.error(file, message));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

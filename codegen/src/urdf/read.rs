@@ -1,14 +1,14 @@
 //! Reading: the URDF's XML into a [`Robot`], every number parsed and every element's place
 //! kept. Only the rigid-body content is read: `<link>` with its `<inertial>`, `<joint>` with
-//! `<origin>`, `<parent>`, `<child>`, `<axis>`, `<limit>` and `<mimic>`. The elements that
-//! carry no rigid-body dynamics are skipped: `<visual>`, `<collision>`, `<material>`,
-//! `<transmission>`, `<gazebo>`, `<safety_controller>`, `<calibration>`; `<dynamics>`
-//! (joint damping and friction) is noted but not imported.
+//! `<origin>`, `<parent>`, `<child>`, `<axis>`, `<limit>`, `<mimic>` and `<dynamics>`
+//! (damping and friction, which the writer imports on request). The elements that carry no
+//! rigid-body dynamics are skipped: `<visual>`, `<collision>`, `<material>`,
+//! `<transmission>`, `<gazebo>`, `<safety_controller>`, `<calibration>`.
 
 use roxmltree::{Document, Node, ParsingOptions};
 
 use super::error::{Place, UrdfError};
-use super::robot::{Inertial, Joint, JointKind, Limit, Link, Mimic, Robot};
+use super::robot::{Inertial, Joint, JointDynamics, JointKind, Limit, Link, Mimic, Robot};
 
 /// The joint types the importer knows, as the messages list them.
 pub(crate) const SUPPORTED_JOINTS: &str = "revolute, continuous, prismatic, fixed";
@@ -308,7 +308,14 @@ impl<'a, 'input> Reader<'a, 'input> {
                     place: self.place(m),
                 }),
             },
-            has_dynamics: child(node, "dynamics").is_some(),
+            dynamics: match child(node, "dynamics") {
+                None => None,
+                Some(d) => Some(JointDynamics {
+                    damping: self.optional(d, "damping")?.unwrap_or(0.0),
+                    friction: self.optional(d, "friction")?.unwrap_or(0.0),
+                    place: self.place(d),
+                }),
+            },
             locked: false,
         })
     }

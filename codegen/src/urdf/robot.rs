@@ -96,10 +96,22 @@ pub(crate) struct Joint {
     pub limit: Option<Limit>,
     /// `<mimic>`, when present.
     pub mimic: Option<Mimic>,
-    /// Whether a `<dynamics>` element (damping, friction: not imported) is present.
-    pub has_dynamics: bool,
+    /// `<dynamics>`, when present.
+    pub dynamics: Option<JointDynamics>,
     /// Locked at q = 0 by the options: written as a fixed joint.
     pub locked: bool,
+}
+
+/// A joint's `<dynamics>`: viscous damping b (N m s/rad, or N s/m for a prismatic joint)
+/// and Coulomb friction (N m or N), each 0 when not given.
+#[derive(Clone, Debug)]
+pub(crate) struct JointDynamics {
+    /// b in tau = -b q'.
+    pub damping: f64,
+    /// The friction's magnitude.
+    pub friction: f64,
+    /// Where `<dynamics>` is.
+    pub place: Place,
 }
 
 /// A `<mimic>`: this joint's coordinate follows another's, q = multiplier * q_master +

@@ -12,6 +12,7 @@ fn options(lock: &[&str]) -> UrdfOptions {
         file_name: "t.urdf".into(),
         struct_name: None,
         lock: lock.iter().map(|s| s.to_string()).collect(),
+        damping: false,
     }
 }
 
@@ -294,6 +295,72 @@ fn a_mimic_joint_is_written_as_a_constraint_row() {
 
 /// A robot whose joints are all fixed imports (its frames are a valid tree), and the
 /// declaration is then refused in terms of its links: none moves, so it has no coordinates.
+/// With the damping option, each moving joint's `<dynamics damping>` b becomes the force
+/// -b q' on its coordinate, and the header says so and counts the friction left out; a
+/// locked or fixed joint's damping, and a zero one, write nothing; without the option no
+/// force is written. The written forces derive as tau = -b q'.
+#[test]
+fn joint_damping_is_written_as_forces_on_request() {
+    let xml = robot(
+        "<link name=\"a\"/>\n<link name=\"b\"><inertial><mass value=\"1\"/>\
+         <inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n\
+         <link name=\"c\"/>\n<link name=\"d\"/>\n<link name=\"e\"/>\n\
+         <joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\
+         <dynamics damping=\"0.25\" friction=\"0.1\"/></joint>\n\
+         <joint name=\"k\" type=\"prismatic\"><parent link=\"b\"/><child link=\"c\"/>\
+         <limit lower=\"-1\" upper=\"1\"/><dynamics damping=\"3\"/></joint>\n\
+         <joint name=\"l\" type=\"revolute\"><parent link=\"c\"/><child link=\"d\"/>\
+         <dynamics damping=\"7\"/></joint>\n\
+         <joint name=\"f\" type=\"fixed\"><parent link=\"d\"/><child link=\"e\"/>\
+         <dynamics damping=\"9\"/></joint>",
+    );
+    let plain = urdf_to_mech(&xml, &options(&["l"])).expect("imported");
+    assert!(!plain.contains("forces"), "{plain}");
+    assert!(plain.contains("/// Not imported: the <dynamics> damping and friction of 4 joints."));
+    let mut damped = options(&["l"]);
+    damped.damping = true;
+    let text = urdf_to_mech(&xml, &damped).expect("imported");
+    assert!(
+        text.contains(
+            "/// <dynamics> damping of 2 joints imported as forces tau = -b q' (`forces` \
+             below); not imported: the Coulomb friction of 1 joint.\n"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("forces {\n    j: -0.25*der(j);\n    k: -3*der(k);\n}\n"),
+        "{text}"
+    );
+    let mut model = crate::parse_model_str(&text).expect("parses");
+    let eqs = crate::derive(&mut model).expect("derives");
+    let arena = &model.arena;
+    let printed: Vec<String> = eqs
+        .forces
+        .data
+        .iter()
+        .map(|&f| crate::print::text::to_text(arena, f))
+        .collect();
+    assert_eq!(printed, ["-0.25*der(j)", "-3*der(k)"]);
+}
+
+/// A negative damping, imported, would feed the joint energy: refused at its element;
+/// without the option the damping is not read as a force and the file imports.
+#[test]
+fn a_negative_damping_is_refused_when_imported() {
+    let xml = pair(&revolute("<dynamics damping=\"-0.5\"/>"));
+    let mut damped = options(&[]);
+    damped.damping = true;
+    let e = urdf_to_mech(&xml, &damped).expect_err("refused");
+    assert_one_line(
+        "negative damping",
+        &e,
+        4,
+        "<dynamics>",
+        "the damping of joint \"j\" is -0.5: a damper takes energy out, so b >= 0",
+    );
+    assert!(urdf_to_mech(&xml, &options(&[])).is_ok());
+}
+
 #[test]
 fn a_robot_without_a_moving_joint_is_refused_as_such() {
     let xml =

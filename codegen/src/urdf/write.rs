@@ -11,8 +11,14 @@ use super::robot::{Inertial, Joint, JointKind, Link, Robot};
 const GRAVITY: &str = "9.81";
 
 /// The declaration of `robot` as `struct_name`, imported from `file`.
-pub(crate) fn write(robot: &Robot, tree: &Tree, file: &str, struct_name: &str) -> String {
-    let mut out = header(robot, tree, file);
+pub(crate) fn write(
+    robot: &Robot,
+    tree: &Tree,
+    file: &str,
+    struct_name: &str,
+    damping: bool,
+) -> String {
+    let mut out = header(robot, tree, file, damping);
     let _ = writeln!(out, "pub struct {struct_name};");
     let _ = writeln!(out, "parameters {{ g = {GRAVITY}; }} // m/s^2");
     out.push_str("gravity = [0, 0, -g];\n");
@@ -25,8 +31,34 @@ pub(crate) fn write(robot: &Robot, tree: &Tree, file: &str, struct_name: &str) -
         out.push_str(&link_block(robot, tree, l, joint));
     }
     out.push_str(&mimic_rows(tree));
+    if damping {
+        out.push_str(&damping_forces(robot, tree));
+    }
     out.push_str(&drawing(tree));
     out
+}
+
+/// The moving joints' `<dynamics damping>` b > 0 as generalised forces -b q', one per
+/// coordinate; empty when no moving joint is damped.
+fn damping_forces(robot: &Robot, tree: &Tree) -> String {
+    let forces: Vec<String> = robot
+        .joints
+        .iter()
+        .zip(&tree.coordinates)
+        .filter_map(|(joint, q)| {
+            let b = joint.dynamics.as_ref()?.damping;
+            let q = q.as_deref()?;
+            (b > 0.0).then(|| format!("    {q}: -{}*der({q});", number(b)))
+        })
+        .collect();
+    if forces.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n// The URDF's <dynamics damping> b of each moving joint: tau = -b q' (N m s/rad, N s/m).\n\
+         forces {{\n{}\n}}\n",
+        forces.join("\n")
+    )
 }
 
 /// The `<mimic>` couplings as `constraints` rows, q - multiplier * q_master - offset, and
@@ -146,7 +178,7 @@ fn drawing(tree: &Tree) -> String {
 
 /// The doc comment: where the declaration came from, what it holds, what was locked, the
 /// gravity convention, and what was left out.
-fn header(robot: &Robot, tree: &Tree, file: &str) -> String {
+fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool) -> String {
     let kinds = [
         JointKind::Revolute,
         JointKind::Continuous,
@@ -212,8 +244,42 @@ fn header(robot: &Robot, tree: &Tree, file: &str) -> String {
             tree.link_names[root]
         );
     }
-    let damped = robot.joints.iter().filter(|j| j.has_dynamics).count();
-    if damped > 0 {
+    out.push_str(&dynamics_line(robot, tree, damping));
+    out
+}
+
+/// The header's line on `<dynamics>`: the damping imported as forces and the friction left
+/// out, or (without `damping`) that neither is imported; empty when no joint has any.
+fn dynamics_line(robot: &Robot, tree: &Tree, damping: bool) -> String {
+    let mut out = String::new();
+    let damped = robot.joints.iter().filter(|j| j.dynamics.is_some()).count();
+    if damping {
+        let moving = || {
+            robot
+                .joints
+                .iter()
+                .zip(&tree.coordinates)
+                .filter(|(_, q)| q.is_some())
+                .filter_map(|(j, _)| j.dynamics.as_ref())
+        };
+        let (viscous, friction) = (
+            moving().filter(|d| d.damping > 0.0).count(),
+            moving().filter(|d| d.friction > 0.0).count(),
+        );
+        let _ = write!(
+            out,
+            "/// <dynamics> damping of {viscous} {} imported as forces tau = -b q' (`forces` below)",
+            plural(viscous, "joint")
+        );
+        if friction > 0 {
+            let _ = write!(
+                out,
+                "; not imported: the Coulomb friction of {friction} {}",
+                plural(friction, "joint")
+            );
+        }
+        out.push_str(".\n");
+    } else if damped > 0 {
         let _ = writeln!(
             out,
             "/// Not imported: the <dynamics> damping and friction of {damped} {}.",
