@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(urdf = "bad.urdf", damping = 1);
+
+fn main() {}
