@@ -168,7 +168,7 @@
 //! through `Deref`) with the values that depend on parameters only, computed once per
 //! parameter set; constants `NAME`, `N`, `M`, `COORDINATES`, `PARAMETERS`,
 //! `INITIAL_GUESS`, `INDEPENDENT`, the drawing's `DRAW_POINTS`, `DRAW_LINES` and
-//! `DRAW_TRACES`; and `impl` [`Mechanism<N, M>`](crate::Mechanism) with every method of
+//! `DRAW_TRACES`, a link tree's `JOINT_LIMITS`; and `impl` [`Mechanism<N, M>`](crate::Mechanism) with every method of
 //! that trait as straight-line, allocation-free code. A tree of links also gets the
 //! robotics methods (`frame_placement`, `frame_jacobian`, `inverse_dynamics`,
 //! `mass_and_bias`, `forward_dynamics`).

@@ -106,7 +106,8 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     if !passed.is_empty() {
         let _ = writeln!(
             text,
-            "the motion passes {} declared joint limit(s) (summary.json, joint_limit_excursions):",
+            "the motion and its driving forces pass {} declared joint limit(s) \
+             (summary.json, joint_limit_excursions):",
             passed.len()
         );
         for line in excursion_lines(passed, 8) {

@@ -148,7 +148,7 @@ fn run_lines(s: &mut String, summary: &Summary) {
     if !passed.is_empty() {
         let _ = writeln!(
             s,
-            "passed {} declared joint limit(s), which the simulation does not enforce \
+            "went outside {} declared joint limit(s), which the simulation does not enforce \
              (summary.json, joint_limit_excursions):",
             passed.len()
         );

@@ -39,12 +39,13 @@ pub struct LimitExcursion {
 /// Watches samples of a run against the declared limits of `info`.
 #[derive(Clone, Debug)]
 pub struct LimitWatch {
-    /// (coordinate name, quantity, range, unit) of each limit watched.
+    /// Each limit watched.
     watched: Vec<Watched>,
     /// What each has passed so far.
     found: Vec<Option<LimitExcursion>>,
 }
 
+/// One limit watched: the coordinate's index, the quantity, the allowed range and its unit.
 #[derive(Clone, Debug)]
 struct Watched {
     coordinate: usize,
@@ -53,6 +54,7 @@ struct Watched {
     unit: &'static str,
 }
 
+/// What a limit bounds: q, q' or the driving force on q.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Quantity {
     Position,
@@ -180,15 +182,15 @@ pub fn inverse_excursions(info: &SystemInfo, table: &InverseTable) -> Vec<LimitE
 }
 
 /// One line per excursion, at most `lines` of them, then how many more:
-/// `panda_joint4 position left [-3.0718, -0.0698] rad at t = 0.1234 s; furthest 0.2345 at
-/// t = 0.4 s`.
+/// `panda_joint4 position outside [-3.0718, -0.0698] rad from t = 0 s; furthest 0.2345 rad
+/// at t = 0.4 s` (times as the samples have them).
 pub fn excursion_lines(excursions: &[LimitExcursion], lines: usize) -> Vec<String> {
     let mut out: Vec<String> = excursions
         .iter()
         .take(lines)
         .map(|e| {
             format!(
-                "{} {} left [{}, {}] {} at t = {:.4} s; furthest {:.6} at t = {:.4} s",
+                "{} {} outside [{}, {}] {} from t = {} s; furthest {:.6} {} at t = {} s",
                 e.coordinate,
                 e.quantity,
                 e.lower,
@@ -196,6 +198,7 @@ pub fn excursion_lines(excursions: &[LimitExcursion], lines: usize) -> Vec<Strin
                 e.unit,
                 e.first_t,
                 e.extreme,
+                e.unit,
                 e.extreme_t
             )
         })

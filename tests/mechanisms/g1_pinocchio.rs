@@ -58,8 +58,9 @@ fn g1_tree_dynamics_match_pinocchio() {
     let info = system.info().clone();
     let (n, m) = (info.n(), info.m());
     assert_eq!((n, m), (29, 0));
-    // Pinocchio numbers the joints depth-first, the importer in the file's link order: the
-    // coordinate named after Pinocchio's joint j is ours at order[j].
+    // Pinocchio numbers the joints depth-first, the importer in the file's link order (for
+    // this file the two coincide); matched by name all the same: the coordinate named
+    // after Pinocchio's joint j is ours at order[j].
     let joints: Vec<&str> = data["joints"]
         .as_array()
         .unwrap()

@@ -117,9 +117,9 @@ fn a_swing_past_a_stop_is_reported_at_the_samples_that_pass_it() {
 
 /// Driven along th = 0.2 sin(2 pi t) with the carriage held at 0, the arm needs
 /// tau = (m l^2 + I_yy) th'' + m g l sin(th) (the closed form in the module docs), up to
-/// about 8 N m: past its 5 N m effort limit. The report's first time and extreme are
-/// those of the closed form at the same samples, to 1e-9 of the 8 N m (the inverse
-/// dynamics solves a 3 x 3 system per sample: round-off, about 1e-15 of it).
+/// 6.03 N m at th = +-0.2: past its 5 N m effort limit. The report's first time and extreme
+/// are those of the closed form at the same samples, to 1e-9 of the peak (the inverse
+/// dynamics solves a 4 x 4 system per sample: its round-off is about 1e-15 of the peak).
 #[test]
 fn an_inverse_run_reports_the_effort_past_its_limit() {
     let system = Interpreted::from_source(PENDULUM).unwrap();

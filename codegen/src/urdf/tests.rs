@@ -293,8 +293,6 @@ fn a_mimic_joint_is_written_as_a_constraint_row() {
     assert!(urdf_to_mech(&xml, &options(&[])).is_ok());
 }
 
-/// A robot whose joints are all fixed imports (its frames are a valid tree), and the
-/// declaration is then refused in terms of its links: none moves, so it has no coordinates.
 /// With the damping option, each moving joint's `<dynamics damping>` b becomes the force
 /// -b q' on its coordinate, and the header says so and counts the friction left out; a
 /// locked or fixed joint's damping, and a zero one, write nothing; without the option no
@@ -361,6 +359,35 @@ fn a_negative_damping_is_refused_when_imported() {
     assert!(urdf_to_mech(&xml, &options(&[])).is_ok());
 }
 
+/// The damping option on a robot without `<dynamics>` writes neither forces nor a line
+/// about them; a `<limit>` velocity or effort of 0 on a moving joint (a placeholder: the
+/// joint could not move, its motor would give nothing) is not written, and the header
+/// counts it.
+#[test]
+fn no_damping_line_without_dynamics_and_zero_limits_left_out() {
+    let xml = pair(&revolute(
+        "<limit lower=\"-1\" upper=\"1\" velocity=\"0\" effort=\"0\"/>",
+    ));
+    let mut damped = options(&[]);
+    damped.damping = true;
+    let text = urdf_to_mech(&xml, &damped).expect("imported");
+    assert!(!text.contains("dynamics"), "{text}");
+    assert!(!text.contains("forces"), "{text}");
+    assert!(text.contains("    limit = [-1, 1];\n"), "{text}");
+    assert!(
+        !text.contains("velocity_limit") && !text.contains("effort_limit"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "/// Not written: the <limit> velocity or effort of 0 (a placeholder) of 1 joint.\n"
+        ),
+        "{text}"
+    );
+}
+
+/// A robot whose joints are all fixed imports (its frames are a valid tree), and the
+/// declaration is then refused in terms of its links: none moves, so it has no coordinates.
 #[test]
 fn a_robot_without_a_moving_joint_is_refused_as_such() {
     let xml =

@@ -56,6 +56,8 @@ fn damping_forces(robot: &Robot, tree: &Tree) -> String {
     }
     format!(
         "\n// The URDF's <dynamics damping> b of each moving joint: tau = -b q' (N m s/rad, N s/m).\n\
+         // `mechanism inverse` replaces a driven joint's forces by its driving force, the\n\
+         // total the motion needs: the motor gives that plus b q'.\n\
          forces {{\n{}\n}}\n",
         forces.join("\n")
     )
@@ -245,6 +247,23 @@ fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool) -> String {
         );
     }
     out.push_str(&dynamics_line(robot, tree, damping));
+    let placeholders = robot
+        .joints
+        .iter()
+        .zip(&tree.coordinates)
+        .filter(|(j, q)| {
+            q.is_some()
+                && j.limit
+                    .is_some_and(|l| l.velocity == Some(0.0) || l.effort == Some(0.0))
+        })
+        .count();
+    if placeholders > 0 {
+        let _ = writeln!(
+            out,
+            "/// Not written: the <limit> velocity or effort of 0 (a placeholder) of {placeholders} {}.",
+            plural(placeholders, "joint")
+        );
+    }
     out
 }
 
@@ -266,6 +285,9 @@ fn dynamics_line(robot: &Robot, tree: &Tree, damping: bool) -> String {
             moving().filter(|d| d.damping > 0.0).count(),
             moving().filter(|d| d.friction > 0.0).count(),
         );
+        if viscous + friction == 0 {
+            return out;
+        }
         let _ = write!(
             out,
             "/// <dynamics> damping of {viscous} {} imported as forces tau = -b q' (`forces` below)",
@@ -309,10 +331,12 @@ fn link_block(robot: &Robot, tree: &Tree, l: usize, joint: Option<(usize, &Joint
             {
                 keys.push(format!("limit = {};", vector(&range)));
             }
-            if let Some(v) = limit.velocity {
+            // A zero rate or effort limit on a moving joint is a placeholder (the joint
+            // could not move, or its motor give nothing): not written.
+            if let Some(v) = limit.velocity.filter(|&v| v > 0.0) {
                 keys.push(format!("velocity_limit = {};", number(v)));
             }
-            if let Some(e) = limit.effort {
+            if let Some(e) = limit.effort.filter(|&e| e > 0.0) {
                 keys.push(format!("effort_limit = {};", number(e)));
             }
         }
