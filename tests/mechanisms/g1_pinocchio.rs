@@ -2,7 +2,9 @@
 //! 29 revolute joints, the pelvis fixed) and derived at run time, against Pinocchio 4.1 at 8
 //! random states (`tests/fixtures/g1_pinocchio.json`, written by
 //! `benches/baselines/pinocchio/g1_fixture.py`): M (`crba`), C q' + g (`nonLinearEffects`),
-//! g, and the free motion's q'' (`aba` with no joint torque).
+//! g, the free motion's q'' (`aba` with no joint torque), and the torques of a prescribed
+//! motion (`rnea`) from our inverse dynamics (every joint driven, the driver constraints
+//! solved), a route that shares only the derived M, C q' and g with the checks above.
 //!
 //! Unlike the Panda (a serial arm), the G1 is a tree whose two arms hang from a torso that
 //! three waist joints move, so M couples the branches through their common ancestors: the
@@ -11,11 +13,16 @@
 //!
 //! Tolerances: M, C q' + g and g to 1e-12 of each quantity's largest entry (at least 1), as
 //! for the Panda: both sides sum O(100) products of O(1) terms in f64, and Pinocchio's own
-//! identities hold to 2e-14 at these states (the fixture's self-check). q'' to
+//! identities hold to 2e-14 at these states (the fixture's self-check); tau likewise (the
+//! driven system with every coordinate driven has E = I: lambda_d is read off the rows
+//! without amplification). q'' to
 //! 1e-14 cond(M) of its largest entry: a solve of M q'' = -(C q' + g) moves the solution by
 //! cond(M) times the relative error of M and of the right-hand side (each about 1e-15).
 
-use mechanism::{Dynamics, Evaluation, Interpreted, Kinematic, System};
+use mechanism::{
+    AssemblyOptions, Dynamics, Evaluation, Interpreted, Kinematic, System, inverse_dynamics,
+    parse_drive,
+};
 use mechanism_codegen::{UrdfOptions, urdf_to_mech};
 use serde_json::Value;
 
@@ -116,6 +123,19 @@ fn g1_tree_dynamics_match_pinocchio() {
             &numbers(&s["g"]),
             1e-12,
         );
+        // Each joint on q + q' t + q'' t^2 / 2: at t = 0 the driving forces are rnea's tau.
+        let qdd = ours_of(&numbers(&s["qdd"]));
+        let drives = (0..n)
+            .map(|i| {
+                let (name, a) = (&info.coordinates[i], 0.5 * qdd[i]);
+                let text = format!("{name} = {:?} + {:?}*t + {a:?}*t*t", q[i], qd[i]);
+                parse_drive(&system, &text).expect("drive")
+            })
+            .collect();
+        let inverse = inverse_dynamics(&system, drives, &[0.0], &AssemblyOptions::default())
+            .expect("inverse dynamics");
+        let tau = &inverse.samples[0].driving;
+        check("tau", k, &theirs_of(tau), &numbers(&s["tau"]), 1e-12);
         dynamics.solve(&system, 0.0, &q, &qd).expect("solved");
         let cond = s["cond_M"].as_f64().unwrap();
         check(

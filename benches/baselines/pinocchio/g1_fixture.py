@@ -21,13 +21,11 @@ import numpy as np
 import pinocchio as pin
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from panda_fixture import dumps, mat, vec  # noqa: E402
+from panda_fixture import ROOT, dumps, mat, vec  # noqa: E402
 
 SEED = 20261127
 N_STATES = 8
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", "..", ".."))
 URDF = os.path.join(ROOT, "mechanisms", "urdf", "g1_29dof_rev_1_0.urdf")
 OUT = os.path.join(ROOT, "tests", "fixtures", "g1_pinocchio.json")
 
