@@ -7,7 +7,9 @@
 //! is zeroed); forces on the other coordinates stay. At each time:
 //!
 //! ```text
-//! kinematics   Phi(q, t) = 0, q_k = f(t)     (Newton, continued from the previous sample)
+//! kinematics   Phi(q, t) = 0, q_k = f(t)     (Newton, continued from the previous sample;
+//!                                             with velocity rows, from q carried along
+//!                                             the motion since it: `rolling_positions`)
 //!              Phi_q q' = -Phi_t, q_k' = f'(t)
 //! dynamics     [ M      Phi_q^T  E^T ] [ q''      ]   [ tau* - C q' - g ]
 //!              [ Phi_q  0        0   ] [ lambda   ] = [ gamma           ]
@@ -43,6 +45,7 @@ use crate::algorithms::kinematics::{
     AssemblyOptions, Drive, check_fixed, solve_positions, solve_velocities,
 };
 use crate::algorithms::kink;
+use crate::algorithms::rolling_positions;
 use crate::error::Error;
 use crate::limits::check_output_memory;
 use crate::linalg::RowBasis;
@@ -119,19 +122,29 @@ impl InverseDynamics {
         let mut qd = vec![0.0; n];
         let mut fdd = vec![0.0; k];
         self.check_kinks(info, t)?;
-        self.prescribe(info, t, &mut qd, &mut fdd)?;
-        let conflict = self.check_drives(system, t);
-        let solved = match conflict {
-            // A drive that was independent at the previous sample and is not now: the
-            // mechanism is at a fold of its reach; solved anyway below to tell a dead point
-            // it passes from a drive out of reach.
-            Err(e) if self.t_last.is_none() => return Err(e),
-            _ => solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly),
-        };
-        if let Err(e) = solved {
-            return Err(self.out_of_reach(system, t).unwrap_or(e));
+        if let Some(a) = self.t_last.filter(|_| info.velocity_rows > 0) {
+            // Velocity rows leave positions to the motion: carried from the last sample.
+            rolling_positions::advance(system, &self.drives, &mut self.q, (a, t), &self.assembly)?;
         }
-        conflict?;
+        self.prescribe(info, t, &mut qd, &mut fdd)?;
+        // The drives are tested where the drives' values meet the previous configuration
+        // (the guesses at the first sample), which is off the constraint manifold: there a
+        // row that the others imply only on the manifold (x^2 + y^2 = L^2 beside
+        // x = L sin th, y = -L cos th) looks independent, and a conflict seen there is
+        // tested again where the positions are solved. A conflict that remains is a fold
+        // of the mechanism's reach: a dead point it passes, or a drive out of reach
+        // (`out_of_reach`).
+        let conflict = self.check_drives(system, t);
+        if let Err(e) = solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly) {
+            return Err(match (self.t_last, conflict) {
+                // At the first sample the conflict names the cause (too many drives).
+                (None, Err(c)) => c,
+                _ => self.out_of_reach(system, t).unwrap_or(e),
+            });
+        }
+        if conflict.is_err() {
+            self.check_drives(system, t)?;
+        }
         self.t_last = Some(t);
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
         system.evaluate(t, &self.q, &qd, &mut self.eval);

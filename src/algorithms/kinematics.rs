@@ -444,8 +444,9 @@ pub fn assemble_from(
 }
 
 /// [`Error::OverSpecified`] when more coordinates are given than the mechanism's degrees
-/// of freedom (n minus the rank of Phi_q at `q`, the guesses with the given values),
-/// naming the constraint rows the values violate when every coordinate is given.
+/// of freedom (n minus the rank of Phi_q where the positions are solved from `q`, the
+/// guesses with the given values, or at `q` when they cannot be), naming the constraint
+/// rows the values violate when every coordinate is given.
 fn over_specified(
     system: &dyn Kinematic,
     t: f64,
@@ -457,11 +458,24 @@ fn over_specified(
     if independent.len() <= info.n().saturating_sub(info.m()) {
         return Ok(()); // within Grubler's count: never more than the degrees of freedom
     }
-    let Ok(mob) = crate::algorithms::mobility::mobility(system, t, q) else {
+    let Ok(mut mob) = crate::algorithms::mobility::mobility(system, t, q) else {
         return Ok(()); // a non-finite Jacobian: left to the assembly to name
     };
     if independent.len() <= mob.degrees_of_freedom {
         return Ok(());
+    }
+    // The guesses are off the constraint manifold, where a row that the others imply only
+    // on it (x^2 + y^2 = L^2 beside x = L sin th, y = -L cos th) looks independent: the
+    // rank that counts is the one where the constraints hold, if they can be closed.
+    let fixed: Vec<usize> = independent.iter().map(|i| i.coordinate).collect();
+    let mut solved = q.to_vec();
+    if solve_positions(system, t, &fixed, &mut solved, options).is_ok()
+        && let Ok(there) = crate::algorithms::mobility::mobility(system, t, &solved)
+    {
+        if independent.len() <= there.degrees_of_freedom {
+            return Ok(());
+        }
+        mob = there;
     }
     let mut violated = Vec::new();
     if independent.len() == info.n() {

@@ -81,7 +81,7 @@ pub fn linearize(
     let mass = basis.transpose() * &dynamics.evaluation().mass * &basis;
     let stiffness = -(&mass * a.view((k, 0), (k, k)));
     let damping = -(&mass * a.view((k, k), (k, k)));
-    let eigenvalues: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let eigenvalues = crate::linalg::eigenvalues(&a, "the state matrix A")?;
     let mut frequencies_rad_s: Vec<f64> = eigenvalues
         .iter()
         .filter(|s| s.im > 1e-9 * (1.0 + s.norm()))

@@ -8,7 +8,8 @@
 //!   direct solve inside a band for large chains ([`banded_kkt`]), or by the augmented
 //!   Lagrangian iteration ([`augmented_lagrangian`]) where neither applies;
 //! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s, whose
-//!   kinks are found between samples ([`kink`]);
+//!   kinks are found between samples ([`kink`]), the positions that velocity rows leave
+//!   free integrated between samples ([`rolling_positions`]);
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
 //! - [`steady`]: the tangent dynamics about a steady motion in minimal variables (velocity
 //!   constraints too), with exact derivatives;
@@ -31,6 +32,7 @@ pub(crate) mod kinematics;
 pub(crate) mod kink;
 pub(crate) mod linearize;
 pub(crate) mod mobility;
+pub(crate) mod rolling_positions;
 pub(crate) mod stabilization;
 pub(crate) mod steady;
 pub(crate) mod velocity_rows;

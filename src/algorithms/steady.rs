@@ -17,8 +17,8 @@
 //! [`System::constraint_tangent`], all derived symbolically by codegen (no finite
 //! differences). The motion stays on the linearised constraints
 //! Phi_q dq = 0 (position rows) and D dq + G dq' = 0 (all rows), so it is parametrised by the
-//! minimal variables: independent coordinates dq_i (n - p of them, p the position rows) and
-//! independent speeds du (n - m): dq = P dq_i, dq' = V_q dq_i + V_u du, the dependent ones
+//! minimal variables: independent coordinates dq_i (n - p of them, p the independent position
+//! rows) and independent speeds du (n - m, m the independent rows): dq = P dq_i, dq' = V_q dq_i + V_u du, the dependent ones
 //! from the pivot columns of Phi_q and of G. The state matrix of z = [dq_i; du] is
 //!
 //! ```text
@@ -31,12 +31,16 @@
 //! det(sI - S) = s det(sI - S') with its row and column removed (expanding along that
 //! column or row), and S' may have zero rows or columns of its own (the yaw angle's column
 //! holds only the rates of the ground position). Those are reported apart from the rest.
+//!
+//! Redundant rows of G (a planar loop closed with spatial joints, a row that the others imply
+//! on the constraint manifold) are dropped first: the rows independent at the state, position
+//! rows before velocity rows, define the same motion, and [M G^T; G 0] is regular with them.
 
 use nalgebra::{Complex, DMatrix};
 
 use crate::algorithms::dynamics::Dynamics;
 use crate::error::Error;
-use crate::linalg::inf_norm;
+use crate::linalg::{eigenvalues, inf_norm};
 use crate::system::{ConstraintTangent, System, SystemInfo, Tangent};
 
 /// Tolerances of [`linearize_steady`].
@@ -90,8 +94,9 @@ pub struct SteadyLinearization {
 /// # Errors
 /// [`Error::NotSteady`] when q'' is not zero or a moving coordinate is not cyclic;
 /// [`Error::Linearization`] when the system provides no exact tangents (a compiled
-/// mechanism without velocity rows: build it with [`crate::Interpreted::for_linearization`])
-/// or its constraint rows are dependent; the errors of [`Dynamics::solve`].
+/// mechanism without velocity rows: build it with [`crate::Interpreted::for_linearization`]),
+/// or has a non-finite state matrix; the errors of [`Dynamics::solve`]. Dependent
+/// constraint rows are dropped (only the independent rows enter the tangent dynamics).
 pub fn linearize_steady(
     system: &dyn System,
     t: f64,
@@ -101,8 +106,8 @@ pub fn linearize_steady(
 ) -> Result<SteadyLinearization, Error> {
     let info = system.info();
     let n = info.n();
-    let (qv, rows, g) = tangent_dynamics(system, t, q, qd, options)?;
-    let minimal = minimal_variables(info, &g, &rows.velocity, options)?;
+    let (qv, rows, g, p) = tangent_dynamics(system, t, q, qd, options)?;
+    let minimal = minimal_variables(info, &g, p, &rows.velocity, options)?;
     let (ind_q, ind_u) = (minimal.coordinates, minimal.speeds);
     let (top, bottom) = (minimal.positions, minimal.rates);
     let (ni, d) = (ind_q.len(), ind_q.len() + ind_u.len());
@@ -127,17 +132,8 @@ pub fn linearize_steady(
         variables,
         coordinates: ind_q,
         speeds: ind_u,
-        eigenvalues: state
-            .clone()
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .collect(),
-        reduced: reduced_matrix
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .collect(),
+        eigenvalues: eigenvalues(&state, "the state matrix S")?,
+        reduced: eigenvalues(&reduced_matrix, "S without its structural zeros")?,
         state,
         structural,
     })
@@ -152,9 +148,9 @@ fn tangent_dynamics(
     q: &[f64],
     qd: &[f64],
     options: &SteadyOptions,
-) -> Result<(DMatrix<f64>, ConstraintTangent, DMatrix<f64>), Error> {
+) -> Result<(DMatrix<f64>, ConstraintTangent, DMatrix<f64>, usize), Error> {
     let info = system.info();
-    let (n, m, p) = (info.n(), info.m(), info.position_rows());
+    let (n, m) = (info.n(), info.m());
     for (what, x) in [("q", q), ("qd", qd)] {
         if x.len() != n {
             return Err(Error::WrongLength {
@@ -186,7 +182,14 @@ fn tangent_dynamics(
             .constraint_tangent(t, q, qd, &qdd, &mut rows)
             .ok_or_else(|| no_tangent("the constraint rows"))?;
     }
-    // [Q V] from the linearised augmented system.
+    let (keep, p) = independent_rows(&g, info.position_rows(), options.rank_tolerance);
+    let (g, m) = (g.select_rows(&keep), keep.len());
+    let rows = ConstraintTangent {
+        velocity: rows.velocity.select_rows(&keep),
+        stiffness: rows.stiffness.select_rows(&keep),
+        damping: rows.damping.select_rows(&keep),
+    };
+    // [Q V] from the linearised augmented system of the independent rows.
     let kkt = DMatrix::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
         (true, true) => mass[(i, j)],
         (true, false) => g[(j - n, i)],
@@ -200,12 +203,13 @@ fn tangent_dynamics(
         (false, false) => rows.damping[(i - n, j - n)],
     });
     let solution = kkt.lu().solve(&rhs).ok_or_else(|| Error::Linearization {
-        reason: "the augmented matrix [M G^T; G 0] is singular (dependent constraint rows)"
+        reason: "the augmented matrix [M G^T; G 0] is singular (no inertia along an allowed \
+                 motion)"
             .to_string(),
     })?;
     let qv = solution.rows(0, n).into_owned();
     check_cyclic(info, qd, &qv, &rows.velocity, &g, p, options)?;
-    Ok((qv, rows, g))
+    Ok((qv, rows, g, p))
 }
 
 /// The minimal variables of the linearised motion: the independent coordinates and
@@ -224,10 +228,11 @@ struct MinimalVariables {
 fn minimal_variables(
     info: &SystemInfo,
     g: &DMatrix<f64>,
+    p: usize,
     velocity: &DMatrix<f64>,
     options: &SteadyOptions,
 ) -> Result<MinimalVariables, Error> {
-    let (n, m, p) = (info.n(), info.m(), info.position_rows());
+    let (n, m) = (info.n(), g.nrows());
     let declared: Vec<usize> = info.independent.iter().map(|i| i.coordinate).collect();
     let preference = |first: &[usize]| -> Vec<usize> {
         let mut order: Vec<usize> = first.to_vec();
@@ -346,6 +351,25 @@ fn check_cyclic(
 /// (Gram-Schmidt, twice), until rank(a) = rows of them are found.
 fn pivot_columns(a: &DMatrix<f64>, order: &[usize], tolerance: f64) -> Result<Vec<usize>, Error> {
     let rows = a.nrows();
+    let mut picked = independent_columns(a, order, tolerance);
+    if picked.len() < rows {
+        return Err(Error::Linearization {
+            reason: format!(
+                "the constraint rows have rank {} < {rows} after the dependent rows were \
+                 dropped",
+                picked.len()
+            ),
+        });
+    }
+    picked.sort_unstable();
+    Ok(picked)
+}
+
+/// The columns of `a` picked greedily in `order`, each at a distance above `tolerance`
+/// times its norm from the span of those picked before it (Gram-Schmidt, twice), up to
+/// as many as `a` has rows.
+fn independent_columns(a: &DMatrix<f64>, order: &[usize], tolerance: f64) -> Vec<usize> {
+    let rows = a.nrows();
     let mut basis: Vec<nalgebra::DVector<f64>> = Vec::with_capacity(rows);
     let mut picked = Vec::with_capacity(rows);
     for &j in order {
@@ -370,16 +394,25 @@ fn pivot_columns(a: &DMatrix<f64>, order: &[usize], tolerance: f64) -> Result<Ve
             picked.push(j);
         }
     }
-    if picked.len() < rows {
-        return Err(Error::Linearization {
-            reason: format!(
-                "the constraint rows have rank {} < {rows}: remove the dependent rows",
-                picked.len()
-            ),
-        });
-    }
-    picked.sort_unstable();
-    Ok(picked)
+    picked
+}
+
+/// The independent rows of G = [Phi_q; A] (`p` position rows first): the position rows
+/// independent of those before them, then the velocity rows independent of all kept rows
+/// before them. Returns the kept rows in order and how many of them are position rows.
+/// Redundant rows (a planar loop written with spatial joints, a row implied by others on
+/// the constraint manifold) hold wherever the kept rows do, so the motion and its
+/// linearisation are those of the kept rows.
+fn independent_rows(g: &DMatrix<f64>, p: usize, tolerance: f64) -> (Vec<usize>, usize) {
+    let gt = g.transpose();
+    let order: Vec<usize> = (0..g.nrows()).collect();
+    let position = independent_columns(&gt.columns(0, p).into_owned(), &order[..p], tolerance);
+    let kept_positions = position.len();
+    let mut all = position;
+    let velocity_order: Vec<usize> = all.iter().copied().chain(p..g.nrows()).collect();
+    let velocity = independent_columns(&gt, &velocity_order, tolerance);
+    all.extend(velocity.into_iter().filter(|&r| r >= p));
+    (all, kept_positions)
 }
 
 fn columns(a: &DMatrix<f64>, cols: &[usize]) -> DMatrix<f64> {

@@ -110,6 +110,9 @@ fn report(system: &dyn System, lin: &SteadyLinearization, path: &str) -> String 
         }
     );
     let _ = writeln!(s, "eigenvalues without the structural zeros (1/s):");
+    if lin.reduced.is_empty() {
+        let _ = writeln!(s, "  none: every variable gives a structural zero");
+    }
     for e in sorted(&lin.reduced) {
         let _ = writeln!(s, "  {:+.14e} {:+.14e} i", e[0], e[1]);
     }

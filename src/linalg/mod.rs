@@ -16,6 +16,8 @@
 //! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
 //!   SVD-based, for work outside the step loop; [`conditioned_solve`], the same answer by
 //!   LU for a square system whose condition is certainly small;
+//! - [`eigenvalues`]: of a state matrix, by its real Schur form, as an error (not a panic or
+//!   an endless loop) for an empty, non-finite or non-converging one;
 //! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
 //!   uses them, so a NaN entry is never read as a small residual).
 //!
@@ -24,6 +26,7 @@
 mod band_lu;
 mod band_order;
 mod conditioned_solve;
+mod eigenvalues;
 mod envelope;
 mod kernels;
 mod lu;
@@ -36,6 +39,7 @@ mod svd;
 pub use band_lu::BandLu;
 pub use band_order::BandOrder;
 pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
+pub use eigenvalues::eigenvalues;
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};

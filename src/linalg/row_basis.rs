@@ -149,9 +149,11 @@ impl RowBasis {
             } else {
                 0.0
             };
-            // `!(d > ..)` so that NaN counts as redundant.
+            // `!(d > ..)` so that NaN counts as redundant. Once min(m, n) rows are kept
+            // they span every row: a further row that passes the test (round-off in d when
+            // the kept rows are nearly dependent) is redundant all the same.
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            let redundant = !(norm2 > 0.0) || !(d > tol2 * norm2);
+            let redundant = rank == self.kept.len() || !(norm2 > 0.0) || !(d > tol2 * norm2);
             self.redundant[i] = redundant;
             if !redundant {
                 self.kept[rank] = i;
@@ -407,6 +409,39 @@ mod tests {
         let basis = DMatrix::from_fn(a.ncols(), rows.len(), |j, c| a[(rows[c], j)]);
         let x = basis.clone().svd(true, true).solve(&ai, 1e-12).unwrap();
         (&basis * x - &ai).norm() / ai.norm()
+    }
+
+    /// More rows than columns: the pendulum in (th, x, y) with the rows x - L sin th,
+    /// y + L cos th and x^2 + y^2 - L^2 (implied by the other two on the constraint
+    /// manifold) and a drive row on th, at the configuration an inverse-dynamics run tests
+    /// them (th moved to 0.0021 rad, x and y not yet). The third row is 1.7e-3 |a| from
+    /// the first two, so it is kept; the drive row's d is then round-off of a Gram matrix
+    /// of condition 3e5 (3e-11, above tolerance^2 = 1e-12). Three kept rows span R^3: it
+    /// must count as redundant and the rank stay 3.
+    #[test]
+    fn no_more_rows_are_kept_than_there_are_columns() {
+        let th = 0.0020999968500014176_f64;
+        let a = DMatrix::from_row_slice(
+            4,
+            3,
+            &[
+                -0.8 * th.cos(),
+                1.0,
+                0.0, //
+                -0.8 * th.sin(),
+                0.0,
+                1.0, //
+                0.0,
+                0.0,
+                -1.6, //
+                1.0,
+                0.0,
+                0.0,
+            ],
+        );
+        let mut basis = RowBasis::new(4, 3);
+        assert_eq!(basis.factor(&a), 3);
+        assert!(!basis.is_redundant(2) && basis.is_redundant(3));
     }
 
     #[test]

@@ -7,5 +7,6 @@ mod common;
 mod dependent_rows;
 mod disc;
 mod errors;
+mod inverse_rolling;
 mod macro_route;
 mod sleigh;

@@ -1,0 +1,103 @@
+//! Eigenvalues of a real square matrix (the state matrices of the linearisations) that
+//! never panic nor loop: nalgebra's `complex_eigenvalues` indexes `dim - 1` (a panic on a
+//! 0 x 0 matrix, which a linearisation whose every variable is a structural zero leaves)
+//! and iterates its QR sweeps without a cap (forever on entries near f64::MAX).
+
+use nalgebra::{Complex, DMatrix, linalg::Schur};
+
+use crate::error::Error;
+
+/// QR sweeps allowed per row before the Schur form is declared not converged (LAPACK's
+/// `dhseqr` allows 30 per row; a well-scaled matrix needs 2 to 4).
+const SWEEPS_PER_ROW: usize = 30;
+
+/// The eigenvalues of `a` (none for a 0 x 0 matrix), from its real Schur form.
+///
+/// # Errors
+/// [`Error::Linearization`] naming `what` when an entry is not finite or the iteration
+/// does not converge within 30 sweeps per row (entries so large that the shifts overflow).
+pub fn eigenvalues(a: &DMatrix<f64>, what: &str) -> Result<Vec<Complex<f64>>, Error> {
+    let n = a.nrows();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    if let Some(k) = a.iter().position(|x| !x.is_finite()) {
+        return Err(Error::Linearization {
+            reason: format!(
+                "{what} has the non-finite entry {} at ({}, {})",
+                a[k],
+                k % n + 1,
+                k / n + 1
+            ),
+        });
+    }
+    let schur =
+        Schur::try_new(a.clone(), f64::EPSILON, SWEEPS_PER_ROW * n.max(2)).ok_or_else(|| {
+            Error::Linearization {
+                reason: format!(
+                    "the eigenvalues of {what} did not converge (largest entry {:e})",
+                    a.amax()
+                ),
+            }
+        })?;
+    Ok(schur.complex_eigenvalues().iter().copied().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The companion matrix of (s - 1)(s + 2)(s^2 + 4) = s^4 + s^3 + 2 s^2 + 4 s - 8: its
+    /// eigenvalues are the roots 1, -2 and +-2i.
+    #[test]
+    fn companion_matrix_roots() {
+        let a = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                0.0, 1.0, 0.0, 0.0, //
+                0.0, 0.0, 1.0, 0.0, //
+                0.0, 0.0, 0.0, 1.0, //
+                8.0, -4.0, -2.0, -1.0,
+            ],
+        );
+        let mut s = eigenvalues(&a, "A").unwrap();
+        s.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
+        let expected = [(-2.0, 0.0), (0.0, -2.0), (0.0, 2.0), (1.0, 0.0)];
+        for (z, (re, im)) in s.iter().zip(expected) {
+            assert!(
+                (z.re - re).abs() < 1e-12 && (z.im - im).abs() < 1e-12,
+                "{s:?}"
+            );
+        }
+    }
+
+    /// A 0 x 0 matrix has no eigenvalues; the nilpotent [0 1; 0 0] (a free mass) has the
+    /// double zero.
+    #[test]
+    fn empty_and_nilpotent() {
+        assert!(eigenvalues(&DMatrix::zeros(0, 0), "A").unwrap().is_empty());
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+        let s = eigenvalues(&a, "A").unwrap();
+        assert_eq!(s, vec![Complex::new(0.0, 0.0); 2]);
+    }
+
+    /// A NaN entry is named; entries near f64::MAX end in an error, not a hang.
+    #[test]
+    fn non_finite_and_huge_are_errors() {
+        let mut a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, 0.0]);
+        a[(1, 0)] = f64::NAN;
+        let e = eigenvalues(&a, "the state matrix S")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("S has the non-finite entry NaN at (2, 1)"),
+            "{e}"
+        );
+        let huge = DMatrix::from_row_slice(2, 2, &[1e300, -1e300, 1e300, 1e300]);
+        match eigenvalues(&huge, "S") {
+            Ok(s) => assert!(s.iter().all(|z| z.re.is_finite() || z.re.is_nan())),
+            Err(e) => assert!(e.to_string().contains("did not converge"), "{e}"),
+        }
+    }
+}
