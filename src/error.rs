@@ -140,11 +140,7 @@ pub enum Error {
     /// A drive that the constraints and the drives before it already fix: its driving
     /// force is not determined (more drives than degrees of freedom, or a drive on a
     /// coordinate the loop closure fixes).
-    #[error(
-        "conflicting drives at t = {t} s: the motion of {drives:?} is already fixed by the \
-         constraints and the other drives ({drives_given} drive(s) on a mechanism with \
-         {degrees_of_freedom} degree(s) of freedom), so its driving force is not determined"
-    )]
+    #[error("{}", conflicting_drives(*.t, .drives, *.drives_given, *.degrees_of_freedom))]
     ConflictingDrives {
         /// Time (s).
         t: f64,
@@ -377,14 +373,34 @@ pub enum Error {
         known: Vec<String>,
     },
     /// A driver (prescribed motion) on a coordinate index outside 0..n, or twice on one.
-    #[error(
-        "driver on unknown or repeated coordinate index {coordinate} (the mechanism has {n} coordinates)"
-    )]
+    #[error("driver on unknown coordinate index {coordinate} (the mechanism has {n} coordinates)")]
     UnknownDriver {
         /// The coordinate index given.
         coordinate: usize,
         /// Number of coordinates n.
         n: usize,
+    },
+    /// One coordinate given twice among the drives or the independent coordinates.
+    #[error(
+        "coordinate `{name}` is given twice (as a drive or an independent coordinate); give it once"
+    )]
+    RepeatedCoordinate {
+        /// Its name.
+        name: String,
+    },
+    /// Inverse dynamics with fewer drives than the mechanism has degrees of freedom: the
+    /// drives leave coordinates free, so the motion is not prescribed.
+    #[error(
+        "the drives of {drives:?} leave {missing} degree(s) of freedom free at t = {t} s: \
+         the motion is not prescribed; add {missing} drive(s)"
+    )]
+    TooFewDrives {
+        /// Time (s).
+        t: f64,
+        /// The driven coordinates.
+        drives: Vec<String>,
+        /// How many more drives are needed.
+        missing: usize,
     },
     /// A numeric option outside its allowed range.
     #[error("invalid option: {option} = {value} (allowed: {allowed})")]
@@ -528,5 +544,24 @@ fn rows_named(of: &[String]) -> String {
         "no row (its coefficients of the rates all vanish at this configuration)".to_string()
     } else {
         of.join(", ")
+    }
+}
+
+/// The message of [`Error::ConflictingDrives`]: more drives than degrees of freedom, or, with
+/// no more drives than that, a drive that the constraints fix at this configuration only (a
+/// dead point, where the mechanism's reach folds).
+fn conflicting_drives(t: f64, drives: &[String], given: usize, freedom: usize) -> String {
+    if given > freedom {
+        format!(
+            "conflicting drives at t = {t} s: the motion of {drives:?} is already fixed by the \
+             constraints and the other drives ({given} drive(s) on a mechanism with {freedom} \
+             degree(s) of freedom), so its driving force is not determined"
+        )
+    } else {
+        format!(
+            "the drive of {drives:?} is at a singular position at t = {t} s: there the \
+             constraints fix its motion (a dead point of the mechanism), so its driving force \
+             is not determined; drive another coordinate through this position"
+        )
     }
 }

@@ -128,22 +128,41 @@ impl InverseDynamics {
         }
         self.prescribe(info, t, &mut qd, &mut fdd)?;
         // The drives are tested where the drives' values meet the previous configuration
-        // (the guesses at the first sample), which is off the constraint manifold: there a
-        // row that the others imply only on the manifold (x^2 + y^2 = L^2 beside
-        // x = L sin th, y = -L cos th) looks independent, and a conflict seen there is
-        // tested again where the positions are solved. A conflict that remains is a fold
-        // of the mechanism's reach: a dead point it passes, or a drive out of reach
-        // (`out_of_reach`).
+        // (the guesses at the first sample), to name too many drives when the positions
+        // cannot be solved, and again where they are solved: off the constraint manifold a
+        // row that the others imply only on it (x^2 + y^2 = L^2 beside x = L sin th,
+        // y = -L cos th) looks independent, and a drive seen independent there can be at a
+        // dead point where the positions land (the slider of a slider-crank driven to the
+        // end of its stroke). There the drive rows depend on the constraint rows, and the
+        // rates tell the two folds apart: a drive that turns back at the fold (its rate
+        // consistent with the rows) passes a dead point, where its force is not
+        // determined; one whose rate pushes on leaves the reach, which the next sample
+        // names (`out_of_reach`).
         let conflict = self.check_drives(system, t);
         if let Err(e) = solve_positions(system, t, &self.fixed, &mut self.q, &self.assembly) {
-            return Err(match (self.t_last, conflict) {
+            return Err(match (self.t_last, conflict, e) {
                 // At the first sample the conflict names the cause (too many drives).
-                (None, Err(c)) => c,
-                _ => self.out_of_reach(system, t).unwrap_or(e),
+                (None, Err(c), _) => c,
+                (
+                    _,
+                    _,
+                    Error::IndependentSetDoesNotDetermine {
+                        independent,
+                        dependent,
+                        rank,
+                    },
+                ) => Error::TooFewDrives {
+                    t,
+                    drives: independent,
+                    missing: dependent - rank,
+                },
+                (_, _, e) => self.out_of_reach(system, t).unwrap_or(e),
             });
         }
-        if conflict.is_err() {
-            self.check_drives(system, t)?;
+        if let Err(e) = self.check_drives(system, t)
+            && (self.t_last.is_none() || self.rates_consistent(system, t))
+        {
+            return Err(e);
         }
         self.t_last = Some(t);
         solve_velocities(system, t, &self.q, &self.fixed, &mut qd, &self.assembly)?;
@@ -308,6 +327,30 @@ fn driven_rows(rows: &mut DMatrix<f64>, phi_q: &DMatrix<f64>, fixed: &[usize]) {
 }
 
 impl InverseDynamics {
+    /// Whether the velocity equations [Phi_q; E] q' = [-Phi_t; f'(t)] have a solution at the
+    /// current configuration (least squares by SVD, singular values below 1e-6 of the
+    /// largest dropped as the rank test drops rows: residual within 1e-6 of the right-hand
+    /// side, or of 1 where it vanishes).
+    fn rates_consistent(&self, system: &dyn System, t: f64) -> bool {
+        let info = system.info();
+        let (n, m) = (info.n(), info.m());
+        let mut phi_t = vec![0.0; m];
+        let mut phi_q = DMatrix::zeros(m, n);
+        system.constraint_jacobian(t, &self.q, &mut phi_q, &mut phi_t);
+        let mut rows = DMatrix::zeros(m + self.fixed.len(), n);
+        driven_rows(&mut rows, &phi_q, &self.fixed);
+        let rhs: Vec<f64> = phi_t
+            .iter()
+            .map(|v| -v)
+            .chain(self.drives.iter().map(|d| (d.f)(t)[1]))
+            .collect();
+        let x = crate::linalg::least_squares(&rows, &rhs, 1e-6);
+        let residual = (&rows * nalgebra::DVector::from_column_slice(&x)
+            - nalgebra::DVector::from_column_slice(&rhs))
+        .amax();
+        residual <= 1e-6 * (1.0 + crate::linalg::inf_norm(&rhs))
+    }
+
     /// Drives must be independent of the constraints and of each other, else their forces
     /// are not unique (and their positions generally not reachable): the rows [Phi_q; E] at
     /// the current configuration (the previous sample's, or the guesses) are tested with

@@ -118,8 +118,13 @@ pub struct KinematicState {
 pub(crate) fn check_fixed(info: &SystemInfo, fixed: &[usize]) -> Result<(), Error> {
     let n = info.n();
     for (i, &k) in fixed.iter().enumerate() {
-        if k >= n || fixed[..i].contains(&k) {
+        if k >= n {
             return Err(Error::UnknownDriver { coordinate: k, n });
+        }
+        if fixed[..i].contains(&k) {
+            return Err(Error::RepeatedCoordinate {
+                name: info.coordinates[k].clone(),
+            });
         }
     }
     Ok(())

@@ -105,9 +105,11 @@ pub fn load_for_linearization(spec: &str, values: &[(&str, f64)]) -> Result<Load
     Ok(Loaded::new(Box::new(system), spec, key, source))
 }
 
-/// True when `spec` names a `.mech` file rather than a built-in mechanism.
+/// True when `spec` names a `.mech` file rather than a built-in mechanism: it ends in
+/// `.mech`, holds a path separator (no built-in name does: `/tmp` is read, and refused as a
+/// directory, rather than looked up by name) or is an existing file.
 pub fn is_file_spec(spec: &str) -> bool {
-    spec.ends_with(".mech") || Path::new(spec).is_file()
+    spec.ends_with(".mech") || spec.contains(std::path::MAIN_SEPARATOR) || Path::new(spec).is_file()
 }
 
 /// The short name of the mechanism `spec` names, known without loading it (for

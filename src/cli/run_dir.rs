@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use super::CliError;
 use super::args::CommonArgs;
-use super::load::{key_of, load};
+use super::load::{is_file_spec, key_of, load};
 use mechanism::System;
 use mechanism::output::summary::NamedValues;
 use mechanism::output::{FolderLock, OutputError, Staging};
@@ -109,14 +109,26 @@ impl RunDir {
 /// Runs `run` in the output folder of `common` (options already checked): claims the
 /// folder ([`RunDir::claim`]), runs, and when the run fails without having recorded it,
 /// writes the summary `failed_summary` makes of what is known; then the results replace the
-/// previous ones ([`RunDir::end`]). With no folder to claim (an unknown name and no
-/// `--out`) nothing is touched and the error is the loader's.
+/// previous ones ([`RunDir::end`]). With no folder to claim (an unknown name or a missing
+/// file, and no `--out`) nothing is touched and the error is the loader's.
 pub fn owning_folder(
     common: &CommonArgs,
     run: impl FnOnce(&mut RunDir, &mut Known) -> Result<(), Failure>,
     failed_summary: impl FnOnce(Known, &Failure, &RunDir) -> Result<(), OutputError>,
 ) -> Result<(), CliError> {
-    let Some(mut out) = RunDir::claim(common)? else {
+    // A file that is not there (a typo, a folder) names no folder of its own, as an
+    // unknown name does not: without `--out` its error comes before any folder is claimed,
+    // so that it neither replaces the results in out/<stem> with a failed summary nor
+    // leaves a new folder behind. (A folder given with `--out` records the failure.)
+    let missing = common.out.is_none()
+        && is_file_spec(&common.mechanism)
+        && !Path::new(&common.mechanism).is_file();
+    let claimed = if missing {
+        None
+    } else {
+        RunDir::claim(common)?
+    };
+    let Some(mut out) = claimed else {
         return load(&common.mechanism, Tangents::None).map(|_| ());
     };
     let mut known = Known::given(common);

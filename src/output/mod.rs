@@ -125,6 +125,15 @@ pub enum OutputError {
         /// Who holds it: `process <id>` from the lock file.
         holder: String,
     },
+    /// The target of a result file exists and is not a regular file (a directory, a
+    /// device, a named pipe or a symbolic link): renaming over it would replace it.
+    #[error("cannot write {path}: it exists and is {kind}, not a regular file; write elsewhere")]
+    NotAFile {
+        /// The target.
+        path: PathBuf,
+        /// What it is: `a directory`, `a symbolic link`, `a device or a named pipe`.
+        kind: &'static str,
+    },
     /// The input is inconsistent (empty, or series of different lengths).
     #[error("invalid data for {what}: {message}")]
     InvalidData {

@@ -93,6 +93,54 @@ fn a_drive_leaving_the_reach_is_named_not_a_conflict() {
     assert!(!stderr(&o).contains("conflicting"), "{}", stderr(&o));
 }
 
+/// The slider of the slider-crank (r = 0.05 m, l = 0.2 m) driven over its whole stroke,
+/// x = 0.2 + 0.05 sin(2 pi t): at t = 0.25 s it reaches x = l + r, the dead centre, and
+/// turns back. There the crank bearing takes any force along the rod, so the slider's
+/// driving force is not determined: a singular position, named as one (with one drive on
+/// one degree of freedom it is no conflict of drives). With a stroke of 0.04 m the run
+/// passes.
+#[test]
+fn a_drive_through_a_dead_centre_is_named_a_singular_position() {
+    let o = mechanism(&[
+        "inverse",
+        "planar_slider_crank",
+        "--drive",
+        "x = 0.2 + 0.05*sin(2*pi*t)",
+    ]);
+    assert_one_line_error(
+        &o,
+        "the drive of [\"x\"] is at a singular position at t = 0.25 s: there the constraints \
+         fix its motion (a dead point of the mechanism)",
+    );
+    let o = mechanism(&[
+        "inverse",
+        "planar_slider_crank",
+        "--drive",
+        "x = 0.2 + 0.04*sin(2*pi*t)",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Too few drives and a coordinate driven twice: each named in the terms of `inverse`.
+#[test]
+fn too_few_drives_and_a_repeated_drive_are_named() {
+    let o = mechanism(&["inverse", "five_bar", "--drive", "th1 = 2*t"]);
+    assert_one_line_error(
+        &o,
+        "the drives of [\"th1\"] leave 1 degree(s) of freedom free at t = 0 s: the motion is \
+         not prescribed; add 1 drive(s)",
+    );
+    let o = mechanism(&[
+        "inverse",
+        "planar_slider_crank",
+        "--drive",
+        "th = 2*pi*t",
+        "--drive",
+        "th = t",
+    ]);
+    assert_one_line_error(&o, "coordinate `th` is given twice");
+}
+
 #[test]
 fn a_kink_of_a_drive_is_found_on_a_sample_and_between_samples() {
     for (at, needle) in [("0.5", "t = 0.5 s"), ("0.505", "t = 0.505")] {

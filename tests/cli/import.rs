@@ -166,3 +166,45 @@ fn damping_is_imported_on_request_and_simulates() {
     let balance = summary["max_energy_balance_error"].as_f64().unwrap();
     assert!(balance < 1e-8, "T + Pi - W drifted by {balance:e} J");
 }
+
+/// `--out` naming something that is not a regular file (a symbolic link, a named pipe, a
+/// directory) is refused in one line, and the entry is left as it was: renaming the
+/// declaration over it would have replaced the link or the pipe itself.
+#[test]
+fn out_that_is_not_a_regular_file_is_refused_and_left_alone() {
+    let dir = out_dir("import-not-a-file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("kept.txt");
+    std::fs::write(&target, "kept").unwrap();
+    let link = dir.join("link.mech");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let pipe = dir.join("pipe.mech");
+    let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+    let folder = dir.join("folder.mech");
+    std::fs::create_dir_all(&folder).unwrap();
+    let mut cases = vec![(link.clone(), "a symbolic link"), (folder, "a directory")];
+    if made.is_ok_and(|s| s.success()) {
+        cases.push((pipe.clone(), "a device or a named pipe"));
+    }
+    for (path, kind) in cases {
+        let o = mechanism(&["import", ARM, "--out", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert_one_line_error(&o, &format!("it exists and is {kind}, not a regular file"));
+    }
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "kept");
+    if pipe.exists() {
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::symlink_metadata(&pipe)
+                .unwrap()
+                .file_type()
+                .is_fifo()
+        );
+    }
+}

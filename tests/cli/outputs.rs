@@ -235,6 +235,32 @@ fn an_unknown_name_without_out_touches_no_folder() {
     assert!(files_in(&cwd).is_empty(), "{:?}", files_in(&cwd));
 }
 
+/// A `.mech` file that is not there (a typo, or a folder given instead) without `--out`:
+/// one line naming it, and the results of its earlier run in out/<stem> untouched.
+#[test]
+fn a_missing_file_without_out_leaves_its_folder_alone() {
+    let cwd = out_dir("missing-file");
+    std::fs::create_dir_all(&cwd).unwrap();
+    let pendulum = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/mechanisms/cartesian_pendulum.mech"
+    );
+    std::fs::copy(pendulum, cwd.join("p.mech")).unwrap();
+    let o = mechanism_in(&cwd, &["simulate", "p.mech", "--t-end", "0.1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = files_in(&cwd.join("out/p"));
+    assert!(before.contains("trajectory.csv"), "{before:?}");
+    std::fs::remove_file(cwd.join("p.mech")).unwrap();
+    let o = mechanism_in(&cwd, &["simulate", "p.mech", "--t-end", "0.1"]);
+    assert_one_line_error(&o, "cannot read p.mech");
+    assert_eq!(files_in(&cwd.join("out/p")), before);
+    assert_eq!(summary(&cwd.join("out/p"))["status"], "completed");
+    std::fs::create_dir_all(cwd.join("d")).unwrap();
+    let o = mechanism_in(&cwd, &["simulate", "./d"]);
+    assert_one_line_error(&o, "cannot read ./d: not a regular file (a folder)");
+    assert_eq!(files_in(&cwd.join("out")), ["p".to_string()].into());
+}
+
 #[test]
 fn the_default_folder_stays_inside_out() {
     // Files whose stems are `..`, `.` and `a b` would otherwise name out/.., out/. and a
