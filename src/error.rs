@@ -260,8 +260,8 @@ pub enum Error {
     /// Newton iteration) could not bring them back.
     #[error(
         "the fixed step h = {h:e} s of {method} is too large for this motion: at t = {t} s \
-         its state lies |Phi|_inf = {residual:.3e} off the constraints, too far for the \
-         projection to close them; choose a smaller --step, or an adaptive method (dopri5, \
+         the projection could not bring its state back onto the constraints (|Phi|_inf \
+         stays at {residual:.3e}); choose a smaller --step, or an adaptive method (dopri5, \
          dop853) that sizes its steps"
     )]
     StepTooLarge {

@@ -20,6 +20,8 @@ mod implicit;
 mod import;
 #[path = "cli/input_limits.rs"]
 mod input_limits;
+#[path = "cli/inverse_branch.rs"]
+mod inverse_branch;
 #[path = "cli/joint_limits.rs"]
 mod joint_limits;
 #[path = "cli/outputs.rs"]

@@ -395,11 +395,38 @@ pub fn inverse_dynamics(
     times: &[f64],
     assembly: &AssemblyOptions,
 ) -> Result<InverseResult, Error> {
+    let guess = system.info().initial_guess.clone();
+    inverse_dynamics_from(system, drives, &guess, times, assembly)
+}
+
+/// [`inverse_dynamics`] with the first position solve started from `guess` (n values; the
+/// driven coordinates' are replaced by their drives) instead of the declared guesses: the
+/// assembly branch the motion follows (elbow up or down, a four-bar's open or crossed
+/// circuit) is the one nearest `guess`.
+///
+/// # Errors
+/// [`Error::WrongLength`] for a `guess` of other than n values; those of
+/// [`inverse_dynamics`].
+pub fn inverse_dynamics_from(
+    system: &dyn System,
+    drives: Vec<Drive>,
+    guess: &[f64],
+    times: &[f64],
+    assembly: &AssemblyOptions,
+) -> Result<InverseResult, Error> {
     let info = system.info();
+    if guess.len() != info.n() {
+        return Err(Error::WrongLength {
+            what: "guess",
+            expected: info.n(),
+            got: guess.len(),
+        });
+    }
     let columns = 1 + 3 * info.n() + drives.len() + info.m();
     check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
+    inv.q.copy_from_slice(guess);
     // Reserved exactly: a growing vector would hold up to twice the room it needs.
     let mut samples = Vec::with_capacity(times.len());
     for &t in times {

@@ -54,8 +54,8 @@ pub enum Command {
     /// Convert a URDF robot description into a .mech declaration.
     ///
     /// One link block per URDF link, parents first; revolute, continuous, prismatic and
-    /// fixed joints; gravity 9.81 m/s^2 along -z. Geometry, materials, transmissions and
-    /// <dynamics> damping and friction are not imported.
+    /// fixed joints; gravity 9.81 m/s^2 along -z. `<dynamics>` damping on request
+    /// (--damping); geometry, materials, transmissions and friction are not imported.
     #[command(after_help = EXIT_CODES)]
     Import(ImportArgs),
 }
@@ -103,7 +103,8 @@ pub struct CommonArgs {
     #[arg(long = "set", value_name = "PARAM=VALUE")]
     pub set: Vec<String>,
     /// Initial value of an independent coordinate (`--init phi=0.5`), of its rate
-    /// (`--init 'der(phi)=3'`), or a new guess for a dependent one to pick an assembly branch.
+    /// (`--init 'der(phi)=3'`), or a new guess for a dependent one to pick an assembly branch
+    /// (in `inverse`: a guess for a coordinate that is not driven, to pick the branch).
     #[arg(long = "init", value_name = "COORD=VALUE")]
     pub init: Vec<String>,
     /// Output folder (default: `out/<mechanism>`).
@@ -159,7 +160,7 @@ impl FiguresArg {
 /// View planes of the strobe figure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ViewArg {
-    /// The plane normal to the axis of least motion.
+    /// A planar drawing face on, a spatial one oblique.
     Auto,
     /// x right, y up.
     Xy,

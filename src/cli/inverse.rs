@@ -4,10 +4,10 @@
 use std::fmt::Write as _;
 
 use super::CliError;
-use super::args::InverseArgs;
+use super::args::{CommonArgs, InverseArgs};
 use super::drawing::write_drawing;
 use super::load::{did_you_mean, load};
-use super::physical::apply_sets;
+use super::physical::{apply_sets, initial_values};
 use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
 use super::seed::figure_names;
 use super::stdio::print;
@@ -20,18 +20,13 @@ use mechanism::output::{
     write_inverse_csv, write_inverse_summary,
 };
 use mechanism::{Drive, System, parse_drive};
-use mechanism::{inverse_dynamics, sample_times};
+use mechanism::{inverse_dynamics_from, sample_times};
 use mechanism_codegen::Tangents;
 
 /// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
 /// run; a failure at any stage leaves a `summary.json` saying where and why.
 pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
-    if !a.common.init.is_empty() {
-        return Err(CliError::Argument(
-            "--init does not apply to inverse: the drives prescribe the motion".into(),
-        ));
-    }
     let run = |out: &mut RunDir, known: &mut Known| inverse(a, out, known);
     owning_folder(&a.common, run, |known, failure, out| {
         let mut summary = InverseSummary::not_started(
@@ -63,7 +58,8 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     let columns = 1 + 3 * info.n() + drives.len() + info.m();
     check_csv_size(&a.common, "inverse.csv", columns).at("setup")?;
     let times = sample_times(0.0, a.common.t_end, a.common.samples_per_second);
-    let result = inverse_dynamics(system, drives, &times, &AssemblyOptions::default())
+    let guess = guesses(system, &a.common, &drives).at("setup")?;
+    let result = inverse_dynamics_from(system, drives, &guess, &times, &AssemblyOptions::default())
         .at("inverse dynamics")?;
     let table = InverseTable {
         coordinates: info.coordinates.clone(),
@@ -174,4 +170,37 @@ fn write_data(
     let stem = out.file(&names.stem(Figure::DrivingTorque));
     out.wrote_figures(plot_driving_torque(&stem, table, Unit::guess)?);
     Ok(())
+}
+
+/// The guesses the first position solve starts from: the declared ones, with each
+/// `--init COORD=VALUE` in place (to pick the assembly branch). A driven coordinate's value
+/// and every rate follow from the drives: `--init` of one is refused.
+fn guesses(
+    system: &dyn System,
+    common: &CommonArgs,
+    drives: &[Drive],
+) -> Result<Vec<f64>, CliError> {
+    let info = system.info();
+    for s in &common.init {
+        let lhs = s.split('=').next().unwrap_or_default().trim();
+        if lhs.starts_with("der(") {
+            return Err(CliError::Argument(format!(
+                "--init {lhs}: in inverse the rates follow from the drives; --init gives guesses of positions"
+            )));
+        }
+        if let Some(d) = drives
+            .iter()
+            .find(|d| info.coordinates[d.coordinate] == lhs)
+        {
+            return Err(CliError::Argument(format!(
+                "--init {lhs}: `{}` is driven; its drive prescribes it",
+                info.coordinates[d.coordinate]
+            )));
+        }
+    }
+    let (independent, mut guess) = initial_values(system, common)?;
+    for i in independent {
+        guess[i.coordinate] = i.position;
+    }
+    Ok(guess)
 }

@@ -282,7 +282,17 @@ impl<'a> Simulator<'a> {
     /// events inside it and applies the stabilisation. Returns false when finished.
     /// Allocates nothing (apart from event and passage records, which are rare).
     pub fn step(&mut self) -> Result<bool, Error> {
-        self.step_unnamed().map_err(|e| self.name_failure(e))
+        let kept = self.trajectory.len();
+        match self.step_unnamed() {
+            Ok(more) => Ok(more),
+            Err(e) => {
+                // The samples inside the step that failed came from its dense output: a
+                // state the failure shows to be wrong (a fixed step far too large gives
+                // angles of 1e5 rad there). They go with the step.
+                self.trajectory.truncate(kept);
+                Err(self.name_failure(e))
+            }
+        }
     }
 
     /// The failure of a step under the name of its cause: a fixed step (RK4, HHT) whose

@@ -111,6 +111,12 @@ impl Trajectory {
         self.data.extend_from_slice(&energies);
     }
 
+    /// Keeps the first `len` samples (the others came from a step that failed).
+    pub(crate) fn truncate(&mut self, len: usize) {
+        let stride = self.stride();
+        self.data.truncate(len * stride);
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.data.len() / self.stride()

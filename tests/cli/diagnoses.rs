@@ -64,6 +64,41 @@ fn a_fixed_step_too_large_is_named_not_the_link_lengths() {
     }
 }
 
+/// RK4 with h = 1 s on the seed (one crank turn per second): the first step throws the
+/// state to angles of 1e5 rad and rates of 1e14 rad/s, and the projection fails at the
+/// step's second sample. The samples inside the failed step go with it: only t = 0 is
+/// kept, and no value in the file is absurd.
+#[test]
+fn the_samples_of_a_failed_step_are_not_kept() {
+    let dir = out_dir("failed-step");
+    let o = mechanism(&[
+        "simulate",
+        "spatial_crank_slider",
+        "--integrator",
+        "rk4",
+        "--step",
+        "1",
+        "--no-animation",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_one_line_error(
+        &o,
+        "the fixed step h = 1e0 s of rk4 is too large for this motion",
+    );
+    assert_one_line_error(&o, "results up to t = 0 s are in");
+    let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    let row: Vec<f64> = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(row.iter().all(|v| v.abs() < 100.0), "{row:?}");
+}
+
 #[test]
 fn a_span_too_long_for_the_step_is_named_not_a_collapse() {
     let o = mechanism(&[
