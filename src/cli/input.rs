@@ -15,12 +15,22 @@ use std::path::Path;
 /// Raised by the environment variable `MECHANISM_MAX_INPUT_BYTES`.
 pub const MAX_INPUT_BYTES: u64 = 16 * 1024 * 1024;
 
-/// [`MAX_INPUT_BYTES`], or `MECHANISM_MAX_INPUT_BYTES` when set to a number.
-pub fn input_budget() -> u64 {
-    std::env::var("MECHANISM_MAX_INPUT_BYTES")
-        .ok()
-        .and_then(|v| v.trim().parse::<u64>().ok())
-        .unwrap_or(MAX_INPUT_BYTES)
+/// [`MAX_INPUT_BYTES`], or `MECHANISM_MAX_INPUT_BYTES` when set.
+///
+/// # Errors
+/// The variable set to anything but a positive whole number (as the derivation's
+/// `MECHANISM_MAX_*` variables are refused): a typo must not leave the limit silently
+/// where it was.
+pub fn input_budget() -> Result<u64, String> {
+    match std::env::var("MECHANISM_MAX_INPUT_BYTES") {
+        Err(_) => Ok(MAX_INPUT_BYTES),
+        Ok(v) => match v.trim().parse::<u64>() {
+            Ok(bytes) if bytes > 0 => Ok(bytes),
+            _ => Err(format!(
+                "MECHANISM_MAX_INPUT_BYTES must be a positive whole number of bytes, got `{v}`"
+            )),
+        },
+    }
 }
 
 /// The text of the file at `path` (see the module docs); the error is the reason, for
@@ -30,7 +40,7 @@ pub fn read_input(path: &Path) -> Result<String, String> {
     if !metadata.is_file() {
         return Err(format!("not a regular file ({})", kind(&metadata)));
     }
-    let budget = input_budget();
+    let budget = input_budget()?;
     let too_large = |size: u64| {
         format!(
             "{size} bytes, more than the {budget} allowed for an input file; raise the limit \

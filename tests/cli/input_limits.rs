@@ -73,4 +73,17 @@ fn a_file_beyond_the_input_budget_is_refused_and_the_budget_can_be_raised() {
         &[("MECHANISM_MAX_INPUT_BYTES", "1000000")],
     );
     assert!(o.status.success());
+    // A value that is not a positive whole number is refused, not ignored.
+    for bad in ["12k", "0", "-5", ""] {
+        let o = run(
+            &["equations", pendulum],
+            &[("MECHANISM_MAX_INPUT_BYTES", bad)],
+        );
+        assert_one_line_error(
+            &o,
+            &format!(
+                "MECHANISM_MAX_INPUT_BYTES must be a positive whole number of bytes, got `{bad}`"
+            ),
+        );
+    }
 }

@@ -315,7 +315,10 @@ impl Lowering {
                 self.rows.push(height);
                 self.velocity_rows.extend([slip_x, slip_y]);
             }
-            BodyItem::Joint(j) => self.rows.extend(joint_rows(arena, j, scope)?),
+            BodyItem::Joint(j) => {
+                let rows = joint_rows(arena, j, scope, &self.at_guesses)?;
+                self.rows.extend(rows);
+            }
             BodyItem::Draw(d) => {
                 if self.drawing.is_some() {
                     return Err(Error::declaration(DeclarationError::DrawTwice, d.at));
@@ -651,7 +654,14 @@ fn build_body(
 /// The rows of one `joints` statement, labelled with the statement as written and the
 /// component of each row (see [`Constraint::joint`]).
 // One function: one match arm per joint kind, each its rows (see `mechanics::joints`).
-fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constraint>> {
+/// The rows of joint `j`; `at_guesses` (the parameter defaults, the coordinates' guesses
+/// and t = 0) fixes where a prismatic joint locks its twist.
+fn joint_rows(
+    arena: &mut Arena,
+    j: &Joint,
+    scope: &Scope,
+    at_guesses: &[(SymbolId, f64)],
+) -> Result<Vec<Constraint>> {
     let (exprs, components, joint, at) = match j {
         Joint::Row(lhs, rhs, at) => {
             let l = vector_value(arena, lhs, scope)?;
@@ -713,7 +723,7 @@ fn joint_rows(arena: &mut Arena, j: &Joint, scope: &Scope) -> Result<Vec<Constra
                 _ => {
                     let (a, b) = (frame(2)?, frame(3)?);
                     (
-                        prismatic(arena, &p, &q, &a, &b),
+                        prismatic(arena, &p, &q, &a, &b, at_guesses),
                         &["axis 1", "axis 2", "slide 1", "slide 2", "twist"],
                     )
                 }

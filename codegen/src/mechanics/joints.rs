@@ -6,15 +6,20 @@
 //!   a . b_1 = 0, a . b_2 = 0 with b_1, b_2 two directions fixed to b's body and
 //!   perpendicular to b (5 rows);
 //! - prismatic(P, Q, a, b): a parallel to b (a . b_1 = a . b_2 = 0), P - Q along b
-//!   ((P - Q) . b_1 = (P - Q) . b_2 = 0) and no rotation about the axis (a_1 . b_2 = 0 with
-//!   a_1 fixed to a's body, perpendicular to a) (5 rows).
+//!   ((P - Q) . b_1 = (P - Q) . b_2 = 0) and no rotation about the axis, locked at the
+//!   declared pose: with a_1 fixed to a's body, perpendicular to a, and x_k = a_1 . b_k at
+//!   the coordinates' guesses and the parameter defaults, the row
+//!   (x_1 (a_1 . b_2) - x_2 (a_1 . b_1)) / sqrt(x_1^2 + x_2^2) = 0 holds at the declared pose
+//!   and keeps the turn of a_1 about the axis relative to b's body as declared (a_1 . b_2 = 0,
+//!   when the pose has x_2 = 0) (5 rows).
 //!
 //! An [`AxisFrame`] is a body-fixed direction with two body-fixed perpendiculars, all in
 //! world components. For a body axis a_0 (body components) of a body with orientation R:
 //! direction R a_0, perpendiculars R (a_0 x e_k) and R (a_0 x (a_0 x e_k)), e_k the unit
 //! vector along which a_0 is smallest (at the parameter defaults), so neither vanishes.
 
-use crate::algebra::expr::{Arena, Id, Vec3};
+use crate::algebra::eval::eval;
+use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::mechanics::bodies::{dot, sub3};
 
 /// A body-fixed direction and two body-fixed directions perpendicular to it and to each
@@ -84,11 +89,41 @@ pub fn revolute(arena: &mut Arena, p: &Vec3, q: &Vec3, a: &Vec3, b: &AxisFrame) 
     rows
 }
 
-/// prismatic(P, Q, a, b): a . b_1, a . b_2, (P - Q) . b_1, (P - Q) . b_2, a_1 . b_2 (5 rows).
-pub fn prismatic(arena: &mut Arena, p: &Vec3, q: &Vec3, a: &AxisFrame, b: &AxisFrame) -> Vec<Id> {
+/// prismatic(P, Q, a, b): a . b_1, a . b_2, (P - Q) . b_1, (P - Q) . b_2 and the twist row
+/// locked at the pose of `at_guesses` (module docs) (5 rows).
+pub fn prismatic(
+    arena: &mut Arena,
+    p: &Vec3,
+    q: &Vec3,
+    a: &AxisFrame,
+    b: &AxisFrame,
+    at_guesses: &[(SymbolId, f64)],
+) -> Vec<Id> {
     let mut rows = parallel(arena, &a.direction, b);
     let d = sub3(arena, p, q);
     rows.extend(b.perpendicular.iter().map(|x| dot(arena, &d, x)));
-    rows.push(dot(arena, &a.perpendicular[0], &b.perpendicular[1]));
+    let along = [
+        dot(arena, &a.perpendicular[0], &b.perpendicular[0]),
+        dot(arena, &a.perpendicular[0], &b.perpendicular[1]),
+    ];
+    let env = |s: SymbolId| at_guesses.iter().find(|k| k.0 == s).map(|k| k.1);
+    let x = along.map(|e| eval(arena, e, &env).ok());
+    let turned = match x {
+        // The declared pose turns a_1 off b_1 by more than round-off: the row through it.
+        [Some(x1), Some(x2)] if x2.abs() > 1e-12 * x1.abs() && x1.hypot(x2).is_finite() => {
+            let n = x1.hypot(x2);
+            match (arena.float(x1 / n), arena.float(-x2 / n)) {
+                (Ok(c1), Ok(c2)) => {
+                    let t1 = arena.mul2(c1, along[1]);
+                    let t2 = arena.mul2(c2, along[0]);
+                    Some(arena.add2(t1, t2))
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    };
+    // a_1 . b_2 = 0 at the declared pose (or the pose cannot be evaluated): the row as it is.
+    rows.push(turned.unwrap_or(along[1]));
     rows
 }
