@@ -36,7 +36,10 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
     let (name, expr) = text
         .split_once('=')
         .ok_or_else(|| DriveError::Form(text.to_string()))?;
-    let (name, expr) = (name.trim(), expr.trim());
+    // The expression as parsed starts where it starts in `text`, so that a parse error's
+    // column counts from the start of the whole drive, as the user wrote it.
+    let lead = text[..text.len() - expr.trim_start().len()].chars().count();
+    let (name, expr) = (name.trim(), format!("{}{}", " ".repeat(lead), expr.trim()));
     let info = system.info();
     let coordinate = info
         .coordinate_index(name)
@@ -57,7 +60,7 @@ pub fn parse_drive(system: &dyn System, text: &str) -> Result<Drive, DriveError>
         .iter()
         .map(|p| arena.symbol_id(p, SymbolKind::Parameter))
         .collect();
-    let f = mechanism_codegen::parse_expr(&mut arena, expr).map_err(wrap)?;
+    let f = mechanism_codegen::parse_expr(&mut arena, &expr).map_err(wrap)?;
     let mut d = Differentiator::new();
     let f1 = d.diff(&mut arena, f, t).map_err(wrap)?;
     let f2 = d.diff(&mut arena, f1, t).map_err(wrap)?;

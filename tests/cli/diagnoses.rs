@@ -174,6 +174,13 @@ fn too_few_drives_and_a_repeated_drive_are_named() {
         "th = t",
     ]);
     assert_one_line_error(&o, "coordinate `th` is given twice");
+    // A parse error's column counts from the start of the drive as written: the end of
+    // `th = 2*pi*t +` is column 14.
+    let o = mechanism(&["inverse", "planar_slider_crank", "--drive", "th = 2*pi*t +"]);
+    assert_one_line_error(
+        &o,
+        "in the drive `th = 2*pi*t +`: parse error at line 1, column 14: expected a number",
+    );
 }
 
 #[test]
