@@ -266,6 +266,25 @@ pub enum StabilizationArg {
 }
 
 /// Splits `NAME=VALUE` (spaces around `=` allowed).
+/// Refuses a name assigned twice among `items` (`NAME=VALUE` each) of `option` (`--set`,
+/// `--init`): which value was meant is not for the tool to guess.
+pub fn check_repeated(option: &str, items: &[String]) -> Result<(), super::CliError> {
+    for (i, item) in items.iter().enumerate() {
+        let Some((name, _)) = split_assignment(item) else {
+            continue;
+        };
+        if let Some(first) = items[..i]
+            .iter()
+            .find(|other| split_assignment(other).is_some_and(|(n, _)| n == name))
+        {
+            return Err(super::CliError::Argument(format!(
+                "{option} {name} is given twice (`{first}` and `{item}`); give it once"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub fn split_assignment(text: &str) -> Option<(&str, &str)> {
     let (a, b) = text.split_once('=')?;
     let (a, b) = (a.trim(), b.trim());

@@ -6,7 +6,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use super::CliError;
-use super::args::{CommonArgs, FiguresArg, LinearizeArgs, ViewArg, split_assignment};
+use super::args::{
+    CommonArgs, FiguresArg, LinearizeArgs, ViewArg, check_repeated, split_assignment,
+};
 use super::load::{did_you_mean, finite_constant, key_of, load_for_linearization};
 use super::physical::initial_values;
 use super::stdio::print;
@@ -19,6 +21,7 @@ pub const LINEARIZATION_FILE: &str = "linearization.json";
 
 /// Runs `linearize` with `a`.
 pub fn run(a: &LinearizeArgs) -> Result<(), CliError> {
+    check_repeated("--set", &a.set)?;
     let mut values = Vec::with_capacity(a.set.len());
     for s in &a.set {
         let (name, value) = split_assignment(s)

@@ -18,7 +18,7 @@
 use nalgebra::SymmetricEigen;
 
 use super::CliError;
-use super::args::{CommonArgs, split_assignment};
+use super::args::{CommonArgs, check_repeated, split_assignment};
 use super::load::{Loaded, did_you_mean, finite_constant};
 use mechanism::{Evaluation, Independent, System};
 
@@ -153,6 +153,7 @@ fn negative_direction(system: &dyn System) -> Result<(), String> {
 /// Applies every `--set NAME=VALUE`, then checks the values like declared ones
 /// ([`check_set_values`]).
 pub fn apply_sets(loaded: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
+    check_repeated("--set", sets)?;
     let mut applied = Vec::with_capacity(sets.len());
     for s in sets {
         let system = loaded.system.as_mut();
@@ -184,6 +185,7 @@ pub fn initial_values(
     system: &dyn System,
     common: &CommonArgs,
 ) -> Result<(Vec<Independent>, Vec<f64>), CliError> {
+    check_repeated("--init", &common.init)?;
     let info = system.info();
     let mut independent = info.independent.clone();
     let mut guess = info.initial_guess.clone();

@@ -134,6 +134,12 @@ pub enum OutputError {
         /// What it is: `a directory`, `a symbolic link`, `a device or a named pipe`.
         kind: &'static str,
     },
+    /// An output folder whose path is an existing file (or a device).
+    #[error("cannot write into {path}: it exists and is not a folder; give --out a folder")]
+    NotAFolder {
+        /// The path.
+        path: PathBuf,
+    },
     /// The input is inconsistent (empty, or series of different lengths).
     #[error("invalid data for {what}: {message}")]
     InvalidData {
@@ -165,5 +171,14 @@ impl OutputError {
 /// Creates `dir` and its parents if they do not exist.
 #[allow(dead_code)] // used by the writers of the `files` and `plots` features
 pub(crate) fn ensure_dir(dir: &std::path::Path) -> Result<(), OutputError> {
+    // An output folder named by a path that is a file (`--out results.csv`) is said so,
+    // rather than as the operating system's "File exists".
+    if let Ok(meta) = std::fs::metadata(dir)
+        && !meta.is_dir()
+    {
+        return Err(OutputError::NotAFolder {
+            path: dir.to_path_buf(),
+        });
+    }
     std::fs::create_dir_all(dir).map_err(|e| OutputError::io(dir, e))
 }

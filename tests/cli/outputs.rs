@@ -261,6 +261,23 @@ fn a_missing_file_without_out_leaves_its_folder_alone() {
     assert_eq!(files_in(&cwd.join("out")), ["p".to_string()].into());
 }
 
+/// `--out` naming an existing file: one line saying it is not a folder, the file kept.
+#[test]
+fn out_naming_a_file_is_refused_and_the_file_kept() {
+    let dir = out_dir("out-is-a-file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("results.csv");
+    std::fs::write(&file, "the user's table").unwrap();
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&o, "it exists and is not a folder; give --out a folder");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "the user's table");
+}
+
 #[test]
 fn the_default_folder_stays_inside_out() {
     // Files whose stems are `..`, `.` and `a b` would otherwise name out/.., out/. and a

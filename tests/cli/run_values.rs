@@ -155,3 +155,47 @@ fn init_values_beyond_1e9_are_refused_with_the_reason() {
     // The limit itself is accepted (whatever the run then does).
     assert!(!stderr(&o).contains("at most 1e9"), "{}", stderr(&o));
 }
+
+/// A parameter or an initial value given twice is refused, naming both values, in every
+/// command that takes them.
+#[test]
+fn a_name_given_twice_is_refused() {
+    let dir = out_dir("given-twice");
+    let d = dir.to_str().unwrap();
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--set",
+        "l2=0.4",
+        "--set",
+        "l2=0.41",
+        "--out",
+        d,
+    ]);
+    assert_one_line_error(
+        &o,
+        "--set l2 is given twice (`l2=0.4` and `l2=0.41`); give it once",
+    );
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--init",
+        "th1=1",
+        "--init",
+        "th1=2",
+        "--out",
+        d,
+    ]);
+    assert_one_line_error(&o, "--init th1 is given twice (`th1=1` and `th1=2`)");
+    let o = mechanism(&[
+        "linearize",
+        "planar_four_bar",
+        "--set",
+        "g=1",
+        "--set",
+        "g=2",
+        "--out",
+        d,
+    ]);
+    assert_one_line_error(&o, "--set g is given twice");
+}
