@@ -233,14 +233,15 @@ fn ragged_inverse_rows_are_an_error() {
 }
 
 #[test]
-fn unwritable_path_is_an_io_or_csv_error() {
+fn a_folder_that_is_a_file_is_named() {
     let dir = temp_dir("csv-unwritable");
     let blocker = dir.join("file");
     std::fs::write(&blocker, "not a directory").expect("write blocker");
     let err = write_trajectory_csv(&blocker.join("trajectory.csv"), &trajectory("x"))
         .expect_err("cannot write under a file");
-    assert!(
-        matches!(err, OutputError::Io { .. } | OutputError::Csv { .. }),
-        "{err:?}"
-    );
+    // The folder to write into is a file: said so, naming it.
+    match &err {
+        OutputError::NotAFolder { path } => assert_eq!(path, &blocker),
+        other => panic!("{other:?}"),
+    }
 }
