@@ -221,10 +221,11 @@ pub enum Error {
     /// `src/simulation/fail_fast.rs`.
     #[error(
         "the step size collapsed to h = {h:.3e} s at t = {t} s (mean of the last 100 steps): \
-         reaching the end time would take about {steps_needed:.1e} more steps, more than 10 \
+         reaching the end time would take {} more steps, more than 10 \
          times the limit of {max_steps}; the motion is too fast or stiff for the method and \
          tolerance, or a parameter or force is far out of scale (try HHT, a looser \
-         tolerance, or check the parameters)"
+         tolerance, or check the parameters)",
+        about_steps(*.steps_needed)
     )]
     StepSizeCollapse {
         /// Time reached (s).
@@ -282,9 +283,10 @@ pub enum Error {
     #[error(
         "the time span is too long for this motion: its steps are a steady h = {h:.3e} s \
          (mean of the last 100; {h_run:.3e} s over the whole run), so reaching t_end = \
-         {t_end} s from t = {t} s would take about {steps_needed:.1e} more steps, more than \
+         {t_end} s from t = {t} s would take {} more steps, more than \
          10 times the limit of {max_steps} (the output rate does not set the step); shorten \
-         --t-end, or check the parameters if a step this small is unexpected"
+         --t-end, or check the parameters if a step this small is unexpected",
+        about_steps(*.steps_needed)
     )]
     SpanTooLong {
         /// Time reached (s).
@@ -563,5 +565,15 @@ fn conflicting_drives(t: f64, drives: &[String], given: usize, freedom: usize) -
              constraints fix its motion (a dead point of the mechanism), so its driving force \
              is not determined; drive another coordinate through this position"
         )
+    }
+}
+
+/// A count of steps still needed, `about 1.5e8`; one beyond f64 (a step that underflowed to
+/// zero) is `more than 1e308`, not `inf`.
+fn about_steps(steps: f64) -> String {
+    if steps.is_finite() {
+        format!("about {steps:.1e}")
+    } else {
+        "more than 1e308".to_string()
     }
 }
