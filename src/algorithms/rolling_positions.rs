@@ -5,23 +5,50 @@
 //! (the sleigh's y, the rolling disc's contact point) are wherever the motion has carried
 //! them, q(t) = q(t_a) + integral of q' from t_a. Inverse dynamics samples the motion at
 //! given times, so between two samples this integrates q' = v(tau, q), the rates of the
-//! velocity solve at (tau, q) with the drives' f(tau) and f'(tau), by the classical
-//! Runge-Kutta method in steps of at most [`MAX_STEP`], each stage's positions first
-//! brought back onto Phi = 0 (so that the velocity solve is consistent).
+//! velocity solve at (tau, q) with the drives' f(tau) and f'(tau), each evaluation's
+//! positions first brought back onto Phi = 0 (so that the velocity solve is consistent),
+//! by the run-time's DOP853 with its error estimate at rtol = atol = [`TOLERANCE`].
 
 use crate::algorithms::kinematics::{AssemblyOptions, Drive, solve_positions, solve_velocities};
 use crate::error::Error;
+use crate::integrators::{Dop853, OdeRhs, RungeKutta, Tolerance};
 use crate::system::Kinematic;
 
-/// The longest Runge-Kutta step (s): RK4's error per step is of order h^5 times the fifth
-/// derivative of the motion, 1e-15 of it at 1 ms for motions of a few hertz.
-pub const MAX_STEP: f64 = 1e-3;
+/// The local error tolerance (relative and absolute, in the coordinates' units) of the
+/// carried positions: the position solve's own tolerance.
+pub const TOLERANCE: f64 = 1e-12;
+
+/// Step attempts allowed between two samples before [`Error::TooManySteps`].
+const MAX_ATTEMPTS: usize = 100_000;
+
+/// q' = v(t, q): the rates of the velocity solve along the drives (module docs).
+struct Carried<'a> {
+    system: &'a dyn Kinematic,
+    drives: &'a [Drive],
+    fixed: Vec<usize>,
+    options: &'a AssemblyOptions,
+}
+
+impl OdeRhs for Carried<'_> {
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
+        let mut at = y.to_vec();
+        dy.fill(0.0);
+        for d in self.drives {
+            let [f, fd, _] = (d.f)(t);
+            at[d.coordinate] = f;
+            dy[d.coordinate] = fd;
+        }
+        solve_positions(self.system, t, &self.fixed, &mut at, self.options)?;
+        solve_velocities(self.system, t, &at, &self.fixed, dy, self.options)
+    }
+}
 
 /// Advances `q` from time `a` to time `b` along the drives (module docs); the driven
 /// coordinates end at f(b) and the position rows are met at b.
 ///
 /// # Errors
-/// Those of the position and velocity solves at the stages.
+/// Those of the position and velocity solves; [`Error::TooManySteps`] when the step
+/// control needs more than 100,000 attempts between the two samples.
 pub(crate) fn advance(
     system: &dyn Kinematic,
     drives: &[Drive],
@@ -30,37 +57,42 @@ pub(crate) fn advance(
     options: &AssemblyOptions,
 ) -> Result<(), Error> {
     let fixed: Vec<usize> = drives.iter().map(|d| d.coordinate).collect();
-    let steps = ((b - a) / MAX_STEP).ceil().max(1.0) as usize;
-    let h = (b - a) / steps as f64;
-    let n = q.len();
-    let rate = |tau: f64, at: &mut [f64]| -> Result<Vec<f64>, Error> {
-        let mut qd = vec![0.0; n];
-        for d in drives {
-            let [f, fd, _] = (d.f)(tau);
-            at[d.coordinate] = f;
-            qd[d.coordinate] = fd;
-        }
-        solve_positions(system, tau, &fixed, at, options)?;
-        solve_velocities(system, tau, at, &fixed, &mut qd, options)?;
-        Ok(qd)
+    let mut rhs = Carried {
+        system,
+        drives,
+        fixed: fixed.clone(),
+        options,
     };
-    for step in 0..steps {
-        let t = a + step as f64 * h;
-        let q0 = q.to_vec();
-        let stage = |k: &[f64], c: f64| -> Vec<f64> {
-            q0.iter().zip(k).map(|(x, v)| x + c * h * v).collect()
-        };
-        let mut s = q0.clone();
-        let k1 = rate(t, &mut s)?;
-        let mut s = stage(&k1, 0.5);
-        let k2 = rate(t + 0.5 * h, &mut s)?;
-        let mut s = stage(&k2, 0.5);
-        let k3 = rate(t + 0.5 * h, &mut s)?;
-        let mut s = stage(&k3, 1.0);
-        let k4 = rate(t + h, &mut s)?;
-        for i in 0..n {
-            q[i] = q0[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    let mut rk = Dop853::new(q.len());
+    let tol = Tolerance {
+        rtol: TOLERANCE,
+        atol: TOLERANCE,
+    };
+    let mut y_new = vec![0.0; q.len()];
+    rhs.rhs(a, q, rk.k1_mut())?;
+    let (mut t, mut h) = (a, b - a);
+    for _ in 0..MAX_ATTEMPTS {
+        if t >= b {
+            break;
         }
+        let last = h >= b - t;
+        h = h.min(b - t);
+        let err = rk.attempt(&mut rhs, t, q, h, &mut y_new, tol)?;
+        if err <= 1.0 {
+            rk.finish(&mut rhs, t, &y_new, h)?;
+            rk.reuse_f_new();
+            q.copy_from_slice(&y_new);
+            t = if last { b } else { t + h };
+        }
+        // The elementary controller: h times 0.9 err^(-1/8), bounded to [0.2, 6].
+        let factor = 0.9 * err.max(1e-10).powf(-rk.exponent());
+        h *= factor.clamp(0.2, rk.max_growth());
+    }
+    if t < b {
+        return Err(Error::TooManySteps {
+            t,
+            max_steps: MAX_ATTEMPTS,
+        });
     }
     for d in drives {
         q[d.coordinate] = (d.f)(b)[0];

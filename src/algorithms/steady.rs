@@ -18,8 +18,8 @@
 //! differences). The motion stays on the linearised constraints
 //! Phi_q dq = 0 (position rows) and D dq + G dq' = 0 (all rows), so it is parametrised by the
 //! minimal variables: independent coordinates dq_i (n - p of them, p the independent position
-//! rows) and independent speeds du (n - m, m the independent rows): dq = P dq_i, dq' = V_q dq_i + V_u du, the dependent ones
-//! from the pivot columns of Phi_q and of G. The state matrix of z = [dq_i; du] is
+//! rows) and independent speeds du (n - m, m the independent rows): dq = P dq_i,
+//! dq' = V_q dq_i + V_u du, the dependent ones from the pivot columns of Phi_q and of G. The state matrix of z = [dq_i; du] is
 //!
 //! ```text
 //! z' = S z,   S = [ rows i of (V_q, V_u)          ]

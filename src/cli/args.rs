@@ -265,7 +265,6 @@ pub enum StabilizationArg {
     None,
 }
 
-/// Splits `NAME=VALUE` (spaces around `=` allowed).
 /// Refuses a name assigned twice among `items` (`NAME=VALUE` each) of `option` (`--set`,
 /// `--init`): which value was meant is not for the tool to guess.
 pub fn check_repeated(option: &str, items: &[String]) -> Result<(), super::CliError> {
@@ -285,6 +284,7 @@ pub fn check_repeated(option: &str, items: &[String]) -> Result<(), super::CliEr
     Ok(())
 }
 
+/// Splits `NAME=VALUE` (spaces around `=` allowed).
 pub fn split_assignment(text: &str) -> Option<(&str, &str)> {
     let (a, b) = text.split_once('=')?;
     let (a, b) = (a.trim(), b.trim());
