@@ -34,6 +34,7 @@ mod norm;
 mod null_space;
 mod row_basis;
 mod rows;
+mod square_band;
 mod svd;
 
 pub use band_lu::BandLu;

@@ -227,8 +227,18 @@ impl Hasher for FxHasher {
     fn write_usize(&mut self, x: usize) {
         self.write_u64(x as u64);
     }
+    /// The state mixed by MurmurHash3's 64-bit finaliser (Appleby), so that every bit of
+    /// the key reaches the low bits. The multiply alone carries a key's high bits into the
+    /// high bits only, and hash tables take the bucket from the low bits: without the mix
+    /// the bit patterns of floats such as 2.0 or 640.0 (low mantissa bits zero) all hashed
+    /// to multiples of 2^40 and shared one bucket.
     fn finish(&self) -> u64 {
-        self.0
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
     }
 }
 

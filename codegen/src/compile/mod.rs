@@ -27,7 +27,7 @@ pub(crate) mod sources;
 pub(crate) mod sparsity;
 
 use crate::error::{EvalError, ProgramError};
-use std::fmt::Write as _;
+use std::hash::{Hash, Hasher};
 
 use crate::algebra::expr::SymbolId;
 use crate::error::{Error, Result};
@@ -264,25 +264,66 @@ impl Routines {
     }
 
     /// A 64-bit FNV-1a hash of the roles, their programs (instructions, outputs, symbols)
-    /// and the source table, as printed by `Debug`: equal routines have equal
-    /// fingerprints, on every platform. The macro emits it and the interpreter records it,
-    /// so a test can check that both routes were built from the same routines.
+    /// and the source table: equal routines have equal fingerprints, on every platform
+    /// (every integer enters as its 8 little-endian bytes, a constant as its bits). The
+    /// macro emits it and the interpreter records it, so a test can check that both routes
+    /// were built from the same routines.
     pub fn fingerprint(&self) -> u64 {
         let mut h = Fnv(0xcbf2_9ce4_8422_2325);
-        // Writing into the hash cannot fail.
-        let _ = write!(h, "{:?}{:?}", self.programs, self.sources);
+        self.programs.hash(&mut h);
+        self.sources.hash(&mut h);
         h.0
     }
 }
 
-/// The 64-bit FNV-1a hash of the text written into it.
+/// The 64-bit FNV-1a hash of the bytes written into it, with every integer widened to 8
+/// little-endian bytes, so that the hash of a value is the same on 32- and 64-bit and on
+/// big- and little-endian machines (the macro's host and the interpreter's target).
 struct Fnv(u64);
 
-impl std::fmt::Write for Fnv {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        for b in s.bytes() {
+impl Fnv {
+    fn integer(&mut self, x: u64) {
+        self.write(&x.to_le_bytes());
+    }
+}
+
+impl Hasher for Fnv {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
             self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
         }
-        Ok(())
+    }
+    fn write_u8(&mut self, x: u8) {
+        self.integer(x.into());
+    }
+    fn write_u16(&mut self, x: u16) {
+        self.integer(x.into());
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.integer(x.into());
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.integer(x);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.integer(x as u64);
+    }
+    fn write_i8(&mut self, x: i8) {
+        self.integer(x as u64);
+    }
+    fn write_i16(&mut self, x: i16) {
+        self.integer(x as u64);
+    }
+    fn write_i32(&mut self, x: i32) {
+        self.integer(x as u64);
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.integer(x as u64);
+    }
+    fn write_isize(&mut self, x: isize) {
+        self.integer(x as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
     }
 }

@@ -30,7 +30,7 @@ pub enum Source {
 /// The symbol-source table: the [`Source`] of every symbol a routine of one model may read
 /// (its parameters, coordinates with their rates and accelerations, time, the tangent's
 /// multipliers and the cache slots), sorted by symbol.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Sources {
     entries: Vec<(SymbolId, Source)>,
 }

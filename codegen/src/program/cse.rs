@@ -32,7 +32,7 @@ use crate::program::instructions::{Instr, OpCounts, Operand, Output, Reg, UnOp, 
 
 /// A straight-line SSA program computing several matrices at once, with common
 /// subexpressions shared between all of them (module docs list the lowering rules).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Hash)]
 pub struct Program {
     instrs: Vec<Instr>,
     outputs: Vec<Output>,

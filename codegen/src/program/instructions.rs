@@ -15,7 +15,7 @@ impl Reg {
 }
 
 /// One output matrix of a [`Program`](crate::Program): where each entry's value is, row-major.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Hash)]
 pub struct Output {
     /// Rows.
     pub rows: usize,
@@ -34,6 +34,17 @@ pub enum Operand {
     Sym(SymbolId),
     /// A finite constant.
     Const(f64),
+}
+
+/// A constant hashes by its bits (`f64` has no `Hash`): equal operands hash equally.
+impl std::hash::Hash for Operand {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        match *self {
+            Operand::Reg(r) => (0u8, r.0).hash(h),
+            Operand::Sym(s) => (1u8, s).hash(h),
+            Operand::Const(c) => (2u8, c.to_bits()).hash(h),
+        }
+    }
 }
 
 impl From<Reg> for Operand {
@@ -82,7 +93,7 @@ pub enum BinOp {
 }
 
 /// One SSA instruction; each defines one register (`SinCos` defines two).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Hash)]
 pub enum Instr {
     /// dst = op(arg)
     Unary {
