@@ -22,7 +22,9 @@
 //! well conditioned as h -> 0; K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau +
 //! Phi_q^T lambda come from [`System::tangent`] when the system provides them, otherwise from
 //! forward differences (2n evaluations). The matrix is formed once per step (modified Newton)
-//! and refreshed if the iteration is slow.
+//! and refreshed if the iteration is slow. A system of more than 40 unknowns whose Newton
+//! matrix orders into a narrow band (a chain) has it factored there ([`LearntBand`]: O(n b^2)
+//! where dense LU is O(n^3)); forming it and the residual stay O(n^2) per step.
 //!
 //! Accuracy (`tests/runtime_integrators.rs`): alpha = 0 (the trapezoidal Newmark rule) is
 //! second order on the four-bar but has no numerical damping, and on the seed (singular M)
@@ -37,7 +39,7 @@
 
 use crate::algorithms::finite;
 use crate::error::Error;
-use crate::linalg::{Lu, inf_norm, max_nan};
+use crate::linalg::{LearntBand, Lu, inf_norm, max_nan};
 use crate::system::{Evaluation, System, SystemInfo, Tangent};
 
 /// HHT-alpha integrator state and preallocated Newton workspace.
@@ -63,6 +65,11 @@ pub struct Hht {
     eval_p: Evaluation,
     tangent: Tangent,
     lu: Lu,
+    /// The Newton matrix's band (systems of more than [`DENSE_MAX_ORDER`] unknowns), made
+    /// at the first Newton matrix from the system's structural pattern.
+    band: Option<LearntBand>,
+    /// Whether the last Newton matrix was factored in `band` (else by `lu`).
+    banded: bool,
     /// Newton stops when the position correction beta h^2 |da|_inf is below
     /// `newton_tolerance * (1 + |q|_inf)` (default 1e-12).
     pub newton_tolerance: f64,
@@ -107,6 +114,8 @@ impl Hht {
             eval_p: Evaluation::zeros(n, m),
             tangent: Tangent::zeros(n),
             lu: Lu::new(n + m),
+            band: None,
+            banded: false,
             newton_tolerance: 1e-12,
             max_iterations: 6,
             jacobians: 0,
@@ -275,7 +284,15 @@ impl Hht {
                 a[(n + r, n + c)] = if c == r { -eps } else { 0.0 };
             }
         }
-        if !self.lu.factor() {
+        if n + m > DENSE_MAX_ORDER && self.band.is_none() {
+            self.band = Some(LearntBand::new(n + m, newton_pattern(system, n, m)));
+        }
+        self.banded = match self.band.as_mut().map(|b| b.factor(self.lu.matrix())) {
+            Some(Ok(banded)) => banded,
+            Some(Err(_)) => false,
+            None => false,
+        };
+        if !self.banded && !self.lu.factor() {
             return Err(Error::SingularConfiguration {
                 t: t1,
                 q: self.q1.clone(),
@@ -283,6 +300,14 @@ impl Hht {
             });
         }
         Ok(())
+    }
+
+    /// Solves the last Newton matrix for `self.r` in place.
+    fn newton_solve(&mut self) {
+        match self.band.as_mut() {
+            Some(band) if self.banded => band.solve(&mut self.r),
+            _ => self.lu.solve(&mut self.r),
+        }
     }
 
     /// Advances (q, q') from t to t + h in place. Afterwards [`Hht::accelerations`] and
@@ -314,7 +339,7 @@ impl Hht {
                 for x in self.r.iter_mut() {
                     *x = -*x;
                 }
-                self.lu.solve(&mut self.r);
+                self.newton_solve();
                 let mut da = 0.0f64;
                 for i in 0..n {
                     self.a[i] += self.r[i];
@@ -377,5 +402,76 @@ impl Hht {
             .zip(&self.v1)
             .map(|(f, v)| f * v)
             .sum()
+    }
+}
+
+/// Newton matrices of at most this order are factored densely (the KKT solve's threshold
+/// for its small-system routes).
+const DENSE_MAX_ORDER: usize = 40;
+
+/// The entries of the Newton matrix that can be nonzero, as far as the system's structural
+/// pattern tells: M, Phi_q and Phi_q^T, and Phi_q^T Phi_q (the stiffness of the constraint
+/// forces Phi_q^T lambda couples the coordinates of one row; rows of more than 64 entries
+/// are left out, their band would be too wide anyway). The band widens to any other entry
+/// the first matrices show.
+fn newton_pattern(system: &dyn System, n: usize, m: usize) -> Vec<(usize, usize)> {
+    let Some(s) = system.sparsity().filter(|s| (s.n, s.m) == (n, m)) else {
+        return Vec::new();
+    };
+    let mut edges: Vec<(usize, usize)> = s.mass.clone();
+    edges.extend(s.jacobian.iter().map(|&(r, j)| (n + r, j)));
+    let mut rows = vec![Vec::new(); m];
+    for &(r, j) in &s.jacobian {
+        rows[r].push(j);
+    }
+    for row in rows.iter().filter(|row| row.len() <= 64) {
+        for (k, &i) in row.iter().enumerate() {
+            edges.extend(row[k + 1..].iter().map(|&j| (i, j)));
+        }
+    }
+    edges
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithms::kinematics::assemble;
+
+    /// A02 with N = 40 (n + m = 163): its Newton matrix is factored in a band, and 20 steps
+    /// give the states of the dense factorisation (forced by a full pattern) to the Newton
+    /// tolerance. Each step stops when the position correction is below 1e-12 (1 + |q|),
+    /// 4.1e-11 m here, and a velocity differs by gamma / (beta h) = 2,000 /s times that.
+    #[test]
+    fn a_chain_newton_matrix_in_its_band_steps_as_the_dense_one() {
+        let system = crate::builtin::builtin("n_four_bar").expect("built in");
+        let info = system.info();
+        let (n, m) = (info.n(), info.m());
+        let s = assemble(system.as_ref(), 0.0, &Default::default()).expect("assembles");
+        let run = |dense: bool| {
+            let mut hht = Hht::new(info, -0.05).expect("alpha in range");
+            if dense {
+                let all = (0..n + m).flat_map(|i| (0..n + m).map(move |j| (i, j)));
+                hht.band = Some(LearntBand::new(n + m, all.collect()));
+            }
+            let (qdd, lambda) = (vec![0.0; n], vec![0.0; m]);
+            hht.start(system.as_ref(), 0.0, &s.q, &s.qd, &qdd, &lambda);
+            let (mut q, mut v) = (s.q.clone(), s.qd.clone());
+            for k in 0..20 {
+                let t = k as f64 * 1e-3;
+                hht.step(system.as_ref(), t, &mut q, &mut v, 1e-3)
+                    .expect("steps");
+            }
+            (q, v, hht.banded)
+        };
+        let (q_band, v_band, banded) = run(false);
+        let (q_dense, v_dense, dense_banded) = run(true);
+        assert!(banded && !dense_banded, "routes {banded} {dense_banded}");
+        let scale = 1.0 + inf_norm(&q_dense);
+        for (a, b) in q_band.iter().zip(&q_dense) {
+            assert!((a - b).abs() <= 20.0 * 1e-12 * scale, "q {a} vs {b}");
+        }
+        for (a, b) in v_band.iter().zip(&v_dense) {
+            assert!((a - b).abs() <= 20.0 * 2e3 * 1e-12 * scale, "q' {a} vs {b}");
+        }
     }
 }

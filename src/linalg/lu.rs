@@ -38,6 +38,11 @@ impl Lu {
         self.piv.len()
     }
 
+    /// The matrix as last written or factored (A before [`Lu::factor`], L and U after).
+    pub fn matrix(&self) -> &DMatrix<f64> {
+        &self.lu
+    }
+
     /// The matrix A to factor; [`Lu::factor`] overwrites it with L and U.
     pub fn matrix_mut(&mut self) -> &mut DMatrix<f64> {
         self.ok = false;

@@ -11,6 +11,8 @@
 //! - [`BandLu`]: LU with partial pivoting inside a band, and [`BandOrder`], the reverse
 //!   Cuthill-McKee order that makes the KKT matrix of a chain banded (the direct solve of
 //!   large chains, O(n) for a bounded band);
+//! - [`LearntBand`]: the same band LU for a sequence of matrices whose pattern is learnt
+//!   from them (the Newton matrices of an implicit integrator on a chain);
 //! - [`RowBasis`]: the independent rows of a constraint Jacobian, its rank, and the null
 //!   space of its transpose (minimum-norm multipliers);
 //! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
@@ -29,6 +31,7 @@ mod conditioned_solve;
 mod eigenvalues;
 mod envelope;
 mod kernels;
+mod learnt_band;
 mod lu;
 mod norm;
 mod null_space;
@@ -42,6 +45,7 @@ pub use band_order::BandOrder;
 pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
 pub use eigenvalues::eigenvalues;
 pub use envelope::{Envelope, NotPositiveDefinite};
+pub use learnt_band::LearntBand;
 pub use lu::Lu;
 pub use norm::{inf_norm, max_nan};
 pub use null_space::{FixedNullSpace, NullSpace, NullSpaceSolve};

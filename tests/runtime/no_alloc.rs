@@ -143,6 +143,23 @@ fn step_loop_allocates_nothing() {
             (redundant_chain, Method::Dop853, Stabilization::Projection),
             (chain.as_ref(), Method::Dop853, Stabilization::Projection),
             (chain_interpreted, Method::Dop853, Stabilization::Projection),
+            // HHT's Newton matrix of A02 (n + m = 163) factored in its band.
+            (
+                chain.as_ref(),
+                Method::Hht {
+                    h: 1e-3,
+                    alpha: -0.05,
+                },
+                Stabilization::Projection,
+            ),
+            (
+                chain_interpreted,
+                Method::Hht {
+                    h: 1e-3,
+                    alpha: -0.05,
+                },
+                Stabilization::Projection,
+            ),
             (interpreted, Method::Dopri5, Stabilization::Projection),
             (
                 interpreted,
