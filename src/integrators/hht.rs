@@ -287,11 +287,10 @@ impl Hht {
         if n + m > DENSE_MAX_ORDER && self.band.is_none() {
             self.band = Some(LearntBand::new(n + m, newton_pattern(system, n, m)));
         }
-        self.banded = match self.band.as_mut().map(|b| b.factor(self.lu.matrix())) {
-            Some(Ok(banded)) => banded,
-            Some(Err(_)) => false,
-            None => false,
-        };
+        // A failed pivot in the band leaves the matrix to dense LU, which pivots the same
+        // way (the entries outside the band are zero), fails at the same pivot and says so.
+        let band = self.band.as_mut().map(|b| b.factor(self.lu.matrix()));
+        self.banded = matches!(band, Some(Ok(true)));
         if !self.banded && !self.lu.factor() {
             return Err(Error::SingularConfiguration {
                 t: t1,
