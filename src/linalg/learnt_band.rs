@@ -81,18 +81,17 @@ impl LearntBand {
         }
         let b = self.band;
         self.lu.reset(n, b, b);
-        let mut largest = 0.0f64;
         for c in 0..n {
             let j = self.node[c];
             for r in c.saturating_sub(b)..(c + b + 1).min(n) {
                 let v = a[(self.node[r], j)];
-                largest = largest.max(v.abs());
                 let k = self.lu.index(r, c);
                 self.lu.set(k, v);
             }
         }
-        // Tolerance 0: a pivot fails only when it is exactly zero or not finite.
-        self.lu.factor_scaled(0.0, largest)?;
+        // Tolerance 0 (so the scale is irrelevant): a pivot fails only when it is exactly
+        // zero or not finite, as in dense LU.
+        self.lu.factor_scaled(0.0, 0.0)?;
         Ok(true)
     }
 

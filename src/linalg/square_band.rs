@@ -73,16 +73,14 @@ impl SquareBand {
         }
         let mut lu = BandLu::new(n, kl + ku);
         lu.reset(n, kl, ku);
-        let mut largest = 0.0f64;
         for &(i, j) in &nonzeros {
             let v = a[(i, j)];
-            largest = largest.max(v.abs());
             let k = lu.index(row_at[i], column_at[j]);
             lu.set(k, v);
         }
-        // Tolerance 0: a pivot fails only when it is exactly zero or not finite.
-        lu.factor_scaled(0.0, largest)
-            .map_err(|_| Declined::Singular)?;
+        // Tolerance 0 (so the scale is irrelevant): a pivot fails only when it is exactly
+        // zero or not finite, as in dense LU.
+        lu.factor_scaled(0.0, 0.0).map_err(|_| Declined::Singular)?;
         Ok(SquareBand {
             row_at,
             column_at,
