@@ -98,6 +98,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         kinetic_location: Location::default(),
         potential,
         constraints,
+        vanished_rows: Vec::new(),
         velocity_constraints: Vec::new(),
         forces: vec![zero; n],
         drawing: Default::default(),

@@ -222,6 +222,8 @@ struct Lowering {
     scope: Scope,
     system: BodySystem,
     rows: Vec<Constraint>,
+    /// The joint rows that vanish identically (`Model::vanished_rows`).
+    vanished: Vec<String>,
     velocity_rows: Vec<Constraint>,
     drawing: Option<Drawing>,
     links: Vec<Link>,
@@ -254,6 +256,7 @@ impl Lowering {
             scope: Scope::default(),
             system: BodySystem::default(),
             rows: Vec::new(),
+            vanished: Vec::new(),
             velocity_rows: Vec::new(),
             drawing: None,
             links: Vec::new(),
@@ -317,7 +320,20 @@ impl Lowering {
             }
             BodyItem::Joint(j) => {
                 let rows = joint_rows(arena, j, scope, &self.at_guesses)?;
-                self.rows.extend(rows);
+                if rows.iter().all(|r| arena.is_zero(r.expr)) {
+                    // Constrains nothing at all: the check names the statement.
+                    self.rows.extend(rows);
+                } else {
+                    let (zero, kept): (Vec<_>, Vec<_>) =
+                        rows.into_iter().partition(|r| arena.is_zero(r.expr));
+                    if let Some(first) = zero.first() {
+                        let components: Vec<&str> =
+                            zero.iter().map(|r| r.component.as_str()).collect();
+                        let vanished = format!("{} ({})", first.joint, components.join(", "));
+                        self.vanished.push(vanished);
+                    }
+                    self.rows.extend(kept);
+                }
             }
             BodyItem::Draw(d) => {
                 if self.drawing.is_some() {
@@ -386,6 +402,7 @@ impl Lowering {
         model.links = self.links;
         add_body_terms(model, &self.system)?;
         model.constraints.extend(self.rows);
+        model.vanished_rows = self.vanished;
         model.velocity_constraints.extend(self.velocity_rows);
         Ok(())
     }

@@ -156,6 +156,7 @@ fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result
         kinetic_location: kinetic_at,
         potential,
         constraints,
+        vanished_rows: Vec::new(),
         velocity_constraints,
         forces,
         drawing: Default::default(),

@@ -226,6 +226,13 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
             continue;
         }
         matrix_lines(&mut out, &mut r, name, mat, "  ");
+        if name == "Phi" && !model.vanished_rows.is_empty() {
+            let _ = writeln!(
+                out,
+                "  (left out, identically zero: {})",
+                model.vanished_rows.join("; ")
+            );
+        }
     }
     let _ = writeln!(
         out,

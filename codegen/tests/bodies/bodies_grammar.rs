@@ -378,6 +378,59 @@ fn joint_rows_are_labelled() {
     assert_eq!(model.constraints[15].label(), "P = O + [l, -(l - 1), 0] x");
 }
 
+/// A rod turning in the xy plane, declared with planar coordinates (x, y, th) and spatial
+/// joints: the joints' z rows and their axis rows (body z against ground z) vanish
+/// identically and are left out, named in `vanished_rows` and in the equations text; the
+/// rows that constrain remain, in order. A joint whose every row vanishes is refused.
+#[test]
+fn joint_rows_that_vanish_are_left_out() {
+    let planar = |joints: &str| {
+        format!(
+            "/// Test.
+            pub struct T;
+            parameters {{ m = 2.0; l = 0.5; }}
+            coordinates {{ x = 0.25; y = 0.0; th = 0.0; }}
+            independent {{ th = 0.0; }}
+            body rod {{
+                mass = m;
+                position = [x, y, 0];
+                orientation = rot_z(th);
+                inertia = diag(0, m*l^2/12, m*l^2/12);
+                point A = [-l/2, 0, 0];
+                axis n = [0, 0, 1];
+            }}
+            point O = [0, 0, 0];
+            axis k = [0, 0, 1];
+            joints {{ {joints} }}"
+        )
+    };
+    let mut model = parse_model_str(&planar("revolute(A, O, n, k);")).unwrap();
+    let labels: Vec<String> = model.constraints.iter().map(|c| c.label()).collect();
+    assert_eq!(labels, ["revolute(A, O, n, k) x", "revolute(A, O, n, k) y"]);
+    assert_eq!(
+        model.vanished_rows,
+        ["revolute(A, O, n, k) (z, axis 1, axis 2)"]
+    );
+    let eqs = derive(&mut model).unwrap();
+    let text = mechanism_codegen::equations_text(&model, &eqs);
+    assert!(
+        text.contains("  (left out, identically zero: revolute(A, O, n, k) (z, axis 1, axis 2))\n"),
+        "{text}"
+    );
+    let model = parse_model_str(&planar("A = O;")).unwrap();
+    assert_eq!(model.constraints.len(), 2);
+    assert_eq!(model.vanished_rows, ["A = O (z)"]);
+    // `A.z = O.z` alone constrains nothing: refused, not left out.
+    let refused = match parse_model_str(&planar("A.x = O.x; A.y = O.y; A.z = O.z;")) {
+        Ok(_) => panic!("accepted a joint that constrains nothing"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        refused.contains("constraint 3 does not depend on the coordinates or t"),
+        "{refused}"
+    );
+}
+
 /// The body checks run again on given parameter values (the run-time `--set`, issue 29,
 /// item 7): a mass that the values make negative is refused there, at its line.
 #[test]

@@ -285,6 +285,7 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         kinetic_location: Default::default(),
         potential: zero,
         constraints: vec![],
+        vanished_rows: vec![],
         velocity_constraints: vec![],
         forces: vec![zero, zero],
         drawing: Default::default(),

@@ -313,6 +313,7 @@ pub fn bare_model(
                 component: String::new(),
             })
             .collect(),
+        vanished_rows: vec![],
         velocity_constraints: vec![],
         forces: vec![zero; coords.len()],
         drawing: Default::default(),
