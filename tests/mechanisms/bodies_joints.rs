@@ -1,7 +1,8 @@
 //! Joint helpers in motion: a rigid body in six absolute coordinates held by `revolute` (a
 //! compound pendulum) or `prismatic` (a block on an inclined guide) moves exactly as the
 //! one-degree-of-freedom model predicts; two rods in planar coordinates, joined by the same
-//! spatial joints, swing at the compound double pendulum's two frequencies.
+//! spatial joints, swing at the compound double pendulum's two frequencies, and a slider-crank
+//! of planar bodies moves as the energy-style one.
 
 use mechanism::{
     AssemblyOptions, IntegratorOptions, Interpreted, Kinematic, Method, SimulationOptions,
@@ -281,4 +282,65 @@ fn planar_bodies_swing_at_the_double_pendulums_frequencies() {
             assert!((d / e - 1.0).abs() < 1e-8, "{joints}: {d} against {e}");
         }
     }
+}
+
+/// `mechanisms/planar_slider_crank.mech` (energy style, three coordinates) restated with
+/// bodies in planar coordinates: crank and rod as uniform rods, the slider a body on
+/// `prismatic` along the x axis. Of its 17 joint rows 9 vanish identically (three z rows;
+/// the prismatic's axis row about y, its slide row along z and its twist) and are left out;
+/// the 8 left hold 9 coordinates to the one degree of freedom.
+const SLIDER_CRANK_BODIES: &str = "
+/// Planar slider-crank in body style with planar coordinates.
+pub struct SliderCrankBodies;
+parameters { r = 0.05; l = 0.2; m1 = 0.5; m2 = 0.8; m3 = 1.2; g = 9.81; tau0 = 2.0; }
+coordinates {
+    th = 0.785398; x1 = 0.0177; y1 = 0.0177;
+    ph = -0.177711; x2 = 0.134; y2 = 0.0177;
+    x = 0.232206; y3 = 0.0; s = 0.0;
+}
+independent { th = pi/4; der(th) = 0.0; }
+gravity = [0, -g, 0];
+point O = [0, 0, 0];
+axis gx = [1, 0, 0];
+body crank {
+    mass = m1; position = [x1, y1, 0]; orientation = rot_z(th);
+    inertia = diag(0, m1*r^2/12, m1*r^2/12);
+    point O1 = [-r/2, 0, 0]; point A1 = [r/2, 0, 0]; axis k1 = [0, 0, 1];
+}
+body rod {
+    mass = m2; position = [x2, y2, 0]; orientation = rot_z(ph);
+    inertia = diag(0, m2*l^2/12, m2*l^2/12);
+    point A2 = [-l/2, 0, 0]; point B2 = [l/2, 0, 0];
+}
+body slider {
+    mass = m3; position = [x, y3, 0]; orientation = rot_z(s);
+    inertia = diag(5e-4, 5e-4, 1e-3);
+    point B3 = [0, 0, 0]; axis sx = [1, 0, 0];
+}
+joints { O1 = O; A2 = A1; B2 = B3; prismatic(B3, O, sx, gx); }
+forces { th: tau0; }
+";
+
+/// Driven by the constant torque tau0 from rest, both declarations turn the crank to
+/// th(1 s) = 319.3 rad; integrated at 1e-12 they agree to 1e-8 rad over the run (measured
+/// 5.6e-11: the two integrations' own errors, 2e-13 of th), and the slider's x to 1e-9 m
+/// (measured 1.7e-12).
+#[test]
+fn planar_bodies_on_a_prismatic_joint_give_the_slider_crank() {
+    let bodies = run(SLIDER_CRANK_BODIES, 1.0);
+    let energies = run(
+        include_str!("../../mechanisms/planar_slider_crank.mech"),
+        1.0,
+    );
+    assert_eq!((bodies.info.n(), bodies.info.m()), (9, 8));
+    let (mut th, mut x) = (0.0_f64, 0.0_f64);
+    for (b, e) in bodies.samples().zip(energies.samples()) {
+        th = th.max((b.q[0] - e.q[0]).abs());
+        x = x.max((b.q[6] - e.q[2]).abs());
+    }
+    let last = energies.samples().last().expect("samples").q[0];
+    println!("slider-crank: th(1 s) = {last}, max |th diff| = {th:e}, max |x diff| = {x:e}");
+    assert!(last > 300.0, "{last}");
+    assert!(th < 1e-8, "{th:e}");
+    assert!(x < 1e-9, "{x:e}");
 }
