@@ -515,6 +515,27 @@ impl Dynamics {
         self.eval.forces.iter().zip(qd).map(|(f, v)| f * v).sum()
     }
 
+    /// Power of the constraint forces, lambda . Phi_t, at the last [`Dynamics::solve`]: on
+    /// the velocity constraints Phi_q q' + Phi_t = 0 it equals -(Phi_q^T lambda) . q', what
+    /// moving rows (a driving row `phi - Omega t`, a moving anchor, the a(q, t) of velocity
+    /// rows) put into the mechanism; zero for rows that do not depend on t. With it,
+    /// d(T + Pi)/dt = tau . q' + lambda . Phi_t (q'^T (M'/2 - C) q' = 0 for Khang's C).
+    /// The same for every choice of lambda with redundant rows: Phi_t lies in the range of
+    /// Phi_q, where lambda's undetermined part contributes nothing.
+    pub fn constraint_power(&self) -> f64 {
+        let phi_t = self.eval.phi_t.iter();
+        self.multipliers()
+            .iter()
+            .zip(phi_t)
+            .map(|(l, p)| l * p)
+            .sum()
+    }
+
+    /// Whether Phi_t at the last solve has a nonzero entry (the rows move with t).
+    pub(crate) fn constraints_move(&self) -> bool {
+        self.eval.phi_t.iter().any(|&v| v != 0.0)
+    }
+
     /// |Phi|_inf at the last solve.
     pub fn constraint_error(&self) -> f64 {
         inf_norm(self.eval.phi.as_slice())

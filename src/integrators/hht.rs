@@ -393,14 +393,14 @@ impl Hht {
         &self.lam_n
     }
 
-    /// tau . q' at the end of the last step (from its last evaluation).
+    /// tau . q' + lambda . Phi_t at the end of the last step (from its last evaluation): the
+    /// power of the applied forces and of the moving constraint rows
+    /// ([`crate::Dynamics::constraint_power`]).
     pub fn power(&self) -> f64 {
-        self.eval
-            .forces
-            .iter()
-            .zip(&self.v1)
-            .map(|(f, v)| f * v)
-            .sum()
+        let e = &self.eval;
+        let applied: f64 = e.forces.iter().zip(&self.v1).map(|(f, v)| f * v).sum();
+        let rows: f64 = self.lam_n.iter().zip(&e.phi_t).map(|(l, p)| l * p).sum();
+        applied + rows
     }
 }
 

@@ -74,7 +74,8 @@ pub struct TrajectoryMaxima {
     /// max_i |Phi_q q'_i + Phi_t|_inf.
     pub velocity_constraint_error: f64,
     /// Energy balance error: max_i |E_i - E_0| with E = T + Pi - W, where W is the work done
-    /// by the applied forces tau since t = 0. For an exact solution E is constant, so this
+    /// by the applied forces tau and by the constraint rows that move with t (lambda .
+    /// Phi_t) since t = 0. For an exact solution E is constant, so this
     /// measures the integration error of the energy (zero for an empty trajectory).
     pub energy_balance_error: f64,
 }

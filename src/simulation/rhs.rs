@@ -55,14 +55,20 @@ impl StageProjection {
     }
 }
 
-/// y' = [q', q'', tau . q'] through the augmented system (at the projected state when
-/// `onto` is set: see [`StageProjection`]). Built once per run; it owns the run's
-/// [`Dynamics`], whose last solve the driver reads for its samples.
+/// y' = [q', q'', tau . q' + lambda . Phi_t] through the augmented system (at the projected
+/// state when `onto` is set: see [`StageProjection`]): W integrates the power of the applied
+/// forces and of the moving constraint rows ([`Dynamics::constraint_power`]). Built once
+/// per run; it owns the run's [`Dynamics`], whose last solve the driver reads for its
+/// samples.
 pub(crate) struct Rhs<'s> {
     pub(crate) system: &'s dyn System,
     pub(crate) dynamics: Dynamics,
     n: usize,
     onto: Option<StageProjection>,
+    /// Set at the first solve whose Phi_t is not zero: from then on every solve computes
+    /// the multipliers that the constraint power needs (rows that do not move with t,
+    /// the common case, never pay for them).
+    moving: bool,
 }
 
 impl<'s> Rhs<'s> {
@@ -78,6 +84,7 @@ impl<'s> Rhs<'s> {
             dynamics,
             n,
             onto,
+            moving: false,
         }
     }
 }
@@ -94,10 +101,21 @@ impl OdeRhs for Rhs<'_> {
             }
             None => (&y[..n], &y[n..2 * n]),
         };
-        self.dynamics.solve_accelerations(self.system, t, q, qd)?;
+        if self.moving {
+            self.dynamics.solve(self.system, t, q, qd)?;
+        } else {
+            self.dynamics.solve_accelerations(self.system, t, q, qd)?;
+            if self.dynamics.constraints_move() {
+                self.moving = true;
+                self.dynamics.solve(self.system, t, q, qd)?;
+            }
+        }
         dy[..n].copy_from_slice(qd);
         dy[n..2 * n].copy_from_slice(self.dynamics.accelerations());
         dy[2 * n] = self.dynamics.power(qd);
+        if self.moving {
+            dy[2 * n] += self.dynamics.constraint_power();
+        }
         Ok(())
     }
 }

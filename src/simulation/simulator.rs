@@ -1,8 +1,9 @@
 //! Forward dynamics: the simulation driver.
 //!
 //! Integrates the index-3 DAE M q'' + C q' + g + Phi_q^T lambda = tau, Phi(q, t) = 0 as the
-//! ODE y' = [q', q'', tau . q'] in y = [q, q', W] (q'' and lambda from the augmented system,
-//! [`crate::Dynamics`]; W the work of tau, so that T + Pi - W is constant), with the chosen
+//! ODE y' = [q', q'', tau . q' + lambda . Phi_t] in y = [q, q', W] (q'' and lambda from the
+//! augmented system, [`crate::Dynamics`]; W the work of tau and of the rows that move with t,
+//! so that T + Pi - W is constant), with the chosen
 //! [`Stabilization`], and records samples at a fixed output rate from the integrator's dense
 //! output. Each sample holds q, q', q'', lambda, |Phi|_inf, |Phi_q q' + Phi_t|_inf, T, Pi, W.
 //!

@@ -26,7 +26,9 @@ pub struct Sample<'a> {
     pub kinetic: f64,
     /// Potential energy Pi.
     pub potential: f64,
-    /// Work done by tau since t = 0: integral of tau . q' dt.
+    /// Work done since t = 0 by tau and by the constraint rows that move with t: the
+    /// integral of tau . q' + lambda . Phi_t dt ([`crate::Dynamics::constraint_power`]), so
+    /// that T + Pi - W stays constant.
     pub work: f64,
 }
 

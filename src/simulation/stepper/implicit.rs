@@ -19,7 +19,7 @@ pub(super) struct HhtStepper {
     /// y' = [q', q'', tau . q'] at the start and the end of the last step.
     f0: Vec<f64>,
     f1: Vec<f64>,
-    /// tau . q' at the current state.
+    /// tau . q' + lambda . Phi_t at the current state.
     power: f64,
     hermite: Dense,
     /// Size of the last accepted step, and whether its dense output is built.
@@ -57,7 +57,7 @@ impl HhtStepper {
             h_max: options.h_max.unwrap_or(f64::INFINITY),
             f0: vec![0.0; dim],
             f1: vec![0.0; dim],
-            power: dynamics.power(&y[n..2 * n]),
+            power: dynamics.power(&y[n..2 * n]) + dynamics.constraint_power(),
             hermite: Dense::new(dim, 4),
             h_step: 0.0,
             dense_ready: false,
