@@ -346,7 +346,7 @@ pub enum Error {
     #[error(
         "{term} is {value} at t = {t} s, q = {q:?}: its expression is undefined or overflows \
          there (a logarithm or square root of a negative number, a division by zero, a huge \
-         parameter)"
+         parameter or rate)"
     )]
     NonFiniteTerm {
         /// The entry, named as above.

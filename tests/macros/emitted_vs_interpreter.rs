@@ -398,6 +398,28 @@ declared_twice! {
     }
 }
 
+declared_twice! {
+    PLANAR_BODIES;
+    /// A rod hinged to the ground, in planar coordinates: `revolute`'s z and axis rows
+    /// vanish identically and are left out on both routes.
+    pub struct PlanarHinge;
+    parameters { m = 1.0; l = 1.0; g = 9.81; }
+    coordinates { x = 0.5; y = 0.0; th = 0.0; }
+    independent { th = 0.0; der(th) = 1.0; }
+    gravity = [0, -g, 0];
+    point O = [0, 0, 0];
+    axis up = [0, 0, 1];
+    body rod {
+        mass = m;
+        position = [x, y, 0];
+        orientation = rot_z(th);
+        inertia = diag(0, m*l^2/12, m*l^2/12);
+        point A = [-l/2, 0, 0];
+        axis k = [0, 0, 1];
+    }
+    joints { revolute(A, O, k, up); }
+}
+
 /// The labels of the rows, (joint, component), as `mechanism!` emits them, as `Compiled`
 /// carries them, and as the interpreter route reads them from the same text: all equal to
 /// `expected`.
@@ -452,6 +474,19 @@ fn body_joint_rows_are_labelled_on_both_routes() {
         ["distance(B, slider, L)", "revolute(A, O, k, up)"]
     );
     assert!(info.joints_of(&[]).is_empty());
+}
+
+/// Planar bodies on a spatial joint: the two rows that constrain, on both routes; the
+/// emitted equations text names the three left out.
+#[test]
+fn vanished_joint_rows_are_left_out_on_both_routes() {
+    let revolute = "revolute(A, O, k, up)";
+    assert_rows::<PlanarHinge, 3, 2>(PLANAR_BODIES, &[(revolute, "x"), (revolute, "y")]);
+    let text = PlanarHinge::equations();
+    assert!(
+        text.contains("(left out, identically zero: revolute(A, O, k, up) (z, axis 1, axis 2))"),
+        "{text}"
+    );
 }
 
 /// A plain `constraints { .. }` block: rows are named by statement (1-based), and a vector
