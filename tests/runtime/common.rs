@@ -402,3 +402,12 @@ pub fn drift(tr: &Trajectory) -> (f64, f64) {
         .fold(0.0, f64::max);
     (d, d / scale)
 }
+
+/// The library's slider-crank with its crank driven by the row th - pi/4 - 10 t instead of
+/// its torque: no degree of freedom left, and a constraint row that moves with t.
+pub fn driven_slider_crank_source() -> String {
+    include_str!("../../mechanisms/planar_slider_crank.mech")
+        .replace("constraints {", "constraints {\n    th - pi/4 - 10*t;")
+        .replace("independent { th = pi/4; der(th) = 0.0; }", "")
+        .replace("forces { th: tau0 - c*der(th); }", "")
+}

@@ -2,7 +2,7 @@
 //! with a driving row that moves with t (W then holds its work, the integral of
 //! lambda . Phi_t).
 
-use crate::common::{CrankSlider, FourBar, drift};
+use crate::common::{CrankSlider, FourBar, drift, driven_slider_crank_source};
 use mechanism::{IntegratorOptions, Interpreted, Method, SimulationOptions, simulate};
 
 /// Four-bar, tau = 0, DOP853 at rtol = 1e-12 with projection: |T + Pi - E0| relative to
@@ -68,11 +68,8 @@ fn seed_energy_balance_with_work() {
 /// row's work the balance would be off by all of it (0.525 J, measured before W held it).
 #[test]
 fn a_driving_row_does_the_work_of_the_drive() {
-    let source = include_str!("../../mechanisms/planar_slider_crank.mech")
-        .replace("constraints {", "constraints {\n    th - pi/4 - 10*t;")
-        .replace("independent { th = pi/4; der(th) = 0.0; }", "")
-        .replace("forces { th: tau0 - c*der(th); }", "");
-    let s = Interpreted::from_source(&source).expect("the driven slider-crank derives");
+    let s = Interpreted::from_source(&driven_slider_crank_source())
+        .expect("the driven slider-crank derives");
     for (method, tolerance) in [
         (Method::Dop853, 1e-9),
         (

@@ -131,6 +131,10 @@ fn step_loop_allocates_nothing() {
     // rows left out at every solve (the consistent gamma, the minimum-norm multipliers of
     // the samples), and the projection on the coordinates' side (m > n).
     let redundant_chain: &dyn System = &crate::banded_kkt::a02(10, true);
+    // A driving row that moves with t: every stage solves the multipliers too, for the
+    // power lambda . Phi_t that W integrates.
+    let driven: &dyn System =
+        &Interpreted::from_source(&crate::common::driven_slider_crank_source()).unwrap();
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
@@ -141,6 +145,15 @@ fn step_loop_allocates_nothing() {
                 Stabilization::Projection,
             ),
             (redundant_chain, Method::Dop853, Stabilization::Projection),
+            (driven, Method::Dop853, Stabilization::Projection),
+            (
+                driven,
+                Method::Hht {
+                    h: 1e-3,
+                    alpha: -0.05,
+                },
+                Stabilization::Projection,
+            ),
             (chain.as_ref(), Method::Dop853, Stabilization::Projection),
             (chain_interpreted, Method::Dop853, Stabilization::Projection),
             // HHT's Newton matrix of A02 (n + m = 163) factored in its band.
