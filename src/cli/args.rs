@@ -121,7 +121,13 @@ pub struct CommonArgs {
     /// Instants superimposed in the strobe figure, evenly spaced over the first period (or
     /// revolution) of the first independent coordinate when it has one, else over the run
     /// (1 to 100).
-    #[arg(long, default_value_t = 12, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100))]
+    #[arg(
+        long,
+        default_value_t = 12,
+        value_name = "K",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..=100)
+    )]
     pub strobe: u32,
     /// Time-series figures: auto (one per coordinate up to 12 coordinates, else the
     /// overview), all (one per coordinate), overview (every coordinate in one heat map) or

@@ -23,7 +23,7 @@ fn assert_usage_error(args: &[&str], needle: &str, help: &str) {
 
 #[test]
 fn usage_errors_are_one_line_with_exit_status_2() {
-    let cases: [(&[&str], &str, &str); 7] = [
+    let cases: [(&[&str], &str, &str); 8] = [
         (
             &["simulate", "planar_four_bar", "--bogus"],
             "unexpected argument '--bogus'",
@@ -47,6 +47,12 @@ fn usage_errors_are_one_line_with_exit_status_2() {
         (
             &["simulate", "planar_four_bar", "--t-end", "ten"],
             "invalid value 'ten' for '--t-end <S>'",
+            "mechanism simulate",
+        ),
+        (
+            // A negative count is a value out of range, not an unknown flag `-1`.
+            &["simulate", "planar_four_bar", "--strobe", "-1"],
+            "invalid value '-1' for '--strobe <K>': -1 is not in 1..=100",
             "mechanism simulate",
         ),
         (
