@@ -110,9 +110,9 @@ pub struct Model {
     /// The joint rows left out of `constraints` because they are identically zero, one
     /// entry per statement: the statement and the components left out
     /// (`revolute(A, O, n1, z) (z, axis 1, axis 2)`), the z rows and the axis rows of a
-    /// joint between bodies that move in one plane. Each such row is a zero row of Phi_q, a redundancy
-    /// that nothing could remove at run time, so it is dropped where it is built. A joint
-    /// all of whose rows vanish keeps them, and the declaration's check refuses it.
+    /// joint between bodies that move in one plane. Each such row would be a zero row of
+    /// Phi_q, a redundancy of every configuration, so it is dropped where it is built. A
+    /// joint all of whose rows vanish keeps them, and the declaration's check refuses it.
     pub vanished_rows: Vec<String>,
     /// Velocity constraint rows A(q, t) q' + a(q, t) = 0 (`velocity_constraints`, the
     /// sliding rows of `rolling`): expressions linear in the rates.

@@ -16,7 +16,7 @@ pub(super) struct HhtStepper {
     /// The fixed step and the largest step allowed (s).
     h: f64,
     h_max: f64,
-    /// y' = [q', q'', tau . q'] at the start and the end of the last step.
+    /// y' = [q', q'', tau . q' + lambda . Phi_t] at the start and the end of the last step.
     f0: Vec<f64>,
     f1: Vec<f64>,
     /// tau . q' + lambda . Phi_t at the current state.
