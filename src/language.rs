@@ -111,7 +111,7 @@
 //! | `parameters { l1 = 0.08; Omega = 2*pi; }` | run-time constants with defaults: fields of the struct, changeable without a rebuild. A default is a constant expression (numbers, `pi`, arithmetic, functions, earlier parameters), never a coordinate or `t` |
 //! | `coordinates { phi = 0.0; x_c = 0.2; }` | the redundant coordinates q and their initial guesses, which pick the assembly branch |
 //! | `independent { phi = 0.0; der(phi) = 2*pi; }` | the coordinates set at t = 0 (position, and rate, default 0); the others follow from Phi(q, 0) = 0 and Phi_q q' = -Phi_t. They must fix every degree of freedom. An open tree of links needs none (every coordinate is independent) |
-//! | `kinetic = ...;` | T(q, q', t), a quadratic form in the rates `der(x)` with M positive semi-definite (optional with bodies) |
+//! | `kinetic = ...;` | T(q, q', t), a quadratic form in the rates `der(x)` with M positive semi-definite (optional with bodies); t in T or Pi is for the interpreter route only (`mechanism!` refuses it: its `mass_matrix(q)` and `gravity(q)` take no time) |
 //! | `potential = ...;` | Pi(q, t) (optional; no rates) |
 //! | `constraints { f; lhs = rhs; [a, b] = [c, d]; }` | holonomic rows Phi(q, t) = 0: `lhs = rhs` is lhs - rhs, a vector equation is one row per component. Redundant rows are allowed |
 //! | `velocity_constraints { -sin(theta)*der(x) + cos(theta)*der(y); }` | velocity rows A(q, t) q' + a(q, t) = 0, linear in the rates `der(x)` (a row that is not is refused at the row), not integrable to positions: wheels, skates, knife edges. Stacked under the position rows of Phi_q, Phi_t and gamma. A row that is a combination of the rows above it at the assembled state is refused at assembly: redundant, or contradicting them |

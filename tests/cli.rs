@@ -12,6 +12,8 @@ mod conventions;
 mod declarations;
 #[path = "cli/diagnoses.rs"]
 mod diagnoses;
+#[path = "cli/energy_balance.rs"]
+mod energy_balance;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
 #[path = "cli/implicit.rs"]

@@ -10,6 +10,7 @@ pub fn check(decl: &Declaration) -> syn::Result<()> {
     let mut errors: Vec<syn::Error> = Vec::new();
     check_identifiers(decl, &mut errors);
     check_finite(decl, &mut errors);
+    check_energies_free_of_time(decl, &mut errors);
     if errors.is_empty() {
         Ok(())
     } else {
@@ -80,6 +81,30 @@ fn check_finite(decl: &Declaration, errors: &mut Vec<syn::Error>) {
             errors.push(decl.error_at(
                 Some(s.location),
                 "the independent coordinate's initial position or rate is not a finite number",
+            ));
+        }
+    }
+}
+
+/// T and Pi must not read t: the trait's `mass_matrix(q)`, `coriolis_forces(q, q')`,
+/// `gravity(q)`, `kinetic_energy(q, q')` and `potential_energy(q)` take no time, so their
+/// expansion could not compile. The interpreter route (`Interpreted`, a `.mech` file
+/// through the command line) takes such a declaration; a moving base declared as a moving
+/// anchor (a joint row or constraint with t, the bodies in absolute coordinates) keeps T and
+/// Pi free of t and compiles.
+fn check_energies_free_of_time(decl: &Declaration, errors: &mut Vec<syn::Error>) {
+    let model = &decl.model;
+    let energies = [
+        ("kinetic energy", model.kinetic, Some(decl.spans.kinetic)),
+        ("potential energy", model.potential, decl.spans.potential),
+    ];
+    for (what, e, at) in energies {
+        if model.depends_on_time(e) {
+            errors.push(decl.error_at(
+                at.or(Some(decl.spans.kinetic)),
+                &format!(
+                    "the {what} depends on t explicitly, which `mechanism!` cannot compile (its `mass_matrix(q)`, `gravity(q)`, `kinetic_energy(q, q')` and `potential_energy(q)` take no time): declare the moving part as a moving anchor (a joint or constraint row with t), or run the declaration through the interpreter (`Interpreted`, `mechanism simulate FILE.mech`)"
+                ),
             ));
         }
     }

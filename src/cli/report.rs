@@ -124,6 +124,12 @@ fn run_lines(s: &mut String, summary: &Summary) {
         "max |T + Pi - W - (T + Pi)(0)| = {:.3e} J",
         summary.max_energy_balance_error
     );
+    if summary.energy_depends_on_time {
+        let _ = writeln!(
+            *s,
+            "  (not an error measure: T or Pi depends on t explicitly, and W leaves out the work of that dependence)"
+        );
+    }
     if !summary.singular_passages.is_empty() {
         let times: Vec<String> = summary
             .singular_passages

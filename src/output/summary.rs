@@ -197,6 +197,9 @@ pub struct Summary {
     pub max_velocity_constraint_error: f64,
     /// See [`TrajectoryMaxima::energy_balance_error`]: max_i |(T+Pi-W)_i - (T+Pi-W)_0|.
     pub max_energy_balance_error: f64,
+    /// T or Pi depends on t explicitly ([`crate::SystemInfo::energy_depends_on_time`]):
+    /// then `max_energy_balance_error` is no error measure.
+    pub energy_depends_on_time: bool,
     /// Accepted integration steps.
     pub steps: usize,
     /// Rejected steps.
@@ -266,6 +269,7 @@ impl Summary {
             max_constraint_error: max.constraint_error,
             max_velocity_constraint_error: max.velocity_constraint_error,
             max_energy_balance_error: max.energy_balance_error,
+            energy_depends_on_time: info.energy_depends_on_time,
             steps: stats.steps,
             rejected_steps: stats.rejected_steps,
             rhs_evaluations: stats.rhs_evaluations,
@@ -308,6 +312,7 @@ impl Summary {
             max_constraint_error: f64::NAN,
             max_velocity_constraint_error: f64::NAN,
             max_energy_balance_error: f64::NAN,
+            energy_depends_on_time: false,
             steps: 0,
             rejected_steps: 0,
             rhs_evaluations: 0,

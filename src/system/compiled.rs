@@ -41,6 +41,9 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                 })
                 .collect(),
             velocity_rows: T::VELOCITY_ROWS,
+            // `mechanism!` refuses a T or Pi with t in it (the trait's `mass_matrix(q)`,
+            // `gravity(q)`, `kinetic_energy(q, q')` take no time).
+            energy_depends_on_time: false,
             drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
             joint_limits: T::JOINT_LIMITS.to_vec(),
         };

@@ -61,6 +61,10 @@ pub struct SystemInfo {
     /// How many of the m rows (the last ones) are velocity constraints A q' + a = 0: rows
     /// of Phi_q (A) and Phi_t (a) with Phi = 0, not integrable to positions.
     pub velocity_rows: usize,
+    /// Whether T or Pi depends on t explicitly (a moving base written into `kinetic`): then
+    /// T + Pi - W is not constant even for an exact solution, and its drift is no error
+    /// measure ([`crate::Sample::work`] holds the work of tau and of the moving rows only).
+    pub energy_depends_on_time: bool,
     /// The declared picture (`draw { .. }`); empty when the declaration has none.
     pub drawing: Drawing,
     /// The joints' declared limits, one entry per coordinate that has any, in coordinate

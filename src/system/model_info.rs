@@ -23,6 +23,7 @@ pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
             .collect(),
         constraints: m,
         velocity_rows: model.velocity_constraints.len(),
+        energy_depends_on_time: model.energies_depend_on_time(),
         constraint_rows: model
             .constraints
             .iter()

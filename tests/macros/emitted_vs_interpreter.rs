@@ -544,6 +544,7 @@ fn unnamed_rows_are_numbered() {
         constraints: 2,
         constraint_rows: (0..2).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
+        energy_depends_on_time: false,
         drawing: Default::default(),
         joint_limits: Vec::new(),
     };

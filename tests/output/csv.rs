@@ -132,6 +132,7 @@ fn awkward_values_round_trip() {
         constraints: 1,
         constraint_rows: vec![ConstraintRow::unnamed(0)],
         velocity_rows: 0,
+        energy_depends_on_time: false,
         drawing: Default::default(),
         joint_limits: Vec::new(),
         ..info("awkward")

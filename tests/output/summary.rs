@@ -111,6 +111,7 @@ fn summary_json_has_every_key_with_its_value() {
         "max_constraint_error",
         "max_velocity_constraint_error",
         "max_energy_balance_error",
+        "energy_depends_on_time",
         "steps",
         "rejected_steps",
         "rhs_evaluations",

@@ -34,6 +34,7 @@ pub fn info(name: &str) -> SystemInfo {
         constraints: 3,
         constraint_rows: (0..3).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
+        energy_depends_on_time: false,
         drawing: Default::default(),
         joint_limits: Vec::new(),
     }

@@ -30,6 +30,7 @@ fn info(
         constraints: m,
         constraint_rows: (0..m).map(ConstraintRow::unnamed).collect(),
         velocity_rows: 0,
+        energy_depends_on_time: false,
         drawing: Default::default(),
         joint_limits: Vec::new(),
     }

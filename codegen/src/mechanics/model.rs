@@ -133,3 +133,20 @@ pub struct Model {
     /// The declared gravity vector g (world), when there is one.
     pub gravity: Option<[Id; 3]>,
 }
+
+impl Model {
+    /// Whether T or Pi depends on t explicitly (a moving base written into a declared
+    /// `kinetic`, a `potential` with t). Then d(T + Pi)/dt holds terms in dT/dt and dPi/dt
+    /// at fixed (q, q') that no generalised force or constraint row carries, so T + Pi - W is
+    /// not constant even for an exact solution.
+    pub fn energies_depend_on_time(&self) -> bool {
+        self.depends_on_time(self.kinetic) || self.depends_on_time(self.potential)
+    }
+
+    /// Whether the expression `e` of this model reads t.
+    pub fn depends_on_time(&self, e: Id) -> bool {
+        let a = &self.arena;
+        a.as_symbol(self.time)
+            .is_some_and(|time| a.depends_on_any(e, |s| s == time))
+    }
+}
