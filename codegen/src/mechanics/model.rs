@@ -136,9 +136,14 @@ pub struct Model {
 
 impl Model {
     /// Whether T or Pi depends on t explicitly (a moving base written into a declared
-    /// `kinetic`, a `potential` with t). Then d(T + Pi)/dt holds terms in dT/dt and dPi/dt
-    /// at fixed (q, q') that no generalised force or constraint row carries, so T + Pi - W is
-    /// not constant even for an exact solution.
+    /// `kinetic`, a `potential` with t). With T = T2 + T1 + T0 (quadratic, linear and free
+    /// of the rates), what the motion balances is then the Jacobi integral h = T2 - T0 + Pi,
+    ///
+    /// ```text
+    /// dh/dt = tau . q' + lambda . Phi_t - dT/dt|_(q, q') + dPi/dt|_q,
+    /// ```
+    ///
+    /// and T + Pi = h + T1 + 2 T0: T + Pi - W is not constant even for an exact solution.
     pub fn energies_depend_on_time(&self) -> bool {
         self.depends_on_time(self.kinetic) || self.depends_on_time(self.potential)
     }
