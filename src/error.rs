@@ -374,6 +374,20 @@ pub enum Error {
         /// The declared parameter names.
         known: Vec<String>,
     },
+    /// A parameter value outside the range the declaration gives the parameter
+    /// (`r = 0.1 positive;`).
+    #[error(
+        "parameter '{name}' = {value} is outside its declared range: it must be {} (declared `{}`)",
+        range.describe(), range.keyword()
+    )]
+    ParameterOutOfRange {
+        /// The parameter.
+        name: String,
+        /// The value refused.
+        value: f64,
+        /// Its declared range.
+        range: crate::system::ParameterRange,
+    },
     /// A driver (prescribed motion) on a coordinate index outside 0..n, or twice on one.
     #[error("driver on unknown coordinate index {coordinate} (the mechanism has {n} coordinates)")]
     UnknownDriver {

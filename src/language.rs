@@ -55,7 +55,7 @@
 //!
 //! ```text
 //! declaration := doc* ["pub"] "struct" NAME ";" section*
-//! section     := "parameters"  "{" (NAME "=" expr ";")* "}"
+//! section     := "parameters"  "{" (NAME "=" expr [range] ";")* "}"
 //!              | "coordinates" "{" (NAME "=" expr ";")* "}"
 //!              | "independent" "{" ((NAME | "der" "(" NAME ")") "=" expr ";")* "}"
 //!              | "kinetic" "=" expr ";"
@@ -64,6 +64,7 @@
 //!              | "velocity_constraints" "{" (row ";")* "}"
 //!              | "forces" "{" (NAME ":" expr ";")* "}"
 //!              | body_section
+//! range       := "positive" | "nonnegative"
 //! row         := expr ["=" expr] | vector ["=" vector]
 //! vector      := "[" expr ("," expr)* "]"
 //!
@@ -108,9 +109,9 @@
 //! | section | meaning |
 //! |---|---|
 //! | `pub struct Name;` | the generated struct (`pub` optional) and its `NameParameters` |
-//! | `parameters { l1 = 0.08; Omega = 2*pi; }` | run-time constants with defaults: fields of the struct, changeable without a rebuild. A default is a constant expression (numbers, `pi`, arithmetic, functions, earlier parameters), never a coordinate or `t` |
-//! | `coordinates { phi = 0.0; x_c = 0.2; }` | the redundant coordinates q and their initial guesses, which pick the assembly branch |
-//! | `independent { phi = 0.0; der(phi) = 2*pi; }` | the coordinates set at t = 0 (position, and rate, default 0); the others follow from Phi(q, 0) = 0 and Phi_q q' = -Phi_t. They must fix every degree of freedom. An open tree of links needs none (every coordinate is independent) |
+//! | `parameters { l1 = 0.08 positive; Omega = 2*pi; }` | run-time constants with defaults: fields of the struct, changeable without a rebuild. A default is a constant expression (numbers, `pi`, arithmetic, functions, earlier parameters), never a coordinate or `t`; it is evaluated once, with the defaults before it (setting `l1` later does not change a default written with `l1`). A default may be followed by its range: `positive` (> 0: a length, a radius) or `nonnegative` (>= 0: a mass, a moment of inertia). The default must lie in it, and `set_parameter`, `--set` and sweeps refuse a value outside it with the reason |
+//! | `coordinates { phi = 0.0; x_c = l1/2; }` | the redundant coordinates q and their initial guesses, which pick the assembly branch. A guess may be written with parameters: it is evaluated at their current values (after `--set`, `set_parameter` or a change of a field) |
+//! | `independent { phi = 0.0; der(phi) = Omega; }` | the coordinates set at t = 0 (position, and rate, default 0); the others follow from Phi(q, 0) = 0 and Phi_q q' = -Phi_t. They must fix every degree of freedom. An open tree of links needs none (every coordinate is independent). Values written with parameters follow their current values, as the guesses do |
 //! | `kinetic = ...;` | T(q, q', t), a quadratic form in the rates `der(x)` with M positive semi-definite (optional with bodies); t in T or Pi is for the interpreter route only (`mechanism!` refuses it: its `mass_matrix(q)` and `gravity(q)` take no time) |
 //! | `potential = ...;` | Pi(q, t) (optional; no rates) |
 //! | `constraints { f; lhs = rhs; [a, b] = [c, d]; }` | holonomic rows Phi(q, t) = 0: `lhs = rhs` is lhs - rhs, a vector equation is one row per component. Redundant rows are allowed |
@@ -155,7 +156,8 @@
 //! coordinate, a non-constant parameter default, a missing file, a kinetic energy that is
 //! not a quadratic form in the rates or whose M is not positive semi-definite at the
 //! declared values, constants whose folded value overflows, a body without `mass`, a
-//! negative mass, an inertia that is not symmetric or breaks the triangle inequality, an
+//! negative mass, a `rolling` wheel whose radius is zero or negative, a parameter default
+//! outside its declared range (or a word after a default that is no range), an inertia that is not symmetric or breaks the triangle inequality, an
 //! `orientation` that is not a rotation, and `der(y)` in `independent` for a `y` the section
 //! does not set. Derivations have a budget (2^24 expression nodes, `MECHANISM_MAX_SIZE`;
 //! 2^27 nonzero entries of dM/dq, `MECHANISM_MAX_ENTRIES`; 2^31 units of work,
@@ -167,8 +169,12 @@
 //! values) and the mechanism `Name`, which holds them (readable and writable as fields
 //! through `Deref`) with the values that depend on parameters only, computed once per
 //! parameter set; constants `NAME`, `N`, `M`, `COORDINATES`, `PARAMETERS`,
-//! `INITIAL_GUESS`, `INDEPENDENT`, the drawing's `DRAW_POINTS`, `DRAW_LINES` and
+//! `PARAMETER_DEFAULTS`, `PARAMETER_RANGES`, `INITIAL_GUESS` and `INDEPENDENT` (the
+//! initial values at the declared defaults), the drawing's `DRAW_POINTS`, `DRAW_LINES` and
 //! `DRAW_TRACES`, a link tree's `JOINT_LIMITS`; and `impl` [`Mechanism<N, M>`](crate::Mechanism) with every method of
-//! that trait as straight-line, allocation-free code. A tree of links also gets the
+//! that trait as straight-line, allocation-free code: among them `initial_guess()` and
+//! `independent(k)`, the initial values evaluated from the parameters as they are now, and
+//! `set_parameter`, which refuses a value outside the declared range
+//! ([`ParameterError`](crate::ParameterError)); a field written directly is not checked. A tree of links also gets the
 //! robotics methods (`frame_placement`, `frame_jacobian`, `inverse_dynamics`,
 //! `mass_and_bias`, `forward_dynamics`).

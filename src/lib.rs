@@ -158,7 +158,7 @@ pub use crate::simulation::sweep::{ParameterSet, sweep};
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
 pub use crate::system::{
     Accelerations, Coordinates, EvaluationSlices, Independent, JointLimits, Mechanism, Multipliers,
-    StaticEvaluation, StaticSparsity, Velocities,
+    ParameterError, ParameterRange, StaticEvaluation, StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
@@ -201,6 +201,7 @@ struct ReadmeDoctests;
 /// Not API: what generated code names.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::system::check_parameter;
     pub use nalgebra::ArrayStorage;
     pub use nalgebra::{SMatrix, SVector};
 }

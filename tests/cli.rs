@@ -30,6 +30,8 @@ mod joint_limits;
 mod outputs;
 #[path = "cli/ownership.rs"]
 mod ownership;
+#[path = "cli/parameter_values.rs"]
+mod parameter_values;
 #[path = "cli/run_values.rs"]
 mod run_values;
 #[path = "cli/scale.rs"]

@@ -19,7 +19,7 @@
 //! same augmented solve and integrators run on it.
 
 use mechanism::nalgebra::DMatrix;
-use mechanism::{Evaluation, Kinematic, System, SystemInfo};
+use mechanism::{Evaluation, Kinematic, ParameterError, System, SystemInfo};
 use num_dual::{Dual64, DualNum, HyperDual64};
 
 /// A mechanism written by hand as generic functions of dual numbers: `N` coordinates, `M`
@@ -170,13 +170,14 @@ impl<A: AdModel<N, M>, const N: usize, const M: usize> System for AutoDiff<A, N,
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.values);
     }
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        if index >= self.values.len() {
-            return false;
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        let count = self.values.len();
+        if index >= count {
+            return Err(ParameterError::NoSuchParameter { index, count });
         }
         self.values[index] = value;
         self.model = A::from_parameters(&self.info.parameters, &self.values);
-        true
+        Ok(())
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
         let (q, qd) = (fixed::<N>(q), fixed::<N>(qd));

@@ -25,7 +25,9 @@ pub fn n_four_bar_source(n: usize) -> String {
     let mut s = String::new();
     header(&mut s, n);
     let _ = writeln!(s, "pub struct NFourBar{n};");
-    s.push_str("parameters { m = 1.0; L = 1.0; g = 9.81; }    // kg, m, m/s^2\n");
+    s.push_str(
+        "parameters { m = 1.0 nonnegative; L = 1.0 positive; g = 9.81; }    // kg, m, m/s^2\n",
+    );
     s.push_str("coordinates {\n");
     for i in 0..rockers {
         let _ = writeln!(s, "    x{i} = {i}.0; y{i} = 1.0;");

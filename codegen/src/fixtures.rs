@@ -12,7 +12,9 @@
 
 use crate::algebra::expr::{Arena, Id, SymbolKind};
 use crate::error::Location;
-use crate::mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+use crate::mechanics::model::{
+    Constraint, Coordinate, IndependentSpec, Model, Parameter, ParameterRange,
+};
 use crate::number::Number;
 
 /// The exact constant num/den (den > 0 here).
@@ -69,11 +71,18 @@ pub fn closed_chain_model(n: usize) -> Model {
     let (kinetic, potential) = chain_energies(&mut a, &coordinates, &sin, &cos, g);
     let constraints = chain_constraints(&mut a, &sin, &cos);
     let zero = a.int(0);
+    // The guesses as expressions, made last so that the equations' nodes keep their ids.
+    let mut coordinates = coordinates;
+    for c in &mut coordinates {
+        c.guess_expr = a.float(c.guess).unwrap_or(zero);
+    }
     let independent = (0..n.saturating_sub(2))
         .map(|k| IndependentSpec {
             coordinate: k,
             position: guess[k],
             velocity: 0.0,
+            position_expr: coordinates[k].guess_expr,
+            velocity_expr: None,
             location: Location::default(),
         })
         .collect();
@@ -90,6 +99,7 @@ pub fn closed_chain_model(n: usize) -> Model {
             name: "g".into(),
             symbol: g,
             default: GRAVITY,
+            range: ParameterRange::Any,
             location: Location::default(),
         }],
         coordinates,
@@ -121,6 +131,8 @@ fn chain_coordinates(a: &mut Arena, guess: &[f64]) -> Vec<Coordinate> {
             qd,
             qdd,
             guess: theta,
+            // Set to the number itself once the equations are built (`closed_chain_model`).
+            guess_expr: q,
             location: Location::default(),
         });
     }

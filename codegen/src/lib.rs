@@ -99,7 +99,9 @@ pub use mechanics::derivation::{derive, derive_with};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
 pub use mechanics::lagrange::Route;
-pub use mechanics::model::{Constraint, Coordinate, IndependentSpec, Model, Parameter};
+pub use mechanics::model::{
+    Constraint, Coordinate, IndependentSpec, Model, Parameter, ParameterRange,
+};
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{
     ConstraintTangent, ResidualTangent, constraint_tangent, residual_tangent,

@@ -40,6 +40,10 @@ struct Tables {
     coordinate_names: Vec<String>,
     guesses: Vec<TokenStream>,
     independent: Vec<TokenStream>,
+    /// The coordinate index of each independent entry.
+    independent_coordinates: Vec<usize>,
+    /// `Krate::ParameterRange::X` per parameter.
+    ranges: Vec<TokenStream>,
     row_joints: Vec<String>,
     row_components: Vec<String>,
     velocity_rows: usize,
@@ -78,6 +82,17 @@ impl Tables {
             coordinate_names: model.coordinates.iter().map(|c| c.name.clone()).collect(),
             guesses: model.coordinates.iter().map(|c| float(c.guess)).collect(),
             independent,
+            independent_coordinates: model.independent.iter().map(|s| s.coordinate).collect(),
+            ranges: (model.parameters.iter())
+                .map(|p| {
+                    let range = match p.range {
+                        mechanism_codegen::ParameterRange::Any => quote!(Any),
+                        mechanism_codegen::ParameterRange::Positive => quote!(Positive),
+                        mechanism_codegen::ParameterRange::NonNegative => quote!(NonNegative),
+                    };
+                    quote!(#krate::ParameterRange::#range)
+                })
+                .collect(),
             row_joints: rows().map(|c| c.joint.clone()).collect(),
             row_components: rows().map(|c| c.component.clone()).collect(),
         }
@@ -256,11 +271,15 @@ fn expand_cache_methods(t: &Tables, g: &Generated, params: &Ident) -> TokenStrea
     let name = &t.name;
     let k = g.cache_len;
     let cache = &g.cache;
+    let initial_values = &g.initial_values;
+    let n = t.n;
+    let k2 = 2 * t.independent.len();
     quote! {
         #[allow(
             dead_code,
             non_snake_case,
             unused_variables,
+            unused_mut,
             clippy::approx_constant,
             clippy::excessive_precision,
             clippy::unreadable_literal,
@@ -303,6 +322,13 @@ fn expand_cache_methods(t: &Tables, g: &Generated, params: &Ident) -> TokenStrea
             fn parameter_cache(p: &#params) -> [f64; #k] {
                 #cache
             }
+
+            /// The declared initial guesses, and the position and rate of each independent
+            /// coordinate in turn, at the parameters `p` (the declared expressions, read
+            /// from the parameters themselves, never from the cache).
+            fn initial_values(p: &#params) -> ([f64; #n], [f64; #k2]) {
+                #initial_values
+            }
         }
     }
 }
@@ -318,6 +344,7 @@ fn expand_constants(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStrea
         m,
         p,
         defaults,
+        ranges,
         parameter_names,
         coordinate_names,
         guesses,
@@ -345,9 +372,13 @@ fn expand_constants(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStrea
             pub const #param_const: [&'static str; #p] = [#(#parameter_names),*];
             /// Declared parameter defaults, in declaration order.
             pub const PARAMETER_DEFAULTS: [f64; #p] = [#(#defaults),*];
-            /// Declared initial guesses for q.
+            /// Declared parameter ranges (`positive`, `nonnegative`), in declaration order.
+            pub const PARAMETER_RANGES: [#krate::ParameterRange; #p] = [#(#ranges),*];
+            /// Declared initial guesses for q, at the declared parameter defaults
+            /// (`initial_guess()` gives them at the current values).
             pub const INITIAL_GUESS: [f64; #n] = [#(#guesses),*];
-            /// The independent coordinates and their initial values.
+            /// The independent coordinates and their initial values, at the declared
+            /// parameter defaults (`independent(k)` gives them at the current values).
             pub const INDEPENDENT: [#krate::Independent; #k] = [#(#independent),*];
             /// The joint and the component of each constraint row, in row order.
             pub const CONSTRAINT_ROWS: [(&'static str, &'static str); #m] =
@@ -380,12 +411,15 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
         coordinate_names,
         guesses,
         independent,
+        independent_coordinates,
+        ranges,
         row_joints,
         row_components,
         velocity_rows,
         ..
     } = t;
     let indices: Vec<usize> = (0..*p).collect();
+    let entries: Vec<usize> = (0..independent.len()).collect();
     let methods = expand_equation_methods(decl, t, g);
     let drawing = drawing_constants(decl);
     let joint_limits = joint_limit_constants(decl);
@@ -400,6 +434,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
             const PARAMETERS: &'static [&'static str] = &[#(#parameter_names),*];
             const INITIAL_GUESS: [f64; #n] = [#(#guesses),*];
             const INDEPENDENT: &'static [#krate::Independent] = &[#(#independent),*];
+            const PARAMETER_RANGES: &'static [#krate::ParameterRange] = &[#(#ranges),*];
             const CONSTRAINT_ROWS: &'static [(&'static str, &'static str)] =
                 &[#((#row_joints, #row_components)),*];
             const VELOCITY_ROWS: usize = #velocity_rows;
@@ -412,15 +447,38 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
                     _ => ::core::option::Option::None,
                 }
             }
-            fn set_parameter(&mut self, index: usize, value: f64) -> bool {
+            fn set_parameter(
+                &mut self,
+                index: usize,
+                value: f64,
+            ) -> ::core::result::Result<(), #krate::ParameterError> {
+                #krate::__private::check_parameter(
+                    index,
+                    value,
+                    #p,
+                    <Self as #krate::Mechanism<#n, #m>>::PARAMETER_RANGES,
+                )?;
                 match index {
-                    #(#indices => {
-                        self.__parameters.#fields = value;
-                        self.refresh();
-                        true
-                    })*
-                    _ => false,
+                    #(#indices => self.__parameters.#fields = value,)*
+                    _ => {}
                 }
+                self.refresh();
+                ::core::result::Result::Ok(())
+            }
+            fn initial_guess(&self) -> [f64; #n] {
+                #name::initial_values(&self.__parameters).0
+            }
+            fn independent(&self, k: usize) -> ::core::option::Option<#krate::Independent> {
+                let values = #name::initial_values(&self.__parameters).1;
+                let coordinate = match k {
+                    #(#entries => #independent_coordinates,)*
+                    _ => return ::core::option::Option::None,
+                };
+                ::core::option::Option::Some(#krate::Independent {
+                    coordinate,
+                    position: *values.get(2 * k)?,
+                    velocity: *values.get(2 * k + 1)?,
+                })
             }
             fn refresh(&mut self) {
                 #name::refresh(self);

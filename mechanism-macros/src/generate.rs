@@ -84,6 +84,9 @@ pub struct Generated {
     pub frame_jacobians: Vec<TokenStream>,
     /// The link frames' names.
     pub frame_names: Vec<String>,
+    /// `fn(p: &Parameters) -> ([f64; n], [f64; 2 k])`'s body: the initial guesses and the
+    /// independent coordinates' positions and rates at the parameters `p`.
+    pub initial_values: TokenStream,
     /// The number of cached parameter-only values.
     pub cache_len: usize,
     /// `fn(p: &Parameters) -> [f64; cache_len]`'s body: the cached values.
@@ -137,6 +140,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
                 .map(|k| b.matrix(Role::FrameJacobian(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
             frame_names: eqs.frames.iter().map(|f| f.name.clone()).collect(),
+            initial_values: b.initial_values()?,
             cache_len: routines.cache_len(),
             cache: b.cache()?,
             routines: routines.fingerprint(),
@@ -509,6 +513,28 @@ impl Bodies<'_> {
             let mut damping = #krate::__private::SMatrix::<f64, #n, #n>::zeros();
             #body
             ::core::option::Option::Some((stiffness, damping))
+        })
+    }
+
+    /// The body of `fn initial_values(p: &Parameters) -> ([f64; n], [f64; 2 k])`: the
+    /// program of [`Role::InitialValues`], reading the parameters from `p` (never the
+    /// cache, so a field changed without `refresh` is followed).
+    fn initial_values(&self) -> mechanism_codegen::Result<TokenStream> {
+        let role = Role::InitialValues;
+        let program = self.routines.program(role)?;
+        let rows = |k: usize| program.outputs().get(k).map_or(0, |o| o.rows);
+        let (n, k2) = (rows(0), rows(1));
+        let vector = |name| OutputTarget::Vector {
+            name,
+            zeroed: false,
+        };
+        let targets = [vector(quote!(guess)), vector(quote!(values))];
+        let body = emit_body(program, &self.bindings_with(role, quote!(p)), &targets)?.tokens;
+        Ok(quote! {
+            let mut guess = [0.0_f64; #n];
+            let mut values = [0.0_f64; #k2];
+            #body
+            (guess, values)
         })
     }
 

@@ -6,11 +6,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use super::CliError;
-use super::args::{
-    CommonArgs, FiguresArg, LinearizeArgs, ViewArg, check_repeated, split_assignment,
-};
-use super::load::{did_you_mean, finite_constant, key_of, load_for_linearization};
-use super::physical::initial_values;
+use super::args::{CommonArgs, FiguresArg, LinearizeArgs, ViewArg};
+use super::load::{key_of, load_for_linearization};
+use super::physical::{apply_sets, initial_values};
 use super::stdio::print;
 use mechanism::output::{OutputError, write_atomically};
 use mechanism::{AssemblyOptions, SteadyLinearization, SteadyOptions, System};
@@ -21,27 +19,9 @@ pub const LINEARIZATION_FILE: &str = "linearization.json";
 
 /// Runs `linearize` with `a`.
 pub fn run(a: &LinearizeArgs) -> Result<(), CliError> {
-    check_repeated("--set", &a.set)?;
-    let mut values = Vec::with_capacity(a.set.len());
-    for s in &a.set {
-        let (name, value) = split_assignment(s)
-            .ok_or_else(|| CliError::Argument(format!("--set takes PARAM=VALUE, got `{s}`")))?;
-        let v =
-            finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
-        values.push((name, v));
-    }
-    let loaded = load_for_linearization(&a.mechanism, &values)?;
+    let mut loaded = load_for_linearization(&a.mechanism)?;
+    apply_sets(&mut loaded, &a.set)?;
     let system = loaded.system.as_ref();
-    let info = system.info();
-    for (name, _) in &values {
-        if info.parameter_index(name).is_none() {
-            return Err(CliError::Argument(format!(
-                "--set: unknown parameter `{name}`{}; parameters: {}",
-                did_you_mean(name, &info.parameters),
-                info.parameters.join(", ")
-            )));
-        }
-    }
     let (independent, guess) = initial_values(system, &common(a))?;
     let state = assemble_from(
         system,

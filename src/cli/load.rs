@@ -77,14 +77,14 @@ pub fn load(spec: &str, tangents: Tangents) -> Result<Loaded, CliError> {
     }
 }
 
-/// Loads `spec` like [`load`], always through the interpreter route, with the parameters
-/// named in `values` set before the model is built (so the declared independent values
-/// that depend on them follow) and the constraint rows' tangents compiled
-/// ([`Interpreted::for_linearization`]), for `linearize`.
+/// Loads `spec` like [`load`], always through the interpreter route and with the
+/// constraint rows' tangents compiled ([`Interpreted::for_linearization`]), for
+/// `linearize`. Its `--set` values are applied afterwards as for every other command
+/// (`physical::apply_sets`): the initial values written with parameters follow them.
 ///
 /// # Errors
 /// As [`load`].
-pub fn load_for_linearization(spec: &str, values: &[(&str, f64)]) -> Result<Loaded, CliError> {
+pub fn load_for_linearization(spec: &str) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
     let (source, key) = if is_file_spec(spec) {
         let source = read_input(path)
@@ -99,9 +99,10 @@ pub fn load_for_linearization(spec: &str, values: &[(&str, f64)]) -> Result<Load
         })?;
         (source.to_string(), spec.to_string())
     };
-    let system = mechanism_codegen::parse_model_str_at(&source, values)
-        .and_then(Interpreted::for_linearization)
-        .map_err(|e| CliError::Mechanism(located(spec, &e)))?;
+    let system = mechanism_codegen::parse_model_str_with(&source, derivation_budget()?)
+        .and_then(Interpreted::for_linearization);
+    derivation_done();
+    let system = system.map_err(|e| CliError::Mechanism(located(spec, &e)))?;
     Ok(Loaded::new(Box::new(system), spec, key, source))
 }
 

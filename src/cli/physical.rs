@@ -3,9 +3,12 @@
 //! the declaration's checks and a mass matrix with no negative direction, `--init` values
 //! within a range where a step can still change them.
 //!
-//! - **`--set`.** The declaration is built again with the parameters at their new values
-//!   ([`mechanism_codegen::check_parameter_values`]): a body's mass not negative, its
-//!   inertia physically possible, its orientation a rotation. Then, as the derivation tests
+//! - **`--set`.** A value outside the parameter's declared range (`r = 0.1 positive;`) is
+//!   refused by `set_parameter` itself. The declaration is built again with the parameters
+//!   at their new values ([`mechanism_codegen::check_parameter_values`]): a body's mass not
+//!   negative, a wheel's radius positive, its inertia physically possible, its orientation
+//!   a rotation. The initial guesses and independent values written with parameters follow
+//!   the new values (`System::set_parameter` evaluates them again). Then, as the derivation tests
 //!   T at the declared values, M(q) at the initial guesses (t = 0) must have no eigenvalue
 //!   below -1e-9 times its largest entry: a negative mass or inertia written into T
 //!   directly (`1/2*m2*v^2` with `m2 = -1`) shows there. The error names the `--set` that
@@ -64,9 +67,10 @@ pub fn check_set_values(loaded: &mut Loaded, sets: &[(usize, String)]) -> Result
     for (index, text) in sets {
         let mut values = vec![0.0; loaded.declared.len()];
         loaded.system.parameter_values(&mut values);
-        loaded.system.set_parameter(*index, loaded.declared[*index]);
-        let passes_without = check_values(loaded).is_ok();
-        loaded.system.set_parameter(*index, values[*index]);
+        // The declared value and the value set were both admitted: neither can be refused.
+        let undone = loaded.system.set_parameter(*index, loaded.declared[*index]);
+        let passes_without = undone.is_ok() && check_values(loaded).is_ok();
+        let _ = loaded.system.set_parameter(*index, values[*index]);
         if passes_without {
             blamed.push(text.as_str());
             break;
@@ -169,7 +173,14 @@ pub fn apply_sets(loaded: &mut Loaded, sets: &[String]) -> Result<(), CliError> 
         })?;
         let v =
             finite_constant(value).map_err(|e| CliError::Argument(format!("--set {name}: {e}")))?;
-        system.set_parameter(index, v);
+        let range = info.parameter_range(index);
+        system.set_parameter(index, v).map_err(|_| {
+            CliError::Argument(format!(
+                "--set {name}={value}: `{name}` must be {} (its declaration says `{}`), got {v}",
+                range.describe(),
+                range.keyword()
+            ))
+        })?;
         applied.push((index, format!("{name}={value}")));
     }
     if applied.is_empty() {

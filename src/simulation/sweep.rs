@@ -13,7 +13,9 @@ use crate::system::System;
 pub type ParameterSet = Vec<(String, f64)>;
 
 /// A clone of `system` with the named parameters set ([`Error::UnknownParameter`] for a
-/// name the system does not declare, [`Error::NonFinite`] for a NaN or infinite value).
+/// name the system does not declare, [`Error::NonFinite`] for a NaN or infinite value,
+/// [`Error::ParameterOutOfRange`] for one outside the declared range); the initial values
+/// of its `info` follow them.
 fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Result<S, Error> {
     let mut s = system.clone();
     for (name, value) in set {
@@ -30,7 +32,12 @@ fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Resu
                 t: 0.0,
             });
         }
-        s.set_parameter(i, *value);
+        s.set_parameter(i, *value)
+            .map_err(|_| Error::ParameterOutOfRange {
+                name: name.clone(),
+                value: *value,
+                range: s.info().parameter_range(i),
+            })?;
     }
     Ok(s)
 }
@@ -38,7 +45,8 @@ fn with_parameters<S: System + Clone>(system: &S, set: &[(String, f64)]) -> Resu
 /// Applies `f` to a clone of `system` for each parameter set, in parallel (feature
 /// `parallel`); results in the order of `sets`. A set that names a parameter the system
 /// does not declare gives [`Error::UnknownParameter`] in its place, one with a NaN or
-/// infinite value [`Error::NonFinite`].
+/// infinite value [`Error::NonFinite`], one outside a declared range
+/// [`Error::ParameterOutOfRange`].
 pub fn sweep<S, R, F>(system: &S, sets: &[ParameterSet], f: F) -> Vec<Result<R, Error>>
 where
     S: System + Clone,

@@ -6,14 +6,16 @@ use super::drawing::Drawing;
 use super::dynamic::{Evaluation, Kinematic, SolverKey, System, Tangent};
 use super::info::{ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
+use super::parameter_range::ParameterError;
 use super::sparsity::Sparsity;
 use crate::linalg::{FixedNullSpace, NullSpaceSolve};
 
 /// Adapts a compiled [`Mechanism`] to the run-time [`System`] interface.
 #[derive(Clone, Debug)]
 pub struct Compiled<T, const N: usize, const M: usize> {
-    /// The compiled mechanism (its fields are the parameters).
-    pub mechanism: T,
+    /// The compiled mechanism (its fields are the parameters). Private: a parameter is set
+    /// through [`System::set_parameter`], which keeps `info`'s initial values with it.
+    mechanism: T,
     info: SystemInfo,
     /// The run-time copy of `T::SPARSITY`.
     sparsity: Option<Sparsity>,
@@ -28,8 +30,13 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
             name: T::NAME.to_string(),
             coordinates: T::COORDINATES.iter().map(|s| s.to_string()).collect(),
             parameters: T::PARAMETERS.iter().map(|s| s.to_string()).collect(),
-            initial_guess: T::INITIAL_GUESS.to_vec(),
-            independent: T::INDEPENDENT.to_vec(),
+            parameter_ranges: (0..T::PARAMETERS.len())
+                .map(|k| T::PARAMETER_RANGES.get(k).copied().unwrap_or_default())
+                .collect(),
+            initial_guess: mechanism.initial_guess().to_vec(),
+            independent: (0..T::INDEPENDENT.len())
+                .filter_map(|k| mechanism.independent(k))
+                .collect(),
             constraints: M,
             constraint_rows: (0..M)
                 .map(|k| match T::CONSTRAINT_ROWS.get(k) {
@@ -53,6 +60,16 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
             info,
             sparsity,
         }
+    }
+
+    /// The compiled mechanism, with the parameters as set.
+    pub fn mechanism(&self) -> &T {
+        &self.mechanism
+    }
+
+    /// The compiled mechanism, given back.
+    pub fn into_inner(self) -> T {
+        self.mechanism
     }
 }
 
@@ -95,8 +112,15 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
             *o = self.mechanism.parameter(i).unwrap_or(f64::NAN);
         }
     }
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.mechanism.set_parameter(index, value)
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        self.mechanism.set_parameter(index, value)?;
+        self.info.initial_guess = self.mechanism.initial_guess().to_vec();
+        for (k, entry) in self.info.independent.iter_mut().enumerate() {
+            if let Some(now) = self.mechanism.independent(k) {
+                *entry = now;
+            }
+        }
+        Ok(())
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
         // With a pattern, M and Phi_q of a large mechanism are written in place at their

@@ -4,6 +4,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::info::SystemInfo;
+use super::parameter_range::ParameterError;
 use super::sparsity::Sparsity;
 use crate::linalg::NullSpaceSolve;
 
@@ -85,8 +86,14 @@ pub trait Kinematic: Send + Sync {
 pub trait System: Kinematic {
     /// Current parameter values, in declaration order (written into `out`).
     fn parameter_values(&self, out: &mut [f64]);
-    /// Sets parameter `index`; returns false when out of range.
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool;
+    /// Sets parameter `index` to `value`; the initial guesses and independent values of
+    /// [`Kinematic::info`] follow it (the declared expressions evaluated again).
+    ///
+    /// # Errors
+    /// [`ParameterError::NoSuchParameter`] for an index past the last parameter,
+    /// [`ParameterError::OutOfRange`] for a value outside the parameter's declared range
+    /// ([`SystemInfo::parameter_ranges`]); nothing changes then.
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError>;
     /// Everything at (t, q, q'): see [`Evaluation`]. A system with a [`System::sparsity`]
     /// may write M and Phi_q at their pattern only: `out` must then come from
     /// [`Evaluation::zeros`] and be written by this system alone.

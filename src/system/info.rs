@@ -4,6 +4,7 @@
 use super::drawing::Drawing;
 use super::joint_limits::JointLimits;
 use super::mechanism::Independent;
+use super::parameter_range::ParameterRange;
 
 /// Where one scalar constraint row comes from: the statement that declared it and which of
 /// its rows it is. Lets the runtime name a row (`revolute(B1, B2, z, z) y`) and the joints
@@ -41,7 +42,9 @@ impl ConstraintRow {
     }
 }
 
-/// Names and declared data of a system, fixed for its lifetime.
+/// Names and declared data of a system. The names, sizes and rows are fixed for its
+/// lifetime; the initial guesses and the independent values are the declared expressions
+/// at the current parameter values: [`crate::System::set_parameter`] evaluates them again.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SystemInfo {
     /// Mechanism name.
@@ -50,9 +53,12 @@ pub struct SystemInfo {
     pub coordinates: Vec<String>,
     /// Parameter names, in declaration order.
     pub parameters: Vec<String>,
-    /// Declared initial guesses for q.
+    /// The range each parameter's declaration gives it, in declaration order (one entry per
+    /// parameter; [`ParameterRange::Any`] where none is declared).
+    pub parameter_ranges: Vec<ParameterRange>,
+    /// Declared initial guesses for q, at the current parameter values.
     pub initial_guess: Vec<f64>,
-    /// Independent coordinates and their initial values.
+    /// Independent coordinates and their initial values, at the current parameter values.
     pub independent: Vec<Independent>,
     /// Number of constraint rows m.
     pub constraints: usize,
@@ -92,6 +98,13 @@ impl SystemInfo {
     /// Index of the parameter called `name`.
     pub fn parameter_index(&self, name: &str) -> Option<usize> {
         self.parameters.iter().position(|c| c == name)
+    }
+    /// The declared range of parameter `index` ([`ParameterRange::Any`] out of range).
+    pub fn parameter_range(&self, index: usize) -> ParameterRange {
+        self.parameter_ranges
+            .get(index)
+            .copied()
+            .unwrap_or_default()
     }
     /// The label of constraint row `row` (0-based): the joint, then a space and the
     /// component if there is one (`revolute(B1, B2, z, z) y`, `constraint 2`); `row k`

@@ -25,7 +25,9 @@ use crate::system::parameters::Parameters;
 use crate::system::routine::{Routine, Values};
 use crate::system::scatter::EvaluationScatter;
 use crate::system::sparsity::Sparsity;
-use crate::system::{ConstraintTangent, Evaluation, Kinematic, System, SystemInfo, Tangent};
+use crate::system::{
+    ConstraintTangent, Evaluation, Kinematic, ParameterError, System, SystemInfo, Tangent,
+};
 
 /// A mechanism interpreted from its declaration. For its constraint rows alone (assembly,
 /// the mobility), [`crate::InterpretedConstraints`] compiles much less.
@@ -194,7 +196,15 @@ impl Interpreted {
             parameters: Parameters::new(&model, &routines)?,
             routines: routines.fingerprint(),
             info: system_info(&model, m),
-        })
+        }
+        .with_initial_values())
+    }
+
+    /// This system with [`SystemInfo`]'s initial values computed by the routines'
+    /// [`Role::InitialValues`] program, the one that evaluates them after each change.
+    fn with_initial_values(mut self) -> Self {
+        self.parameters.write_initial_values(&mut self.info);
+        self
     }
 
     /// [`mechanism_codegen::Routines::fingerprint`] of the routines this system's tapes run:
@@ -243,8 +253,10 @@ impl System for Interpreted {
         }
     }
 
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.parameters.set(index, value)
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        self.parameters.set(index, value)?;
+        self.parameters.write_initial_values(&mut self.info);
+        Ok(())
     }
 
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {

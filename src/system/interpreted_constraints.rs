@@ -13,7 +13,7 @@ use nalgebra::DMatrix;
 use crate::system::constraint_rows::ConstraintRows;
 use crate::system::model_info::system_info;
 use crate::system::parameters::Parameters;
-use crate::system::{Kinematic, SystemInfo};
+use crate::system::{Kinematic, ParameterError, SystemInfo};
 
 /// The [`Kinematic`] face of a derived declaration: its names and constraint rows, with the
 /// parameters at their declared defaults until [`InterpretedConstraints::set_parameter`]
@@ -57,10 +57,13 @@ impl InterpretedConstraints {
         let routines = compile_constraints(&mut model, eqs)?;
         let (n, m) = (model.coordinates.len(), eqs.m);
         let pattern = routines.sparsity(EvaluationOutput::PhiQ)?.entries;
+        let parameters = Parameters::new(&model, &routines)?;
+        let mut info = system_info(&model, m);
+        parameters.write_initial_values(&mut info);
         Ok(Self {
             rows: ConstraintRows::new(&routines, &pattern, (m, n))?,
-            parameters: Parameters::new(&model, &routines)?,
-            info: system_info(&model, m),
+            parameters,
+            info,
         })
     }
 
@@ -72,9 +75,15 @@ impl InterpretedConstraints {
 
     /// Sets parameter `index` (in [`SystemInfo::parameters`]) to `value`, as
     /// [`crate::System::set_parameter`] does for a whole system: the rows' parameter-only
-    /// values are recomputed. Returns false when `index` is out of range.
-    pub fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.parameters.set(index, value)
+    /// values and the initial values of [`Kinematic::info`] are recomputed.
+    ///
+    /// # Errors
+    /// As [`crate::System::set_parameter`]: an index out of range, a value outside the
+    /// declared range.
+    pub fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        self.parameters.set(index, value)?;
+        self.parameters.write_initial_values(&mut self.info);
+        Ok(())
     }
 }
 

@@ -12,6 +12,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::parameter_range::{ParameterError, ParameterRange};
 use super::sparsity::{EvaluationSlices, StaticSparsity};
 
 /// q, the N coordinates of a mechanism with static sizes (lengths in m, angles in rad).
@@ -128,10 +129,18 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     const COORDINATES: [&'static str; N];
     /// Parameter names, in declaration order.
     const PARAMETERS: &'static [&'static str];
-    /// Declared initial guesses for q (the start of the assembly Newton iteration).
+    /// Declared initial guesses for q (the start of the assembly Newton iteration), at the
+    /// declared parameter defaults: a guess written with parameters (`z = r;`) is
+    /// evaluated there. [`Mechanism::initial_guess`] gives them at the current values.
     const INITIAL_GUESS: [f64; N];
-    /// The independent coordinates and their initial values.
+    /// The independent coordinates and their initial values, at the declared parameter
+    /// defaults (`der(th) = v/r` evaluated with the default v and r).
+    /// [`Mechanism::independent`] gives them at the current values.
     const INDEPENDENT: &'static [Independent];
+    /// The range each parameter's declaration gives it (`r = 0.1 positive;`), in
+    /// declaration order; empty (the default) when no parameter has one.
+    /// [`Mechanism::set_parameter`] refuses a value outside it.
+    const PARAMETER_RANGES: &'static [ParameterRange] = &[];
     /// The joint and the component of each constraint row, in row order (see
     /// [`super::ConstraintRow`]): `("revolute(B1, B2, z, z)", "y")`, `("constraint 2", "")`. Empty
     /// for hand-written impls ([`super::Compiled::new`] then names the rows `row 1`, `row 2`, ..).
@@ -153,8 +162,27 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
 
     /// Value of parameter `index` (declaration order), or `None` out of range.
     fn parameter(&self, index: usize) -> Option<f64>;
-    /// Sets parameter `index`; returns false when out of range.
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool;
+    /// Sets parameter `index` to `value` and refreshes the cached values
+    /// ([`Mechanism::refresh`]).
+    ///
+    /// # Errors
+    /// [`ParameterError::NoSuchParameter`] for an index past the last parameter,
+    /// [`ParameterError::OutOfRange`] for a value outside the declared range
+    /// ([`Mechanism::PARAMETER_RANGES`]); the parameter keeps its value.
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError>;
+    /// The initial guesses for q at the current parameter values: the declared expressions
+    /// (`z = r;`) evaluated from the parameters as they are now, through
+    /// [`Mechanism::set_parameter`] or a field. Equal to [`Mechanism::INITIAL_GUESS`] at
+    /// the defaults; by default (a hand-written impl) that constant.
+    fn initial_guess(&self) -> [f64; N] {
+        Self::INITIAL_GUESS
+    }
+    /// Entry `k` of [`Mechanism::INDEPENDENT`] with its position and rate at the current
+    /// parameter values (`der(th) = v/r` with v and r as they are now); `None` for `k` past
+    /// the last. By default (a hand-written impl) the constant's entry.
+    fn independent(&self, k: usize) -> Option<Independent> {
+        Self::INDEPENDENT.get(k).copied()
+    }
     /// M(q) = d2T/dq'dq'.
     fn mass_matrix(&self, q: &SVector<f64, N>) -> SMatrix<f64, N, N>;
     /// Khang's C(q, q') = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T.

@@ -32,6 +32,7 @@ mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
 mod model_info;
+mod parameter_range;
 #[cfg(feature = "interpreter")]
 mod parameters;
 #[cfg(feature = "interpreter")]
@@ -60,6 +61,7 @@ pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
 };
+pub use parameter_range::{ParameterError, ParameterRange, check_parameter};
 #[cfg(feature = "std")]
 pub use sparsity::Sparsity;
 pub use sparsity::{EvaluationSlices, StaticSparsity};

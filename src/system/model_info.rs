@@ -3,6 +3,7 @@
 
 use mechanism_codegen::Model;
 
+use crate::system::parameters::declared_range;
 use crate::system::{ConstraintRow, Drawing, DrawnPoint, Independent, JointLimits, SystemInfo};
 
 /// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
@@ -11,6 +12,11 @@ pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
         name: model.name.clone(),
         coordinates: model.coordinates.iter().map(|c| c.name.clone()).collect(),
         parameters: model.parameters.iter().map(|p| p.name.clone()).collect(),
+        parameter_ranges: model
+            .parameters
+            .iter()
+            .map(|p| declared_range(p.range))
+            .collect(),
         initial_guess: model.coordinates.iter().map(|c| c.guess).collect(),
         independent: model
             .independent

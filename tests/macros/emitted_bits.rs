@@ -66,7 +66,7 @@ fn emitted_evaluation_is_the_tape_bit_for_bit() {
             // Parameters changed too: the emitted cache is refreshed, the tape reads them.
             for (i, p) in defaults.iter().enumerate() {
                 let p = p * (1.0 + 0.01 * k as f64);
-                assert!(compiled.set_parameter(i, p) && tape.set_parameter(i, p));
+                assert!(compiled.set_parameter(i, p).is_ok() && tape.set_parameter(i, p).is_ok());
             }
             let q = coordinates(n, k);
             let qd: Vec<f64> = (0..n).map(|i| -1.1 + 0.4 * (i + k) as f64).collect();

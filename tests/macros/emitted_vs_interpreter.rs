@@ -70,7 +70,15 @@ impl Interpreted {
                 .model
                 .parameters
                 .iter()
-                .map(|p| p.default * (1.0 + 0.2 * rng.next()) + 0.01 * rng.next())
+                .map(|p| {
+                    let v = p.default * (1.0 + 0.2 * rng.next()) + 0.01 * rng.next();
+                    // Within the declared range (`J1 = 1e-4 nonnegative`), as set_parameter
+                    // requires: its size is what is random.
+                    match p.range {
+                        mechanism_codegen::ParameterRange::Any => v,
+                        _ => v.abs(),
+                    }
+                })
                 .collect(),
         }
     }
@@ -130,7 +138,7 @@ fn check_methods<T: Mechanism<N, M> + Default, const N: usize, const M: usize>(
         let s = route.random_state(&mut rng);
         let mut mech = T::default();
         for (i, &p) in s.params.iter().enumerate() {
-            assert!(mech.set_parameter(i, p));
+            assert!(mech.set_parameter(i, p).is_ok());
         }
         let q = SVector::<f64, N>::from_column_slice(&s.q);
         let qd = SVector::<f64, N>::from_column_slice(&s.qd);
@@ -322,7 +330,7 @@ fn registry_systems_match_the_interpreter() {
         let mut rng = Rng(100 + k as u64);
         let s = route.random_state(&mut rng);
         for (i, &p) in s.params.iter().enumerate() {
-            assert!(system.set_parameter(i, p));
+            assert!(system.set_parameter(i, p).is_ok());
         }
         let mut out = Evaluation::zeros(n, m);
         system.evaluate(s.t, &s.q, &s.qd, &mut out);
@@ -539,6 +547,7 @@ fn unnamed_rows_are_numbered() {
         name: "hand".into(),
         coordinates: vec!["x".into()],
         parameters: vec![],
+        parameter_ranges: vec![],
         initial_guess: vec![0.0],
         independent: vec![],
         constraints: 2,

@@ -8,6 +8,7 @@ static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Cou
 mod emitted_bits;
 mod emitted_vs_interpreter;
 mod file_paths;
+mod initial_values;
 mod large_mechanism;
 mod no_alloc;
 mod one_routines;

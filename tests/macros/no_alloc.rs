@@ -32,6 +32,14 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(mech.kinetic_energy(&q, &qd));
     black_box(mech.potential_energy(&q));
     black_box(mech.parameter(0));
+    // The initial values at the current parameters, and a parameter set (its range checked).
+    black_box(mech.initial_guess());
+    black_box(mech.independent(black_box(0)));
+    let mut set = mech.clone();
+    black_box(
+        set.set_parameter(0, black_box(mech.parameter(0).unwrap_or(0.0)))
+            .ok(),
+    );
     black_box(mech.evaluate(black_box(t), &q, &qd));
     // The caller-buffer form the solvers call (with velocity rows: their A, a and gamma
     // among the rows of Phi_q, Phi_t and gamma).

@@ -92,7 +92,7 @@ fn macro_and_interpreter_come_from_one_routines() {
         );
 
         let mut roles: Vec<Role> = Role::compiled(&eqs, &model.drawing, with_rows);
-        roles.push(Role::ParameterCache);
+        roles.extend([Role::ParameterCache, Role::InitialValues]);
         let compiled: Vec<Role> = routines.iter().map(|(role, _)| role).collect();
         assert_eq!(compiled, roles, "{name}: one program per role, in order");
         let frames = eqs.frames.len();

@@ -162,9 +162,9 @@ mod file_form {
     #[test]
     fn file_form() {
         let mut p = CartesianPendulum::default();
-        assert!(p.set_parameter(0, 3.0));
+        assert!(p.set_parameter(0, 3.0).is_ok());
         assert_eq!(p.m, 3.0);
-        assert!(!p.set_parameter(99, 1.0));
+        assert!(p.set_parameter(99, 1.0).is_err());
         let q = SVector::<f64, 2>::new(0.6, -0.8);
         assert_eq!(p.mass_matrix(&q)[(1, 1)], 3.0);
         assert_eq!(CartesianPendulum::INDEPENDENT[0].coordinate, 0);

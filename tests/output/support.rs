@@ -25,6 +25,7 @@ pub fn info(name: &str) -> SystemInfo {
             .map(|s| s.to_string())
             .collect(),
         parameters: PARAMETERS.iter().map(|p| p.0.to_string()).collect(),
+        parameter_ranges: vec![Default::default(); PARAMETERS.len()],
         initial_guess: vec![0.0, 0.1, 0.2, 0.3],
         independent: vec![Independent {
             coordinate: 0,

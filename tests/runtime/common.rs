@@ -7,7 +7,8 @@ use std::sync::Arc;
 
 use mechanism::nalgebra::DMatrix;
 use mechanism::{
-    ConstraintRow, Evaluation, Independent, Kinematic, System, SystemInfo, Trajectory,
+    ConstraintRow, Evaluation, Independent, Kinematic, ParameterError, ParameterRange, System,
+    SystemInfo, Trajectory,
 };
 
 /// A generalised force on one coordinate as a function of (t, q, q').
@@ -25,6 +26,7 @@ fn info(
         name: name.into(),
         coordinates: coords.iter().map(|s| s.to_string()).collect(),
         parameters: params.iter().map(|s| s.to_string()).collect(),
+        parameter_ranges: vec![ParameterRange::Any; params.len()],
         initial_guess: guess,
         independent,
         constraints: m,
@@ -104,8 +106,11 @@ impl System for Pendulum {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.p.get_mut(index).map(|p| *p = value).is_some()
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        let count = self.p.len();
+        let p = self.p.get_mut(index);
+        p.map(|p| *p = value)
+            .ok_or(ParameterError::NoSuchParameter { index, count })
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], e: &mut Evaluation) {
         let [m, _, g] = self.p;
@@ -214,8 +219,11 @@ impl System for FourBar {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.p.get_mut(index).map(|p| *p = value).is_some()
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        let count = self.p.len();
+        let p = self.p.get_mut(index);
+        p.map(|p| *p = value)
+            .ok_or(ParameterError::NoSuchParameter { index, count })
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], e: &mut Evaluation) {
         let [l1, m1, l2, m2, l3, m3, _d, g] = self.p;
@@ -345,8 +353,11 @@ impl System for CrankSlider {
     fn parameter_values(&self, out: &mut [f64]) {
         out.copy_from_slice(&self.p);
     }
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool {
-        self.p.get_mut(index).map(|p| *p = value).is_some()
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
+        let count = self.p.len();
+        let p = self.p.get_mut(index);
+        p.map(|p| *p = value)
+            .ok_or(ParameterError::NoSuchParameter { index, count })
     }
     fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], e: &mut Evaluation) {
         let [h, l1, l2, _d, al, m1, m2, m3, j1, a1, g] = self.p;

@@ -8,7 +8,8 @@ use nalgebra::SVector;
 /// The paths the generated code uses, with the math of a build without std.
 pub mod runtime {
     pub use mechanism::{
-        __private, EvaluationSlices, Independent, Mechanism, StaticEvaluation, StaticSparsity,
+        __private, EvaluationSlices, Independent, Mechanism, ParameterError, ParameterRange,
+        StaticEvaluation, StaticSparsity,
     };
 
     /// What `mechanism::math` is without the `std` feature.

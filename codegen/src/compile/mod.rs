@@ -11,8 +11,10 @@
 //!    depth-first scheduling, renumbering);
 //! 3. hoisting (`program::hoist`): the values that depend on parameters only move out of
 //!    every program into one cache program, [`Role::ParameterCache`];
-//! 4. the symbol-source table (`sources.rs`), with one [`Source::Cache`] per cache slot;
-//! 5. the check that every symbol each program reads has a source its role provides.
+//! 4. the declared initial values at the current parameters, [`Role::InitialValues`]
+//!    (`initial_values.rs`: not hoisted, they read the parameters themselves);
+//! 5. the symbol-source table (`sources.rs`), with one [`Source::Cache`] per cache slot;
+//! 6. the check that every symbol each program reads has a source its role provides.
 //!
 //! The structural pattern of M and Phi_q ([`Sparsity`], `sparsity.rs`) is read off the
 //! evaluation program afterwards, for both back ends.
@@ -21,6 +23,7 @@
 //! its tapes from them (through `Tape`): both run the same programs, so they compute the
 //! same bits. Imports: `algebra`, `mechanics` and `program`; nothing here knows `emit`.
 
+mod initial_values;
 pub(crate) mod passes;
 pub(crate) mod role;
 pub(crate) mod sources;
@@ -46,7 +49,8 @@ pub(crate) use sparsity::structural_zero;
 /// where each symbol they read comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Routines {
-    /// Every role's program, in [`Role::compiled`] order, then the parameter cache.
+    /// Every role's program, in [`Role::compiled`] order, then the parameter cache and the
+    /// initial values.
     programs: Vec<(Role, Program)>,
     /// The source of every symbol the programs read.
     sources: Sources,
@@ -168,6 +172,9 @@ fn compile_roles(
     let sources = Sources::new(model, &lambda, &hoisted.slots)?;
     let mut programs: Vec<(Role, Program)> = roles.iter().copied().zip(hoisted.programs).collect();
     programs.push((Role::ParameterCache, hoisted.cache));
+    let initial = initial_values::outputs(model);
+    let initial: Vec<_> = initial.iter().collect();
+    programs.push((Role::InitialValues, Program::new(&model.arena, &initial)?));
     for (role, program) in &programs {
         check_sources(*role, program, &sources)?;
     }
@@ -210,7 +217,8 @@ impl Routines {
             }))
     }
 
-    /// Every (role, program) pair, in [`Role::compiled`] order, then the parameter cache.
+    /// Every (role, program) pair, in [`Role::compiled`] order, then the parameter cache and
+    /// the initial values.
     pub fn iter(&self) -> impl Iterator<Item = (Role, &Program)> + '_ {
         self.programs.iter().map(|(r, p)| (*r, p))
     }
@@ -228,13 +236,16 @@ impl Routines {
 
     /// These routines cut down to `roles` (kept in their order here): their programs, the
     /// parameter cache computing only the slots they read (the first ones, when `roles`
-    /// begin [`Role::compiled`] as [`Role::interpreted`] do) and the source table without
-    /// the other slots. For [`Role::interpreted`], what [`compile_interpreted`] returns.
+    /// begin [`Role::compiled`] as [`Role::interpreted`] do), the initial values, and the
+    /// source table without the other slots. For [`Role::interpreted`], what
+    /// [`compile_interpreted`] returns.
     pub fn restricted(&self, roles: &[Role]) -> Routines {
         let programs: Vec<(Role, Program)> = self
             .programs
             .iter()
-            .filter(|(r, _)| roles.contains(r))
+            .filter(|(r, _)| {
+                roles.contains(r) && !matches!(r, Role::ParameterCache | Role::InitialValues)
+            })
             .cloned()
             .collect();
         let slot = |s: SymbolId| match self.sources.get(s) {
@@ -250,6 +261,9 @@ impl Routines {
         let mut programs = programs;
         if let Some(cache) = self.get(Role::ParameterCache) {
             programs.push((Role::ParameterCache, cache.first_rows(cache_len)));
+        }
+        if let Some(initial) = self.get(Role::InitialValues) {
+            programs.push((Role::InitialValues, initial.clone()));
         }
         let sources = self
             .sources

@@ -74,6 +74,13 @@ pub enum Role {
     /// The values that depend on parameters only, one column in cache-slot order: the
     /// emitted `parameter_cache`, run once per parameter set.
     ParameterCache,
+    /// The declared initial values at the current parameter values, two columns: the n
+    /// initial guesses of q, then the position and rate of each independent coordinate in
+    /// turn (2 k entries): the emitted `initial_guess` and `independent`. Like the cache it
+    /// reads the parameters only, but it is not hoisted into it: it is run when asked
+    /// (once per parameter set), from the parameters as they are, so that a parameter
+    /// changed through a field is followed without a `refresh`.
+    InitialValues,
 }
 
 impl Role {
@@ -147,7 +154,7 @@ impl Role {
     /// tangent.
     pub fn provides(self, source: Source) -> bool {
         match (self, source) {
-            (Role::ParameterCache, s) => matches!(s, Source::Parameter(_)),
+            (Role::ParameterCache | Role::InitialValues, s) => matches!(s, Source::Parameter(_)),
             (_, Source::Parameter(_) | Source::Cache(_)) => true,
             (_, Source::Time | Source::Coordinate(_) | Source::Rate(_)) => true,
             (
@@ -160,7 +167,8 @@ impl Role {
     }
 
     /// The matrices this role's program computes, in output order (not for
-    /// [`Role::ParameterCache`], which hoisting makes). The bias of
+    /// [`Role::ParameterCache`], which hoisting makes, nor for [`Role::InitialValues`], made
+    /// from the model by `compile`). The bias of
     /// [`Role::MassAndBias`] is built in `arena`; a frame past `eqs.frames` has none.
     pub(crate) fn outputs(
         self,
@@ -216,7 +224,7 @@ impl Role {
                 let entries = drawing.points.iter().flat_map(|p| p.position);
                 vec![Matrix::column(entries.collect())]
             }
-            Role::ParameterCache => vec![],
+            Role::ParameterCache | Role::InitialValues => vec![],
         })
     }
 }

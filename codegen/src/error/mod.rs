@@ -9,6 +9,7 @@
 mod algebra;
 mod budget;
 mod declaration;
+mod declared;
 mod derivation;
 mod eval;
 mod parse;
@@ -18,9 +19,9 @@ use thiserror::Error;
 
 pub use algebra::AlgebraError;
 pub use budget::BudgetError;
-pub use declaration::{
-    Constant, ConstantPlace, CoordinatePlace, DeclarationError, NameKind, Needed, Quantity,
-    SymbolRole,
+pub use declaration::DeclarationError;
+pub use declared::{
+    Constant, ConstantPlace, CoordinatePlace, NameKind, Needed, Quantity, SymbolRole,
 };
 pub use derivation::DerivationError;
 pub use eval::EvalError;

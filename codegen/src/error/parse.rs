@@ -160,6 +160,19 @@ pub enum ParseError {
     /// `line A;`: a line through one point.
     #[error("a `line` joins at least two points: `line A, B;`")]
     ShortLine,
+    /// A word after a parameter's default that is not a range (`l = 0.3 m;`).
+    #[error(
+        "`{word}` after the default of `{name}` is not a range: a parameter's value may be followed by `positive` or `nonnegative`, then `;`{}",
+        did_you_mean(suggestion)
+    )]
+    NotARange {
+        /// The word written.
+        word: String,
+        /// The parameter.
+        name: String,
+        /// The range the word most likely misspells.
+        suggestion: Option<String>,
+    },
 }
 
 /// What the grammar allows where a [`ParseError::Expected`] was raised.

@@ -1,6 +1,7 @@
 //! What a rigid body's mass and inertia must satisfy to be a body at all.
 //!
 //! - The mass is not negative.
+//! - A rolling wheel's radius is greater than zero.
 //! - The inertia tensor (about the centre of mass, in body axes) is symmetric, its principal
 //!   moments I1, I2, I3 are not negative and satisfy the triangle inequalities
 //!   I1 + I2 >= I3 (and permutations): I_z = integral of (x^2 + y^2) dm is at most
@@ -43,6 +44,29 @@ pub(crate) fn check_mass(
             DeclarationError::NegativeMass {
                 body: body.to_string(),
                 value: m,
+            },
+            at,
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// A rolling wheel `body` whose radius `radius` (declared at `at`) is zero or negative at
+/// the declared values (and the initial guesses, for a radius written with coordinates) is
+/// an error, as a negative mass is: the contact point would lie above the centre, and the
+/// wheel roll backwards under the ground.
+pub(crate) fn check_radius(
+    arena: &Arena,
+    body: &str,
+    radius: Id,
+    known: &[(SymbolId, f64)],
+    at: Location,
+) -> Result<()> {
+    match value(arena, radius, known) {
+        Some(r) if r <= 0.0 => Err(Error::declaration(
+            DeclarationError::WheelRadius {
+                body: body.to_string(),
+                value: r,
             },
             at,
         )),

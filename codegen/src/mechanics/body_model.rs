@@ -10,7 +10,7 @@ use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor};
 use crate::error::{DeclarationError, Error, Location, Needed, Quantity, Result};
 use crate::mechanics::bodies::{Body, BodySystem, Damper, Spring, add_body_terms};
-use crate::mechanics::body_checks::{check_inertia, check_mass, check_orientation};
+use crate::mechanics::body_checks::{check_inertia, check_mass, check_orientation, check_radius};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::drawing::build_drawing;
 use crate::mechanics::joints::{
@@ -509,6 +509,7 @@ fn rolling_statement(
     let axis = vec3(&m, helper_argument("rolling", 2), args[1].location())?;
     let m = vector_value(arena, &args[2], cx.scope)?;
     let radius = scalar(&m, helper_argument("rolling", 3), args[2].location())?;
+    check_radius(arena, &body.name, radius, cx.at_guesses, args[2].location())?;
     let Some(orientation) = &body.orientation else {
         unreachable!("the body was found with an orientation");
     };

@@ -70,15 +70,33 @@ fn constant(
     known: &[(SymbolId, f64)],
     what: Constant,
 ) -> Result<f64> {
+    constant_expression(arena, ast, known, what).map(|(v, _)| v)
+}
+
+/// [`constant`] and the expression it is the value of (its node in `arena`), for the
+/// values that follow the parameters: the initial guesses and the independent values.
+fn constant_expression(
+    arena: &mut Arena,
+    ast: &Ast,
+    known: &[(SymbolId, f64)],
+    what: Constant,
+) -> Result<(f64, Id)> {
     let id = resolve_at(arena, ast)?;
     let env = |s: SymbolId| known.iter().find(|k| k.0 == s).map(|k| k.1);
-    eval(arena, id, &env).map_err(|e| {
+    let value = eval(arena, id, &env).map_err(|e| {
         let kind = DeclarationError::NotEvaluable {
             what,
             error: Box::new(e),
         };
         Error::declaration(kind, ast.location())
-    })
+    })?;
+    Ok((value, id))
+}
+
+/// A given value `v` (of `--set` or `--init`) as an expression: the number itself (a
+/// domain error for a value that is not finite).
+fn given_expression(arena: &mut Arena, v: f64) -> Result<Id> {
+    arena.float(v)
 }
 
 /// Builds the model of a checked declaration. The arena's symbols and nodes are created in
@@ -188,11 +206,21 @@ fn build_parameters(
             Some(v) => v,
             None => constant(arena, &p.value, &known, Constant::Default(p.name.clone()))?,
         };
+        if !p.range.admits(default) {
+            let kind = DeclarationError::OutOfRange {
+                name: p.name.clone(),
+                value: default,
+                keyword: p.range.keyword(),
+                meaning: p.range.describe(),
+            };
+            return Err(Error::declaration(kind, p.value.location()));
+        }
         known.push((s, default));
         parameters.push(Parameter {
             name: p.name.clone(),
             symbol: arena.symbol_node(s),
             default,
+            range: p.range,
             location: p.at,
         });
     }
@@ -210,9 +238,9 @@ fn build_coordinates(
     let mut coordinates = Vec::with_capacity(items.len());
     for (c, ids) in items.iter().zip(ids) {
         let given = values.iter().find(|v| v.0 == c.name).map(|v| v.1);
-        let guess = match given {
-            Some(v) => v,
-            None => constant(arena, &c.value, known, Constant::Guess(c.name.clone()))?,
+        let (guess, guess_expr) = match given {
+            Some(v) => (v, given_expression(arena, v)?),
+            None => constant_expression(arena, &c.value, known, Constant::Guess(c.name.clone()))?,
         };
         let [q, qd, qdd] = *ids;
         coordinates.push(Coordinate {
@@ -221,6 +249,7 @@ fn build_coordinates(
             qd,
             qdd,
             guess,
+            guess_expr,
             location: c.at,
         });
     }
@@ -246,7 +275,7 @@ fn build_independent(
         } else {
             Constant::Position(i.name.clone())
         };
-        let v = constant(arena, &i.value, known, what)?;
+        let (v, expr) = constant_expression(arena, &i.value, known, what)?;
         let spec = match independent.iter_mut().position(|s| s.coordinate == k) {
             Some(at) => &mut independent[at],
             None => {
@@ -254,6 +283,8 @@ fn build_independent(
                     coordinate: k,
                     position: coordinates[k].guess,
                     velocity: 0.0,
+                    position_expr: coordinates[k].guess_expr,
+                    velocity_expr: None,
                     location: i.at,
                 });
                 let last = independent.len() - 1;
@@ -262,8 +293,10 @@ fn build_independent(
         };
         if i.rate {
             spec.velocity = v;
+            spec.velocity_expr = Some(expr);
         } else {
             spec.position = v;
+            spec.position_expr = expr;
             positioned.push(k);
         }
     }

@@ -4,6 +4,7 @@ use crate::algebra::expr::{Arena, Id};
 use crate::error::Location;
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::tree::Link;
+pub use crate::syntax::parameter_range::ParameterRange;
 
 /// A parameter: a run-time constant with a declared default (`l1 = 0.08;`).
 #[derive(Clone, Debug)]
@@ -14,6 +15,8 @@ pub struct Parameter {
     pub symbol: Id,
     /// Default value (the declared constant expression, evaluated).
     pub default: f64,
+    /// The values it may take (`r = 0.1 positive;`); [`ParameterRange::Any`] unless declared.
+    pub range: ParameterRange,
     /// Where it was declared.
     pub location: Location,
 }
@@ -29,8 +32,12 @@ pub struct Coordinate {
     pub qd: Id,
     /// q_i'' (`der2(name)`).
     pub qdd: Id,
-    /// Initial guess for the assembly Newton iteration.
+    /// Initial guess for the assembly Newton iteration: the value of [`Coordinate::guess_expr`]
+    /// at the declared parameter values.
     pub guess: f64,
+    /// The initial guess as declared: an expression in the parameters (and constants), which
+    /// [`crate::Role::InitialValues`] evaluates at the current parameter values.
+    pub guess_expr: Id,
     /// Where it was declared.
     pub location: Location,
 }
@@ -40,10 +47,15 @@ pub struct Coordinate {
 pub struct IndependentSpec {
     /// Index into [`Model::coordinates`].
     pub coordinate: usize,
-    /// q_k(0).
+    /// q_k(0), the value of [`IndependentSpec::position_expr`] at the declared parameter
+    /// values.
     pub position: f64,
-    /// q_k'(0) (0 when not given).
+    /// q_k'(0) (0 when not given), the value of [`IndependentSpec::velocity_expr`] there.
     pub velocity: f64,
+    /// q_k(0) as declared: an expression in the parameters.
+    pub position_expr: Id,
+    /// q_k'(0) as declared, an expression in the parameters; `None` when not given (0).
+    pub velocity_expr: Option<Id>,
     /// Where it was declared.
     pub location: Location,
 }

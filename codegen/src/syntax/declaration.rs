@@ -3,7 +3,7 @@
 //! ```text
 //! declaration := doc* ["pub"] "struct" NAME ";" section*
 //! doc         := "#" "[" "doc" "=" STRING "]"            (what `/// text` becomes)
-//! section     := "parameters"  "{" (NAME "=" expr ";")* "}"
+//! section     := "parameters"  "{" (NAME "=" expr [range] ";")* "}"   (range: parameter_range.rs)
 //!              | "coordinates" "{" (NAME "=" expr ";")* "}"           (initial guesses)
 //!              | "independent" "{" ((NAME | "der" "(" NAME ")") "=" expr ";")* "}"
 //!              | "kinetic" "=" expr ";"
@@ -22,6 +22,7 @@ use crate::error::{Error, Expected, Location, ParseError, Result};
 use crate::syntax::ast::Ast;
 use crate::syntax::expression::{Language, parse};
 use crate::syntax::lex::{Cursor, Delim, Tok, Tokens, block, name};
+use crate::syntax::parameter_range::{ParameterRange, parameter_range};
 use crate::syntax::spelling::closest;
 
 /// The section keywords, in the order the README documents them.
@@ -36,7 +37,8 @@ pub(crate) const SECTIONS: &[&str] = &[
     "forces",
 ];
 
-/// `name = value;` (a parameter default or a coordinate's initial guess).
+/// `name = value;` (a parameter default or a coordinate's initial guess), or
+/// `name = value positive;` (a parameter with its range).
 #[derive(Clone, Debug)]
 pub(crate) struct Item {
     /// The declared name.
@@ -45,6 +47,9 @@ pub(crate) struct Item {
     pub(crate) at: Location,
     /// The value.
     pub(crate) value: Ast,
+    /// The range written after a parameter's default ([`ParameterRange::Any`] when none,
+    /// and always for a coordinate).
+    pub(crate) range: ParameterRange,
 }
 
 /// `phi = 0.0;` (rate false) or `der(phi) = 2*pi;` (rate true) in `independent`.
@@ -242,8 +247,18 @@ fn section(c: &mut Cursor<'_>, d: &mut Declaration) -> Result<()> {
     c.next();
     let keyword: &str = keyword;
     match keyword {
-        "parameters" => fill(&mut d.parameters, keyword, at, named_values(c, keyword)?),
-        "coordinates" => fill(&mut d.coordinates, keyword, at, named_values(c, keyword)?),
+        "parameters" => fill(
+            &mut d.parameters,
+            keyword,
+            at,
+            named_values(c, keyword, true)?,
+        ),
+        "coordinates" => fill(
+            &mut d.coordinates,
+            keyword,
+            at,
+            named_values(c, keyword, false)?,
+        ),
         "independent" => fill(&mut d.independent, keyword, at, independent_items(c)?),
         "kinetic" => fill(&mut d.kinetic, keyword, at, energy(c, keyword)?),
         "potential" => fill(&mut d.potential, keyword, at, energy(c, keyword)?),
@@ -278,13 +293,31 @@ fn fill<T>(slot: &mut Option<Section<T>>, keyword: &str, at: Location, body: T) 
     Ok(())
 }
 
-/// `{ name = value; ... }`: the body of `parameters` and `coordinates`.
-fn named_values(c: &mut Cursor<'_>, keyword: &str) -> Result<Vec<Item>> {
+/// `{ name = value; ... }`: the body of `parameters` (each value optionally followed by its
+/// range, when `ranges`) and `coordinates`.
+fn named_values(c: &mut Cursor<'_>, keyword: &str, ranges: bool) -> Result<Vec<Item>> {
     block(c, |c| {
         let (name, at) = name(c, keyword)?;
         c.expect(&Tok::Punct('='), Expected::Value { name: name.clone() })?;
         let value = parse(c, Language::Scalar)?;
-        Ok(Item { name, at, value })
+        let mut range = ParameterRange::Any;
+        if ranges {
+            range = parameter_range(c);
+            if let (ParameterRange::Any, Tok::Ident(word)) = (range, &c.peek().tok) {
+                // A word after the default that is no range: say what may stand there.
+                return Err(c.error_here(ParseError::NotARange {
+                    word: word.to_string(),
+                    name,
+                    suggestion: closest(word, ParameterRange::KEYWORDS),
+                }));
+            }
+        }
+        Ok(Item {
+            name,
+            at,
+            value,
+            range,
+        })
     })
 }
 

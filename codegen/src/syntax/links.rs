@@ -11,6 +11,7 @@ use crate::number::Number;
 use crate::syntax::ast::Ast;
 use crate::syntax::bodies::{BodyItem, MOVING_JOINTS};
 use crate::syntax::declaration::{Declaration, Item, Section};
+use crate::syntax::parameter_range::ParameterRange;
 
 /// Adds the coordinates of the links' joints.
 pub(crate) fn declare_link_coordinates(d: &mut Declaration) {
@@ -46,6 +47,7 @@ pub(crate) fn declare_link_coordinates(d: &mut Declaration) {
                 name: q,
                 at,
                 value: Ast::Number(Number::int(0), at),
+                range: ParameterRange::Any,
             });
         }
     }

@@ -25,6 +25,7 @@ pub(crate) mod draw;
 pub(crate) mod expression;
 pub(crate) mod lex;
 pub(crate) mod links;
+pub(crate) mod parameter_range;
 pub(crate) mod plain_lex;
 pub(crate) mod spelling;
 pub(crate) mod unconstrained;

@@ -268,6 +268,7 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
                 qd,
                 qdd,
                 guess: 0.0,
+                guess_expr: zero,
                 location: Default::default(),
             }
         })

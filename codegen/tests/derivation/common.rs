@@ -296,6 +296,7 @@ pub fn bare_model(
                 qd: *qd,
                 qdd: *qdd,
                 guess: 0.0,
+                guess_expr: zero,
                 location: Location::default(),
             })
             .collect(),
