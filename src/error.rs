@@ -101,6 +101,34 @@ pub enum Error {
         /// Where Newton stopped.
         q: Vec<f64>,
     },
+    /// The given values of the independent coordinates admit no position: with them fixed,
+    /// the residual |Phi| has a minimum above zero over the other coordinates, and with them
+    /// free too, the constraints close at `nearest` (the reason is in
+    /// `algorithms/reach.rs`). Where Newton only lost its way from the guess, the error is
+    /// [`Error::NewtonDidNotConverge`] instead.
+    #[error(
+        "the given values admit no position at t = {t} s: with {} the constraints cannot be \
+         closed (over the other coordinates their residual |Phi|_inf has a minimum of \
+         {residual:.3e}, rows {rows:?}, at q = {q:?}); the nearest values that admit one are \
+         {}: give values within the mechanism's reach (a position on another assembly \
+         branch, far from this one, is not excluded)",
+        values.iter().map(|(c, v, _)| format!("{c} = {v}")).collect::<Vec<_>>().join(", "),
+        values.iter().map(|(c, _, v)| format!("{c} = {v}")).collect::<Vec<_>>().join(", ")
+    )]
+    GivenOutOfReach {
+        /// Time (s).
+        t: f64,
+        /// Each given coordinate that admits no position: its name, the value given, and
+        /// the nearest value that admits one (to 7 significant digits: the constraints
+        /// hold there to the assembly tolerance, not to the last bit).
+        values: Vec<(String, f64, f64)>,
+        /// The least |Phi|_inf with the given values.
+        residual: f64,
+        /// The rows with the largest residuals there, by label.
+        rows: Vec<String>,
+        /// Where the residual is least.
+        q: Vec<f64>,
+    },
     /// The independent coordinates chosen by the user leave the others undetermined: the
     /// constraint Jacobian restricted to the dependent coordinates has rank below their count.
     #[error(

@@ -22,6 +22,7 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::algorithms::finite::{check_jacobian, check_rows};
+use crate::algorithms::reach::{Stall, classify};
 use crate::algorithms::velocity_rows::check_velocity_rows;
 use crate::error::Error;
 use crate::linalg::{
@@ -405,9 +406,11 @@ fn solve_dependent(
 /// Phi_q q' = -Phi_t (velocities). Redundant position rows are accepted (see
 /// [`crate::mobility()`]); a velocity row that is a combination of the rows above it is
 /// not ([`Error::VelocityRowRedundant`], [`Error::VelocityRowContradicts`]); the
-/// independent set must determine the others. Where the constraints cannot be closed from
-/// the guesses the error is [`Error::ConstraintsUnsatisfiable`], naming the rows left with
-/// a residual.
+/// independent set must determine the others. Where the constraints cannot be closed
+/// (`algorithms/reach.rs` tells why): [`Error::GivenOutOfReach`] when the given values
+/// admit no position (naming the nearest that do), [`Error::ConstraintsUnsatisfiable`]
+/// when no nearby given value would help, naming the rows left with a residual, and
+/// [`Error::NewtonDidNotConverge`] when Newton lost its way from the guesses.
 pub fn assemble_from(
     system: &dyn Kinematic,
     t: f64,
@@ -432,11 +435,29 @@ pub fn assemble_from(
         qd[ind.coordinate] = ind.velocity;
     }
     over_specified(system, t, independent, &q, options)?;
-    solve_positions(system, t, &fixed, &mut q, options).map_err(|e| match e {
-        // At assembly there is no motion to be singular: Newton stopped where the loops
-        // cannot be closed.
-        Error::SingularConfiguration { q: stuck, .. } => unsatisfiable(system, t, stuck),
-        other => other,
+    solve_positions(system, t, &fixed, &mut q, options).map_err(|e| {
+        let stuck = match &e {
+            Error::SingularConfiguration { q, .. } | Error::NewtonDidNotConverge { q, .. } => q,
+            _ => return e,
+        };
+        match classify(system, t, stuck, &fixed, options.tolerance) {
+            Stall::GivenOutOfReach { nearest } => out_of_reach(system, t, &fixed, stuck, &nearest),
+            Stall::Unsatisfiable => unsatisfiable(system, t, stuck.clone()),
+            // The residual still falls from where Newton stopped (a start on a symmetry
+            // line, on the wrong side of a fold): a closer guess gets through.
+            Stall::Saddle => Error::NewtonDidNotConverge {
+                t,
+                iterations: options.max_iterations,
+                residual: largest_rows(system, t, stuck).0,
+                q: stuck.clone(),
+            },
+            // At assembly there is no motion to be singular: Newton stopped where the
+            // loops cannot be closed.
+            Stall::Undecided => match e {
+                Error::SingularConfiguration { q: stuck, .. } => unsatisfiable(system, t, stuck),
+                other => other,
+            },
+        }
     })?;
     check_velocity_rows(system, t, &q, options.rank_tolerance)?;
     solve_velocities(system, t, &q, &fixed, &mut qd, options)?;
@@ -501,22 +522,56 @@ fn over_specified(
     })
 }
 
-/// [`Error::ConstraintsUnsatisfiable`] at `q`, naming the rows whose residual is within a
-/// factor 10 of the largest.
-fn unsatisfiable(system: &dyn Kinematic, t: f64, q: Vec<f64>) -> Error {
+/// The residual |Phi|_inf at `q` and the rows whose residual is within a factor 10 of it.
+fn largest_rows(system: &dyn Kinematic, t: f64, q: &[f64]) -> (f64, Vec<String>) {
     let info = system.info();
     let mut phi = vec![0.0; info.m()];
-    system.constraints(t, &q, &mut phi);
+    system.constraints(t, q, &mut phi);
     let residual = inf_norm(&phi);
     let rows = (0..info.m())
         .filter(|&r| phi[r].abs() >= 0.1 * residual)
         .map(|r| info.constraint_label(r))
         .collect();
+    (residual, rows)
+}
+
+/// [`Error::ConstraintsUnsatisfiable`] at `q`, naming the rows whose residual is within a
+/// factor 10 of the largest.
+fn unsatisfiable(system: &dyn Kinematic, t: f64, q: Vec<f64>) -> Error {
+    let (residual, rows) = largest_rows(system, t, &q);
     Error::ConstraintsUnsatisfiable {
         t,
         residual,
         rows,
         q,
+    }
+}
+
+/// [`Error::GivenOutOfReach`] at `q`: the given coordinates (of `fixed`) that `nearest`
+/// moves, or all of them when it moves none beyond round-off.
+fn out_of_reach(
+    system: &dyn Kinematic,
+    t: f64,
+    fixed: &[usize],
+    q: &[f64],
+    nearest: &[f64],
+) -> Error {
+    let info = system.info();
+    let moved = |&&k: &&usize| (nearest[k] - q[k]).abs() > 1e-9 * (1.0 + q[k].abs());
+    let mut named: Vec<usize> = fixed.iter().filter(moved).copied().collect();
+    if named.is_empty() {
+        named = fixed.to_vec();
+    }
+    let short = |x: f64| format!("{x:.6e}").parse::<f64>().unwrap_or(x);
+    let (residual, rows) = largest_rows(system, t, q);
+    Error::GivenOutOfReach {
+        t,
+        values: (named.iter())
+            .map(|&k| (info.coordinates[k].clone(), q[k], short(nearest[k])))
+            .collect(),
+        residual,
+        rows,
+        q: q.to_vec(),
     }
 }
 

@@ -15,6 +15,8 @@
 //!   constraints too), with exact derivatives;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
+//! - [`reach`]: why an assembly stopped: given values out of reach, constraints that
+//!   cannot be met, or Newton lost from the guess;
 //! - [`velocity_rows`]: velocity rows that repeat or contradict the rows above them;
 //! - [`finite`]: which entry of the equations is NaN or infinite, named for the user.
 //!
@@ -32,6 +34,7 @@ pub(crate) mod kinematics;
 pub(crate) mod kink;
 pub(crate) mod linearize;
 pub(crate) mod mobility;
+pub(crate) mod reach;
 pub(crate) mod rolling_positions;
 pub(crate) mod stabilization;
 pub(crate) mod steady;

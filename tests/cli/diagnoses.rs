@@ -231,3 +231,39 @@ fn a_huge_gravity_is_not_blamed_on_a_nan_in_gamma() {
     assert_eq!(o.status.code(), Some(0), "{e}");
     assert!(!e.contains("gamma row"), "{e}");
 }
+
+/// Issue 53, item 12: x = 1.5 is out of reach of a pendulum of length 1. Before: "start
+/// from a closer guess or check the link lengths". A start from the guess y = 0 with
+/// x = 0.5, where Newton cannot move (Phi_y = 0) but positions exist, keeps that advice.
+#[test]
+fn a_given_value_out_of_reach_is_named_not_the_guess() {
+    let o = mechanism(&["simulate", "cartesian_pendulum", "--init", "x=1.5"]);
+    assert_one_line_error(
+        &o,
+        "the given values admit no position at t = 0 s: with x = 1.5 the constraints cannot be closed",
+    );
+    assert_one_line_error(&o, "the nearest values that admit one are x = 1:");
+    assert!(!stderr(&o).contains("closer guess"), "{}", stderr(&o));
+    let o = mechanism(&[
+        "simulate",
+        "cartesian_pendulum",
+        "--init",
+        "x=0.5",
+        "--init",
+        "y=0",
+    ]);
+    assert_one_line_error(&o, "start from a closer guess");
+    // A coupler too short for any crank angle near these: the lengths are to blame.
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--set",
+        "l2=0.01",
+        "--set",
+        "Dx=2",
+    ]);
+    assert_one_line_error(
+        &o,
+        "the constraints cannot be satisfied near the initial guess",
+    );
+}

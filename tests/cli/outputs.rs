@@ -83,8 +83,12 @@ fn a_failure_before_the_first_step_leaves_no_stale_results() {
     let cases: [(&[&str], &str, &str); 3] = [
         (&["--set", "g=abc"], "setup", "--set g"),
         (&["--init", "nonesuch=1"], "setup", "`nonesuch`"),
-        // A coupler too short to close the loop.
-        (&["--set", "l2=0.01"], "assembly", "cannot be satisfied"),
+        // A coupler so short that the crank cannot stand at th1 = pi/2.
+        (
+            &["--set", "l2=0.01"],
+            "assembly",
+            "the given values admit no position",
+        ),
     ];
     for (extra, stage, needle) in cases {
         let dir = out_dir("stale-setup");

@@ -71,7 +71,9 @@ fn newton_failure_is_a_typed_error() {
 #[test]
 fn unreachable_position_is_reported_with_its_residual_and_rows() {
     // The locking four-bar cannot reach th1 = pi (|BD| = 0.55 > l2 + l3 = 0.5): Newton ends
-    // at the least-squares point where coupler and rocker are in line, 0.05 m short.
+    // at the least-squares point where coupler and rocker are in line, 0.05 m short. The
+    // crank reaches th1 <= th1* = acos(-0.625) only: the given value is out of reach, and
+    // the nearest reachable value is named.
     let s = FourBar::locking();
     let ind = [Independent {
         coordinate: 0,
@@ -87,14 +89,82 @@ fn unreachable_position_is_reported_with_its_residual_and_rows() {
     )
     .unwrap_err();
     match &err {
-        Error::ConstraintsUnsatisfiable { residual, rows, .. } => {
+        Error::GivenOutOfReach {
+            residual,
+            rows,
+            values,
+            ..
+        } => {
             // The gap is |BD| - (l2 + l3) = 0.05 m, shared between the x and y rows; Newton
             // stalls near (not exactly at) that least-squares point, within 10 %.
             assert!(*residual > 0.02 && *residual <= 0.055, "{err}");
             assert!(!rows.is_empty(), "{err}");
+            let (name, given, th1) = &values[0];
+            assert_eq!((name.as_str(), *given), ("th1", std::f64::consts::PI));
+            // Reachable (cos th1 >= -0.625) and at the edge of the reach: the free
+            // iteration moves th1 back from pi by about its share of the 0.05 m gap.
+            let th1 = *th1;
+            let edge = (-0.625_f64).acos();
+            assert!(th1 <= edge + 1e-6 && th1 > edge - 0.2, "{err}");
         }
-        other => panic!("expected ConstraintsUnsatisfiable, got {other:?}"),
+        other => panic!("expected GivenOutOfReach, got {other:?}"),
     }
+    // With the ground link stretched to d = 2 no crank angle near these closes the loop
+    // (|BD| >= 1.8 > 0.5): the constraints themselves cannot be met.
+    let mut far = FourBar::locking();
+    far.p[6] = 2.0;
+    let err = assemble_from(
+        &far,
+        0.0,
+        &ind,
+        &far.info.initial_guess,
+        &AssemblyOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, Error::ConstraintsUnsatisfiable { .. }),
+        "{err}"
+    );
+}
+
+/// Issue 53, item 12: x = 1.5 is out of reach of a pendulum of length 1, and the message
+/// says so (before: "start from a closer guess"). x = 0.5 from the guess y = 0, on the
+/// symmetry line where Phi_y = 0 and Newton cannot move, is reachable (y = -+0.866): there
+/// the residual has a maximum, not a floor, and the closer guess is the right advice.
+#[test]
+fn a_given_value_out_of_reach_is_told_from_a_guess_newton_cannot_leave() {
+    let mut s = Pendulum::new(0.3);
+    let at = |x: f64| {
+        [Independent {
+            coordinate: 0,
+            position: x,
+            velocity: 0.0,
+        }]
+    };
+    let options = AssemblyOptions::default();
+    let err = assemble_from(&s, 0.0, &at(1.5), &[1.5, -0.5], &options).unwrap_err();
+    match &err {
+        Error::GivenOutOfReach {
+            values, residual, ..
+        } => {
+            // |Phi| is least at y = 0, x^2 - l^2 = 1.25; Newton stops within 1e-4 of it, where
+            // y^2 adds less than 1e-8.
+            assert!((residual - 1.25).abs() < 1e-8, "{err}");
+            // The nearest reachable x is l = 1 (to the 7 digits kept).
+            assert_eq!(values, &[("x".to_string(), 1.5, 1.0)]);
+        }
+        other => panic!("expected GivenOutOfReach, got {other:?}"),
+    }
+    let err = assemble_from(&s, 0.0, &at(0.5), &[0.5, 0.0], &options).unwrap_err();
+    assert!(matches!(err, Error::NewtonDidNotConverge { .. }), "{err}");
+    assert!(
+        err.to_string().contains("start from a closer guess"),
+        "{err}"
+    );
+    // With l = 2 the same x is within reach.
+    s.p[1] = 2.0;
+    let state = assemble_from(&s, 0.0, &at(1.5), &[1.5, -0.5], &options).unwrap();
+    assert!((state.q[1] + (4.0_f64 - 2.25).sqrt()).abs() < 1e-12);
 }
 
 #[test]
