@@ -83,6 +83,26 @@ pub enum Error {
         /// Configuration q.
         q: Vec<f64>,
     },
+    /// The motion is undetermined because the coordinates are singular there, not for want
+    /// of inertia: a step of `coordinate` away from `value` gives the allowed motions their
+    /// inertia back (`algorithms/coordinate_singularity.rs`). Orientation angles whose axes
+    /// line up (a disc or a bicycle frame lying flat in yaw, lean, spin) are the common
+    /// case, named with the body and its rotation sequence in `orientation`.
+    #[error("{}", coordinate_singularity(*t, coordinate, *value, moving, orientation.as_deref()))]
+    CoordinateSingularity {
+        /// Time (s).
+        t: f64,
+        /// The coordinate at its singular value (`phi`, the lean).
+        coordinate: String,
+        /// Its value there.
+        value: f64,
+        /// The coordinates whose rates are not determined (they move in the direction
+        /// without inertia).
+        moving: Vec<String>,
+        /// The body whose declared orientation angles are singular, when the coordinates
+        /// are such angles.
+        orientation: Option<Box<OrientationSingularity>>,
+    },
     /// The constraints cannot be satisfied near the initial guess: Newton stalls at a point
     /// where Phi != 0 and cannot be decreased (a link too short to close the loop, a
     /// position out of reach).
@@ -617,5 +637,56 @@ fn about_steps(steps: f64) -> String {
         format!("about {steps:.1e}")
     } else {
         "more than 1e308".to_string()
+    }
+}
+
+/// A singularity of a body's declared orientation angles (see
+/// [`Error::CoordinateSingularity`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OrientationSingularity {
+    /// The body.
+    pub body: String,
+    /// Its rotation sequence as declared, `rot_z(psi) rot_x(phi) rot_y(th)` (`R` for an
+    /// explicit factor, `..` for an angle that is no coordinate).
+    pub sequence: String,
+    /// The two angles whose axes line up.
+    pub in_line: [String; 2],
+    /// What lines up, when the two are the first and the last factor: `its y axis lies
+    /// along the world z axis`.
+    pub along: Option<String>,
+}
+
+/// The message of [`Error::CoordinateSingularity`].
+fn coordinate_singularity(
+    t: f64,
+    coordinate: &str,
+    value: f64,
+    moving: &[String],
+    orientation: Option<&OrientationSingularity>,
+) -> String {
+    let moving = moving.join(", ");
+    match orientation {
+        Some(o) => format!(
+            "a coordinate singularity of the orientation angles at t = {t} s, {coordinate} = \
+             {value} ({:.2} deg): in body `{}`'s {} the axes of {} and {} line up{}, so the \
+             rates of {moving} are not determined (the mass matrix gives that motion no \
+             inertia); three angles cannot follow every attitude: end the run before this \
+             one, or declare the orientation with a sequence whose singular attitude the \
+             motion does not reach",
+            value.to_degrees(),
+            o.body,
+            o.sequence,
+            o.in_line[0],
+            o.in_line[1],
+            o.along
+                .as_ref()
+                .map_or(String::new(), |a| format!(" ({a})")),
+        ),
+        None => format!(
+            "a coordinate singularity at t = {t} s, {coordinate} = {value}: the coordinates \
+             {moving} do not determine the motion there (the mass matrix gives their motion \
+             no inertia, and a change of {coordinate} gives it back); end the run before this \
+             configuration, or choose coordinates that stay regular through it"
+        ),
     }
 }

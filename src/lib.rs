@@ -137,7 +137,7 @@ pub use crate::algorithms::stabilization::Stabilization;
 #[cfg(feature = "std")]
 pub use crate::algorithms::steady::{SteadyLinearization, SteadyOptions, linearize_steady};
 #[cfg(feature = "std")]
-pub use crate::error::Error;
+pub use crate::error::{Error, OrientationSingularity};
 #[cfg(feature = "std")]
 pub use crate::integrators::{IntegratorOptions, Method, StepController};
 #[cfg(feature = "std")]
@@ -158,12 +158,12 @@ pub use crate::simulation::sweep::{ParameterSet, sweep};
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
 pub use crate::system::{
     Accelerations, Coordinates, EvaluationSlices, Independent, JointLimits, Mechanism, Multipliers,
-    ParameterError, ParameterRange, StaticEvaluation, StaticSparsity, Velocities,
+    ParameterError, ParameterRange, RotationFactor, StaticEvaluation, StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
-    Compiled, ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation, Kinematic,
-    Sparsity, System, SystemInfo, Tangent,
+    BodyOrientation, Compiled, ConstraintRow, ConstraintTangent, Drawing, DrawnPoint, Evaluation,
+    Kinematic, Sparsity, System, SystemInfo, Tangent,
 };
 #[cfg(feature = "interpreter")]
 pub use crate::system::{Interpreted, InterpretedConstraints};

@@ -116,6 +116,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         kinetic_from_links: false,
         potential_from_links: false,
         gravity: None,
+        rotations: Vec::new(),
     }
 }
 

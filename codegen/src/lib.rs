@@ -100,7 +100,7 @@ pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
 pub use mechanics::lagrange::Route;
 pub use mechanics::model::{
-    Constraint, Coordinate, IndependentSpec, Model, Parameter, ParameterRange,
+    Constraint, Coordinate, IndependentSpec, Model, Parameter, ParameterRange, RotationSequence,
 };
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{

@@ -423,6 +423,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     let methods = expand_equation_methods(decl, t, g);
     let drawing = drawing_constants(decl);
     let joint_limits = joint_limit_constants(decl);
+    let orientations = crate::orientations::orientation_constants(decl);
     let evaluate_into_avx2 = expand_evaluate_into_avx2(decl, t, g);
     let allows = method_allows();
     quote! {
@@ -440,6 +441,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
             const VELOCITY_ROWS: usize = #velocity_rows;
             #drawing
             #joint_limits
+            #orientations
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
                 match index {

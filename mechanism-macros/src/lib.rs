@@ -7,7 +7,8 @@
 //! - `check`: the rules the macro adds on top of the parser (one `check_*` per rule);
 //! - `generate`: derivation (Lagrange equations with multipliers), CSE and emission of the
 //!   method bodies;
-//! - `expand`: the struct and the trait impl, `quote!` only.
+//! - `expand`: the struct and the trait impl, `quote!` only (`orientations`: the bodies'
+//!   rotation sequences as a constant).
 //!
 //! See the `mechanism` crate (package `mechanism-dynamics`) for the declaration language
 //! (its module `language`) and the trait it implements (`Mechanism`).
@@ -16,6 +17,7 @@ mod ast;
 mod check;
 mod expand;
 mod generate;
+mod orientations;
 mod robotics;
 
 use proc_macro::TokenStream;

@@ -15,6 +15,8 @@
 //!   constraints too), with exact derivatives;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
+//! - [`coordinate_singularity`]: an undetermined motion that the coordinates cause (angles
+//!   whose axes line up), told from a body without inertia;
 //! - [`reach`]: why an assembly stopped: given values out of reach, constraints that
 //!   cannot be met, or Newton lost from the guess;
 //! - [`velocity_rows`]: velocity rows that repeat or contradict the rows above them;
@@ -25,6 +27,7 @@
 
 pub(crate) mod augmented_lagrangian;
 pub(crate) mod banded_kkt;
+pub(crate) mod coordinate_singularity;
 #[cfg(feature = "interpreter")]
 pub(crate) mod drive;
 pub(crate) mod dynamics;

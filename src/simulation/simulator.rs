@@ -23,6 +23,7 @@ use std::time::Instant;
 mod located;
 mod samples;
 
+use crate::algorithms::coordinate_singularity;
 use crate::algorithms::dynamics::Dynamics;
 use crate::algorithms::mobility::mobility;
 use crate::algorithms::stabilization::{Projector, Stabilization};
@@ -140,8 +141,14 @@ impl<'a> Simulator<'a> {
     /// Refused before any work: invalid options, more than [`crate::MAX_OUTPUT_SAMPLES`]
     /// samples or more than [`crate::MAX_OUTPUT_BYTES`] of them
     /// ([`Error::TooMuchOutput`]), a fixed step that needs more than `max_steps` steps
-    /// ([`Error::FixedStepTooSmall`]).
+    /// ([`Error::FixedStepTooSmall`]). An undetermined motion at the start that the
+    /// coordinates cause is [`Error::CoordinateSingularity`].
     pub fn new(system: &'a dyn System, options: &'a SimulationOptions) -> Result<Self, Error> {
+        Self::start(system, options).map_err(|e| coordinate_singularity::explain(system, e))
+    }
+
+    /// [`Simulator::new`] before its failure is named.
+    fn start(system: &'a dyn System, options: &'a SimulationOptions) -> Result<Self, Error> {
         let started = Instant::now();
         let info = system.info();
         let (n, t0) = (info.n(), options.t_start);
@@ -300,7 +307,8 @@ impl<'a> Simulator<'a> {
     /// states the projection or HHT's Newton cannot bring back onto the constraints is
     /// [`Error::StepTooLarge`] (it left them that far within one step); a non-finite entry
     /// evaluated at a state beyond the divergence bounds is [`Error::Diverged`] (the
-    /// entry overflowed because the state had).
+    /// entry overflowed because the state had); an undetermined motion that the coordinates
+    /// cause is [`Error::CoordinateSingularity`].
     fn name_failure(&self, e: Error) -> Error {
         let names = &self.system().info().coordinates;
         match (e, self.options.integrator.method) {
@@ -318,6 +326,11 @@ impl<'a> Simulator<'a> {
                     Err(diverged) => diverged,
                     Ok(()) => Error::NonFiniteTerm { term, value, t, q },
                 }
+            }
+            // Orientation angles whose axes line up (a body lying flat) rather than a body
+            // without inertia.
+            (e @ Error::UndeterminedMotion { .. }, _) => {
+                coordinate_singularity::explain(self.system(), e)
             }
             (e, _) => e,
         }

@@ -4,7 +4,7 @@ use nalgebra::{DMatrix, SVector};
 
 use super::drawing::Drawing;
 use super::dynamic::{Evaluation, Kinematic, SolverKey, System, Tangent};
-use super::info::{ConstraintRow, SystemInfo};
+use super::info::{BodyOrientation, ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
 use super::parameter_range::ParameterError;
 use super::sparsity::Sparsity;
@@ -52,6 +52,12 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
             // `gravity(q)`, `kinetic_energy(q, q')` take no time).
             energy_depends_on_time: false,
             drawing: Drawing::from_static(T::DRAW_POINTS, T::DRAW_LINES, T::DRAW_TRACES),
+            orientations: (T::ORIENTATIONS.iter())
+                .map(|&(body, factors)| BodyOrientation {
+                    body: body.to_string(),
+                    factors: factors.to_vec(),
+                })
+                .collect(),
             joint_limits: T::JOINT_LIMITS.to_vec(),
         };
         let sparsity = T::SPARSITY.map(|s| Sparsity::from_static(N, M, &s));

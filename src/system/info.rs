@@ -5,6 +5,7 @@ use super::drawing::Drawing;
 use super::joint_limits::JointLimits;
 use super::mechanism::Independent;
 use super::parameter_range::ParameterRange;
+use super::rotation_factor::RotationFactor;
 
 /// Where one scalar constraint row comes from: the statement that declared it and which of
 /// its rows it is. Lets the runtime name a row (`revolute(B1, B2, z, z) y`) and the joints
@@ -42,6 +43,16 @@ impl ConstraintRow {
     }
 }
 
+/// A body's declared orientation R = F_1 F_2 ... (body to world), factor by factor
+/// (`rot_z(psi) * rot_x(phi) * rot_y(th)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyOrientation {
+    /// The body.
+    pub body: String,
+    /// The factors, left to right.
+    pub factors: Vec<RotationFactor>,
+}
+
 /// Names and declared data of a system. The names, sizes and rows are fixed for its
 /// lifetime; the initial guesses and the independent values are the declared expressions
 /// at the current parameter values: [`crate::System::set_parameter`] evaluates them again.
@@ -73,6 +84,9 @@ pub struct SystemInfo {
     pub energy_depends_on_time: bool,
     /// The declared picture (`draw { .. }`); empty when the declaration has none.
     pub drawing: Drawing,
+    /// The bodies' declared orientation products, in declaration order (empty without
+    /// bodies): what names a singularity of their angles.
+    pub orientations: Vec<BodyOrientation>,
     /// The joints' declared limits, one entry per coordinate that has any, in coordinate
     /// order (see [`JointLimits`]); empty without a link tree.
     pub joint_limits: Vec<JointLimits>,

@@ -13,6 +13,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::parameter_range::{ParameterError, ParameterRange};
+use super::rotation_factor::RotationFactor;
 use super::sparsity::{EvaluationSlices, StaticSparsity};
 
 /// q, the N coordinates of a mechanism with static sizes (lengths in m, angles in rad).
@@ -155,6 +156,10 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     const DRAW_LINES: &'static [&'static [usize]] = &[];
     /// The drawn points whose paths are traced (indices into [`Mechanism::DRAW_POINTS`]).
     const DRAW_TRACES: &'static [usize] = &[];
+    /// The orientation products the bodies declare (`rot_z(psi) * rot_x(phi) * rot_y(th)`):
+    /// each body's name and factors, in declaration order; empty without bodies. Read to
+    /// name a singularity of the orientation angles.
+    const ORIENTATIONS: &'static [(&'static str, &'static [RotationFactor])] = &[];
     /// The limits the moving joints of a link tree declare (`limit`, `velocity_limit`,
     /// `effort_limit`), one entry per coordinate that has any, in coordinate order. Kept
     /// for reference: nothing enforces them (see [`super::JointLimits`]).

@@ -37,6 +37,7 @@ mod parameter_range;
 mod parameters;
 #[cfg(feature = "interpreter")]
 mod registers;
+mod rotation_factor;
 #[cfg(feature = "interpreter")]
 pub(crate) mod routine;
 #[cfg(feature = "interpreter")]
@@ -52,7 +53,7 @@ pub(crate) use dynamic::SolverKey;
 #[cfg(feature = "std")]
 pub use dynamic::{ConstraintTangent, Evaluation, Kinematic, System, Tangent};
 #[cfg(feature = "std")]
-pub use info::{ConstraintRow, SystemInfo};
+pub use info::{BodyOrientation, ConstraintRow, SystemInfo};
 #[cfg(feature = "interpreter")]
 pub use interpreted::Interpreted;
 #[cfg(feature = "interpreter")]
@@ -62,6 +63,7 @@ pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,
 };
 pub use parameter_range::{ParameterError, ParameterRange, check_parameter};
+pub use rotation_factor::RotationFactor;
 #[cfg(feature = "std")]
 pub use sparsity::Sparsity;
 pub use sparsity::{EvaluationSlices, StaticSparsity};

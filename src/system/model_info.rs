@@ -4,7 +4,10 @@
 use mechanism_codegen::Model;
 
 use crate::system::parameters::declared_range;
-use crate::system::{ConstraintRow, Drawing, DrawnPoint, Independent, JointLimits, SystemInfo};
+use crate::system::{
+    BodyOrientation, ConstraintRow, Drawing, DrawnPoint, Independent, JointLimits, RotationFactor,
+    SystemInfo,
+};
 
 /// Names, guesses, independent coordinates and row labels of a model with m constraint rows.
 pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
@@ -60,6 +63,14 @@ pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
             lines: model.drawing.lines.clone(),
             traces: model.drawing.traces.clone(),
         },
+        orientations: (model.rotations.iter())
+            .map(|r| BodyOrientation {
+                body: r.body.clone(),
+                factors: (r.factors.iter())
+                    .map(|&(axis, coordinate)| RotationFactor { axis, coordinate })
+                    .collect(),
+            })
+            .collect(),
         joint_limits: mechanism_codegen::declared_limits(&model.links)
             .into_iter()
             .map(|l| JointLimits {

@@ -267,3 +267,72 @@ fn a_given_value_out_of_reach_is_named_not_the_guess() {
         "the constraints cannot be satisfied near the initial guess",
     );
 }
+
+/// The `phi = VALUE (` of a coordinate-singularity message.
+fn lean_in(message: &str) -> f64 {
+    let at = message.find(", phi = ").expect("the lean named") + ", phi = ".len();
+    let rest = &message[at..];
+    rest[..rest.find(' ').unwrap()].parse().expect("a number")
+}
+
+/// Issue 53, item 11: a disc or a bicycle that falls over stopped with "the mass matrix
+/// gives no inertia to an allowed motion of psi, th": the body lies flat, where the axes of
+/// the yaw and the spin (or pitch) of rot_z(psi) rot_x(phi) rot_y(..) line up, cos(phi) = 0.
+#[test]
+fn a_body_that_falls_flat_is_named_a_singularity_of_its_angles() {
+    let dir = out_dir("diagnoses-flat-disc");
+    let o = mechanism(&[
+        "simulate",
+        "rolling_disc",
+        "--init",
+        "der(th)=0",
+        "--t-end",
+        "2",
+        "--figures",
+        "none",
+        "--no-animation",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_one_line_error(
+        &o,
+        "a coordinate singularity of the orientation angles at t = 0.64",
+    );
+    assert_one_line_error(
+        &o,
+        "in body `disc`'s rot_z(psi) rot_x(phi) rot_y(th) the axes of psi and th line up (its y axis lies along the world z axis)",
+    );
+    // The run stops where the step cannot go on, within 1e-3 rad of the singular lean.
+    let lean = lean_in(&stderr(&o));
+    assert!(
+        (lean.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-3,
+        "{lean}"
+    );
+    assert!(!stderr(&o).contains("gives no inertia to an allowed motion"));
+
+    let dir = out_dir("diagnoses-flat-bicycle");
+    let o = mechanism(&[
+        "simulate",
+        "whipple_bicycle",
+        "--set",
+        "v=0.5",
+        "--init",
+        "der(phi)=0.5",
+        "--t-end",
+        "5",
+        "--figures",
+        "none",
+        "--no-animation",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_one_line_error(
+        &o,
+        "in body `rear_frame`'s rot_z(psi) rot_x(phi) rot_y(theta) the axes of psi and theta line up",
+    );
+    let lean = lean_in(&stderr(&o));
+    assert!(
+        (lean.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-3,
+        "{lean}"
+    );
+}

@@ -555,6 +555,7 @@ fn unnamed_rows_are_numbered() {
         velocity_rows: 0,
         energy_depends_on_time: false,
         drawing: Default::default(),
+        orientations: Vec::new(),
         joint_limits: Vec::new(),
     };
     assert_eq!(info.constraint_label(0), "row 1");

@@ -37,6 +37,7 @@ pub fn info(name: &str) -> SystemInfo {
         velocity_rows: 0,
         energy_depends_on_time: false,
         drawing: Default::default(),
+        orientations: Vec::new(),
         joint_limits: Vec::new(),
     }
 }

@@ -34,6 +34,7 @@ fn info(
         velocity_rows: 0,
         energy_depends_on_time: false,
         drawing: Default::default(),
+        orientations: Vec::new(),
         joint_limits: Vec::new(),
     }
 }

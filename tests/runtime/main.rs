@@ -11,6 +11,7 @@ mod common;
 mod assembly;
 mod banded_kkt;
 mod closure;
+mod coordinate_singularity;
 mod energy;
 mod fail_fast;
 mod fixed;

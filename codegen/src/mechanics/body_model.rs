@@ -17,7 +17,7 @@ use crate::mechanics::joints::{
     AxisFrame, distance, least_aligned, perpendiculars, prismatic, revolute, spherical,
 };
 use crate::mechanics::links::{LinkContext, build_link};
-use crate::mechanics::model::{Constraint, Coordinate, Model};
+use crate::mechanics::model::{Constraint, Coordinate, Model, RotationSequence};
 use crate::mechanics::rolling::{Wheel, rolling_rows, tilt_squared_at};
 use crate::mechanics::tree::Link;
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
@@ -292,6 +292,11 @@ impl Lowering {
             BodyItem::Body { name, at, entries } => {
                 let (known, guesses) = (&self.known, &self.at_guesses);
                 let body = build_body(arena, name, *at, entries, scope, known, guesses)?;
+                if let Some(orientation) = &body.orientation {
+                    let sequence =
+                        RotationSequence::of(arena, name, orientation, &model.coordinates);
+                    model.rotations.push(sequence);
+                }
                 self.system.bodies.push(body);
             }
             BodyItem::Spring { name, at, entries } | BodyItem::Damper { name, at, entries } => {

@@ -182,6 +182,7 @@ fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result
         kinetic_from_links: false,
         potential_from_links: false,
         gravity: None,
+        rotations: Vec::new(),
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })

@@ -1,6 +1,7 @@
 //! The parsed declaration of a mechanism: what the user wrote, as expressions in one arena.
 
 use crate::algebra::expr::{Arena, Id};
+use crate::algebra::rotation::{Orientation, RotationFactor};
 use crate::error::Location;
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::tree::Link;
@@ -144,6 +145,52 @@ pub struct Model {
     pub potential_from_links: bool,
     /// The declared gravity vector g (world), when there is one.
     pub gravity: Option<[Id; 3]>,
+    /// The orientation of each body that declares one, as the product it is written as: the
+    /// rotation sequences whose angles can be singular (a body that lies flat in
+    /// `rot_z(psi) * rot_x(phi) * rot_y(th)`).
+    pub rotations: Vec<RotationSequence>,
+}
+
+/// A body's orientation R = F_1 F_2 ... (body to world) as declared: for each factor, the
+/// axis of an elementary rotation and which coordinate is its angle. The runtime reads it
+/// to name a singularity of the angles (two of their axes in line, where their rates are
+/// not determined).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RotationSequence {
+    /// The body.
+    pub body: String,
+    /// The factors, left to right: the axis of `rot_x`, `rot_y`, `rot_z` (0, 1, 2; `None`
+    /// for an explicit 3x3 factor) and the index of the coordinate that is its angle (`None`
+    /// for an angle that is not exactly one coordinate: a parameter, an expression).
+    pub factors: Vec<(Option<usize>, Option<usize>)>,
+}
+
+impl RotationSequence {
+    /// The sequence of `orientation`, the orientation of `body`, with the coordinates of
+    /// `coordinates` as the angles it names.
+    pub(crate) fn of(
+        arena: &Arena,
+        body: &str,
+        orientation: &Orientation,
+        coordinates: &[Coordinate],
+    ) -> Self {
+        let coordinate = |angle: Id| coordinates.iter().position(|c| c.q == angle);
+        let factors = orientation
+            .factors
+            .iter()
+            .map(|f| match f {
+                RotationFactor::Elementary(axis, angle) => {
+                    let angle = arena.as_symbol(*angle).map(|s| arena.symbol_node(s));
+                    (Some(axis.index()), angle.and_then(coordinate))
+                }
+                RotationFactor::Explicit(_) => (None, None),
+            })
+            .collect();
+        Self {
+            body: body.to_string(),
+            factors,
+        }
+    }
 }
 
 impl Model {

@@ -294,5 +294,6 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         kinetic_from_links: false,
         potential_from_links: false,
         gravity: None,
+        rotations: Vec::new(),
     }
 }

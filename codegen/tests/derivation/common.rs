@@ -322,6 +322,7 @@ pub fn bare_model(
         kinetic_from_links: false,
         potential_from_links: false,
         gravity: None,
+        rotations: Vec::new(),
     }
 }
 
