@@ -171,7 +171,8 @@
 //! parameter set; constants `NAME`, `N`, `M`, `COORDINATES`, `PARAMETERS`,
 //! `PARAMETER_DEFAULTS`, `PARAMETER_RANGES`, `INITIAL_GUESS` and `INDEPENDENT` (the
 //! initial values at the declared defaults), the drawing's `DRAW_POINTS`, `DRAW_LINES` and
-//! `DRAW_TRACES`, a link tree's `JOINT_LIMITS`; and `impl` [`Mechanism<N, M>`](crate::Mechanism) with every method of
+//! `DRAW_TRACES`, a link tree's `JOINT_LIMITS`, the bodies' `ORIENTATIONS` (their rotation
+//! sequences, by which a singularity of their angles is named); and `impl` [`Mechanism<N, M>`](crate::Mechanism) with every method of
 //! that trait as straight-line, allocation-free code: among them `initial_guess()` and
 //! `independent(k)`, the initial values evaluated from the parameters as they are now, and
 //! `set_parameter`, which refuses a value outside the declared range
