@@ -208,3 +208,48 @@ fn out_that_is_not_a_regular_file_is_refused_and_left_alone() {
         );
     }
 }
+
+/// `--out` that is the URDF being imported, by any path (the same name, `./name`, a
+/// symbolic link either way, a hard link): refused in one line before anything is read or
+/// written, the URDF byte for byte as it was.
+#[cfg(unix)]
+#[test]
+fn out_that_is_the_urdf_itself_is_refused_and_the_urdf_kept() {
+    let dir = out_dir("import-self");
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("R.urdf");
+    let original = std::fs::read(ARM).unwrap();
+    std::fs::write(&urdf, &original).unwrap();
+    std::os::unix::fs::symlink(&urdf, dir.join("L.urdf")).unwrap();
+    std::fs::hard_link(&urdf, dir.join("H.urdf")).unwrap();
+    let cases = [
+        ("R.urdf", "R.urdf"),
+        ("R.urdf", "./R.urdf"),
+        ("L.urdf", "R.urdf"),
+        ("R.urdf", "L.urdf"),
+        ("H.urdf", "R.urdf"),
+    ];
+    for (input, out) in cases {
+        let o = super::mechanism_in(&dir, &["import", input, "--out", out]);
+        assert_one_line_error(
+            &o,
+            &format!(
+                "--out {out} is the URDF being imported ({input}): the declaration would replace it"
+            ),
+        );
+        assert_eq!(
+            std::fs::read(&urdf).unwrap(),
+            original,
+            "{input} --out {out}"
+        );
+    }
+    assert!(
+        std::fs::symlink_metadata(dir.join("L.urdf"))
+            .unwrap()
+            .is_symlink()
+    );
+    // Another name in the same folder is written as usual.
+    let o = super::mechanism_in(&dir, &["import", "R.urdf", "--out", "R.mech"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("R.mech").is_file());
+}
