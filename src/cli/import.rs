@@ -51,7 +51,7 @@ pub fn run(args: &ImportArgs) -> Result<(), CliError> {
 /// The text of the URDF at `path` ([`read_input`]: a regular file within the input budget,
 /// in UTF-8).
 fn read_urdf(path: &Path) -> Result<String, CliError> {
-    read_input(path).map_err(|e| CliError::Import(format!("cannot read {}: {e}", path.display())))
+    read_input(path).map_err(CliError::Import)
 }
 
 /// Refuses an `--out` that is the URDF being imported, by any path (`./R.urdf`, a symbolic
