@@ -120,8 +120,8 @@ pub use crate::algorithms::drive::{DriveError, parse_drive};
 pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 #[cfg(feature = "std")]
 pub use crate::algorithms::inverse::{
-    InverseDynamics, InverseResult, InverseSample, inverse_dynamics, inverse_dynamics_from,
-    sample_times,
+    InverseDynamics, InverseResult, InverseSample, check_inverse_dynamics, inverse_dynamics,
+    inverse_dynamics_from, sample_times,
 };
 #[cfg(feature = "std")]
 pub use crate::algorithms::kinematics::{

@@ -26,6 +26,8 @@ mod input_limits;
 mod inverse_branch;
 #[path = "cli/joint_limits.rs"]
 mod joint_limits;
+#[path = "cli/kept_results.rs"]
+mod kept_results;
 #[path = "cli/outputs.rs"]
 mod outputs;
 #[path = "cli/ownership.rs"]

@@ -427,8 +427,7 @@ pub fn inverse_dynamics_from(
             got: guess.len(),
         });
     }
-    let columns = 1 + 3 * info.n() + drives.len() + info.m();
-    check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)?;
+    check_inverse_dynamics(system, &drives, times)?;
     let coordinates = drives.iter().map(|d| d.coordinate).collect();
     let mut inv = InverseDynamics::new(system, drives, *assembly)?;
     inv.q.copy_from_slice(guess);
@@ -442,6 +441,26 @@ pub fn inverse_dynamics_from(
         driven: coordinates,
         samples,
     })
+}
+
+/// The refusals [`inverse_dynamics_from`] makes before any work, alone: a drive of an
+/// unknown coordinate or one driven twice ([`Error::UnknownDriver`],
+/// [`Error::RepeatedCoordinate`]), and more samples than [`crate::MAX_OUTPUT_BYTES`] hold
+/// ([`Error::TooMuchOutput`]). It solves nothing, so a caller can refuse a run before it
+/// claims anything for it (the command-line tool, before it touches the output folder).
+///
+/// # Errors
+/// Those above.
+pub fn check_inverse_dynamics(
+    system: &dyn System,
+    drives: &[Drive],
+    times: &[f64],
+) -> Result<(), Error> {
+    let info = system.info();
+    let fixed: Vec<usize> = drives.iter().map(|d| d.coordinate).collect();
+    check_fixed(info, &fixed)?;
+    let columns = 1 + 3 * info.n() + drives.len() + info.m();
+    check_output_memory(times.len(), columns, SAMPLE_OVERHEAD)
 }
 
 /// Sample times t_start, t_start + 1/rate, ..., ending exactly at t_end.

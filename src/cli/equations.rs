@@ -105,8 +105,7 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
     let err = |e: mechanism_codegen::Error| CliError::Mechanism(located(spec, &e));
     let file = is_file_spec(spec);
     let (source, builtin_system) = if file {
-        let source = read_input(Path::new(spec))
-            .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
+        let source = read_input(Path::new(spec)).map_err(CliError::Mechanism)?;
         (source, None)
     } else {
         let loaded = load(spec, Tangents::None)?;

@@ -33,37 +33,87 @@ pub fn input_budget() -> Result<u64, String> {
     }
 }
 
-/// The text of the file at `path` (see the module docs); the error is the reason, for
-/// `cannot read <path>: <reason>`.
+/// The text of the file at `path` (see the module docs); the error is one line naming the
+/// file: `cannot read <path>: <reason>`, or `<path>:<line>:<column>: ...` for a byte that
+/// is not UTF-8.
 pub fn read_input(path: &Path) -> Result<String, String> {
-    let metadata = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    let cannot = |reason: String| format!("cannot read {}: {reason}", path.display());
+    let metadata = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?;
     if !metadata.is_file() {
-        return Err(format!("not a regular file ({})", kind(&metadata)));
+        return Err(cannot(format!("not a regular file ({})", kind(&metadata))));
     }
-    let budget = input_budget()?;
+    let budget = input_budget().map_err(cannot)?;
     let too_large = |size: u64| {
-        format!(
+        cannot(format!(
             "{size} bytes, more than the {budget} allowed for an input file; raise the limit \
              with the environment variable MECHANISM_MAX_INPUT_BYTES={size}"
-        )
+        ))
     };
     if metadata.len() > budget {
         return Err(too_large(metadata.len()));
     }
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let file = std::fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
     let mut bytes = Vec::new();
     file.take(budget + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| cannot(e.to_string()))?;
     if bytes.len() as u64 > budget {
         return Err(too_large(bytes.len() as u64));
     }
+    decode(path, bytes)
+}
+
+/// `bytes` read from `path` as UTF-8 text. UTF-16 (with its byte-order mark, or ASCII text
+/// with every other byte zero) is named as such, with the conversion to run; another byte
+/// that is not UTF-8 is located by its offset, line and column (of the text before it), as
+/// an editor counts them.
+fn decode(path: &Path, bytes: Vec<u8>) -> Result<String, String> {
+    let p = path.display();
+    if let Some((order, encoding)) = utf16(&bytes) {
+        return Err(format!(
+            "cannot read {p}: it is UTF-16 text ({order}), and input files are read as UTF-8: \
+             convert it, e.g. `iconv -f {encoding} -t UTF-8 {p} > utf8-copy`"
+        ));
+    }
     String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        // The bytes before `at` are valid UTF-8: count its lines and characters.
+        let before = std::str::from_utf8(&bytes[..at]).unwrap_or_default();
+        let line = before.matches('\n').count() + 1;
+        let column = before
+            .rsplit('\n')
+            .next()
+            .unwrap_or_default()
+            .chars()
+            .count()
+            + 1;
         format!(
-            "not UTF-8 (byte {} is not valid)",
-            e.utf8_error().valid_up_to()
+            "{p}:{line}:{column}: byte {at} (0x{:02x}) is not valid UTF-8: save the file as \
+             UTF-8 (from Latin-1, e.g. `iconv -f LATIN1 -t UTF-8 {p} > utf8-copy`)",
+            bytes[at]
         )
     })
+}
+
+/// Which UTF-16 `bytes` look like, if any, and its name for `iconv`: a byte-order mark, or
+/// (without one) an ASCII first character with a zero byte beside it, which UTF-8 text
+/// never starts with.
+fn utf16(bytes: &[u8]) -> Option<(&'static str, &'static str)> {
+    match bytes {
+        [0xff, 0xfe, ..] => Some((
+            "little-endian, its byte-order mark FF FE at byte 0",
+            "UTF-16",
+        )),
+        [0xfe, 0xff, ..] => Some(("big-endian, its byte-order mark FE FF at byte 0", "UTF-16")),
+        [a, 0, ..] if a.is_ascii() && *a != 0 => {
+            Some(("little-endian, without a byte-order mark", "UTF-16LE"))
+        }
+        [0, b, ..] if b.is_ascii() && *b != 0 => {
+            Some(("big-endian, without a byte-order mark", "UTF-16BE"))
+        }
+        _ => None,
+    }
 }
 
 /// What a file that is not a regular one is: a folder, a pipe, a device.

@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use super::CliError;
 use super::args::{CommonArgs, InverseArgs};
 use super::drawing::write_drawing;
-use super::load::{did_you_mean, load};
+use super::load::{Loaded, did_you_mean, load};
 use super::physical::{apply_sets, initial_values};
-use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::run_dir::{At, Failure, Known, OUTPUT, RunDir, output_folder, owning_folder};
 use super::seed::figure_names;
 use super::stdio::print;
 use super::validate::{check_csv_size, check_span};
@@ -20,15 +20,20 @@ use mechanism::output::{
     write_inverse_csv, write_inverse_summary,
 };
 use mechanism::{Drive, System, parse_drive};
-use mechanism::{inverse_dynamics_from, sample_times};
+use mechanism::{check_inverse_dynamics, inverse_dynamics_from, sample_times};
 use mechanism_codegen::Tangents;
 
-/// Runs `inverse` with `a`: the options are checked, the output folder claimed, then the
-/// run; a failure at any stage leaves a `summary.json` saying where and why.
+/// Runs `inverse` with `a`: everything that can refuse the run is checked ([`prepare`]),
+/// with the output folder untouched; then the folder is claimed ([`owning_folder`]) and the
+/// run starts. A failure from the first position solve on leaves a `summary.json` saying
+/// where and why.
 pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
-    let run = |out: &mut RunDir, known: &mut Known| inverse(a, out, known);
-    owning_folder(&a.common, run, |known, failure, out| {
+    let prepared = prepare(a)?;
+    let dir = output_folder(&a.common, &prepared.loaded.key);
+    let known = Known::of(prepared.loaded.system.as_ref());
+    let run = |out: &mut RunDir, known: &mut Known| inverse(a, prepared, out, known);
+    owning_folder(&dir, "inverse.csv", known, run, |known, failure, out| {
         let mut summary = InverseSummary::not_started(
             &known.mechanism,
             known.parameters,
@@ -41,24 +46,57 @@ pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     })
 }
 
-/// The run itself: load, solve along the drives, write.
-fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), Failure> {
-    let mut loaded = load(&a.common.mechanism, Tangents::None).at("setup")?;
-    *known = Known::of(loaded.system.as_ref());
-    apply_sets(&mut loaded, &a.common.set).at("setup")?;
+/// A run checked and ready to start: the mechanism with its `--set` values, the drives,
+/// the sample times and the guesses the first position solve starts from.
+struct Prepared {
+    loaded: Loaded,
+    drives: Vec<Drive>,
+    times: Vec<f64>,
+    guess: Vec<f64>,
+}
+
+/// Everything that refuses a run before it starts, with nothing written: the mechanism
+/// loaded, `--set`, `--drive` and `--init` applied and checked, the CSV's size, and the
+/// library's own refusals ([`check_inverse_dynamics`]: a coordinate driven twice, an output
+/// too large to hold).
+fn prepare(a: &InverseArgs) -> Result<Prepared, CliError> {
+    let mut loaded = load(&a.common.mechanism, Tangents::None)?;
+    apply_sets(&mut loaded, &a.common.set)?;
     let system = loaded.system.as_ref();
-    *known = Known::of(system);
     let drives = a
         .drive
         .iter()
         .map(|d| drive(system, d))
-        .collect::<Result<Vec<_>, _>>()
-        .at("setup")?;
+        .collect::<Result<Vec<_>, _>>()?;
     let info = system.info();
     let columns = 1 + 3 * info.n() + drives.len() + info.m();
-    check_csv_size(&a.common, "inverse.csv", columns).at("setup")?;
+    check_csv_size(&a.common, "inverse.csv", columns)?;
     let times = sample_times(0.0, a.common.t_end, a.common.samples_per_second);
-    let guess = guesses(system, &a.common, &drives).at("setup")?;
+    let guess = guesses(system, &a.common, &drives)?;
+    check_inverse_dynamics(system, &drives, &times)?;
+    Ok(Prepared {
+        loaded,
+        drives,
+        times,
+        guess,
+    })
+}
+
+/// The run itself: solve along the drives, write.
+fn inverse(
+    a: &InverseArgs,
+    prepared: Prepared,
+    out: &mut RunDir,
+    known: &mut Known,
+) -> Result<(), Failure> {
+    let Prepared {
+        mut loaded,
+        drives,
+        times,
+        guess,
+    } = prepared;
+    let system = loaded.system.as_ref();
+    let info = system.info();
     let result = inverse_dynamics_from(system, drives, &guess, &times, &AssemblyOptions::default())
         .at("inverse dynamics")?;
     let table = InverseTable {
@@ -76,20 +114,16 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     summary.joint_limit_excursions = inverse_excursions(info, &table);
     let figures = a.common.figures.resolve(info.n());
     let names = figure_names(&loaded.key, system);
-    let written = write_data(&table, out, &names, figures).and_then(|()| {
-        let n = info.n();
-        let rows = &table.rows;
-        let drawing = write_drawing(system, &a.common, out.staging(), rows.len(), |i| {
-            (rows[i][0], &rows[i][1..1 + n])
-        })?;
-        out.wrote_figures(drawing);
-        Ok(())
-    });
-    if let Err(e) = &written {
-        summary.outcome.failed_in("output", e);
-    }
+    write_data(&table, out, &names, figures).at(OUTPUT)?;
+    let n = info.n();
+    let rows = &table.rows;
+    let drawing = write_drawing(system, &a.common, out.staging(), rows.len(), |i| {
+        (rows[i][0], &rows[i][1..1 + n])
+    })
+    .at(OUTPUT)?;
+    out.wrote_figures(drawing);
     summary.outcome.files = out.names();
-    write_inverse_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
+    write_inverse_summary(&out.file(SUMMARY_FILE), &summary).at(OUTPUT)?;
     let mut text = String::new();
     for (name, peak) in &summary.max_abs_driving_force.0 {
         let samples = summary.samples;
@@ -112,13 +146,11 @@ fn inverse(a: &InverseArgs, out: &mut RunDir, known: &mut Known) -> Result<(), F
     }
     let _ = writeln!(text, "{}", out.wrote());
     loaded.source.clear();
-    let summarized = |e: CliError| Failure {
-        stage: "output",
+    print(&text).map_err(|e| Failure {
+        stage: OUTPUT,
         error: Box::new(e),
         summarized: true,
-    };
-    written.map_err(|e| summarized(e.into()))?;
-    print(&text).map_err(summarized)
+    })
 }
 
 /// The drive `text` (`COORD = f(t)`) of `system`; an unknown coordinate is named with the

@@ -1,6 +1,7 @@
 //! `mechanism linearize`: the linearisation about an equilibrium or a steady motion in
 //! minimal variables ([`mechanism::linearize_steady`]), its eigenvalues printed and
-//! written with the state matrix to `linearization.json`.
+//! written with the state matrix to `linearization.json`, under the output folder's lock
+//! ([`FolderLock`]).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -10,7 +11,7 @@ use super::args::{CommonArgs, FiguresArg, LinearizeArgs, ViewArg};
 use super::load::{key_of, load_for_linearization};
 use super::physical::{apply_sets, initial_values};
 use super::stdio::print;
-use mechanism::output::{OutputError, write_atomically};
+use mechanism::output::{FolderLock, OutputError, write_atomically};
 use mechanism::{AssemblyOptions, SteadyLinearization, SteadyOptions, System};
 use mechanism::{assemble_from, linearize_steady};
 
@@ -35,12 +36,16 @@ pub fn run(a: &LinearizeArgs) -> Result<(), CliError> {
         Some(d) => d.clone(),
         None => PathBuf::from("out").join(key_of(&a.mechanism).unwrap_or(loaded.key.clone())),
     };
-    std::fs::create_dir_all(&dir).map_err(|source| io_error(&dir, source))?;
     let path = dir.join(LINEARIZATION_FILE);
     let json = document(system, &state.q, &state.qd, &lin);
+    // The folder is claimed like the other writing commands claim theirs, once the
+    // linearisation is computed (a refusal before leaves it untouched): a run writing there
+    // refuses this one, and this one a run that comes while it writes.
+    let lock = FolderLock::acquire(&dir)?;
     write_atomically(&path, |tmp| {
         std::fs::write(tmp, json.as_bytes()).map_err(|source| io_error(tmp, source))
     })?;
+    drop(lock);
     print(&report(system, &lin, &path.display().to_string()))
 }
 

@@ -52,8 +52,7 @@ impl Loaded {
 pub fn load(spec: &str, tangents: Tangents) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
     if is_file_spec(spec) {
-        let source = read_input(path)
-            .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
+        let source = read_input(path).map_err(CliError::Mechanism)?;
         let system = mechanism_codegen::parse_model_str_with(&source, derivation_budget()?)
             .and_then(|mut model| {
                 let eqs = mechanism_codegen::derive(&mut model)?;
@@ -87,8 +86,7 @@ pub fn load(spec: &str, tangents: Tangents) -> Result<Loaded, CliError> {
 pub fn load_for_linearization(spec: &str) -> Result<Loaded, CliError> {
     let path = Path::new(spec);
     let (source, key) = if is_file_spec(spec) {
-        let source = read_input(path)
-            .map_err(|e| CliError::Mechanism(format!("cannot read {spec}: {e}")))?;
+        let source = read_input(path).map_err(CliError::Mechanism)?;
         (source, file_key(path))
     } else {
         let source = builtin_source(spec).ok_or_else(|| {

@@ -25,6 +25,7 @@ mod progress;
 mod report;
 mod run_dir;
 mod seed;
+mod signals;
 mod simulate;
 mod stdio;
 mod validate;
@@ -63,14 +64,44 @@ pub enum CliError {
     /// Writing a result file failed.
     #[error("{0}")]
     Output(#[from] mechanism::output::OutputError),
+    /// A run whose results could not be put in its output folder (`why`, when that is not
+    /// `error` itself: a failed summary or swap), which is left as it was.
+    #[error(
+        "{error}; {dir} is left as it was{}{}",
+        why.as_ref().map_or(String::new(), |w| format!(" ({w})")),
+        full_disk_hint(why.as_deref().unwrap_or(&error.to_string()))
+    )]
+    NotReplaced {
+        /// Why the run failed.
+        error: Box<CliError>,
+        /// Why its results could not be put in, if not `error`.
+        why: Option<String>,
+        /// The output folder.
+        dir: String,
+    },
     /// Writing to standard output failed (a full disk; a closed pipe is not an error:
     /// [`stdio::print`]).
     #[error("cannot write to standard output: {0}")]
     Stdout(std::io::Error),
 }
 
+/// What to do when `message` says that a disk is full or a file beyond the size allowed
+/// (the operating system's words for ENOSPC, EDQUOT and EFBIG), else nothing.
+fn full_disk_hint(message: &str) -> &'static str {
+    if message.contains("No space left on device") || message.contains("Disk quota exceeded") {
+        ": free space on its disk, or write elsewhere with --out"
+    } else if message.contains("File too large") {
+        ": a file of the run is larger than its file system or the process's limit \
+         (ulimit -f) allows; lower --samples-per-second, shorten --t-end or write elsewhere \
+         with --out"
+    } else {
+        ""
+    }
+}
+
 /// Runs the command line in `args` (the program name first) and returns the exit status.
 pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
+    signals::install();
     let args: Vec<std::ffi::OsString> = args.into_iter().collect();
     let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,

@@ -1,25 +1,30 @@
 //! The output folder a run owns, and how a failed run is recorded there.
 //!
-//! Once the options are checked, a run claims its folder: it takes the folder's lock (a
-//! second run into a folder in use is refused: [`FolderLock`]) and writes every file into
-//! a staging folder inside it ([`Staging`]). When the run ends, completed or failed, its
-//! results replace the previous run's whole: the files the previous `summary.json` lists
-//! (only if that summary is ours) go, the new ones come in, the user's other files stay.
-//! Until then the previous results are untouched, so a run that is killed, or cannot even
-//! write its summary, leaves them as they were. A run that fails, even before its first
-//! sample (an unreadable declaration, a bad `--set`, an assembly that fails), still writes
-//! a `summary.json` with `status: failed`, the stage and the error, and that summary
-//! replaces the previous results: a folder never shows older results as current.
+//! A run is refused before it starts (an unknown mechanism, a missing file, a bad `--set`,
+//! `--init` or `--drive`, an output too large, a fixed step too small: everything checked
+//! before the assembly) without touching its folder: the command checks all of it first,
+//! and only then claims the folder ([`owning_folder`]). Claiming takes the folder's lock (a
+//! second run into a folder in use is refused: [`FolderLock`]) and a staging folder inside
+//! it ([`Staging`]) that every file is written into.
+//!
+//! When a run that started ends, completed or failed, its results replace the previous
+//! run's whole: the files the previous `summary.json` lists (only if that summary is ours)
+//! go, the new ones come in, the user's other files stay. A run that fails after it started
+//! (the assembly, the integration, the inverse dynamics) writes a `summary.json` with
+//! `status: failed`, the stage and the error, and that summary replaces the previous
+//! results: a folder never shows older results as current. Until then the previous results
+//! are untouched, and they stay so when the new results cannot all be written (a full
+//! disk, a folder in the place of a file: the error says the folder is left as it was), or
+//! when the run is killed. An interrupt (SIGINT, SIGTERM) that comes during the swap waits
+//! until it is done ([`signals::deferred`]).
 
 use std::path::{Path, PathBuf};
 
-use super::CliError;
 use super::args::CommonArgs;
-use super::load::{is_file_spec, key_of, load};
+use super::{CliError, signals};
 use mechanism::System;
 use mechanism::output::summary::NamedValues;
-use mechanism::output::{FolderLock, OutputError, Staging};
-use mechanism_codegen::Tangents;
+use mechanism::output::{FolderLock, OutputError, SUMMARY_FILE, Staging, check_target};
 
 /// The folder of one run and the files written into it so far.
 pub struct RunDir {
@@ -27,30 +32,33 @@ pub struct RunDir {
     /// Data files (CSV), then figures, in the order written (in the staging folder).
     data: Vec<PathBuf>,
     figures: Vec<PathBuf>,
+    /// Whether claiming the folder created it (removed again if the run leaves it empty).
+    created: bool,
     /// Held until the run's results are swapped in (declared last: dropped last).
-    _lock: FolderLock,
+    lock: FolderLock,
 }
 
 impl RunDir {
-    /// The folder of a run of `common` (`--out`, or `out/<key>`), locked, with a fresh
-    /// staging folder; `None` when there is none to claim (an unknown mechanism name and no
-    /// `--out`).
-    pub fn claim(common: &CommonArgs) -> Result<Option<Self>, CliError> {
-        let dir = match (&common.out, key_of(&common.mechanism)) {
-            (Some(out), _) => out.clone(),
-            (None, Some(key)) => Path::new("out").join(key),
-            (None, None) => return Ok(None),
-        };
-        let lock = FolderLock::acquire(&dir)?;
-        let staging = Staging::begin(&lock)?;
-        Ok(Some(Self {
+    /// Claims `dir` for a run whose data file is `data` (`trajectory.csv`): refused before
+    /// anything is touched when `summary.json` or `data` there is not a regular file (the
+    /// swap could not put the results in: [`check_target`]), else locked, with a fresh
+    /// staging folder.
+    fn claim(dir: &Path, data: &str) -> Result<Self, CliError> {
+        for name in [SUMMARY_FILE, data] {
+            check_target(&dir.join(name))?;
+        }
+        let created = !dir.exists();
+        let lock = FolderLock::acquire(dir)?;
+        // It may complete the swap of a run killed midway: not to be cut short either.
+        let staging = signals::deferred(|| Staging::begin(&lock))?;
+        Ok(Self {
             staging,
             data: Vec::new(),
             figures: Vec::new(),
-            _lock: lock,
-        }))
+            created,
+            lock,
+        })
     }
-
     /// The output folder (where the results are once the run ends).
     pub fn dir(&self) -> &Path {
         self.staging.target()
@@ -102,58 +110,131 @@ impl RunDir {
     /// Swaps the staged results in when the summary is staged, else leaves the previous
     /// results as they were ([`Staging::commit`]); then releases the folder.
     fn end(self) -> Result<bool, OutputError> {
-        self.staging.commit()
+        let Self {
+            staging,
+            created,
+            lock,
+            ..
+        } = self;
+        // An interrupt waits for the swap: the folder holds the previous results or these.
+        signals::deferred(|| {
+            let swapped = staging.commit();
+            release(lock, created);
+            swapped
+        })
+    }
+
+    /// Discards the staged results, leaving the folder as it was ([`Staging::discard`]);
+    /// then releases it (and removes it if the claim created it).
+    fn discard(self) {
+        let Self {
+            staging,
+            created,
+            lock,
+            ..
+        } = self;
+        // A staging folder that cannot be removed is the next run's to remove.
+        let _ = staging.discard();
+        release(lock, created);
     }
 }
 
-/// Runs `run` in the output folder of `common` (options already checked): claims the
-/// folder ([`RunDir::claim`]), runs, and when the run fails without having recorded it,
-/// writes the summary `failed_summary` makes of what is known; then the results replace the
-/// previous ones ([`RunDir::end`]). With no folder to claim (an unknown name or a missing
-/// file, and no `--out`) nothing is touched and the error is the loader's.
+/// Releases `lock`, then removes its folder if the claim `created` it and nothing is in it.
+fn release(lock: FolderLock, created: bool) {
+    let dir = lock.dir().to_path_buf();
+    drop(lock);
+    if created {
+        // Fails, as it should, when the folder holds anything.
+        let _ = std::fs::remove_dir(&dir);
+    }
+}
+
+/// The output folder of a run of `common` whose mechanism's key is `key`: `--out`, or
+/// `out/<key>`.
+pub fn output_folder(common: &CommonArgs, key: &str) -> PathBuf {
+    match &common.out {
+        Some(out) => out.clone(),
+        None => Path::new("out").join(key),
+    }
+}
+
+/// Runs `run` in `dir` (everything that can refuse the run checked already): claims the
+/// folder ([`RunDir::claim`], with the run's data file `data`), runs, and ends:
+///
+/// - the run completed: its results replace the previous ones;
+/// - it failed after it started: the summary `failed_summary` makes of `known` and the
+///   failure (unless the run wrote its own) is staged, and the results replace the
+///   previous ones;
+/// - its results could not all be written ([`Failure::replaces`] false), or the swap
+///   fails: the folder is left as it was, and the error says so.
 pub fn owning_folder(
-    common: &CommonArgs,
+    dir: &Path,
+    data: &str,
+    mut known: Known,
     run: impl FnOnce(&mut RunDir, &mut Known) -> Result<(), Failure>,
     failed_summary: impl FnOnce(Known, &Failure, &RunDir) -> Result<(), OutputError>,
 ) -> Result<(), CliError> {
-    // A file that is not there (a typo, a folder) names no folder of its own, as an
-    // unknown name does not: without `--out` its error comes before any folder is claimed,
-    // so that it neither replaces the results in out/<stem> with a failed summary nor
-    // leaves a new folder behind. (A folder given with `--out` records the failure.)
-    let missing = common.out.is_none()
-        && is_file_spec(&common.mechanism)
-        && !Path::new(&common.mechanism).is_file();
-    let claimed = if missing {
-        None
-    } else {
-        RunDir::claim(common)?
-    };
-    let Some(mut out) = claimed else {
-        return load(&common.mechanism, Tangents::None).map(|_| ());
-    };
-    let mut known = Known::given(common);
+    let mut out = RunDir::claim(dir, data)?;
     let failure = match run(&mut out, &mut known) {
-        Ok(()) => return out.end().map(|_| ()).map_err(CliError::Output),
+        Ok(()) => {
+            return out
+                .end()
+                .map(|_| ())
+                .map_err(|e| left_as_it_was(e.into(), None, dir));
+        }
         Err(failure) => failure,
     };
-    if !failure.summarized {
-        // The run's own error is what the user needs; a summary that cannot be written
-        // either (a full disk) adds nothing to it.
-        let _ = failed_summary(known, &failure, &out);
+    if !failure.replaces() {
+        out.discard();
+        return Err(match *failure.error {
+            said @ CliError::NotReplaced { .. } => said,
+            error => left_as_it_was(error, None, dir),
+        });
     }
-    // Likewise a swap that fails: the run's error comes first.
-    let _ = out.end();
-    Err(*failure.error)
+    // The run's own error is what the user needs; a summary that cannot be written either
+    // (a full disk) only means that the folder stays as it was.
+    let summary = if failure.summarized {
+        Ok(())
+    } else {
+        failed_summary(known, &failure, &out)
+    };
+    match (summary, out.end()) {
+        (Ok(()), Ok(true)) => Err(*failure.error),
+        (Err(e), _) | (Ok(()), Err(e)) => Err(left_as_it_was(*failure.error, Some(e), dir)),
+        (Ok(()), Ok(false)) => Err(left_as_it_was(*failure.error, None, dir)),
+    }
+}
+
+/// `error`, said to have left `dir` as it was (with `why` the results could not be put
+/// in, when that is another error).
+pub fn left_as_it_was(error: CliError, why: Option<OutputError>, dir: &Path) -> CliError {
+    CliError::NotReplaced {
+        error: Box::new(error),
+        why: why.map(|e| e.to_string()),
+        dir: dir.display().to_string(),
+    }
 }
 
 /// Where a run stopped and why.
 pub struct Failure {
-    /// `setup`, `assembly`, `integration`, `inverse dynamics` or `output`.
+    /// `assembly`, `integration`, `inverse dynamics` or [`OUTPUT`].
     pub stage: &'static str,
     /// Why (boxed: the error is large and a failure is rare).
     pub error: Box<CliError>,
     /// The run already wrote its `summary.json` saying so.
     pub summarized: bool,
+}
+
+/// The stage of writing the results.
+pub const OUTPUT: &str = "output";
+
+impl Failure {
+    /// False when the run's results could not all be written (a failure in [`OUTPUT`]
+    /// before its summary was staged): they replace nothing. A failure after the summary
+    /// (printing the report) leaves complete results, which replace the previous ones.
+    pub fn replaces(&self) -> bool {
+        self.stage != OUTPUT || self.summarized
+    }
 }
 
 /// Tags an error with the stage of the run it stopped.
@@ -172,24 +253,15 @@ impl<T, E: Into<CliError>> At<T> for Result<T, E> {
     }
 }
 
-/// What a failed run's summary can say about the mechanism: its name and parameters once
-/// it is loaded, the name given before.
+/// What a failed run's summary says about the mechanism: its name and parameters.
 pub struct Known {
-    /// The mechanism's declared name, or the name given.
+    /// The mechanism's declared name.
     pub mechanism: String,
-    /// Parameter values by name (empty before loading).
+    /// Parameter values by name.
     pub parameters: NamedValues,
 }
 
 impl Known {
-    /// What is known before loading: the name given.
-    pub fn given(common: &CommonArgs) -> Self {
-        Self {
-            mechanism: key_of(&common.mechanism).unwrap_or_else(|| common.mechanism.clone()),
-            parameters: NamedValues::default(),
-        }
-    }
-
     /// The declared name and current parameter values of `system`.
     pub fn of(system: &dyn System) -> Self {
         let info = system.info();

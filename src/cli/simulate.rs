@@ -4,12 +4,14 @@
 use super::CliError;
 use super::args::{CommonArgs, FiguresArg, IntegratorArg, SimulateArgs, StabilizationArg, ViewArg};
 use super::drawing::write_drawing;
-use super::load::load;
+use super::load::{Loaded, load};
 use super::physical::check_assembled;
 use super::physical::{apply_sets, initial_values};
 use super::progress::Progress;
 use super::report::summary_text;
-use super::run_dir::{At, Failure, Known, RunDir, owning_folder};
+use super::run_dir::{
+    At, Failure, Known, OUTPUT, RunDir, left_as_it_was, output_folder, owning_folder,
+};
 use super::seed::figure_names;
 use super::stdio::print;
 use super::validate::{check_csv_size, check_integrator, check_span};
@@ -22,7 +24,7 @@ use mechanism::output::{
     write_trajectory_csv,
 };
 use mechanism::{AssemblyOptions, assemble_from};
-use mechanism::{Error, InitialState, SimulationOptions, Simulator};
+use mechanism::{Error, Independent, InitialState, SimulationOptions, Simulator};
 use mechanism_codegen::Tangents;
 
 /// Default fixed step for rk4 and hht when `--step` is not given (s).
@@ -117,14 +119,17 @@ fn residuals(system: &dyn System, trajectory: &Trajectory) -> Vec<Vec<f64>> {
     rows
 }
 
-/// Runs `simulate` with `a`: the options are checked, the output folder claimed
-/// ([`RunDir`]), then the run; a failure at any stage leaves a `summary.json` saying where
-/// and why.
+/// Runs `simulate` with `a`: everything that can refuse the run is checked ([`prepare`]),
+/// with the output folder untouched; then the folder is claimed ([`owning_folder`]) and the
+/// run starts. A failure from the assembly on leaves a `summary.json` saying where and why.
 pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
     let settings = settings(a)?;
-    let run = |out: &mut RunDir, known: &mut Known| simulate(a, &settings, out, known);
-    owning_folder(&a.common, run, |known, failure, out| {
+    let prepared = prepare(a, &settings)?;
+    let dir = output_folder(&a.common, &prepared.loaded.key);
+    let known = Known::of(prepared.loaded.system.as_ref());
+    let run = |out: &mut RunDir, _: &mut Known| simulate(a, &settings, prepared, out);
+    owning_folder(&dir, "trajectory.csv", known, run, |known, failure, out| {
         let mut summary = Summary::not_started(
             &known.mechanism,
             known.parameters,
@@ -137,42 +142,74 @@ pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     })
 }
 
-/// The run itself: load, assemble, integrate, write.
-fn simulate(
-    a: &SimulateArgs,
-    settings: &Settings,
-    out: &mut RunDir,
-    known: &mut Known,
-) -> Result<(), Failure> {
+/// A run checked and ready to start: the mechanism with its `--set` values, the
+/// independent coordinates and guesses the assembly starts from, the run's options.
+struct Prepared {
+    loaded: Loaded,
+    independent: Vec<Independent>,
+    guess: Vec<f64>,
+    options: SimulationOptions,
+}
+
+/// Everything that refuses a run before it starts, with nothing written: the mechanism
+/// loaded, `--set` and `--init` applied and checked, the CSV's size, and the simulator's
+/// own refusals ([`Simulator::check`]: a fixed step too small, an output too large).
+fn prepare(a: &SimulateArgs, settings: &Settings) -> Result<Prepared, CliError> {
     // Only the implicit integrator reads the residual's tangent.
     let tangents = match settings.integrator.method {
         Method::Hht { .. } => Tangents::Residual,
         _ => Tangents::None,
     };
-    let mut loaded = load(&a.common.mechanism, tangents).at("setup")?;
-    *known = Known::of(loaded.system.as_ref());
-    apply_sets(&mut loaded, &a.common.set).at("setup")?;
+    let mut loaded = load(&a.common.mechanism, tangents)?;
+    apply_sets(&mut loaded, &a.common.set)?;
     let system = loaded.system.as_ref();
-    *known = Known::of(system);
     let columns = 1 + 3 * system.info().n() + system.info().m() + 5;
-    check_csv_size(&a.common, "trajectory.csv", columns).at("setup")?;
-    let (independent, guess) = initial_values(system, &a.common).at("setup")?;
-    let assembly = AssemblyOptions::default();
-    let start = assemble_from(system, 0.0, &independent, &guess, &assembly).at("assembly")?;
-    check_assembled(&loaded, &start.q).at("assembly")?;
+    check_csv_size(&a.common, "trajectory.csv", columns)?;
+    let (independent, guess) = initial_values(system, &a.common)?;
     let options = SimulationOptions {
         t_end: a.common.t_end,
         output_rate: a.common.samples_per_second,
         integrator: settings.integrator,
         stabilization: settings.stabilization,
+        assembly: AssemblyOptions::default(),
+        ..SimulationOptions::default()
+    };
+    Simulator::check(system, &options)?;
+    Ok(Prepared {
+        loaded,
+        independent,
+        guess,
+        options,
+    })
+}
+
+/// The run itself: assemble, integrate, write.
+fn simulate(
+    a: &SimulateArgs,
+    settings: &Settings,
+    prepared: Prepared,
+    out: &mut RunDir,
+) -> Result<(), Failure> {
+    let Prepared {
+        mut loaded,
+        independent,
+        guess,
+        options,
+    } = prepared;
+    let system = loaded.system.as_ref();
+    let assembly = options.assembly;
+    let start = assemble_from(system, 0.0, &independent, &guess, &assembly).at("assembly")?;
+    check_assembled(&loaded, &start.q).at("assembly")?;
+    let options = SimulationOptions {
         initial: InitialState::Consistent {
             q: start.q.clone(),
             qd: start.qd.clone(),
         },
-        assembly,
-        ..SimulationOptions::default()
+        ..options
     };
-    let mut sim = Simulator::new(system, &options).at("setup")?;
+    // Its refusals are checked already (`prepare`): what is left is the first solve at
+    // the assembled state.
+    let mut sim = Simulator::new(system, &options).at("integration")?;
     let mut progress = Progress::new(a.common.t_end);
     let failure = loop {
         match sim.step() {
@@ -196,8 +233,9 @@ fn simulate(
 }
 
 /// Writes trajectory.csv, the figures and summary.json (last, listing the others) of a run
-/// that stopped with `failure` (or completed), and prints the summary. A failure to write
-/// is recorded in the summary too, as far as it can still be written.
+/// that stopped with `failure` (or completed), and prints the summary. Files that cannot
+/// all be written are a failure in [`OUTPUT`] that replaces nothing (the previous results
+/// stay: [`owning_folder`]).
 fn write_results(
     system: &dyn System,
     trajectory: &Trajectory,
@@ -208,26 +246,34 @@ fn write_results(
 ) -> Result<(), Failure> {
     let mut params = vec![0.0; system.info().parameters.len()];
     system.parameter_values(&mut params);
-    let mut summary = Summary::new(trajectory, &params, settings).at("output")?;
-    let written = write_data(system, trajectory, out, common, key);
-    match (&failure, &written) {
-        (_, Err(e)) => summary.outcome.failed_in("output", e),
-        (Some(e), Ok(())) => summary.outcome.failed_in("integration", e),
-        (None, Ok(())) => {}
+    let mut summary = Summary::new(trajectory, &params, settings).at(OUTPUT)?;
+    if let Err(written) = write_data(system, trajectory, out, common, key) {
+        // The run's own error first, when it stopped; then why nothing was replaced.
+        let error = match failure {
+            Some(e) => left_as_it_was(e.into(), Some(written), out.dir()),
+            None => written.into(),
+        };
+        return Err(Failure {
+            stage: OUTPUT,
+            error: Box::new(error),
+            summarized: false,
+        });
+    }
+    if let Some(e) = &failure {
+        summary.outcome.failed_in("integration", e);
     }
     summary.outcome.files = out.names();
-    write_summary(&out.file(SUMMARY_FILE), &summary).at("output")?;
+    write_summary(&out.file(SUMMARY_FILE), &summary).at(OUTPUT)?;
     let summarized = |stage, error| Failure {
         stage,
         error,
         summarized: true,
     };
     let text = summary_text(key, system, &summary, &out.wrote());
-    print(&text).map_err(|e| summarized("output", Box::new(e)))?;
-    match (failure, written) {
-        (_, Err(e)) => Err(summarized("output", Box::new(e.into()))),
+    print(&text).map_err(|e| summarized(OUTPUT, Box::new(e)))?;
+    match failure {
         // The samples up to the failure are written; the run still failed.
-        (Some(e), Ok(())) => Err(summarized(
+        Some(e) => Err(summarized(
             "integration",
             Box::new(CliError::Stopped {
                 t: summary.outcome.t_last,
@@ -235,7 +281,7 @@ fn write_results(
                 error: e,
             }),
         )),
-        (None, Ok(())) => Ok(()),
+        None => Ok(()),
     }
 }
 

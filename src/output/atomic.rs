@@ -48,31 +48,12 @@ impl Drop for Partial {
 /// Runs `write` on the temporary path of `target` (see the module docs), then renames the
 /// result over `target`. On an error, or a panic inside `write`, the temporary is removed
 /// and `target` is left as it was. A `target` that exists and is not a regular file is
-/// [`OutputError::NotAFile`] before anything is written: the rename would replace the
-/// directory entry itself (a device such as `/dev/full`, a named pipe, a symbolic link,
-/// whose target would be left as it was).
+/// [`OutputError::NotAFile`] before anything is written ([`check_target`]).
 pub fn write_atomically<T>(
     target: &Path,
     write: impl FnOnce(&Path) -> Result<T, OutputError>,
 ) -> Result<T, OutputError> {
-    if let Ok(meta) = std::fs::symlink_metadata(target) {
-        let kind = meta.file_type();
-        let kind = if kind.is_file() {
-            None
-        } else if kind.is_dir() {
-            Some("a directory")
-        } else if kind.is_symlink() {
-            Some("a symbolic link")
-        } else {
-            Some("a device or a named pipe")
-        };
-        if let Some(kind) = kind {
-            return Err(OutputError::NotAFile {
-                path: target.to_path_buf(),
-                kind,
-            });
-        }
-    }
+    check_target(target)?;
     let mut partial = Partial {
         path: temporary_path(target),
         committed: false,
@@ -81,4 +62,28 @@ pub fn write_atomically<T>(
     std::fs::rename(&partial.path, target).map_err(|e| OutputError::io(target, e))?;
     partial.committed = true;
     Ok(value)
+}
+
+/// `Ok` when a file may be renamed over `target`: nothing is there, or a regular file;
+/// else [`OutputError::NotAFile`] naming what is there (a rename would replace the
+/// directory entry itself: a directory, a device such as `/dev/full`, a named pipe, a
+/// symbolic link, whose target would be left as it was). Nothing is followed.
+pub fn check_target(target: &Path) -> Result<(), OutputError> {
+    let Ok(meta) = std::fs::symlink_metadata(target) else {
+        return Ok(());
+    };
+    let kind = meta.file_type();
+    let kind = if kind.is_file() {
+        return Ok(());
+    } else if kind.is_dir() {
+        "a directory"
+    } else if kind.is_symlink() {
+        "a symbolic link"
+    } else {
+        "a device or a named pipe"
+    };
+    Err(OutputError::NotAFile {
+        path: target.to_path_buf(),
+        kind,
+    })
 }

@@ -8,6 +8,11 @@
 //! takes the file over at once; no process id is trusted, so a reused one cannot keep a
 //! folder locked. On Unix the holder removes the file when it ends, and a run that opened
 //! a file removed meanwhile tries again, so two runs never hold two different files.
+//!
+//! The lock file is opened without following a symbolic link (`O_NOFOLLOW` on Unix), and
+//! only a regular file is taken: a `.mechanism.lock` that links to another file (which the
+//! process id would overwrite), a folder, a pipe or a device is refused
+//! ([`OutputError::LockNotAFile`]) and left as it is.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read as _, Write as _};
@@ -29,20 +34,16 @@ impl FolderLock {
     /// Locks `dir` (created if missing) for this process.
     ///
     /// # Errors
-    /// [`OutputError::Locked`] when another live process holds it; [`OutputError::Io`]
-    /// when the folder or the lock file cannot be created or locked.
+    /// [`OutputError::Locked`] when another live process holds it;
+    /// [`OutputError::LockNotAFile`] when `.mechanism.lock` is not a regular file (a
+    /// symbolic link is never followed); [`OutputError::Io`] when the folder or the lock
+    /// file cannot be created or locked.
     pub fn acquire(dir: &Path) -> Result<Self, OutputError> {
         ensure_dir(dir)?;
         let path = dir.join(LOCK_FILE);
         let io = |e| OutputError::io(&path, e);
         loop {
-            let mut file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(io)?;
+            let mut file = open_lock_file(&path)?;
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => {
@@ -85,6 +86,55 @@ impl Drop for FolderLock {
         #[cfg(unix)]
         let _ = std::fs::remove_file(self.dir.join(LOCK_FILE));
         let _ = self.file.unlock();
+    }
+}
+
+/// Opens (or creates) the lock file `path`, refusing anything but a regular file: checked
+/// before the open, where a symbolic link is said as such, and again on the file opened,
+/// which `O_NOFOLLOW` (Unix) keeps from being a link's target should one appear between.
+fn open_lock_file(path: &Path) -> Result<File, OutputError> {
+    let refuse = |kind| OutputError::LockNotAFile {
+        path: path.to_path_buf(),
+        kind,
+    };
+    if let Ok(meta) = std::fs::symlink_metadata(path)
+        && !meta.is_file()
+    {
+        return Err(refuse(kind_of(&meta)));
+    }
+    let mut options = OpenOptions::new();
+    options.read(true).write(true).create(true).truncate(false);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        // O_NONBLOCK: a named pipe put there meanwhile opens at once (and is refused below)
+        // instead of waiting for a writer; it changes nothing for a regular file.
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| {
+        // ELOOP: the last component became a symbolic link after the check.
+        #[cfg(unix)]
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            return refuse("a symbolic link");
+        }
+        OutputError::io(path, e)
+    })?;
+    let meta = file.metadata().map_err(|e| OutputError::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(kind_of(&meta)));
+    }
+    Ok(file)
+}
+
+/// What a file that is not a regular one is, as the refusal says it.
+fn kind_of(meta: &std::fs::Metadata) -> &'static str {
+    let kind = meta.file_type();
+    if kind.is_symlink() {
+        "a symbolic link"
+    } else if kind.is_dir() {
+        "a directory"
+    } else {
+        "a device or a named pipe"
     }
 }
 

@@ -45,7 +45,7 @@ mod unit;
 
 #[cfg(feature = "files")]
 pub use self::animation::{MAX_FRAMES, animation_html, write_animation};
-pub use self::atomic::{temporary_path, write_atomically};
+pub use self::atomic::{check_target, temporary_path, write_atomically};
 #[cfg(feature = "files")]
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
 #[cfg(feature = "files")]
@@ -124,6 +124,18 @@ pub enum OutputError {
         dir: PathBuf,
         /// Who holds it: `process <id>` from the lock file.
         holder: String,
+    },
+    /// The lock file of an output folder exists and is not a regular file (a symbolic
+    /// link, which is never followed, a directory, a device or a named pipe).
+    #[error(
+        "the lock file {path} is {kind}, not a regular file: a run never writes through it; \
+         remove it (each run creates its own) or write elsewhere"
+    )]
+    LockNotAFile {
+        /// The lock file.
+        path: PathBuf,
+        /// What it is: `a symbolic link`, `a directory`, `a device or a named pipe`.
+        kind: &'static str,
     },
     /// The target of a result file exists and is not a regular file (a directory, a
     /// device, a named pipe or a symbolic link): renaming over it would replace it.

@@ -13,9 +13,10 @@ pub struct Outcome {
     pub t_last: f64,
     /// Why the run stopped early (`null` when completed).
     pub error: Option<String>,
-    /// Where a failed run stopped: `setup` (loading the mechanism, parameters, initial
-    /// values, the output checks), `assembly`, `integration`, `inverse dynamics` or `output`
-    /// (`null` when completed or not said).
+    /// Where a failed run stopped: `assembly`, `integration`, `inverse dynamics` or
+    /// `output` (`null` when completed or not said). The command-line tool records only
+    /// runs that started: one refused before (loading the mechanism, its parameters and
+    /// initial values, the output checks) leaves the folder as it was.
     pub stage: Option<String>,
     /// The files the run wrote into its output folder, by name, the summary included: the
     /// next run there removes them first ([`super::remove_previous_results`]).

@@ -135,6 +135,24 @@ impl StateBuffers {
 }
 
 impl<'a> Simulator<'a> {
+    /// The refusals [`Simulator::new`] makes before any work, alone: invalid options, more
+    /// than [`crate::MAX_OUTPUT_SAMPLES`] samples or more than [`crate::MAX_OUTPUT_BYTES`]
+    /// of them ([`Error::TooMuchOutput`]), a fixed step that needs more than `max_steps`
+    /// steps ([`Error::FixedStepTooSmall`]). It reads neither the initial state nor the
+    /// system's equations, so a caller can refuse a run before it claims anything for it
+    /// (the command-line tool, before it touches the output folder). Returns the number of
+    /// output samples after the first.
+    pub fn check(system: &dyn System, options: &SimulationOptions) -> Result<usize, Error> {
+        check_options(system, options)?;
+        let outputs = output_count(options)?;
+        check_output_memory(outputs + 1, Trajectory::stride_of(system.info()), 0)?;
+        let io = &options.integrator;
+        if let Method::Rk4 { h } | Method::Hht { h, .. } = io.method {
+            FailFast::check_fixed_step(h, options.t_end - options.t_start, io.max_steps)?;
+        }
+        Ok(outputs)
+    }
+
     /// Checks the inputs, builds the consistent initial state, records the first sample and
     /// allocates every buffer the step loop needs.
     ///
@@ -152,13 +170,8 @@ impl<'a> Simulator<'a> {
         let started = Instant::now();
         let info = system.info();
         let (n, t0) = (info.n(), options.t_start);
-        check_options(system, options)?;
-        let outputs = output_count(options)?;
-        check_output_memory(outputs + 1, Trajectory::stride_of(info), 0)?;
+        let outputs = Self::check(system, options)?;
         let io = &options.integrator;
-        if let Method::Rk4 { h } | Method::Hht { h, .. } = io.method {
-            FailFast::check_fixed_step(h, options.t_end - t0, io.max_steps)?;
-        }
         let (q, qd) = initial_state(system, options)?;
         let mut dynamics = Dynamics::new(info);
         dynamics.condition_limit = options.condition_limit;

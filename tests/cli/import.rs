@@ -208,3 +208,146 @@ fn out_that_is_not_a_regular_file_is_refused_and_left_alone() {
         );
     }
 }
+
+/// `--out` that is the URDF being imported, by any path (the same name, `./name`, a
+/// symbolic link either way, a hard link): refused in one line before anything is read or
+/// written, the URDF byte for byte as it was.
+#[cfg(unix)]
+#[test]
+fn out_that_is_the_urdf_itself_is_refused_and_the_urdf_kept() {
+    let dir = out_dir("import-self");
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("R.urdf");
+    let original = std::fs::read(ARM).unwrap();
+    std::fs::write(&urdf, &original).unwrap();
+    std::os::unix::fs::symlink(&urdf, dir.join("L.urdf")).unwrap();
+    std::fs::hard_link(&urdf, dir.join("H.urdf")).unwrap();
+    let cases = [
+        ("R.urdf", "R.urdf"),
+        ("R.urdf", "./R.urdf"),
+        ("L.urdf", "R.urdf"),
+        ("R.urdf", "L.urdf"),
+        ("H.urdf", "R.urdf"),
+    ];
+    for (input, out) in cases {
+        let o = super::mechanism_in(&dir, &["import", input, "--out", out]);
+        assert_one_line_error(
+            &o,
+            &format!(
+                "--out {out} is the URDF being imported ({input}): the declaration would replace it"
+            ),
+        );
+        assert_eq!(
+            std::fs::read(&urdf).unwrap(),
+            original,
+            "{input} --out {out}"
+        );
+    }
+    assert!(
+        std::fs::symlink_metadata(dir.join("L.urdf"))
+            .unwrap()
+            .is_symlink()
+    );
+    // Another name in the same folder is written as usual.
+    let o = super::mechanism_in(&dir, &["import", "R.urdf", "--out", "R.mech"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("R.mech").is_file());
+}
+
+/// Numbers beyond the bound of their quantity (issue 53, item 13): refused at import,
+/// naming the file, the line, the element and the bound; nothing written.
+#[test]
+fn out_of_range_numbers_are_refused_at_the_element() {
+    let dir = out_dir("import-range");
+    std::fs::create_dir_all(&dir).unwrap();
+    let arm = std::fs::read_to_string(ARM).unwrap();
+    let cases = [
+        (
+            ("<mass value=\"2.5\"/>", "<mass value=\"1e300\"/>"),
+            "x.urdf:13:7: <mass>: value: 1e300 kg is beyond 1e12 kg, the largest mass",
+        ),
+        (
+            ("ixx=\"0.053\"", "ixx=\"1e300\""),
+            "x.urdf:14:7: <inertia>: ixx: 1e300 kg m^2 is beyond 1e24 kg m^2",
+        ),
+        (
+            ("<axis xyz=\"0 0 1\"/>", "<axis xyz=\"1e308 0 0\"/>"),
+            "x.urdf:30:5: <axis>: xyz: 1e308 is beyond 1e6, the largest axis component",
+        ),
+        (
+            ("<origin xyz=\"0 0 0.25\"", "<origin xyz=\"0 0 1e200\""),
+            "x.urdf:12:7: <origin>: xyz: 1e200 m is beyond 1e6 m, the largest length",
+        ),
+        (
+            ("<mass value=\"2.5\"/>", "<mass value=\"nan\"/>"),
+            "x.urdf:13:7: <mass>: value: `nan` is not a finite number",
+        ),
+    ];
+    for ((from, to), needle) in cases {
+        assert!(arm.contains(from), "{from}");
+        std::fs::write(dir.join("x.urdf"), arm.replacen(from, to, 1)).unwrap();
+        let o = super::mechanism_in(&dir, &["import", "x.urdf", "--out", "x.mech"]);
+        assert_one_line_error(&o, needle);
+        assert!(!dir.join("x.mech").exists(), "{to}: nothing written");
+    }
+}
+
+/// A URDF that is not UTF-8 text (issue 53, item 14): the file and what it is, with the
+/// byte offset, line and column of a byte that is not UTF-8, or the encoding and the
+/// conversion for UTF-16; a file over the input budget with its size.
+#[test]
+fn text_that_is_not_utf8_is_named_with_its_place() {
+    let dir = out_dir("import-encoding");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ascii = "<robot name=\"r\">\n  <link name=\"a\"/>\n</robot>\n";
+    let le: Vec<u8> = ascii.encode_utf16().flat_map(u16::to_le_bytes).collect();
+    let be: Vec<u8> = ascii.encode_utf16().flat_map(u16::to_be_bytes).collect();
+    let bom = [&[0xff, 0xfe][..], &le].concat();
+    let latin1 = b"<robot name=\"r\">\n  <link name=\"caf\xe9\"/>\n</robot>\n".to_vec();
+    let cases: [(&str, Vec<u8>, &str); 4] = [
+        (
+            "bom.urdf",
+            bom,
+            "cannot read bom.urdf: it is UTF-16 text (little-endian, its \
+            byte-order mark FF FE at byte 0), and input files are read as UTF-8: convert it, \
+            e.g. `iconv -f UTF-16 -t UTF-8 bom.urdf > utf8-copy`",
+        ),
+        (
+            "le.urdf",
+            le,
+            "it is UTF-16 text (little-endian, without a byte-order mark)",
+        ),
+        (
+            "be.urdf",
+            be,
+            "`iconv -f UTF-16BE -t UTF-8 be.urdf > utf8-copy`",
+        ),
+        (
+            "latin1.urdf",
+            latin1,
+            "latin1.urdf:2:18: byte 34 (0xe9) is not valid UTF-8: save \
+            the file as UTF-8",
+        ),
+    ];
+    for (name, bytes, needle) in cases {
+        std::fs::write(dir.join(name), bytes).unwrap();
+        let o = super::mechanism_in(&dir, &["import", name]);
+        assert_one_line_error(&o, needle);
+    }
+    // Over the budget (lowered here to keep the file small): the file and its size.
+    std::fs::write(dir.join("big.urdf"), ascii).unwrap();
+    let o = assert_cmd::Command::cargo_bin("mechanism")
+        .unwrap()
+        .current_dir(&dir)
+        .args(["import", "big.urdf"])
+        .env("MECHANISM_MAX_INPUT_BYTES", "10")
+        .output()
+        .unwrap();
+    assert_one_line_error(
+        &o,
+        &format!(
+            "cannot read big.urdf: {} bytes, more than the 10 allowed for an input file",
+            ascii.len()
+        ),
+    );
+}

@@ -1,7 +1,8 @@
 //! The output folder as a user finds it: summary.json lists what the run wrote; a new run
-//! first removes the previous run's files (only those: the user's own stay); a run that
-//! fails, at any stage, leaves a summary with status failed and never older results that
-//! look current; no temporary file survives; the default folder stays inside `out/`.
+//! replaces the previous run's files (only those: the user's own stay); a run that fails
+//! once started (assembly onwards) leaves a summary with status failed and never older
+//! results that look current, while a run refused before it starts touches nothing
+//! (`kept_results`); no temporary file survives; the default folder stays inside `out/`.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -79,34 +80,30 @@ fn assert_failed_cleanly(dir: &Path, before: &BTreeSet<String>, stage: &str, nee
 }
 
 #[test]
-fn a_failure_before_the_first_step_leaves_no_stale_results() {
-    let cases: [(&[&str], &str, &str); 3] = [
-        (&["--set", "g=abc"], "setup", "--set g"),
-        (&["--init", "nonesuch=1"], "setup", "`nonesuch`"),
-        // A coupler so short that the crank cannot stand at th1 = pi/2.
-        (
-            &["--set", "l2=0.01"],
-            "assembly",
-            "the given values admit no position",
-        ),
-    ];
-    for (extra, stage, needle) in cases {
-        let dir = out_dir("stale-setup");
-        let before = successful_run(&dir);
-        let mut args = vec![
-            "simulate",
-            "planar_four_bar",
-            "--out",
-            dir.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let o = mechanism(&args);
-        assert_one_line_error(&o, needle);
-        assert_failed_cleanly(&dir, &before, stage, needle);
-        let json = summary(&dir);
-        assert!(json["t_last"].is_null() && json["max_constraint_error"].is_null());
-        assert_eq!(json["files"], serde_json::json!(["summary.json"]));
-    }
+fn a_failure_at_the_assembly_leaves_no_stale_results() {
+    // A coupler too short to close the loop: the run started (a refusal before the start
+    // touches nothing: `kept_results`).
+    let dir = out_dir("stale-setup");
+    let before = successful_run(&dir);
+    let d = dir.to_str().unwrap();
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--set",
+        "l2=0.01",
+        "--out",
+        d,
+    ]);
+    assert_one_line_error(&o, "the given values admit no position");
+    assert_failed_cleanly(
+        &dir,
+        &before,
+        "assembly",
+        "the given values admit no position",
+    );
+    let json = summary(&dir);
+    assert!(json["t_last"].is_null() && json["max_constraint_error"].is_null());
+    assert_eq!(json["files"], serde_json::json!(["summary.json"]));
 }
 
 #[test]
@@ -158,12 +155,13 @@ fn a_run_that_stops_midway_replaces_the_previous_results_with_its_own() {
 }
 
 #[test]
-fn an_unknown_mechanism_with_out_records_the_failure() {
+fn an_unknown_mechanism_with_out_touches_nothing() {
     let dir = out_dir("stale-unknown");
     let before = successful_run(&dir);
     let o = mechanism(&["simulate", "nonesuch", "--out", dir.to_str().unwrap()]);
     assert_one_line_error(&o, "unknown mechanism `nonesuch`");
-    assert_failed_cleanly(&dir, &before, "setup", "unknown mechanism");
+    assert_eq!(listed(&dir, &["notes.txt"]), before);
+    assert_eq!(summary(&dir)["status"], "completed");
 }
 
 #[test]
@@ -200,15 +198,28 @@ fn inverse_lists_its_files_and_a_failure_removes_them() {
     );
     assert!(json["max_abs_driving_force"]["tau_th1"].as_f64().unwrap() > 0.0);
     std::fs::write(dir.join("notes.txt"), "the user's own file").unwrap();
-    // A drive on a coordinate that does not exist.
-    let o = inverse("phi = 2*t");
-    assert_one_line_error(&o, "--drive");
-    assert_failed_cleanly(&dir, &before, "setup", "--drive");
-    // A forward run after it owns the folder in turn.
+    // A drive the mechanism cannot follow (the rocker cannot turn round): the run starts
+    // and fails.
+    let o = inverse("th3 = 2*pi*t");
+    assert_one_line_error(&o, "leaves the positions the mechanism can reach");
+    assert_failed_cleanly(&dir, &before, "inverse dynamics", "leaves the positions");
+    // A forward run that fails at its assembly owns the folder in turn.
     let before = listed(&dir, &["notes.txt"]);
-    let o = mechanism(&["simulate", "nonesuch", "--out", d]);
+    let o = mechanism(&[
+        "simulate",
+        "planar_four_bar",
+        "--set",
+        "l2=0.01",
+        "--out",
+        d,
+    ]);
     assert_eq!(o.status.code(), Some(1));
-    assert_failed_cleanly(&dir, &before, "setup", "unknown mechanism");
+    assert_failed_cleanly(
+        &dir,
+        &before,
+        "assembly",
+        "the given values admit no position",
+    );
 }
 
 #[test]

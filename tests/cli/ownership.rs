@@ -99,22 +99,65 @@ fn a_foreign_summary_decides_nothing() {
 }
 
 #[test]
-fn a_run_that_fails_keeps_the_previous_results_until_it_ends() {
-    // The results the failed run replaces are gone only once its summary is in.
+fn a_mistyped_set_keeps_the_previous_results() {
+    // Refused before the run starts: the folder keeps the previous results as they were.
     let dir = out_dir("typo");
-    let (before, _) = completed_run(&dir);
+    let (before, csv) = completed_run(&dir);
     assert!(before.contains("th1.png"));
     let d = dir.to_str().unwrap();
     let o = mechanism(&["simulate", "planar_four_bar", "--set", "L2=0.5", "--out", d]);
     assert_one_line_error(&o, "unknown parameter `L2` (did you mean `l2`?)");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(json["format"], "mechanism-summary");
-    assert_eq!(json["status"], "failed");
+    assert_eq!(files_in(&dir), before);
     assert_eq!(
-        files_in(&dir),
-        ["summary.json".to_string()].into_iter().collect()
+        std::fs::read_to_string(dir.join("trajectory.csv")).unwrap(),
+        csv
     );
+}
+
+#[cfg(unix)]
+#[test]
+fn a_lock_file_that_links_elsewhere_is_refused_and_its_target_kept() {
+    let dir = out_dir("lock-link");
+    let (before, _) = completed_run(&dir);
+    let victim = out_dir("lock-link-victim");
+    std::fs::create_dir_all(&victim).unwrap();
+    let victim = victim.join("thesis.tex");
+    std::fs::write(&victim, "the user's").unwrap();
+    std::os::unix::fs::symlink(&victim, dir.join(".mechanism.lock")).unwrap();
+    let d = dir.to_str().unwrap();
+    let runs: [&[&str]; 2] = [
+        &["simulate", "planar_four_bar", "--t-end", "0.3", "--out", d],
+        &["linearize", "whipple_bicycle", "--out", d],
+    ];
+    for args in runs {
+        let o = mechanism(args);
+        assert_one_line_error(
+            &o,
+            &format!("the lock file {d}/.mechanism.lock is a symbolic link, not a regular file"),
+        );
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "the user's");
+        let mut now = files_in(&dir);
+        assert!(now.remove(".mechanism.lock"));
+        assert_eq!(now, before);
+    }
+}
+
+#[test]
+fn linearize_is_refused_while_another_run_holds_the_folder() {
+    let dir = out_dir("linearize-lock");
+    std::fs::create_dir_all(&dir).unwrap();
+    let held = mechanism::output::FolderLock::acquire(&dir).unwrap();
+    let d = dir.to_str().unwrap();
+    let o = mechanism(&["linearize", "whipple_bicycle", "--out", d]);
+    assert_one_line_error(
+        &o,
+        &format!("is in use by another run (process {})", std::process::id()),
+    );
+    assert!(!dir.join("linearization.json").exists());
+    drop(held);
+    let o = mechanism(&["linearize", "whipple_bicycle", "--out", d]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(&dir), ["linearization.json".to_string()].into());
 }
 
 #[test]

@@ -130,3 +130,36 @@ fn what_a_killed_run_left_is_completed_or_discarded() {
         summary
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn a_lock_file_that_is_not_a_regular_file_is_refused_and_left_alone() {
+    // A symbolic link to another file: that file would take the process id.
+    let dir = temp_dir("lock-symlink");
+    let victim = temp_dir("lock-victim").join("victim.txt");
+    std::fs::write(&victim, "the user's").unwrap();
+    std::os::unix::fs::symlink(&victim, dir.join(LOCK_FILE)).unwrap();
+    match FolderLock::acquire(&dir) {
+        Err(OutputError::LockNotAFile { kind, .. }) => assert_eq!(kind, "a symbolic link"),
+        other => panic!("expected LockNotAFile, got {other:?}"),
+    }
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "the user's");
+    assert!(dir.join(LOCK_FILE).symlink_metadata().unwrap().is_symlink());
+    // A dangling link: following it would create its target.
+    let dangling = temp_dir("lock-dangling");
+    let nowhere = dangling.join("created-through-the-link");
+    std::os::unix::fs::symlink(&nowhere, dangling.join(LOCK_FILE)).unwrap();
+    assert!(matches!(
+        FolderLock::acquire(&dangling),
+        Err(OutputError::LockNotAFile { .. })
+    ));
+    assert!(!nowhere.exists());
+    // A folder in its place.
+    let dir = temp_dir("lock-folder");
+    std::fs::create_dir(dir.join(LOCK_FILE)).unwrap();
+    match FolderLock::acquire(&dir) {
+        Err(OutputError::LockNotAFile { kind, .. }) => assert_eq!(kind, "a directory"),
+        other => panic!("expected LockNotAFile, got {other:?}"),
+    }
+    assert!(dir.join(LOCK_FILE).is_dir());
+}

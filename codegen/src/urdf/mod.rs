@@ -18,6 +18,7 @@
 //! `<transmission>`, `<gazebo>`, `<safety_controller>`, `<calibration>`; and Coulomb
 //! friction (and the damping, without the option), which the header of the output counts.
 
+mod bounds;
 mod check;
 mod error;
 mod format;
@@ -79,7 +80,9 @@ pub struct UrdfOptions {
 ///
 /// # Errors
 /// The first problem found, as one line `FILE:LINE:COL: <element>: message`: malformed
-/// XML or numbers; a root other than `<robot>`; a joint type other than revolute,
+/// XML or numbers; a number beyond the bound of its quantity (a mass above 1e12 kg, a
+/// length above 1e6 m, an inertia above 1e24 kg m^2, ...: the table of `urdf/bounds.rs`,
+/// which keeps the derivation's products far from overflow); a root other than `<robot>`; a joint type other than revolute,
 /// continuous, prismatic or fixed; a `<mimic>` of a movable joint naming an undeclared
 /// joint, or mimics that follow each other in a cycle; a joint whose parent or child link
 /// is not declared; a link with two parent joints; a cycle, or more than one root link; a

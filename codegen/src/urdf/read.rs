@@ -7,6 +7,7 @@
 
 use roxmltree::{Document, Node, ParsingOptions};
 
+use super::bounds::{ANGLE, Bound, DAMPING, DIRECTION, INERTIA, LENGTH, LIMIT, MASS, RATIO};
 use super::error::{Place, UrdfError};
 use super::robot::{Inertial, Joint, JointDynamics, JointKind, Limit, Link, Mimic, Robot};
 
@@ -25,7 +26,7 @@ const MIN_AXIS_LENGTH: f64 = 1e-12;
 /// Malformed XML (with DTDs refused, so no entity expansion), a root element other than
 /// `<robot>`, unexpanded xacro macros, a missing required element or attribute, a joint type
 /// other than revolute, continuous, prismatic or fixed, a malformed or non-finite number,
-/// a zero-length axis.
+/// a number beyond the bound of its quantity ([`super::bounds`]), a zero-length axis.
 pub(crate) fn read(xml: &str, file: &str) -> Result<Robot, UrdfError> {
     let options = ParsingOptions {
         allow_dtd: false,
@@ -81,12 +82,14 @@ impl<'a, 'input> Reader<'a, 'input> {
         })
     }
 
-    /// The `N` numbers of attribute `name` of `node`, or `default` when it is absent.
+    /// The `N` numbers of attribute `name` of `node`, each within `bound`, or `default`
+    /// when it is absent.
     fn numbers<const N: usize>(
         &self,
         node: Node,
         name: &str,
         default: [f64; N],
+        bound: Bound,
     ) -> Result<[f64; N], UrdfError> {
         let Some(text) = node.attribute(name) else {
             return Ok(default);
@@ -105,25 +108,34 @@ impl<'a, 'input> Reader<'a, 'input> {
         }
         let mut out = [0.0; N];
         for (slot, word) in out.iter_mut().zip(&words) {
-            *slot = self.number(node, name, word)?;
+            *slot = self.number(node, name, word, bound)?;
         }
         Ok(out)
     }
 
-    /// One finite number, `word`, of attribute `name` of `node`.
-    fn number(&self, node: Node, name: &str, word: &str) -> Result<f64, UrdfError> {
+    /// One finite number, `word`, of attribute `name` of `node`, within `bound`
+    /// ([`super::bounds`]).
+    fn number(&self, node: Node, name: &str, word: &str, bound: Bound) -> Result<f64, UrdfError> {
         match word.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(_) => Err(self.error(node, format!("{name}: `{word}` is not a finite number"))),
+            Ok(v) if v.is_finite() => bound
+                .check(v)
+                .map(|()| v)
+                .map_err(|why| self.error(node, format!("{name}: {why}"))),
+            Ok(_) => Err(self.error(
+                node,
+                format!("{name}: `{word}` is not a finite number (at most about 1.8e308)"),
+            )),
             Err(_) => Err(self.error(node, format!("{name}: `{word}` is not a number"))),
         }
     }
 
-    /// The optional single number of attribute `name`.
-    fn optional(&self, node: Node, name: &str) -> Result<Option<f64>, UrdfError> {
+    /// The optional single number of attribute `name`, within `bound`.
+    fn optional(&self, node: Node, name: &str, bound: Bound) -> Result<Option<f64>, UrdfError> {
         match node.attribute(name) {
             None => Ok(None),
-            Some(_) => self.numbers::<1>(node, name, [0.0]).map(|[v]| Some(v)),
+            Some(_) => self
+                .numbers::<1>(node, name, [0.0], bound)
+                .map(|[v]| Some(v)),
         }
     }
 
@@ -132,8 +144,8 @@ impl<'a, 'input> Reader<'a, 'input> {
         match child(node, "origin") {
             None => Ok(([0.0; 3], [0.0; 3])),
             Some(o) => Ok((
-                self.numbers(o, "xyz", [0.0; 3])?,
-                self.numbers(o, "rpy", [0.0; 3])?,
+                self.numbers(o, "xyz", [0.0; 3], LENGTH)?,
+                self.numbers(o, "rpy", [0.0; 3], ANGLE)?,
             )),
         }
     }
@@ -212,7 +224,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             )
         })?;
         self.required(mass_node, "value")?;
-        let [mass] = self.numbers(mass_node, "value", [0.0])?;
+        let [mass] = self.numbers(mass_node, "value", [0.0], MASS)?;
         let inertia_node = child(node, "inertia").ok_or_else(|| {
             self.error(
                 node,
@@ -225,7 +237,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             .zip(["ixx", "ixy", "ixz", "iyy", "iyz", "izz"])
         {
             let text = self.required(inertia_node, name)?;
-            *slot = self.number(inertia_node, name, text.trim())?;
+            *slot = self.number(inertia_node, name, text.trim(), INERTIA)?;
         }
         Ok(Inertial {
             place: self.place(node),
@@ -281,6 +293,12 @@ impl<'a, 'input> Reader<'a, 'input> {
             Some(a) if kind != JointKind::Fixed => self.unit_axis(a, &name)?,
             _ => DEFAULT_AXIS,
         };
+        // A mimic's offset is a coordinate's value: a length or an angle.
+        let offset = if kind == JointKind::Prismatic {
+            LENGTH
+        } else {
+            ANGLE
+        };
         let limit = match child(node, "limit") {
             None => None,
             Some(l) => Some(self.limit(l, &name)?),
@@ -303,16 +321,16 @@ impl<'a, 'input> Reader<'a, 'input> {
                 None => None,
                 Some(m) => Some(Mimic {
                     joint: self.required(m, "joint")?.to_string(),
-                    multiplier: self.optional(m, "multiplier")?.unwrap_or(1.0),
-                    offset: self.optional(m, "offset")?.unwrap_or(0.0),
+                    multiplier: self.optional(m, "multiplier", RATIO)?.unwrap_or(1.0),
+                    offset: self.optional(m, "offset", offset)?.unwrap_or(0.0),
                     place: self.place(m),
                 }),
             },
             dynamics: match child(node, "dynamics") {
                 None => None,
                 Some(d) => Some(JointDynamics {
-                    damping: self.optional(d, "damping")?.unwrap_or(0.0),
-                    friction: self.optional(d, "friction")?.unwrap_or(0.0),
+                    damping: self.optional(d, "damping", DAMPING)?.unwrap_or(0.0),
+                    friction: self.optional(d, "friction", DAMPING)?.unwrap_or(0.0),
                     place: self.place(d),
                 }),
             },
@@ -322,7 +340,7 @@ impl<'a, 'input> Reader<'a, 'input> {
 
     /// `<axis xyz>` of joint `joint` as a unit vector (default 1 0 0).
     fn unit_axis(&self, node: Node, joint: &str) -> Result<[f64; 3], UrdfError> {
-        let axis = self.numbers(node, "xyz", DEFAULT_AXIS)?;
+        let axis = self.numbers(node, "xyz", DEFAULT_AXIS, DIRECTION)?;
         let length = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
         if length <= MIN_AXIS_LENGTH {
             return Err(self.error(
@@ -340,10 +358,10 @@ impl<'a, 'input> Reader<'a, 'input> {
     /// A `<limit>` of joint `joint`: `lower <= upper`, velocity and effort not negative.
     fn limit(&self, node: Node, joint: &str) -> Result<Limit, UrdfError> {
         let limit = Limit {
-            lower: self.optional(node, "lower")?,
-            upper: self.optional(node, "upper")?,
-            velocity: self.optional(node, "velocity")?,
-            effort: self.optional(node, "effort")?,
+            lower: self.optional(node, "lower", LIMIT)?,
+            upper: self.optional(node, "upper", LIMIT)?,
+            velocity: self.optional(node, "velocity", LIMIT)?,
+            effort: self.optional(node, "effort", LIMIT)?,
         };
         if let Some([lower, upper]) = limit.range()
             && lower > upper
