@@ -118,7 +118,9 @@ pub use program::hoist::{Hoisted, hoist_parameters};
 pub use program::instructions::{OpCounts, Operand, Output};
 pub use program::tape::Tape;
 pub use syntax::spelling::closest;
-pub use urdf::{UrdfError, UrdfImport, UrdfOptions, urdf_import, urdf_to_mech};
+pub use urdf::{
+    MAX_SNAP_ANGLES, SnappedAngles, UrdfError, UrdfImport, UrdfOptions, urdf_import, urdf_to_mech,
+};
 
 /// The parts of the stages that no dependent needs, reached only by codegen's own tests (the
 /// second routes they check against, the printers of single matrices, the instructions of a
