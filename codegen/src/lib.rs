@@ -92,7 +92,7 @@ pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
     compile_interpreted,
 };
-pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
+pub use emit::body::{EmitBindings, EmittedBody, LEAN_ABOVE, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::derivation::{derive, derive_with};

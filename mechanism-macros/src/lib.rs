@@ -14,6 +14,7 @@
 
 mod ast;
 mod check;
+mod dispatch;
 mod expand;
 mod generate;
 mod robotics;
