@@ -2,7 +2,7 @@
 target directory (CARGO_TARGET_DIR when set): bench-results/run.json (the interleaved
 rounds, the profile, the controller study, the Panda, each step's duration), the criterion
 estimates (criterion/), simulation.md/json, baselines.json (SymPy derivation), mujoco.json,
-a02.md and compile_time.md. Standard library only.
+a02.md, compile_time.md and casadi.md. Standard library only.
 
     python3 benches/report.py           # print every generated block
     python3 benches/report.py --write   # rewrite the blocks of BENCHMARKS.md in place
@@ -333,8 +333,10 @@ def blocks():
     out["mujoco"] = block_mujoco()
     out["a02"] = block_file("a02.md", "A02 was skipped in this run.")
     out["compile-time"] = block_file("compile_time.md", "The compile-time measurement was skipped in this run.")
+    out["casadi"] = block_file("casadi.md", "The CasADi baseline was skipped in this run.")
     for step, blocks_of_step in (("criterion", ["criterion", "whole-simulations"]), ("derivation", ["derivation"]),
-                                 ("mujoco", ["mujoco"]), ("a02", ["a02"]), ("compile-time", ["compile-time"])):
+                                 ("mujoco", ["mujoco"]), ("a02", ["a02"]), ("compile-time", ["compile-time"]),
+                                 ("casadi", ["casadi"])):
         if step in skipped:
             for b in blocks_of_step:
                 out[b] = f"The `{step}` step was skipped in this run."

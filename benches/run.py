@@ -24,7 +24,10 @@ keeps the others' results of the last run, and the report says which ran separat
   mujoco        MuJoCo's four-bar (benches/baselines/mujoco_four_bar.py);
   robot         the Panda against Pinocchio (benches/robot.py) and the Panda's derivation time;
   a02           the IFToMM A02 chain for N = 10..80 (`--bin a02`);
-  compile-time  the macro's added compile time (benches/compile-time/run.sh).
+  compile-time  the macro's added compile time (benches/compile-time/run.sh);
+  casadi        our generated code against CasADi's C from Pinocchio's algorithms on five
+                robots (benches/baselines/casadi/run.sh: its own environment, checks
+                against Pinocchio 4.1, operation counts, interleaved rounds).
 
 benches/report.py then rewrites the generated blocks of BENCHMARKS.md.
 """
@@ -57,7 +60,7 @@ MECH = {
     "chain32": "benches/mechanisms/closed_chain_32.mech",
 }
 STEPS = ["build", "c", "rounds", "controllers", "profile", "criterion", "derivation", "mujoco", "robot", "a02",
-         "compile-time"]
+         "compile-time", "casadi"]
 # Criterion's timing for the evaluation bench: each benchmark 0.2 s warm-up, 0.5 s measured
 # (its 30 samples of nanosecond calls still count millions of calls).
 CRITERION_ARGS = ["--warm-up-time", "0.2", "--measurement-time", "0.5"]
@@ -215,6 +218,12 @@ def step_compile_time(run, a):
     subprocess.run([os.path.join(HERE, "compile-time", "run.sh")], check=True)
 
 
+def step_casadi(run, a):
+    # Pinocchio 4.1 and example-robot-data: the interpreter that has them (the system's
+    # python3 here; PYTHON overrides), not necessarily this environment.
+    subprocess.run([os.path.join(HERE, "baselines", "casadi", "run.sh"), "--rounds", str(a.rounds)], check=True)
+
+
 # What each step writes besides run.json (removed before the step runs, so that a result of
 # an earlier run cannot pass for this one's).
 OUTPUTS = {
@@ -224,6 +233,7 @@ OUTPUTS = {
     "mujoco": ["mujoco.json"],
     "a02": ["a02.md"],
     "compile-time": ["compile_time.md"],
+    "casadi": ["casadi.md", "casadi.json"],
 }
 # What each step adds to run.json.
 KEYS = {

@@ -2,7 +2,7 @@
 # Every generated table of BENCHMARKS.md in one run of the current tree against the peers,
 # then the tables (see benches/run.py for the steps):
 #
-#   benches/run.sh [--rounds 5] [--skip c rounds controllers profile criterion derivation mujoco robot a02 compile-time]
+#   benches/run.sh [--rounds 5] [--skip c rounds controllers profile criterion derivation mujoco robot a02 compile-time casadi]
 #
 # Creates a Python environment under <target>/baselines-venv (<target>: CARGO_TARGET_DIR
 # when set, else target/) with sympy, scipy, numpy, and mujoco and Pinocchio's packages when

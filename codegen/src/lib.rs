@@ -92,7 +92,7 @@ pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
     compile_interpreted,
 };
-pub use emit::body::{EmitBindings, EmittedBody, OutputTarget, emit_body, f64_tokens};
+pub use emit::body::{EmitBindings, EmittedBody, LEAN_ABOVE, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::derivation::{derive, derive_with};
@@ -120,7 +120,9 @@ pub use program::hoist::{Hoisted, hoist_parameters};
 pub use program::instructions::{OpCounts, Operand, Output};
 pub use program::tape::Tape;
 pub use syntax::spelling::closest;
-pub use urdf::{UrdfError, UrdfImport, UrdfOptions, urdf_import, urdf_to_mech};
+pub use urdf::{
+    MAX_SNAP_ANGLES, SnappedAngles, UrdfError, UrdfImport, UrdfOptions, urdf_import, urdf_to_mech,
+};
 
 /// The parts of the stages that no dependent needs, reached only by codegen's own tests (the
 /// second routes they check against, the printers of single matrices, the instructions of a

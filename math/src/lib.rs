@@ -23,6 +23,7 @@
 
 #[cfg(target_arch = "x86_64")]
 pub mod avx2;
+mod isa;
 mod real;
 mod sin_cos;
 #[cfg(target_arch = "x86_64")]
@@ -37,6 +38,7 @@ use platform as route;
 #[cfg(not(feature = "std"))]
 use portable as route;
 
+pub use isa::{Baseline, Isa};
 pub use sin_cos::{sin_cos, sin_cos_lanes};
 
 /// `*x`, read from memory on its own (a volatile read). The emitted code passes the

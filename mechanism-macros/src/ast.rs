@@ -76,8 +76,8 @@ fn file_literal(tokens: &TokenStream) -> Option<syn::Result<LitStr>> {
     }
 }
 
-/// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]`, `name = Struct` and
-/// `damping = true` after it.
+/// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]`, `name = Struct`,
+/// `damping = true` and `snap_angles = 1e-9` after it.
 struct UrdfInput {
     /// The path as written.
     literal: LitStr,
@@ -87,6 +87,9 @@ struct UrdfInput {
     name: Option<Ident>,
     /// `damping = true`: the joints' `<dynamics damping>` as forces.
     damping: bool,
+    /// `snap_angles = 1e-9`: angles within this many rad of a multiple of pi/2 written as
+    /// one.
+    snap_angles: Option<f64>,
 }
 
 /// `urdf = "..."` and its options, recognised by its first two tokens.
@@ -103,13 +106,15 @@ fn urdf_input(tokens: &TokenStream) -> Option<syn::Result<UrdfInput>> {
     }
 }
 
-/// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [, damping = true] [,]`.
+/// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [, damping = true]
+/// [, snap_angles = 1e-9] [,]`.
 fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
     let mut urdf = UrdfInput {
         literal: input.parse()?,
         lock: Vec::new(),
         name: None,
         damping: false,
+        snap_angles: None,
     };
     while !input.is_empty() {
         input.parse::<Token![,]>()?;
@@ -127,15 +132,41 @@ fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
             urdf.name = Some(input.parse()?);
         } else if key == "damping" {
             urdf.damping = input.parse::<syn::LitBool>()?.value;
+        } else if key == "snap_angles" {
+            urdf.snap_angles = Some(snap_tolerance(input)?);
         } else {
             return Err(syn::Error::new(
                 key.span(),
-                "expected `lock = [\"joint\", ...]`, `name = Struct` or `damping = true` \
-                 after the URDF path",
+                "expected `lock = [\"joint\", ...]`, `name = Struct`, `damping = true` or \
+                 `snap_angles = 1e-9` after the URDF path",
             ));
         }
     }
     Ok(urdf)
+}
+
+/// The tolerance of `snap_angles = ...`: a number literal from 0 to
+/// [`mechanism_codegen::MAX_SNAP_ANGLES`] rad, refused at the literal otherwise.
+fn snap_tolerance(input: ParseStream) -> syn::Result<f64> {
+    let lit: syn::Lit = input.parse()?;
+    let value = match &lit {
+        syn::Lit::Float(f) => f.base10_parse::<f64>()?,
+        syn::Lit::Int(i) => i.base10_parse::<f64>()?,
+        _ => {
+            return Err(syn::Error::new(
+                lit.span(),
+                "expected a tolerance in rad, such as `snap_angles = 1e-9`",
+            ));
+        }
+    };
+    let max = mechanism_codegen::MAX_SNAP_ANGLES;
+    if !(0.0..=max).contains(&value) {
+        return Err(syn::Error::new(
+            lit.span(),
+            format!("the angle snapping tolerance must be between 0 and {max} rad"),
+        ));
+    }
+    Ok(value)
 }
 
 /// Splits an optional leading `crate = path,` off the input (serde's `crate = "..."`
@@ -227,6 +258,7 @@ fn parse_urdf(urdf: UrdfInput) -> syn::Result<Declaration> {
         struct_name: urdf.name.map(|n| n.to_string()),
         lock: urdf.lock,
         damping: urdf.damping,
+        snap_angles: urdf.snap_angles,
     };
     let text = mechanism_codegen::urdf_to_mech(&xml, &options)
         .map_err(|e| syn::Error::new(urdf.literal.span(), e.to_string()))?;
@@ -401,6 +433,24 @@ mod tests {
         assert!(e.to_string().contains("expected `lock = "), "{e}");
         let tokens: TokenStream = "pub struct X;".parse().unwrap();
         assert!(urdf_input(&tokens).is_none());
+    }
+
+    #[test]
+    fn a_snap_tolerance_is_read_and_checked_at_its_literal() {
+        let read = |option: &str| {
+            let tokens: TokenStream = format!(r#"urdf = "{ARM}", {option}"#).parse().unwrap();
+            urdf_input(&tokens).expect("recognised")
+        };
+        assert_eq!(read("snap_angles = 1e-9").unwrap().snap_angles, Some(1e-9));
+        assert_eq!(read("snap_angles = 0").unwrap().snap_angles, Some(0.0));
+        assert_eq!(read("damping = true").unwrap().snap_angles, None);
+        for (option, message) in [
+            ("snap_angles = 0.5", "between 0 and 0.001 rad"),
+            ("snap_angles = \"1e-9\"", "expected a tolerance in rad"),
+        ] {
+            let e = read(option).err().expect("refused");
+            assert!(e.to_string().contains(message), "{option}: {e}");
+        }
     }
 
     #[test]

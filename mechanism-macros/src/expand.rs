@@ -1,8 +1,9 @@
 //! The expansion: the parameter struct and the mechanism struct (the parameters and their
 //! cached parameter-only values, read and written through `Deref`/`DerefMut`), their
-//! `Default`, the inherent constants and the `impl ::mechanism::Mechanism<N, M>` (with, on
-//! x86-64 builds without AVX2, `evaluate_into`'s copy compiled with AVX2). `quote!` only;
-//! the bodies come from [`crate::generate`].
+//! `Default`, the inherent constants and the `impl ::mechanism::Mechanism<N, M>` (each
+//! generated method's body in a generic inherent function, compiled a second time with AVX2
+//! on x86-64 builds without it: [`crate::dispatch`]). `quote!` only; the bodies come from
+//! [`crate::generate`].
 
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
@@ -10,6 +11,7 @@ use syn::Ident;
 
 use crate::ast::{self, Declaration, Source};
 use crate::check;
+use crate::dispatch::{self, Method};
 use crate::generate::{self, Generated};
 
 /// Parses, checks, derives and expands one `mechanism!` invocation.
@@ -420,14 +422,18 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
     } = t;
     let indices: Vec<usize> = (0..*p).collect();
     let entries: Vec<usize> = (0..independent.len()).collect();
-    let methods = expand_equation_methods(decl, t, g);
+    let dispatched = dispatched_methods(krate, *n, *m, g);
+    let bodies = dispatch::bodies(krate, &dispatched);
+    let methods = expand_equation_methods(decl, t, g, &dispatched);
     let drawing = drawing_constants(decl);
     let joint_limits = joint_limit_constants(decl);
     let orientations = crate::orientations::orientation_constants(decl);
-    let evaluate_into_avx2 = expand_evaluate_into_avx2(decl, t, g);
     let allows = method_allows();
     quote! {
-        #evaluate_into_avx2
+        #allows
+        impl #name {
+            #bodies
+        }
         #allows
         impl #krate::Mechanism<#n, #m> for #name {
             const NAME: &'static str = #name_str;
@@ -510,40 +516,9 @@ fn method_allows() -> TokenStream {
             clippy::unnecessary_cast,
             clippy::identity_op,
             clippy::let_and_return,
-            clippy::redundant_locals
+            clippy::redundant_locals,
+            clippy::inline_always
         )]
-    }
-}
-
-/// On x86-64 builds without AVX2 (the default target): `evaluate_into` compiled a second
-/// time with AVX2, which the trait's `evaluate_into` calls where the CPU has it (checked on
-/// each call, one cached read). The body is the same program calling `math::avx2`, so the
-/// results are the same bits; the AVX encoding takes three operands, which spares the
-/// register copies that bound the small models' evaluation, and the sines and cosines go four
-/// to a register.
-fn expand_evaluate_into_avx2(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
-    let krate = &decl.krate;
-    let Tables { name, n, m, .. } = t;
-    let sv = quote!(#krate::__private::SVector);
-    let body = &g.evaluate_into_avx2;
-    let allows = method_allows();
-    quote! {
-        #[cfg(all(target_arch = "x86_64", not(target_feature = "avx2")))]
-        #allows
-        impl #name {
-            /// `Mechanism::evaluate_into` compiled with AVX2: call only where the CPU has it.
-            #[doc(hidden)]
-            #[target_feature(enable = "avx2")]
-            fn __evaluate_into_avx2(
-                &self,
-                t: f64,
-                q: &#sv<f64, #n>,
-                qd: &#sv<f64, #n>,
-                out: &mut #krate::StaticEvaluation<#n, #m>,
-            ) {
-                #body
-            }
-        }
     }
 }
 
@@ -600,102 +575,170 @@ fn joint_limit_constants(decl: &Declaration) -> TokenStream {
     }
 }
 
-/// The trait's equation methods, one generated body each.
-fn expand_equation_methods(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
+/// The trait's equation methods: those of [`dispatched_methods`] (each picking its copy
+/// for the CPU), `equations` and the constants `evaluate`, `SPARSITY` and `FRAMES`.
+fn expand_equation_methods(
+    decl: &Declaration,
+    t: &Tables,
+    g: &Generated,
+    dispatched: &[Method],
+) -> TokenStream {
     let krate = &decl.krate;
     let (n, m) = (t.n, t.m);
-    let sv = quote!(#krate::__private::SVector);
-    let sm = quote!(#krate::__private::SMatrix);
-    let dynamics = expand_dynamics_methods(krate, n, m, g);
+    let methods = dispatch::trait_methods(krate, dispatched);
     let evaluation = expand_evaluation_methods(krate, n, m, g);
-    let Generated {
-        equations,
-        residual_tangent,
-        draw_points,
-        ..
-    } = g;
-    let robotics = crate::robotics::methods(krate, n, g);
+    let equations = &g.equations;
+    let frame_names = &g.frame_names;
     quote! {
-    #dynamics
+    #methods
     #evaluation
     fn equations() -> &'static str {
         #equations
     }
-    fn residual_tangent(
-        &self,
-        t: f64,
-        q: &#sv<f64, #n>,
-        qd: &#sv<f64, #n>,
-        qdd: &#sv<f64, #n>,
-        lambda: &#sv<f64, #m>,
-    ) -> ::core::option::Option<(#sm<f64, #n, #n>, #sm<f64, #n, #n>)> {
-        #residual_tangent
-    }
-    fn draw_points(&self, t: f64, q: &#sv<f64, #n>, out: &mut [f64]) {
-        #draw_points
-    }
-    #robotics
+    const FRAMES: &'static [&'static str] = &[#(#frame_names),*];
     }
 }
 
-/// The methods of one term of the equations each: M, C, C q', g, tau, Phi, Phi_q, Phi_t,
-/// gamma, T and Pi.
-fn expand_dynamics_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) -> TokenStream {
-    let sv = quote!(#krate::__private::SVector);
-    let sm = quote!(#krate::__private::SMatrix);
-    let Generated {
-        mass_matrix,
-        coriolis_matrix,
-        coriolis_forces,
-        gravity,
-        generalized_forces,
-        constraints,
-        constraint_jacobian,
-        constraint_time_derivative,
-        constraint_gamma,
-        kinetic_energy,
-        potential_energy,
-        ..
-    } = g;
-    quote! {
-    fn mass_matrix(&self, q: &#sv<f64, #n>) -> #sm<f64, #n, #n> {
-        #mass_matrix
-    }
-    fn coriolis_matrix(&self, q: &#sv<f64, #n>, qd: &#sv<f64, #n>) -> #sm<f64, #n, #n> {
-        #coriolis_matrix
-    }
-    fn coriolis_forces(&self, q: &#sv<f64, #n>, qd: &#sv<f64, #n>) -> #sv<f64, #n> {
-        #coriolis_forces
-    }
-    fn gravity(&self, q: &#sv<f64, #n>) -> #sv<f64, #n> {
-        #gravity
-    }
-    fn generalized_forces(&self, t: f64, q: &#sv<f64, #n>, qd: &#sv<f64, #n>) -> #sv<f64, #n> {
-        #generalized_forces
-    }
-    fn constraints(&self, t: f64, q: &#sv<f64, #n>) -> #sv<f64, #m> {
-        #constraints
-    }
-    fn constraint_jacobian(&self, t: f64, q: &#sv<f64, #n>) -> #sm<f64, #m, #n> {
-        #constraint_jacobian
-    }
-    fn constraint_time_derivative(&self, t: f64, q: &#sv<f64, #n>) -> #sv<f64, #m> {
-        #constraint_time_derivative
-    }
-    fn constraint_gamma(&self, t: f64, q: &#sv<f64, #n>, qd: &#sv<f64, #n>) -> #sv<f64, #m> {
-        #constraint_gamma
-    }
-    fn kinetic_energy(&self, q: &#sv<f64, #n>, qd: &#sv<f64, #n>) -> f64 {
-        #kinetic_energy
-    }
-    fn potential_energy(&self, q: &#sv<f64, #n>) -> f64 {
-        #potential_energy
-    }
-    }
+/// Every method whose body comes from a routine, with its signature: M, C, C q', g, tau,
+/// Phi, Phi_q, Phi_t, gamma, T, Pi, the combined and sparse evaluations, the residual's
+/// tangent, the drawing, and the robotics methods ([`crate::robotics`]). Each is compiled
+/// for the CPU's instruction set ([`crate::dispatch`]).
+fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) -> Vec<Method> {
+    let sv = |k: usize| quote!(&#krate::__private::SVector<f64, #k>);
+    let ret_v = |k: usize| quote!(-> #krate::__private::SVector<f64, #k>);
+    let ret_m = |r: usize, c: usize| quote!(-> #krate::__private::SMatrix<f64, #r, #c>);
+    let (t, q, qd) = (("t", quote!(f64)), ("q", sv(n)), ("qd", sv(n)));
+    let c = |b: &TokenStream| b.clone();
+    let mut methods = vec![
+        Method::new(
+            "mass_matrix",
+            std::slice::from_ref(&q),
+            ret_m(n, n),
+            c(&g.mass_matrix),
+        ),
+        Method::new(
+            "coriolis_matrix",
+            &[q.clone(), qd.clone()],
+            ret_m(n, n),
+            c(&g.coriolis_matrix),
+        ),
+        Method::new(
+            "coriolis_forces",
+            &[q.clone(), qd.clone()],
+            ret_v(n),
+            c(&g.coriolis_forces),
+        ),
+        Method::new("gravity", std::slice::from_ref(&q), ret_v(n), c(&g.gravity)),
+        Method::new(
+            "generalized_forces",
+            &[t.clone(), q.clone(), qd.clone()],
+            ret_v(n),
+            c(&g.generalized_forces),
+        ),
+        Method::new(
+            "constraints",
+            &[t.clone(), q.clone()],
+            ret_v(m),
+            c(&g.constraints),
+        ),
+        Method::new(
+            "constraint_jacobian",
+            &[t.clone(), q.clone()],
+            ret_m(m, n),
+            c(&g.constraint_jacobian),
+        ),
+        Method::new(
+            "constraint_time_derivative",
+            &[t.clone(), q.clone()],
+            ret_v(m),
+            c(&g.constraint_time_derivative),
+        ),
+        Method::new(
+            "constraint_gamma",
+            &[t.clone(), q.clone(), qd.clone()],
+            ret_v(m),
+            c(&g.constraint_gamma),
+        ),
+        Method::new(
+            "kinetic_energy",
+            &[q.clone(), qd.clone()],
+            quote!(-> f64),
+            c(&g.kinetic_energy),
+        ),
+        Method::new(
+            "potential_energy",
+            std::slice::from_ref(&q),
+            quote!(-> f64),
+            c(&g.potential_energy),
+        ),
+    ];
+    methods.extend(evaluation_methods(krate, n, m, g));
+    let sm = quote!(#krate::__private::SMatrix<f64, #n, #n>);
+    methods.push(Method::new(
+        "residual_tangent",
+        &[
+            t.clone(),
+            q.clone(),
+            qd.clone(),
+            ("qdd", sv(n)),
+            ("lambda", sv(m)),
+        ],
+        quote!(-> ::core::option::Option<(#sm, #sm)>),
+        c(&g.residual_tangent),
+    ));
+    methods.push(Method::new(
+        "draw_points",
+        &[t, q, ("out", quote!(&mut [f64]))],
+        quote!(),
+        c(&g.draw_points),
+    ));
+    methods.extend(crate::robotics::methods(krate, n, g));
+    methods
 }
 
-/// The methods that evaluate every term at once (`evaluate`, `evaluate_into` with its AVX2
-/// dispatch, the sparse writers) and `SPARSITY`, the structural pattern of M and Phi_q.
+/// `evaluate_into`, `evaluate_sparse_into` and `constraint_jacobian_sparse_into`.
+fn evaluation_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) -> Vec<Method> {
+    let sv = quote!(&#krate::__private::SVector<f64, #n>);
+    let (t, q, qd) = (("t", quote!(f64)), ("q", sv.clone()), ("qd", sv));
+    vec![
+        Method::new(
+            "evaluate_into",
+            &[
+                t.clone(),
+                q.clone(),
+                qd.clone(),
+                ("out", quote!(&mut #krate::StaticEvaluation<#n, #m>)),
+            ],
+            quote!(),
+            g.evaluate_into.clone(),
+        ),
+        Method::new(
+            "evaluate_sparse_into",
+            &[
+                t.clone(),
+                q.clone(),
+                qd,
+                ("out", quote!(&mut #krate::EvaluationSlices<'_>)),
+            ],
+            quote!(-> bool),
+            g.evaluate_sparse_into.clone(),
+        ),
+        Method::new(
+            "constraint_jacobian_sparse_into",
+            &[
+                t,
+                q,
+                ("phi_q", quote!(&mut [f64])),
+                ("phi_t", quote!(&mut [f64])),
+            ],
+            quote!(-> bool),
+            g.constraint_jacobian_sparse_into.clone(),
+        ),
+    ]
+}
+
+/// `evaluate` (through `evaluate_into`) and `SPARSITY`, the structural pattern of M and
+/// Phi_q.
 fn expand_evaluation_methods(
     krate: &TokenStream,
     n: usize,
@@ -703,13 +746,7 @@ fn expand_evaluation_methods(
     g: &Generated,
 ) -> TokenStream {
     let sv = quote!(#krate::__private::SVector);
-    let Generated {
-        evaluate_into,
-        evaluate_sparse_into,
-        constraint_jacobian_sparse_into,
-        sparsity: (mass_pattern, jacobian_pattern),
-        ..
-    } = g;
+    let (mass_pattern, jacobian_pattern) = &g.sparsity;
     let as_u32 = |p: &[(usize, usize)], col: bool| -> Vec<u32> {
         p.iter()
             .map(|&(i, j)| u32::try_from(if col { j } else { i }).unwrap_or(u32::MAX))
@@ -731,42 +768,10 @@ fn expand_evaluation_methods(
         self.evaluate_into(t, q, qd, &mut out);
         out
     }
-    fn evaluate_into(
-        &self,
-        t: f64,
-        q: &#sv<f64, #n>,
-        qd: &#sv<f64, #n>,
-        out: &mut #krate::StaticEvaluation<#n, #m>,
-    ) {
-        #[cfg(all(target_arch = "x86_64", not(target_feature = "avx2")))]
-        if #krate::math::avx2::detected() {
-            // SAFETY: the CPU has AVX2, all that the copy needs beyond this build's features.
-            return unsafe { self.__evaluate_into_avx2(t, q, qd, out) };
-        }
-        #evaluate_into
-    }
     const SPARSITY: ::core::option::Option<#krate::StaticSparsity> =
         ::core::option::Option::Some(#krate::StaticSparsity {
             mass: &[#((#mass_rows, #mass_cols)),*],
             jacobian: &[#((#jac_rows, #jac_cols)),*],
         });
-    fn evaluate_sparse_into(
-        &self,
-        t: f64,
-        q: &#sv<f64, #n>,
-        qd: &#sv<f64, #n>,
-        out: &mut #krate::EvaluationSlices<'_>,
-    ) -> bool {
-        #evaluate_sparse_into
-    }
-    fn constraint_jacobian_sparse_into(
-        &self,
-        t: f64,
-        q: &#sv<f64, #n>,
-        phi_q: &mut [f64],
-        phi_t: &mut [f64],
-    ) -> bool {
-        #constraint_jacobian_sparse_into
-    }
     }
 }

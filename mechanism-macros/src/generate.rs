@@ -13,8 +13,8 @@
 //! program over all outputs, so sin/cos pairs and common subexpressions are computed once.
 
 use mechanism_codegen::{
-    EmitBindings, EvaluationOutput, Model, Operand, OutputTarget, Program, Role, Routines, Source,
-    emit_body, residual_tangent,
+    EmitBindings, EvaluationOutput, LEAN_ABOVE, Model, Operand, OutputTarget, Program, Role,
+    Routines, Source, emit_body, residual_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
@@ -26,6 +26,14 @@ use crate::ast::{self, Declaration};
 /// (a store per structural zero instead of a memset per call, and no thousands of zero
 /// stores for a large sparse Phi_q).
 const FILL_ZEROS_ABOVE: usize = 32;
+
+/// Largest residual tangent emitted, in instructions. Past it `residual_tangent` returns
+/// `None` (implicit integrators then difference the residual) instead of code that rustc
+/// cannot compile within a laptop's memory: Talos with its grippers free (44 coordinates)
+/// has a tangent of 192,000 instructions, three fifths of all its routines, which took
+/// rustc's peak to 9.9 GB on `cargo check --release`; the 30-coordinate Talos' 59,000 and
+/// the Panda's 12,000 are emitted.
+pub const TANGENT_INSTRUCTIONS_MAX: usize = 100_000;
 
 /// (row, column) pairs of a matrix's structural nonzeros, row-major.
 pub type Pattern = Vec<(usize, usize)>;
@@ -57,8 +65,6 @@ pub struct Generated {
     /// `evaluate_into(&self, t, q, qd, out)`: everything, sharing subexpressions, written
     /// into every entry of `out`.
     pub evaluate_into: TokenStream,
-    /// The same body calling `math::avx2` (for the copy compiled with AVX2).
-    pub evaluate_into_avx2: TokenStream,
     /// `evaluate_sparse_into(&self, t, q, qd, out)`: the same program, M and Phi_q written
     /// into column-major slices at their structural pattern only.
     pub evaluate_sparse_into: TokenStream,
@@ -120,8 +126,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             constraint_gamma: b.matrix(Role::Gamma)?,
             kinetic_energy: b.scalar(Role::Kinetic)?,
             potential_energy: b.scalar(Role::Potential)?,
-            evaluate_into: b.evaluate_into(false)?,
-            evaluate_into_avx2: b.evaluate_into(true)?,
+            evaluate_into: b.evaluate_into()?,
             evaluate_sparse_into: b.evaluate_sparse_into()?,
             constraint_jacobian_sparse_into: b.constraint_jacobian_sparse_into(eqs.n, eqs.m)?,
             sparsity: (
@@ -170,8 +175,12 @@ impl Bodies<'_> {
     /// from `lambda`, time from `t`. Real functions call the runtime crate's `math` module
     /// (`sin_cos` is the function the interpreter, `Tape`, uses; the others exist without
     /// std, where the f64 methods do not).
+    /// The bodies are generic over the instruction set: grouped sines and cosines are
+    /// computed by `isa` ([`crate::dispatch`]).
     fn bindings(&self, role: Role) -> EmitBindings {
-        self.bindings_with(role, quote!(self.__parameters))
+        let mut b = self.bindings_with(role, quote!(self.__parameters));
+        b.set_isa(quote!(isa));
+        b
     }
 
     /// [`Bodies::bindings`] with the parameters read from the struct at `params`.
@@ -233,13 +242,23 @@ impl Bodies<'_> {
         }
     }
 
+    /// Where an output matrix `name` (a nalgebra matrix starting at zero) is written: entry
+    /// by entry, zeros skipped; in a body of more than [`LEAN_ABOVE`] instructions, all at
+    /// once into its storage (one statement instead of one indexed store per entry).
+    fn place(program: &Program, name: TokenStream) -> OutputTarget {
+        if program.instructions().len() > LEAN_ABOVE {
+            OutputTarget::Columns {
+                name: quote!(#name.data.0),
+            }
+        } else {
+            OutputTarget::Matrix { name, zeroed: true }
+        }
+    }
+
     /// A body returning one nalgebra matrix (or vector) of the shape of `role`'s output.
     fn matrix(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
-        let targets = [OutputTarget::Matrix {
-            name: quote!(out),
-            zeroed: true,
-        }];
+        let targets = [Self::place(program, quote!(out))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let o = &program.outputs()[0];
         let (r, c, krate) = (o.rows, o.cols, self.krate);
@@ -275,11 +294,10 @@ impl Bodies<'_> {
         second: (TokenStream, usize, usize),
     ) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
-        let place = |name: &TokenStream| OutputTarget::Matrix {
-            name: name.clone(),
-            zeroed: true,
-        };
-        let targets = [place(&first.0), place(&second.0)];
+        let targets = [
+            Self::place(program, first.0.clone()),
+            Self::place(program, second.0.clone()),
+        ];
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let (krate, cache) = (self.krate, self.cache_read(program));
         let ((a, ar, ac), (b, br, bc)) = (first, second);
@@ -295,10 +313,7 @@ impl Bodies<'_> {
     /// M q'' + C q' + g - tau, with q'' read from `qdd`.
     fn inverse_dynamics(&self) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(Role::InverseDynamics)?;
-        let targets = [OutputTarget::Matrix {
-            name: quote!(out),
-            zeroed: true,
-        }];
+        let targets = [Self::place(program, quote!(out))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let n = self.model.coordinates.len();
         let (krate, cache) = (self.krate, self.cache_read(program));
@@ -351,10 +366,11 @@ impl Bodies<'_> {
 
     /// The combined evaluation into the caller's `out`: one program for all outputs. Every
     /// entry is written: small outputs entry by entry (zeros included), outputs with many
-    /// zeros by one `fill(0.0)` and their nonzero entries. With `avx2`, the functions are
-    /// called from `math::avx2` (the same bits, for a body compiled with AVX2).
-    fn evaluate_into(&self, avx2: bool) -> mechanism_codegen::Result<TokenStream> {
-        let (program, mut bindings) = self.routine(Role::Evaluation)?;
+    /// zeros by one `fill(0.0)` and their nonzero entries; in a large body (past
+    /// [`LEAN_ABOVE`]), each matrix at once into its storage.
+    fn evaluate_into(&self) -> mechanism_codegen::Result<TokenStream> {
+        let (program, bindings) = self.routine(Role::Evaluation)?;
+        let lean = program.instructions().len() > LEAN_ABOVE;
         let mut fills = TokenStream::new();
         let targets: Vec<OutputTarget> = EvaluationOutput::ORDER
             .iter()
@@ -382,6 +398,11 @@ impl Bodies<'_> {
                         };
                     }
                 };
+                if lean {
+                    return OutputTarget::Columns {
+                        name: quote!(#name.data.0),
+                    };
+                }
                 let zeros = output
                     .entries
                     .iter()
@@ -394,10 +415,6 @@ impl Bodies<'_> {
                 OutputTarget::Matrix { name, zeroed }
             })
             .collect();
-        if avx2 {
-            let krate = self.krate;
-            bindings.set_math(quote!(#krate::math::avx2));
-        }
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let cache = self.cache_read(program);
         Ok(quote! {
@@ -499,11 +516,17 @@ impl Bodies<'_> {
     }
 
     /// `Some((K, D))` with K = dF/dq and D = dF/dq' (n x n each, one program for both);
-    /// q'' is read from `qdd`, the multipliers from `lambda`.
+    /// q'' is read from `qdd`, the multipliers from `lambda`. `None` past
+    /// [`TANGENT_INSTRUCTIONS_MAX`].
     fn tangent(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(Role::Tangent)?;
-        let place = |name: TokenStream| OutputTarget::Matrix { name, zeroed: true };
-        let targets = [place(quote!(stiffness)), place(quote!(damping))];
+        if program.instructions().len() > TANGENT_INSTRUCTIONS_MAX {
+            return Ok(quote!(::core::option::Option::None));
+        }
+        let targets = [
+            Self::place(program, quote!(stiffness)),
+            Self::place(program, quote!(damping)),
+        ];
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let krate = self.krate;
         let cache = self.cache_read(program);

@@ -15,6 +15,7 @@
 
 mod ast;
 mod check;
+mod dispatch;
 mod expand;
 mod generate;
 mod orientations;

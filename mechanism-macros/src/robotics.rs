@@ -1,16 +1,20 @@
 //! The robotics methods of the emitted `impl Mechanism`: the bias with M in one program,
 //! the inverse dynamics, and the placement and Jacobian of each link frame (a `match` on
-//! the frame's index, one straight-line arm per frame).
+//! the frame's index, one straight-line arm per frame). A new method here is one more
+//! [`Method`], compiled for the CPU's instruction set like the others
+//! ([`crate::dispatch`]).
 
 use proc_macro2::TokenStream;
 use quote::quote;
 
+use crate::dispatch::Method;
 use crate::generate::Generated;
 
-/// `FRAMES`, `mass_and_bias`, `inverse_dynamics`, `frame_placement` and `frame_jacobian`.
-pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> TokenStream {
-    let sv = quote!(#krate::__private::SVector);
-    let sm = quote!(#krate::__private::SMatrix);
+/// `mass_and_bias`, `inverse_dynamics`, `frame_placement` and `frame_jacobian` (the
+/// frames' names, `FRAMES`, are a constant of the impl).
+pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
+    let sv = |k: usize| quote!(#krate::__private::SVector<f64, #k>);
+    let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix<f64, #r, #c>);
     let Generated {
         mass_and_bias,
         inverse_dynamics,
@@ -20,44 +24,47 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> TokenStream {
         ..
     } = g;
     let indices: Vec<usize> = (0..frame_names.len()).collect();
-    quote! {
-        const FRAMES: &'static [&'static str] = &[#(#frame_names),*];
-        fn mass_and_bias(
-            &self,
-            t: f64,
-            q: &#sv<f64, #n>,
-            qd: &#sv<f64, #n>,
-        ) -> (#sm<f64, #n, #n>, #sv<f64, #n>) {
-            #mass_and_bias
-        }
-        fn inverse_dynamics(
-            &self,
-            t: f64,
-            q: &#sv<f64, #n>,
-            qd: &#sv<f64, #n>,
-            qdd: &#sv<f64, #n>,
-        ) -> #sv<f64, #n> {
-            #inverse_dynamics
-        }
-        fn frame_placement(
-            &self,
-            frame: usize,
-            q: &#sv<f64, #n>,
-        ) -> ::core::option::Option<(#sm<f64, 3, 3>, #sv<f64, 3>)> {
-            match frame {
-                #(#indices => ::core::option::Option::Some({ #frame_placements }),)*
-                _ => ::core::option::Option::None,
-            }
-        }
-        fn frame_jacobian(
-            &self,
-            frame: usize,
-            q: &#sv<f64, #n>,
-        ) -> ::core::option::Option<#sm<f64, 6, #n>> {
-            match frame {
-                #(#indices => ::core::option::Option::Some({ #frame_jacobians }),)*
-                _ => ::core::option::Option::None,
-            }
-        }
-    }
+    let (svn, smn, sv3, sm3, sm6) = (sv(n), sm(n, n), sv(3), sm(3, 3), sm(6, n));
+    let (t, q, qd) = (
+        ("t", quote!(f64)),
+        ("q", quote!(&#svn)),
+        ("qd", quote!(&#svn)),
+    );
+    let frame = ("frame", quote!(usize));
+    vec![
+        Method::new(
+            "mass_and_bias",
+            &[t.clone(), q.clone(), qd.clone()],
+            quote!(-> (#smn, #svn)),
+            mass_and_bias.clone(),
+        ),
+        Method::new(
+            "inverse_dynamics",
+            &[t, q.clone(), qd, ("qdd", quote!(&#svn))],
+            quote!(-> #svn),
+            inverse_dynamics.clone(),
+        ),
+        Method::new(
+            "frame_placement",
+            &[frame.clone(), q.clone()],
+            quote!(-> ::core::option::Option<(#sm3, #sv3)>),
+            quote! {
+                match frame {
+                    #(#indices => ::core::option::Option::Some({ #frame_placements }),)*
+                    _ => ::core::option::Option::None,
+                }
+            },
+        ),
+        Method::new(
+            "frame_jacobian",
+            &[frame, q],
+            quote!(-> ::core::option::Option<#sm6>),
+            quote! {
+                match frame {
+                    #(#indices => ::core::option::Option::Some({ #frame_jacobians }),)*
+                    _ => ::core::option::Option::None,
+                }
+            },
+        ),
+    ]
 }

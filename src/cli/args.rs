@@ -245,6 +245,12 @@ pub struct ImportArgs {
     /// coordinate (Coulomb friction is not imported).
     #[arg(long)]
     pub damping: bool,
+    /// Write every angle (joint rpy, inertia rpy) within RAD of a multiple of pi/2 as
+    /// that multiple (0 included; at most 1e-3), e.g. 1e-9 for a file rounded to 11
+    /// decimals (1.57079632679); the header states how far the angles moved. Default:
+    /// nonzero multiples within 1e-12 only.
+    #[arg(long, value_name = "RAD")]
+    pub snap_angles: Option<f64>,
 }
 
 /// Integrators offered on the command line.

@@ -351,3 +351,34 @@ fn text_that_is_not_utf8_is_named_with_its_place() {
         ),
     );
 }
+
+/// `--snap-angles` on UR5 (angles rounded to 11 decimals): the rounded quarter turns become
+/// `pi/2`, the header states how far they moved, stderr notes it in one line; without the
+/// flag they stay numbers; a tolerance out of range is one line and exit status 1.
+#[test]
+fn snap_angles_writes_rounded_quarter_turns_as_multiples_of_pi() {
+    let ur5 = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/mechanisms/urdf/ur5_robot.urdf"
+    );
+    let o = mechanism(&["import", ur5, "--snap-angles", "1e-9"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout.clone()).expect("UTF-8");
+    assert!(text.contains("rpy = [0, pi/2, 0];"), "{text}");
+    assert!(!text.contains("1.57079632679"), "{text}");
+    assert!(
+        text.contains("/// Angles within 1e-9 rad of a multiple of pi/2 written as one: "),
+        "{text}"
+    );
+    let e = stderr(&o);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(e.contains("angles snapped: "), "{e}");
+    let o = mechanism(&["import", ur5]);
+    let text = String::from_utf8(o.stdout).expect("UTF-8");
+    assert!(text.contains("rpy = [0, 1.57079632679, 0];"), "{text}");
+    assert!(!text.contains("Angles within"), "{text}");
+    assert_one_line_error(
+        &mechanism(&["import", ur5, "--snap-angles", "0.1"]),
+        "the angle snapping tolerance 0.1 rad is not between 0 and 0.001",
+    );
+}

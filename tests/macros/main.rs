@@ -5,6 +5,7 @@
 #[global_allocator]
 static ALLOCATOR: mechanism_test_support::Counting = mechanism_test_support::Counting;
 
+mod dispatch_copies;
 mod emitted_bits;
 mod emitted_vs_interpreter;
 mod file_paths;

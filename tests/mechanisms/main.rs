@@ -16,3 +16,4 @@ mod panda_pinocchio;
 mod snapshots;
 mod urdf_damping;
 mod urdf_mimic;
+mod urdf_snap;

@@ -15,18 +15,12 @@ pub mod runtime {
     /// What `mechanism::math` is without the `std` feature.
     pub mod math {
         pub use mechanism::math::portable::{atan2, exp, ln, powf, powi, sqrt, tan};
-        pub use mechanism::math::{mul_add, read, sin_cos, sin_cos_lanes};
+        pub use mechanism::math::{Baseline, Isa, mul_add, read, sin_cos};
 
-        /// What `mechanism::math::avx2` is without std: never detected, so the copy
-        /// compiled with AVX2 is never taken.
+        /// The copy compiled with AVX2 calls the same functions (only its lanes differ).
         #[cfg(target_arch = "x86_64")]
         pub mod avx2 {
-            pub use super::*;
-            pub use mechanism::math::avx2::sin_cos_lanes;
-
-            pub fn detected() -> bool {
-                false
-            }
+            pub use mechanism::math::avx2::Avx2;
         }
     }
 }

@@ -49,6 +49,9 @@ pub struct EmitBindings {
     prefix: String,
     /// The path of the math module (`::mechanism::math`); `None`: the f64 methods.
     math: Option<TokenStream>,
+    /// The value whose `sin_cos_lanes` method computes grouped sines and cosines (`isa`, a
+    /// `mechanism_math::Isa`); `None`: the math module's `sin_cos_lanes`.
+    isa: Option<TokenStream>,
 }
 
 impl Default for EmitBindings {
@@ -64,6 +67,7 @@ impl EmitBindings {
             reads: FxHashMap::default(),
             prefix: "x".to_string(),
             math: None,
+            isa: None,
         }
     }
 
@@ -89,6 +93,15 @@ impl EmitBindings {
     /// which need std.
     pub fn set_math(&mut self, path: TokenStream) -> &mut Self {
         self.math = Some(path);
+        self
+    }
+
+    /// Computes grouped sines and cosines with `isa.sin_cos_lanes([..])`, where the
+    /// expression `isa` is a `mechanism_math::Isa` in scope (a generic body compiled once per
+    /// instruction set), instead of the math module's `sin_cos_lanes`. Only with a math
+    /// module ([`EmitBindings::set_math`]): without one nothing is grouped.
+    pub fn set_isa(&mut self, isa: TokenStream) -> &mut Self {
+        self.isa = Some(isa);
         self
     }
 
@@ -123,6 +136,14 @@ pub enum OutputTarget {
     /// that the caller keeps at zero on the structural zeros, which are never written.
     ColumnMajor {
         /// The slice place expression.
+        name: TokenStream,
+    },
+    /// `name = [[column 0], [column 1], ..];` once, after the last instruction: every entry
+    /// (zeros included), column by column, into a place of type `[[f64; rows]; cols]` (a
+    /// nalgebra matrix's storage, `m.data.0`). One assignment instead of an indexed store per
+    /// entry: what [`LEAN_ABOVE`] bodies use, where rustc's cost per statement counts.
+    Columns {
+        /// The place expression (`out.data.0`).
         name: TokenStream,
     },
     /// The value of a 1 x 1 output is the body's tail expression (at most one per body).
@@ -201,7 +222,8 @@ pub fn emit_body(
     let p = program.restrict(&active)?;
     let ret = returned_value(&p, &targets)?;
     check_restricted(&p, bindings, &targets)?;
-    let e = Emitter { b: bindings };
+    let lean = p.instructions().len() > LEAN_ABOVE;
+    let e = Emitter { b: bindings, lean };
     let mut writes = e.writes(&p, &targets);
     // Inline the last instruction into a returned tail when nothing else follows it.
     let n = p.instructions().len();
@@ -210,8 +232,23 @@ pub fn emit_body(
         _ => false,
     };
     let end = if inline_last { n - 1 } else { n };
-    let mut tokens = std::mem::take(&mut writes.fixed);
-    tokens.extend(e.statements(&p, ret, end, &mut writes.after));
+    let mut tokens = if lean {
+        e.hoisted_reads(&p)
+    } else {
+        TokenStream::new()
+    };
+    tokens.extend(std::mem::take(&mut writes.fixed));
+    let mut at_end: Vec<Operand> = ret.into_iter().collect();
+    at_end.extend(
+        writes
+            .columns
+            .iter()
+            .flat_map(|(_, o)| o.entries.iter().copied()),
+    );
+    tokens.extend(e.statements(&p, &at_end, end, &mut writes.after));
+    for (name, o) in &writes.columns {
+        tokens.extend(e.columns(name, o));
+    }
     if let Some(r) = ret {
         match (inline_last, p.instructions().last()) {
             (true, Some(last)) => tokens.extend(e.rhs(last)),
@@ -311,6 +348,16 @@ fn is_identifier(s: &str) -> bool {
         && c.all(|x| x.is_ascii_alphanumeric() || x == '_')
 }
 
+/// Instruction count above which [`emit_body`] writes a body in its lean form, the one that
+/// costs rustc least per instruction (measured on straight-line bodies of 20,000
+/// instructions: a third less time and memory than the form below it): `let`s without type
+/// annotations, each symbol read once into a local at the top (`let vs3 = q[3];`: an indexed
+/// read costs rustc about as much as an arithmetic `let`), and the sines and cosines of a
+/// lanes call given those locals (no `read`). Matrix outputs are best given as
+/// [`OutputTarget::Columns`] there. Smaller bodies keep the form below, whose reads keep
+/// the vector loads of the lanes off pending stores (see `mechanism_math::read`).
+pub const LEAN_ABOVE: usize = 2000;
+
 /// Instruction count above which [`emit_body`] groups the `let`s into nested blocks of
 /// `BLOCK_LEN`, each returning the values read after it (a flat run of ~8,000 `let`s, the
 /// 32-bar chain's `evaluate`, overflowed rustc's stack in a debuginfo build; 2,512 built).
@@ -321,21 +368,25 @@ const BLOCK_LEN: usize = 1000;
 
 /// The output writes of a body (see [`Emitter::writes`]).
 #[derive(Default)]
-struct Writes {
+struct Writes<'p> {
     /// Writes of constants and symbols: before the first instruction.
     fixed: TokenStream,
     /// Writes of each register, by register number: right after its instruction.
     after: FxHashMap<u32, TokenStream>,
+    /// The outputs written whole after the last instruction ([`OutputTarget::Columns`]).
+    columns: Vec<(TokenStream, &'p crate::program::instructions::Output)>,
 }
 
-impl Writes {
+impl Writes<'_> {
     fn is_empty(&self) -> bool {
-        self.fixed.is_empty() && self.after.is_empty()
+        self.fixed.is_empty() && self.after.is_empty() && self.columns.is_empty()
     }
 }
 
 struct Emitter<'a> {
     b: &'a EmitBindings,
+    /// The lean form (see [`LEAN_ABOVE`]).
+    lean: bool,
 }
 
 impl Emitter<'_> {
@@ -344,13 +395,17 @@ impl Emitter<'_> {
     /// first, each register's right after the instruction that defines it, so that an
     /// output value is stored as soon as it is complete and does not stay live (in a
     /// register or spilled) to the end of the body.
-    fn writes(&self, p: &Program, targets: &[&OutputTarget]) -> Writes {
+    fn writes<'p>(&self, p: &'p Program, targets: &[&OutputTarget]) -> Writes<'p> {
         let mut w = Writes::default();
         for (o, t) in p.outputs().iter().zip(targets) {
             let (name, zeroed, layout) = match t {
                 OutputTarget::Matrix { name, zeroed } => (name, *zeroed, Layout::Matrix),
                 OutputTarget::Vector { name, zeroed } => (name, *zeroed, Layout::Vector),
                 OutputTarget::ColumnMajor { name } => (name, true, Layout::ColumnMajor),
+                OutputTarget::Columns { name } => {
+                    w.columns.push((name.clone(), o));
+                    continue;
+                }
                 _ => continue,
             };
             for (k, &v) in o.entries.iter().enumerate() {
@@ -384,11 +439,12 @@ impl Emitter<'_> {
     }
 
     /// The `let` statements of the instructions `..end`, each followed by the writes of the
-    /// registers it defines (taken from `after`), in blocks when there are many.
+    /// registers it defines (taken from `after`), in blocks when there are many (handing on
+    /// what later instructions and `at_end`, read after the last one, read).
     fn statements(
         &self,
         p: &Program,
-        ret: Option<Operand>,
+        at_end: &[Operand],
         end: usize,
         after: &mut FxHashMap<u32, TokenStream>,
     ) -> TokenStream {
@@ -402,7 +458,7 @@ impl Emitter<'_> {
             // BLOCK_LEN `let`s, each handing its live-out values on as one tuple, bound the
             // depth by BLOCK_LEN + n / BLOCK_LEN, and the values stay SSA (no memory traffic).
             // Sines and cosines are grouped within a block only, so its live-out set holds.
-            let last = liveness::last_reads(p, ret);
+            let last = liveness::last_reads(p, at_end);
             let mut start = 0;
             while end - start > BLOCK_LEN {
                 let range = start..start + BLOCK_LEN;
@@ -492,6 +548,8 @@ impl Emitter<'_> {
         // Inputs read one by one (`mechanism_math::read`): no wide load of neighbouring
         // coordinates waiting on the caller's last store.
         let args = ls.iter().map(|l| match l.arg {
+            // The lean form's locals are copies already.
+            Operand::Sym(_) if self.lean => self.operand(l.arg),
             Operand::Sym(_) => {
                 // Parenthesised: a binding may be any expression, not only a place.
                 let place = self.operand(l.arg);
@@ -499,7 +557,42 @@ impl Emitter<'_> {
             }
             Operand::Reg(_) | Operand::Const(_) => self.operand(l.arg),
         });
-        quote!(let ([#(#sins),*], [#(#coss),*]) = #m::sin_cos_lanes([#(#args),*]);)
+        let call = match &self.b.isa {
+            Some(isa) => quote!(#isa.sin_cos_lanes),
+            None => quote!(#m::sin_cos_lanes),
+        };
+        quote!(let ([#(#sins),*], [#(#coss),*]) = #call([#(#args),*]);)
+    }
+
+    /// `let vs3 = q[3];` for each symbol the program reads (the lean form reads each once).
+    fn hoisted_reads(&self, p: &Program) -> TokenStream {
+        let mut t = TokenStream::new();
+        for (s, _) in p.symbols() {
+            let local = self.symbol_local(*s);
+            let read = self.b.get(*s).cloned().unwrap_or_default();
+            t.extend(quote!(let #local = #read;));
+        }
+        t
+    }
+
+    /// The local holding symbol `s` in the lean form: `{prefix}s{id}` (registers are
+    /// `{prefix}{number}`, so the two never meet).
+    fn symbol_local(&self, s: SymbolId) -> TokenStream {
+        Ident::new(
+            &format!("{}s{}", self.b.prefix, s.index()),
+            Span::call_site(),
+        )
+        .into_token_stream()
+    }
+
+    /// `name = [[..], ..];`: every entry of `o`, column by column.
+    fn columns(&self, name: &TokenStream, o: &crate::program::instructions::Output) -> TokenStream {
+        let cols = o.cols.max(1);
+        let columns = (0..o.cols).map(|j| {
+            let column = (0..o.rows).map(|i| self.operand(o.entries[i * cols + j]));
+            quote!([#(#column),*])
+        });
+        quote!(#name = [#(#columns),*];)
     }
 
     fn reg(&self, r: Reg) -> TokenStream {
@@ -509,6 +602,7 @@ impl Emitter<'_> {
     fn operand(&self, o: Operand) -> TokenStream {
         match o {
             Operand::Reg(r) => self.reg(r),
+            Operand::Sym(s) if self.lean => self.symbol_local(s),
             Operand::Sym(s) => self.b.get(s).cloned().unwrap_or_default(),
             Operand::Const(c) => f64_tokens(c),
         }
@@ -552,14 +646,22 @@ impl Emitter<'_> {
         match *i {
             Instr::SinCos { sin, cos, .. } => {
                 let (s, c) = (self.reg(sin), self.reg(cos));
-                quote!(let (#s, #c): (f64, f64) = #rhs;)
+                if self.lean {
+                    quote!(let (#s, #c) = #rhs;)
+                } else {
+                    quote!(let (#s, #c): (f64, f64) = #rhs;)
+                }
             }
             Instr::Unary { dst, .. }
             | Instr::Binary { dst, .. }
             | Instr::Powi { dst, .. }
             | Instr::MulAdd { dst, .. } => {
                 let d = self.reg(dst);
-                quote!(let #d: f64 = #rhs;)
+                if self.lean {
+                    quote!(let #d = #rhs;)
+                } else {
+                    quote!(let #d: f64 = #rhs;)
+                }
             }
         }
     }

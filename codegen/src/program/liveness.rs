@@ -9,9 +9,10 @@ use crate::program::instructions::{Operand, Reg, defines as defs};
 
 /// `last[r]`: the index of the last instruction reading register r, or of the instruction
 /// defining it when nothing else reads it but an output (the emitter writes an output right
-/// after its instruction); n (the instruction count) when the returned operand `ret` reads
-/// it; `None` when nothing does.
-pub(crate) fn last_reads(p: &Program, ret: Option<Operand>) -> Vec<Option<usize>> {
+/// after its instruction); n (the instruction count) when one of `at_end` reads it (the
+/// returned operand, the entries of outputs written once at the end); `None` when nothing
+/// does.
+pub(crate) fn last_reads(p: &Program, at_end: &[Operand]) -> Vec<Option<usize>> {
     let n = p.instructions().len();
     let mut last = vec![None; p.registers()];
     for (k, i) in p.instructions().iter().enumerate() {
@@ -41,7 +42,7 @@ pub(crate) fn last_reads(p: &Program, ret: Option<Operand>) -> Vec<Option<usize>
     for (k, i) in p.instructions().iter().enumerate() {
         i.for_each_operand(|o| read(o, k));
     }
-    if let Some(o) = ret {
+    for &o in at_end {
         read(o, n);
     }
     last
@@ -82,7 +83,7 @@ mod tests {
             &eqs.gamma,
         ];
         let p = Program::new(&model.arena, &outs).unwrap();
-        let last = last_reads(&p, None);
+        let last = last_reads(&p, &[]);
         let n = p.instructions().len();
         let mut visible = vec![false; p.registers()];
         let (mut handed, mut defined) = (0, 0);

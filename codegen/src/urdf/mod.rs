@@ -30,8 +30,12 @@ mod write;
 
 pub use error::UrdfError;
 
+/// Largest tolerance [`UrdfOptions::snap_angles`] accepts, rad: past it, snapping would
+/// move frames by more than a rounded decimal does (a link of 1 m by a millimetre).
+pub const MAX_SNAP_ANGLES: f64 = 1e-3;
+
 /// How to import a URDF.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct UrdfOptions {
     /// The file name the errors and the output's header quote (`robots/panda.urdf`).
     pub file_name: String,
@@ -45,6 +49,26 @@ pub struct UrdfOptions {
     /// rigid-body references (Pinocchio's `rnea`, `crba`) leave damping out. Coulomb
     /// `friction` is not imported either way (a force that jumps where q' changes sign).
     pub damping: bool,
+    /// Write every angle (a joint's `rpy`, an inertia's `com_rpy`) within this many rad of
+    /// a multiple k pi/2 as `k*pi/2`, 0 included, so that the derivation folds its sine and
+    /// cosine to 0 and +-1; the header states how many angles moved and by how much.
+    /// `None` (the default): nonzero multiples within 1e-12 rad only, which leaves a file
+    /// rounded to 11 decimals (`1.57079632679`, 4.9e-12 rad from pi/2) numeric. At most
+    /// [`MAX_SNAP_ANGLES`].
+    pub snap_angles: Option<f64>,
+}
+
+/// The angles an import wrote as multiples of pi/2 under [`UrdfOptions::snap_angles`]
+/// (exact zeros not counted).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SnappedAngles {
+    /// How many angles.
+    pub count: usize,
+    /// The largest |x - k pi/2| among them, rad.
+    pub largest: f64,
+    /// The sum of |x - k pi/2| over them, rad: a bound on how far any frame turns (the
+    /// rotations moved along its path compose, each by at most its angle's deviation).
+    pub total: f64,
 }
 
 /// The declaration text of the robot the URDF `xml` describes.
@@ -101,8 +125,11 @@ pub struct UrdfImport {
     pub text: String,
     /// Each change from what the URDF says, in a sentence (also in the text's header): an
     /// inertia no rigid body has, balanced or written as zero; a name written otherwise
-    /// (a link named like a joint's coordinate, a reserved name).
+    /// (a link named like a joint's coordinate, a reserved name); the angles snapped to
+    /// multiples of pi/2 under a tolerance of the caller's.
     pub notes: Vec<String>,
+    /// The angles snapped under [`UrdfOptions::snap_angles`]; `None` without it.
+    pub snapped: Option<SnappedAngles>,
 }
 
 /// [`urdf_to_mech`], with the notes of what was changed.
@@ -127,19 +154,37 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
         }
         None => names::struct_name(&robot.name),
     };
+    if let Some(t) = options.snap_angles
+        && !(0.0..=MAX_SNAP_ANGLES).contains(&t)
+    {
+        return Err(robot.place.error(
+            file,
+            format!("the angle snapping tolerance {t} rad is not between 0 and {MAX_SNAP_ANGLES}"),
+        ));
+    }
     let tree = check::check(&mut robot, &options.lock, file)?;
     if options.damping {
         check_damping(&robot, &tree, file)?;
     }
+    let snapped = options
+        .snap_angles
+        .map(|t| write::snapped_angles(&robot, &tree, format::Snap::within(t)));
     let notes = tree
         .adjusted
         .iter()
         .map(|a| format!("inertia adjusted: {a}"))
         .chain(tree.renamed.iter().map(|r| format!("renamed: {r}")))
+        .chain(snapped.filter(|s| s.count > 0).map(|s| {
+            format!(
+                "angles snapped: {} written as multiples of pi/2, moved by at most {:.2e} rad",
+                s.count, s.largest
+            )
+        }))
         .collect();
     Ok(UrdfImport {
-        text: write::write(&robot, &tree, file, &struct_name, options.damping),
+        text: write::write(&robot, &tree, &struct_name, options),
         notes,
+        snapped,
     })
 }
 
@@ -161,5 +206,7 @@ fn check_damping(robot: &robot::Robot, tree: &check::Tree, file: &str) -> Result
     Ok(())
 }
 
+#[cfg(test)]
+mod snap_tests;
 #[cfg(test)]
 mod tests;

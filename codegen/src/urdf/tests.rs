@@ -13,6 +13,7 @@ fn options(lock: &[&str]) -> UrdfOptions {
         struct_name: None,
         lock: lock.iter().map(|s| s.to_string()).collect(),
         damping: false,
+        snap_angles: None,
     }
 }
 

@@ -4,21 +4,27 @@
 use std::fmt::Write as _;
 
 use super::check::{MimicRow, Tree};
-use super::format::{angles, number, vector};
+use super::format::{Snap, angles, number, vector};
 use super::robot::{Inertial, Joint, JointKind, Link, Robot};
+use super::{SnappedAngles, UrdfOptions};
 
 /// Standard gravity written as the parameter `g`, m/s^2.
 const GRAVITY: &str = "9.81";
 
-/// The declaration of `robot` as `struct_name`, imported from `file`.
+/// The declaration of `robot` as `struct_name`, imported with `options` (the file name,
+/// the damping, the angles snapped).
 pub(crate) fn write(
     robot: &Robot,
     tree: &Tree,
-    file: &str,
     struct_name: &str,
-    damping: bool,
+    options: &UrdfOptions,
 ) -> String {
+    let (file, damping) = (options.file_name.as_str(), options.damping);
+    let snap = options.snap_angles.map_or_else(Snap::default, Snap::within);
     let mut out = header(robot, tree, file, damping);
+    if let Some(tolerance) = options.snap_angles {
+        out.push_str(&snap_line(tolerance, snapped_angles(robot, tree, snap)));
+    }
     let _ = writeln!(out, "pub struct {struct_name};");
     let _ = writeln!(out, "parameters {{ g = {GRAVITY}; }} // m/s^2");
     out.push_str("gravity = [0, 0, -g];\n");
@@ -28,7 +34,7 @@ pub(crate) fn write(
             continue;
         }
         out.push('\n');
-        out.push_str(&link_block(robot, tree, l, joint));
+        out.push_str(&link_block(robot, tree, l, joint, snap));
     }
     out.push_str(&mimic_rows(tree));
     if damping {
@@ -311,8 +317,68 @@ fn dynamics_line(robot: &Robot, tree: &Tree, damping: bool) -> String {
     out
 }
 
+/// The header's line on the angles written as multiples of pi/2 under a tolerance of the
+/// user's (`--snap-angles`): how many, and how far they moved.
+fn snap_line(tolerance: f64, s: SnappedAngles) -> String {
+    if s.count == 0 {
+        return format!(
+            "/// Angles within {} rad of a multiple of pi/2 written as one: none is.\n",
+            number(tolerance)
+        );
+    }
+    format!(
+        "/// Angles within {} rad of a multiple of pi/2 written as one: {} {}, moved by at most \
+         {:.2e} rad each, {:.2e} rad in all (no frame turns by more than the sum along its \
+         path from the root).\n",
+        number(tolerance),
+        s.count,
+        plural(s.count, "angle"),
+        s.largest,
+        s.total
+    )
+}
+
+/// The angles the text writes (each written joint's `rpy`, each written inertia's
+/// `com_rpy`) that `snap` turns into multiples of pi/2, other than exact zeros.
+pub(crate) fn snapped_angles(robot: &Robot, tree: &Tree, snap: Snap) -> SnappedAngles {
+    let mut s = SnappedAngles::default();
+    let mut add = |v: &[f64; 3]| {
+        for &x in v.iter().filter(|&&x| x != 0.0) {
+            if let Some((_, deviation)) = snap.quarter_turns(x) {
+                s.count += 1;
+                s.largest = s.largest.max(deviation);
+                s.total += deviation;
+            }
+        }
+    };
+    for &l in &tree.order {
+        let joint = tree.parent_joint[l];
+        if tree.world_root && joint.is_none() {
+            continue;
+        }
+        if let Some(j) = joint {
+            add(&robot.joints[j].rpy);
+        }
+        if let Some(inertial) = robot.links[l].inertial.as_ref().filter(|i| written(i)) {
+            add(&inertial.rpy);
+        }
+    }
+    s
+}
+
+/// Whether an inertia is written (a massless link has none).
+fn written(inertial: &Inertial) -> bool {
+    inertial.mass != 0.0 || inertial.inertia.iter().any(|&v| v != 0.0)
+}
+
 /// One `link` block: its parent and joint (none for a root), then its mass properties.
-fn link_block(robot: &Robot, tree: &Tree, l: usize, joint: Option<(usize, &Joint)>) -> String {
+fn link_block(
+    robot: &Robot,
+    tree: &Tree,
+    l: usize,
+    joint: Option<(usize, &Joint)>,
+    snap: Snap,
+) -> String {
     let link: &Link = &robot.links[l];
     let mut keys: Vec<String> = Vec::new();
     if let Some((j, joint)) = joint {
@@ -324,7 +390,7 @@ fn link_block(robot: &Robot, tree: &Tree, l: usize, joint: Option<(usize, &Joint
         }
         keys.push(joint_key(joint, tree.coordinates[j].as_deref()));
         push_nonzero(&mut keys, "xyz", &joint.xyz, vector);
-        push_nonzero(&mut keys, "rpy", &joint.rpy, angles);
+        push_nonzero(&mut keys, "rpy", &joint.rpy, |v| angles(v, snap));
         if let (Some(limit), Some(_)) = (joint.limit, &tree.coordinates[j]) {
             if joint.kind != JointKind::Continuous
                 && let Some(range) = limit.range()
@@ -342,7 +408,7 @@ fn link_block(robot: &Robot, tree: &Tree, l: usize, joint: Option<(usize, &Joint
         }
     }
     if let Some(inertial) = &link.inertial {
-        inertial_keys(&mut keys, inertial);
+        inertial_keys(&mut keys, inertial, snap);
     }
     let name = &tree.link_names[l];
     if keys.is_empty() {
@@ -376,14 +442,14 @@ fn joint_key(joint: &Joint, coordinate: Option<&str>) -> String {
 
 /// `mass`, `com`, `com_rpy` and `inertia`, each left out at its default (a massless link
 /// has none of them).
-fn inertial_keys(keys: &mut Vec<String>, inertial: &Inertial) {
-    let zero_inertia = inertial.inertia.iter().all(|&v| v == 0.0);
-    if inertial.mass == 0.0 && zero_inertia {
+fn inertial_keys(keys: &mut Vec<String>, inertial: &Inertial, snap: Snap) {
+    if !written(inertial) {
         return;
     }
+    let zero_inertia = inertial.inertia.iter().all(|&v| v == 0.0);
     keys.push(format!("mass = {};", number(inertial.mass)));
     push_nonzero(keys, "com", &inertial.xyz, vector);
-    push_nonzero(keys, "com_rpy", &inertial.rpy, angles);
+    push_nonzero(keys, "com_rpy", &inertial.rpy, |v| angles(v, snap));
     if !zero_inertia {
         let [xx, xy, xz, yy, yz, zz] = inertial.inertia;
         keys.push(format!(
@@ -396,7 +462,7 @@ fn inertial_keys(keys: &mut Vec<String>, inertial: &Inertial) {
 }
 
 /// `key = [..];` unless all of `v` is zero.
-fn push_nonzero(keys: &mut Vec<String>, key: &str, v: &[f64; 3], text: fn(&[f64]) -> String) {
+fn push_nonzero(keys: &mut Vec<String>, key: &str, v: &[f64; 3], text: impl Fn(&[f64]) -> String) {
     if v.iter().any(|&x| x != 0.0) {
         keys.push(format!("{key} = {};", text(v)));
     }

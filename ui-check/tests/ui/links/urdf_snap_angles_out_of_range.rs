@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(urdf = "bad.urdf", snap_angles = 0.25);
+
+fn main() {}
