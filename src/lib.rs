@@ -218,6 +218,8 @@ mod book {
     struct Robots;
     #[doc = include_str!("../docs/src/embedding.md")]
     struct Embedding;
+    #[doc = include_str!("../docs/src/python.md")]
+    struct Python;
     #[doc = include_str!("../docs/src/solvers.md")]
     struct Solvers;
     #[doc = include_str!("../docs/src/algebra.md")]

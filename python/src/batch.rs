@@ -58,10 +58,13 @@ fn gather(args: &[Arg<'_>]) -> PyResult<(Vec<Vec<f64>>, Option<usize>)> {
         }
         let values: Vec<f64> = a.array.as_array().iter().copied().collect();
         if let Some(bad) = values.iter().position(|v| !v.is_finite()) {
-            let (row, col) = (bad / a.len, bad % a.len);
+            let place = match this {
+                None => format!("entry {bad}"),
+                Some(_) => format!("row {}, entry {}", bad / a.len, bad % a.len),
+            };
             return Err(input(format!(
-                "{}: entry {} is {} (row {row}, column {col}); states must be finite",
-                a.name, bad, values[bad]
+                "{}: {place} is {}; states must be finite",
+                a.name, values[bad]
             )));
         }
         buffers.push(values);

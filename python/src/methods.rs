@@ -151,8 +151,8 @@ impl Model {
         batched(py, &[self.arg("q", q), self.arg("v", v)], &[n], |s, out| {
             with_scratch(self, |e, _| {
                 self.system.evaluate(t, s[0], s[1], e);
-                for i in 0..n {
-                    out[i] = e.coriolis[i] + e.gravity[i] - e.forces[i];
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = e.coriolis[i] + e.gravity[i] - e.forces[i];
                 }
             });
             Ok(())
@@ -181,8 +181,8 @@ impl Model {
                 with_scratch(self, |e, _| {
                     self.system.evaluate(t, s[0], s[1], e);
                     let u = &e.mass * nalgebra::DVector::from_column_slice(s[2]);
-                    for i in 0..n {
-                        out[i] = u[i] + e.coriolis[i] + e.gravity[i] - e.forces[i];
+                    for (i, o) in out.iter_mut().enumerate() {
+                        *o = u[i] + e.coriolis[i] + e.gravity[i] - e.forces[i];
                     }
                 });
             }

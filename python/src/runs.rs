@@ -245,7 +245,7 @@ pub fn simulate_system(
         velocity_constraint_error: Vec::new(),
         q0: start.q,
         qd0: start.qd,
-        stats: trajectory.stats.clone(),
+        stats: trajectory.stats,
         passages: trajectory.singular_passages.len(),
     };
     for s in trajectory.samples() {
