@@ -90,8 +90,19 @@ def check_doctests(problems):
             problems.append(f"docs/src/SUMMARY.md: chapter {chapter} is not a doc-test in src/lib.rs")
 
 
+def check_fences(problems):
+    """A fence line is three backticks and an optional language, nothing after: text after
+    a closing fence makes markdown (and rustdoc) read on in a code block."""
+    for doc in documents():
+        for lineno, line in enumerate(open(doc, encoding="utf-8").read().split("\n"), 1):
+            stripped = line.strip()
+            if stripped.startswith("```") and not re.match(r"^```[\w,+-]*$", stripped):
+                problems.append(f"{os.path.relpath(doc, ROOT)}:{lineno}: text after a code fence")
+
+
 def main():
     problems = []
+    check_fences(problems)
     check_links(problems)
     check_doctests(problems)
     for p in problems:
