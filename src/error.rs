@@ -29,8 +29,9 @@ pub enum Error {
     /// at this configuration (the mechanism is locked, at a dead point, at a bifurcation of
     /// its assembly branches, or a prescribed motion takes it out of reach).
     ///
-    /// Every test for a singular configuration, in one place (the README section
-    /// "Overconstrained mechanisms and singular positions" summarises it):
+    /// Every test for a singular configuration, in one place (the book's chapter
+    /// "Overconstrained mechanisms and singular positions", `docs/src/overconstrained.md`,
+    /// summarises it):
     /// - **Velocity and acceleration solves** ([`crate::solve_velocities`],
     ///   [`crate::solve_accelerations`], kinematic analysis, inverse dynamics): the
     ///   constraint Jacobian of the dependent coordinates, Phi_v, has numerical rank below

@@ -193,10 +193,40 @@ pub mod prelude {
     pub use nalgebra::{SMatrix, SVector};
 }
 
-/// The README's Rust examples, compiled and run as doc-tests.
+/// The Rust examples of the README and of the book (`docs/src/`, one item per chapter),
+/// compiled and run as doc-tests; `.ci/docs.py` checks that every chapter of
+/// `docs/src/SUMMARY.md` is listed here.
 #[cfg(doctest)]
-#[doc = include_str!("../README.md")]
-struct ReadmeDoctests;
+mod book {
+    #[doc = include_str!("../README.md")]
+    struct Readme;
+    #[doc = include_str!("../docs/src/introduction.md")]
+    struct Introduction;
+    #[doc = include_str!("../docs/src/building.md")]
+    struct Building;
+    #[doc = include_str!("../docs/src/seed.md")]
+    struct Seed;
+    #[doc = include_str!("../docs/src/command-line.md")]
+    struct CommandLine;
+    #[doc = include_str!("../docs/src/declaring.md")]
+    struct Declaring;
+    #[doc = include_str!("../docs/src/overconstrained.md")]
+    struct Overconstrained;
+    #[doc = include_str!("../docs/src/nonholonomic.md")]
+    struct Nonholonomic;
+    #[doc = include_str!("../docs/src/robots.md")]
+    struct Robots;
+    #[doc = include_str!("../docs/src/embedding.md")]
+    struct Embedding;
+    #[doc = include_str!("../docs/src/python.md")]
+    struct Python;
+    #[doc = include_str!("../docs/src/solvers.md")]
+    struct Solvers;
+    #[doc = include_str!("../docs/src/algebra.md")]
+    struct Algebra;
+    #[doc = include_str!("../docs/src/layout.md")]
+    struct Layout;
+}
 
 /// Not API: what generated code names.
 #[doc(hidden)]

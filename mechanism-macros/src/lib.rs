@@ -38,8 +38,9 @@ use proc_macro::TokenStream;
 /// The declaration language (grammar, every section and function, what is refused) is the
 /// reference page
 /// [`mechanism::language`](https://docs.rs/mechanism-dynamics/latest/mechanism/language/index.html);
-/// the README's "Declaring a mechanism" teaches it by example. An error inside a `.mech` file
-/// is reported at the path with the file's line and column and that line quoted:
+/// the book's chapter "Declaring a mechanism" (`docs/src/declaring.md`) teaches it by
+/// example. An error inside a `.mech` file is reported at the path with the file's line and
+/// column and that line quoted:
 ///
 /// ```text
 /// error: broken.mech:8:20: parse error: expected a number, a name or `(`, found `;`

@@ -39,10 +39,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_readme_shows_this_file() {
+    fn the_book_shows_this_file() {
         let this = include_str!("lib.rs");
         let code = &this[..this.find("#[cfg(test)]").unwrap()];
-        assert!(include_str!("../../README.md").contains(code.trim_end()));
+        assert!(include_str!("../../docs/src/embedding.md").contains(code.trim_end()));
     }
 
     #[test]

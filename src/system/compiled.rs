@@ -1,6 +1,6 @@
 //! A compiled [`Mechanism`] (static sizes) seen as a run-time [`System`].
 
-use nalgebra::{DMatrix, SVector};
+use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
 
 use super::drawing::Drawing;
 use super::dynamic::{Evaluation, Kinematic, SolverKey, System, Tangent};
@@ -59,6 +59,7 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> Compiled<T, N, M> {
                 })
                 .collect(),
             joint_limits: T::JOINT_LIMITS.to_vec(),
+            frames: T::FRAMES.iter().map(|s| s.to_string()).collect(),
         };
         let sparsity = T::SPARSITY.map(|s| Sparsity::from_static(N, M, &s));
         Self {
@@ -164,6 +165,36 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
     }
     fn draw_points(&self, t: f64, q: &[f64], out: &mut [f64]) {
         self.mechanism.draw_points(t, &to_static(q), out);
+    }
+    fn inverse_dynamics(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) -> Option<()> {
+        let u = self
+            .mechanism
+            .inverse_dynamics(t, &to_static(q), &to_static(qd), &to_static(qdd));
+        out.copy_from_slice(u.as_slice());
+        Some(())
+    }
+    fn frame_placement(
+        &self,
+        frame: usize,
+        q: &[f64],
+        rotation: &mut Matrix3<f64>,
+        position: &mut Vector3<f64>,
+    ) -> Option<()> {
+        let (r, p) = self.mechanism.frame_placement(frame, &to_static(q))?;
+        *rotation = r;
+        *position = p;
+        Some(())
+    }
+    fn frame_jacobian(&self, frame: usize, q: &[f64], out: &mut DMatrix<f64>) -> Option<()> {
+        out.copy_from(&self.mechanism.frame_jacobian(frame, &to_static(q))?);
+        Some(())
     }
     fn tangent(
         &self,

@@ -1,7 +1,7 @@
 //! The object-safe, run-time-sized face of a mechanism that every solver consumes, and the
 //! caller-owned buffers it evaluates into (so the step loop never allocates).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::info::SystemInfo;
 use super::parameter_range::ParameterError;
@@ -136,6 +136,51 @@ pub trait System: Kinematic {
         out: &mut Tangent,
     ) -> Option<()> {
         let _ = (t, q, qd, qdd, lambda, out);
+        None
+    }
+
+    /// Inverse dynamics at (t, q, q', q''): the effort u = M q'' + C q' + g - tau along the
+    /// coordinates that, added to the declared forces tau, gives the accelerations q'' when
+    /// no constraint acts (Pinocchio's `rnea` for a robot without declared forces), into
+    /// `out` (n values). For a tree of links the routine is Newton-Euler (O(n)), as the
+    /// macro's [`crate::Mechanism::inverse_dynamics`]; a mechanism with constraint rows
+    /// also needs Phi_q^T lambda (the algorithm [`crate::inverse_dynamics`] solves for it).
+    /// `None` when not provided (the default): compute it from [`System::evaluate`].
+    /// [`crate::Compiled`] provides it, and [`crate::Interpreted`] when built with the
+    /// robotics routines ([`crate::Interpreted::from_model_with`]).
+    fn inverse_dynamics(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) -> Option<()> {
+        let _ = (t, q, qd, qdd, out);
+        None
+    }
+
+    /// The placement of link frame `frame` (an index into [`SystemInfo::frames`]) at q:
+    /// `rotation` R, the link axes in world axes, and `position` p, the frame's origin in
+    /// the world, so that a point with link coordinates r is at p + R r. `None` for an
+    /// index out of range or when not provided (the default; as for
+    /// [`System::inverse_dynamics`]).
+    fn frame_placement(
+        &self,
+        frame: usize,
+        q: &[f64],
+        rotation: &mut Matrix3<f64>,
+        position: &mut Vector3<f64>,
+    ) -> Option<()> {
+        let _ = (frame, q, rotation, position);
+        None
+    }
+
+    /// The Jacobian J (6 x n) of link frame `frame` at q into `out`: [v; w] = J q', v the
+    /// velocity of the frame's origin and w its angular velocity, both in world axes
+    /// (Pinocchio's `LOCAL_WORLD_ALIGNED`). `None` as for [`System::frame_placement`].
+    fn frame_jacobian(&self, frame: usize, q: &[f64], out: &mut DMatrix<f64>) -> Option<()> {
+        let _ = (frame, q, out);
         None
     }
 

@@ -90,6 +90,10 @@ pub struct SystemInfo {
     /// The joints' declared limits, one entry per coordinate that has any, in coordinate
     /// order (see [`JointLimits`]); empty without a link tree.
     pub joint_limits: Vec<JointLimits>,
+    /// The link frames (`link` sections) in declaration order, whose placements and
+    /// Jacobians [`crate::System::frame_placement`] and [`crate::System::frame_jacobian`]
+    /// give; empty without links.
+    pub frames: Vec<String>,
 }
 
 impl SystemInfo {
@@ -119,6 +123,10 @@ impl SystemInfo {
             .get(index)
             .copied()
             .unwrap_or_default()
+    }
+    /// Index of the link frame called `name` in [`SystemInfo::frames`].
+    pub fn frame_index(&self, name: &str) -> Option<usize> {
+        self.frames.iter().position(|f| f == name)
     }
     /// The label of constraint row `row` (0-based): the joint, then a space and the
     /// component if there is one (`revolute(B1, B2, z, z) y`, `constraint 2`); `row k`

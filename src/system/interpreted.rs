@@ -17,11 +17,12 @@ use mechanism_codegen::{
     Equations, Error, EvaluationOutput, Model, Role, Tangents, compile_interpreted,
     constraint_tangent, residual_tangent,
 };
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use crate::system::constraint_rows::ConstraintRows;
 use crate::system::model_info::system_info;
 use crate::system::parameters::Parameters;
+use crate::system::robotics::Robotics;
 use crate::system::routine::{Routine, Values};
 use crate::system::scatter::EvaluationScatter;
 use crate::system::sparsity::Sparsity;
@@ -56,6 +57,9 @@ pub struct Interpreted {
     /// The fingerprint of the routines the tapes run
     /// ([`mechanism_codegen::Routines::fingerprint`]).
     routines: u64,
+    /// The inverse dynamics and the link frames' placements and Jacobians, with their own
+    /// parameter cache, when asked for ([`Interpreted::from_model_with`]).
+    robotics: Option<Box<Robotics>>,
 }
 
 impl std::fmt::Debug for Interpreted {
@@ -122,7 +126,7 @@ impl Interpreted {
         eqs: Equations,
         tangents: Tangents,
     ) -> Result<Self, Error> {
-        Self::build(model, eqs, tangents)
+        Self::build(model, eqs, tangents, false)
     }
 
     /// [`Interpreted::from_model`] with the constraint rows' tangents compiled for every
@@ -134,10 +138,63 @@ impl Interpreted {
     /// As [`Interpreted::from_model`].
     pub fn for_linearization(mut model: Model) -> Result<Self, Error> {
         let eqs = mechanism_codegen::derive(&mut model)?;
-        Self::build(model, eqs, Tangents::WithConstraints)
+        Self::build(model, eqs, Tangents::WithConstraints, false)
     }
 
-    fn build(mut model: Model, eqs: Equations, tangents: Tangents) -> Result<Self, Error> {
+    /// [`Interpreted::from_model`] with the tangents `tangents` asks for and, when
+    /// `robotics`, the routines of [`System::inverse_dynamics`] (Newton-Euler for a tree of
+    /// links), [`System::frame_placement`] and [`System::frame_jacobian`]
+    /// ([`mechanism_codegen::compile_robotics`]): what the macro emits for every declaration
+    /// and the interpreter otherwise leaves out. Those routines have their own parameter
+    /// cache; [`System::set_parameter`] keeps both.
+    ///
+    /// # Errors
+    /// As [`Interpreted::from_model`].
+    ///
+    /// # Example
+    /// ```
+    /// use mechanism::{Interpreted, Kinematic, System};
+    /// use mechanism_codegen::{Tangents, parse_model_str};
+    /// use nalgebra::{Matrix3, Vector3};
+    ///
+    /// // One link of length l turning about z: its tip frame sits at l (cos th, sin th, 0).
+    /// let model = parse_model_str(
+    ///     "pub struct Arm;
+    ///      parameters { m = 1.0; l = 0.5; }
+    ///      link upper {
+    ///          joint = revolute(th, [0, 0, 1]);
+    ///          mass = m; com = [l/2, 0, 0]; inertia = diag(0, m*l^2/12, m*l^2/12);
+    ///      }
+    ///      link tip { parent = upper; joint = fixed; xyz = [l, 0, 0]; }",
+    /// )?;
+    /// let arm = Interpreted::from_model_with(model, Tangents::None, true)?;
+    /// let tip = arm.info().frame_index("tip").unwrap();
+    /// let (mut r, mut p) = (Matrix3::zeros(), Vector3::zeros());
+    /// arm.frame_placement(tip, &[0.3], &mut r, &mut p).unwrap();
+    /// assert!((p - Vector3::new(0.5 * 0.3f64.cos(), 0.5 * 0.3f64.sin(), 0.0)).norm() < 1e-15);
+    /// // The effort that turns it at 2 rad/s^2: (m l^2/3) th''.
+    /// let mut u = [0.0];
+    /// arm.inverse_dynamics(0.0, &[0.3], &[0.0], &[2.0], &mut u).unwrap();
+    /// assert!((u[0] - 0.25 / 3.0 * 2.0).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn from_model_with(
+        mut model: Model,
+        tangents: Tangents,
+        robotics: bool,
+    ) -> Result<Self, Error> {
+        let eqs = mechanism_codegen::derive(&mut model)?;
+        Self::build(model, eqs, tangents, robotics)
+    }
+
+    /// Compiles the routines of `tangents` (and, after them, the robotics routines when
+    /// `robotics`) and builds their tapes.
+    fn build(
+        mut model: Model,
+        eqs: Equations,
+        tangents: Tangents,
+        robotics: bool,
+    ) -> Result<Self, Error> {
         let tangent = match tangents {
             Tangents::None => None,
             Tangents::Residual => Some(residual_tangent(&mut model, &eqs)?),
@@ -150,6 +207,11 @@ impl Interpreted {
             }
         };
         let routines = compile_interpreted(&mut model, &eqs, tangent.as_ref())?;
+        // After the interpreted routines, so that theirs equal the macro's (symbol ids).
+        let robotics = match robotics {
+            true => Some(Box::new(Robotics::new(&mut model, &eqs)?)),
+            false => None,
+        };
         let (n, m) = (model.coordinates.len(), eqs.m);
         let full_len = EvaluationOutput::ORDER
             .iter()
@@ -196,6 +258,7 @@ impl Interpreted {
             parameters: Parameters::new(&model, &routines)?,
             routines: routines.fingerprint(),
             info: system_info(&model, m),
+            robotics,
         }
         .with_initial_values())
     }
@@ -256,6 +319,10 @@ impl System for Interpreted {
     fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError> {
         self.parameters.set(index, value)?;
         self.parameters.write_initial_values(&mut self.info);
+        if let Some(robotics) = &mut self.robotics {
+            // The same value the check above accepted, for the routines' own cache.
+            robotics.set_parameter(index, value)?;
+        }
         Ok(())
     }
 
@@ -280,6 +347,34 @@ impl System for Interpreted {
                 }
             });
         }
+    }
+
+    fn inverse_dynamics(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) -> Option<()> {
+        self.robotics.as_ref()?.inverse_dynamics(t, q, qd, qdd, out);
+        Some(())
+    }
+
+    fn frame_placement(
+        &self,
+        frame: usize,
+        q: &[f64],
+        rotation: &mut Matrix3<f64>,
+        position: &mut Vector3<f64>,
+    ) -> Option<()> {
+        self.robotics
+            .as_ref()?
+            .placement(frame, q, rotation, position)
+    }
+
+    fn frame_jacobian(&self, frame: usize, q: &[f64], out: &mut DMatrix<f64>) -> Option<()> {
+        self.robotics.as_ref()?.jacobian(frame, q, out)
     }
 
     fn tangent(

@@ -37,6 +37,8 @@ mod parameter_range;
 mod parameters;
 #[cfg(feature = "interpreter")]
 mod registers;
+#[cfg(feature = "interpreter")]
+mod robotics;
 mod rotation_factor;
 #[cfg(feature = "interpreter")]
 pub(crate) mod routine;

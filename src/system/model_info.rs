@@ -31,6 +31,7 @@ pub(crate) fn system_info(model: &Model, m: usize) -> SystemInfo {
             })
             .collect(),
         constraints: m,
+        frames: model.links.iter().map(|l| l.name.clone()).collect(),
         velocity_rows: model.velocity_constraints.len(),
         energy_depends_on_time: model.energies_depend_on_time(),
         constraint_rows: model

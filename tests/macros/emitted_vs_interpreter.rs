@@ -557,6 +557,7 @@ fn unnamed_rows_are_numbered() {
         drawing: Default::default(),
         orientations: Vec::new(),
         joint_limits: Vec::new(),
+        frames: Vec::new(),
     };
     assert_eq!(info.constraint_label(0), "row 1");
     assert_eq!(info.constraint_label(1), "row 2");

@@ -135,6 +135,7 @@ fn awkward_values_round_trip() {
         energy_depends_on_time: false,
         drawing: Default::default(),
         joint_limits: Vec::new(),
+        frames: Vec::new(),
         ..info("awkward")
     };
     let mut tr = Trajectory::with_capacity(info, 2);

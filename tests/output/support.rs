@@ -39,6 +39,7 @@ pub fn info(name: &str) -> SystemInfo {
         drawing: Default::default(),
         orientations: Vec::new(),
         joint_limits: Vec::new(),
+        frames: Vec::new(),
     }
 }
 

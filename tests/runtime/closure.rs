@@ -1,5 +1,5 @@
 //! Loop closure over 10 s: projection keeps |Phi| < 1e-12; Baumgarte and no stabilisation
-//! are measured and printed for the README.
+//! are measured and printed for the book's solvers chapter (`docs/src/solvers.md`).
 
 use crate::common::{CrankSlider, FourBar};
 use mechanism::{IntegratorOptions, Method, SimulationOptions, Stabilization, System, simulate};

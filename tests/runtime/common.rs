@@ -36,6 +36,7 @@ fn info(
         drawing: Default::default(),
         orientations: Vec::new(),
         joint_limits: Vec::new(),
+        frames: Vec::new(),
     }
 }
 

@@ -150,6 +150,39 @@ pub fn compile_constraints(model: &mut Model, eqs: &Equations) -> Result<Routine
     compile_roles(model, eqs, None, &Role::constraint_rows())
 }
 
+/// The routines of [`Role::robotics`] alone (the inverse dynamics, each link frame's
+/// placement and Jacobian) and their parameter cache: what a run-time caller of a robot's
+/// inverse dynamics, frames and Jacobians needs beside [`compile_interpreted`]'s routines.
+/// As for [`compile_constraints`], the cache slots are numbered among these roles only, so
+/// the programs equal [`compile`]'s for the same roles up to the slot numbers; they compute
+/// the same values.
+///
+/// # Errors
+/// As [`compile`].
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{Role, compile_robotics, derive, parse_model_str};
+///
+/// let mut model = parse_model_str(
+///     "pub struct Arm;
+///      parameters { m = 1.0; l = 0.5; }
+///      link upper {
+///          joint = revolute(th, [0, 0, 1]);
+///          mass = m; com = [l/2, 0, 0]; inertia = diag(0, m*l^2/12, m*l^2/12);
+///      }",
+/// )?;
+/// let eqs = derive(&mut model)?;
+/// let routines = compile_robotics(&mut model, &eqs)?;
+/// assert!(routines.get(Role::InverseDynamics).is_some());
+/// assert!(routines.get(Role::FrameJacobian(0)).is_some());
+/// assert!(routines.get(Role::Evaluation).is_none());
+/// # Ok::<(), mechanism_codegen::Error>(())
+/// ```
+pub fn compile_robotics(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    compile_roles(model, eqs, None, &Role::robotics(eqs))
+}
+
 /// The stage's steps (module docs) for `roles`, in their order.
 fn compile_roles(
     model: &mut Model,

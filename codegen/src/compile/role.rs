@@ -119,6 +119,17 @@ impl Role {
         ]
     }
 
+    /// The roles a robot's run-time user reads besides the evaluation: the inverse dynamics
+    /// (Newton-Euler for a tree of links) and each link frame's placement and Jacobian, in
+    /// [`Role::compiled`] order. What [`crate::compile_robotics`] compiles; the
+    /// interpreter's [`Role::interpreted`] leaves them out.
+    pub fn robotics(eqs: &Equations) -> Vec<Role> {
+        let mut roles = vec![Role::InverseDynamics];
+        roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
+        roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
+        roles
+    }
+
     /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
     /// order (the order in which hoisting numbers the cache slots): the roles of
     /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics

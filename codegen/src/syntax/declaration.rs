@@ -25,7 +25,8 @@ use crate::syntax::lex::{Cursor, Delim, Tok, Tokens, block, name};
 use crate::syntax::parameter_range::{ParameterRange, parameter_range};
 use crate::syntax::spelling::closest;
 
-/// The section keywords, in the order the README documents them.
+/// The section keywords, in the order the book's chapter "Declaring a mechanism" documents
+/// them.
 pub(crate) const SECTIONS: &[&str] = &[
     "parameters",
     "coordinates",

@@ -1,0 +1,50 @@
+//! A system with an effort added to its declared forces: what `forward_dynamics` hands the
+//! library's augmented solve ([`mechanism::Dynamics`]), so that the accelerations under an
+//! applied effort come from the same solver as every simulation's.
+
+use mechanism::{Evaluation, Kinematic, ParameterError, Sparsity, System, SystemInfo};
+use nalgebra::DMatrix;
+
+/// `inner` with the generalised force `effort` (n values) added to tau.
+pub struct WithEffort<'a, S: System> {
+    inner: &'a S,
+    effort: &'a [f64],
+}
+
+impl<'a, S: System> WithEffort<'a, S> {
+    /// `inner` with `effort` added to its forces.
+    pub fn new(inner: &'a S, effort: &'a [f64]) -> Self {
+        Self { inner, effort }
+    }
+}
+
+impl<S: System> Kinematic for WithEffort<'_, S> {
+    fn info(&self) -> &SystemInfo {
+        self.inner.info()
+    }
+    fn constraints(&self, t: f64, q: &[f64], phi: &mut [f64]) {
+        self.inner.constraints(t, q, phi);
+    }
+    fn constraint_jacobian(&self, t: f64, q: &[f64], phi_q: &mut DMatrix<f64>, phi_t: &mut [f64]) {
+        self.inner.constraint_jacobian(t, q, phi_q, phi_t);
+    }
+}
+
+impl<S: System> System for WithEffort<'_, S> {
+    fn parameter_values(&self, out: &mut [f64]) {
+        self.inner.parameter_values(out);
+    }
+    fn set_parameter(&mut self, index: usize, _value: f64) -> Result<(), ParameterError> {
+        // Borrowed: the parameters belong to the model, and this view changes none.
+        Err(ParameterError::NoSuchParameter { index, count: 0 })
+    }
+    fn evaluate(&self, t: f64, q: &[f64], qd: &[f64], out: &mut Evaluation) {
+        self.inner.evaluate(t, q, qd, out);
+        for (f, u) in out.forces.iter_mut().zip(self.effort) {
+            *f += u;
+        }
+    }
+    fn sparsity(&self) -> Option<&Sparsity> {
+        self.inner.sparsity()
+    }
+}

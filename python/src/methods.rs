@@ -1,0 +1,384 @@
+//! `Model`'s Python methods: its names, its equations, the per-state dynamics (one state
+//! or a batch, see `batch.rs`) and the runs (`runs.rs`).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use mechanism::{Dynamics, Evaluation, Kinematic, System};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use numpy::PyArrayLikeDyn;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use crate::batch::{Arg, PyErrLater, batched, later};
+use crate::effort::WithEffort;
+use crate::errors::{SolverError, declaration};
+use crate::model::{Model, pairs, reduce};
+use crate::runs::{self, RunOptions};
+
+type Array<'py> = PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange>;
+
+thread_local! {
+    /// Per thread: the evaluation buffers and the dynamics workspace of the model last used
+    /// (by its id), reused from state to state of a batch. A system writes M and Phi_q at
+    /// its own pattern only, so the buffers are never shared between models.
+    static SCRATCH: RefCell<Option<(u64, Evaluation, Dynamics)>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with this thread's evaluation buffers and dynamics workspace for `model`.
+fn with_scratch<R>(model: &Model, f: impl FnOnce(&mut Evaluation, &mut Dynamics) -> R) -> R {
+    SCRATCH.with(|cell| {
+        let mut slot = cell.borrow_mut();
+        let info = model.system.info();
+        if slot.as_ref().is_none_or(|(id, _, _)| *id != model.id) {
+            *slot = Some((
+                model.id,
+                Evaluation::zeros(info.n(), info.m()),
+                Dynamics::new(info),
+            ));
+        }
+        let (_, e, d) = slot.as_mut().expect("filled above");
+        f(e, d)
+    })
+}
+
+impl Model {
+    fn arg<'py>(&self, name: &'static str, array: Array<'py>) -> Arg<'py> {
+        Arg {
+            name,
+            array,
+            len: self.system.info().n(),
+        }
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// The mechanism's name (the declared struct).
+    #[getter]
+    fn name(&self) -> String {
+        self.system.info().name.clone()
+    }
+
+    /// The coordinate names, in the order of q.
+    #[getter]
+    fn coordinates(&self) -> Vec<String> {
+        self.system.info().coordinates.clone()
+    }
+
+    /// The parameters and their values, in declaration order.
+    #[getter]
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let info = self.system.info();
+        info.parameters
+            .iter()
+            .cloned()
+            .zip(self.values.iter().copied())
+            .collect()
+    }
+
+    /// The independent coordinates (whose positions, and rates, a run starts from).
+    #[getter]
+    fn independent(&self) -> Vec<String> {
+        let info = self.system.info();
+        info.independent
+            .iter()
+            .map(|i| info.coordinates[i.coordinate].clone())
+            .collect()
+    }
+
+    /// The link frames (`link` sections, a URDF's links) in declaration order.
+    #[getter]
+    fn frames(&self) -> Vec<String> {
+        self.system.info().frames.clone()
+    }
+
+    /// Coordinates n.
+    #[getter]
+    fn n(&self) -> usize {
+        self.system.info().n()
+    }
+
+    /// Constraint rows m (position and velocity rows).
+    #[getter]
+    fn m(&self) -> usize {
+        self.system.info().m()
+    }
+
+    /// The declaration text (for a URDF, the declaration it imports as).
+    #[getter]
+    fn source(&self) -> String {
+        self.source.clone()
+    }
+
+    /// The derived equations as text, or as LaTeX when `latex`.
+    #[pyo3(signature = (latex = false))]
+    fn equations(&self, py: Python<'_>, latex: bool) -> PyResult<String> {
+        py.detach(|| {
+            let mut model = mechanism_codegen::parse_model_str(&self.source)
+                .map_err(|e| declaration(&self.shown, &e))?;
+            let eqs =
+                mechanism_codegen::derive(&mut model).map_err(|e| declaration(&self.shown, &e))?;
+            Ok(if latex {
+                mechanism_codegen::equations_latex(&model, &eqs)
+            } else {
+                mechanism_codegen::equations_text(&model, &eqs)
+            })
+        })
+    }
+
+    /// M(q), n x n (a batch: rows x n x n).
+    #[pyo3(signature = (q, t = 0.0))]
+    fn mass_matrix(&self, py: Python<'_>, q: Array<'_>, t: f64) -> PyResult<Py<PyAny>> {
+        let n = self.system.info().n();
+        batched(py, &[self.arg("q", q)], &[n, n], |s, out| {
+            with_scratch(self, |e, _| {
+                self.system.evaluate(t, s[0], &vec![0.0; n], e);
+                for i in 0..n {
+                    for j in 0..n {
+                        out[i * n + j] = e.mass[(i, j)];
+                    }
+                }
+            });
+            Ok(())
+        })
+    }
+
+    /// The bias b = C(q, v) v + g(q) - tau(t, q, v): without constraints M q'' + b = u.
+    #[pyo3(signature = (q, v, t = 0.0))]
+    fn bias(&self, py: Python<'_>, q: Array<'_>, v: Array<'_>, t: f64) -> PyResult<Py<PyAny>> {
+        let n = self.system.info().n();
+        batched(py, &[self.arg("q", q), self.arg("v", v)], &[n], |s, out| {
+            with_scratch(self, |e, _| {
+                self.system.evaluate(t, s[0], s[1], e);
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = e.coriolis[i] + e.gravity[i] - e.forces[i];
+                }
+            });
+            Ok(())
+        })
+    }
+
+    /// The effort u = M(q) a + C(q, v) v + g(q) - tau that gives the accelerations a when
+    /// no constraint acts (Pinocchio's `rnea`; Newton-Euler for a tree of links).
+    #[pyo3(signature = (q, v, a, t = 0.0))]
+    fn inverse_dynamics(
+        &self,
+        py: Python<'_>,
+        q: Array<'_>,
+        v: Array<'_>,
+        a: Array<'_>,
+        t: f64,
+    ) -> PyResult<Py<PyAny>> {
+        let n = self.system.info().n();
+        let args = [self.arg("q", q), self.arg("v", v), self.arg("a", a)];
+        batched(py, &args, &[n], |s, out| {
+            if self
+                .system
+                .inverse_dynamics(t, s[0], s[1], s[2], out)
+                .is_none()
+            {
+                with_scratch(self, |e, _| {
+                    self.system.evaluate(t, s[0], s[1], e);
+                    let u = &e.mass * nalgebra::DVector::from_column_slice(s[2]);
+                    for (i, o) in out.iter_mut().enumerate() {
+                        *o = u[i] + e.coriolis[i] + e.gravity[i] - e.forces[i];
+                    }
+                });
+            }
+            Ok(())
+        })
+    }
+
+    /// The accelerations q'' under the effort tau added to the declared forces, with the
+    /// constraint rows acting (the augmented system; for an unconstrained robot
+    /// M q'' = tau - b, Pinocchio's `aba`). The state should satisfy the constraints.
+    #[pyo3(signature = (q, v, tau, t = 0.0))]
+    fn forward_dynamics(
+        &self,
+        py: Python<'_>,
+        q: Array<'_>,
+        v: Array<'_>,
+        tau: Array<'_>,
+        t: f64,
+    ) -> PyResult<Py<PyAny>> {
+        let n = self.system.info().n();
+        let args = [self.arg("q", q), self.arg("v", v), self.arg("tau", tau)];
+        batched(py, &args, &[n], |s, out| {
+            with_scratch(self, |_, dynamics| {
+                let system = WithEffort::new(self.system.as_ref(), s[2]);
+                dynamics.solve(&system, t, s[0], s[1]).map_err(later)?;
+                out.copy_from_slice(dynamics.accelerations());
+                Ok::<(), PyErrLater>(())
+            })
+        })
+    }
+
+    /// The placement of link frame `frame` (a name or an index into `frames`) at q as a
+    /// 4 x 4 homogeneous transform [[R, p], [0, 0, 0, 1]]: R the link axes in world axes,
+    /// p the frame's origin in the world (a batch: rows x 4 x 4).
+    fn frame_placement(
+        &self,
+        py: Python<'_>,
+        frame: &Bound<'_, PyAny>,
+        q: Array<'_>,
+    ) -> PyResult<Py<PyAny>> {
+        let k = self.frame(frame)?;
+        batched(py, &[self.arg("q", q)], &[4, 4], |s, out| {
+            let (mut r, mut p) = (Matrix3::zeros(), Vector3::zeros());
+            self.system
+                .frame_placement(k, s[0], &mut r, &mut p)
+                .ok_or_else(|| PyErrLater::new(SolverError::new_err, "no frame routines"))?;
+            for i in 0..3 {
+                for j in 0..3 {
+                    out[4 * i + j] = r[(i, j)];
+                }
+                out[4 * i + 3] = p[i];
+            }
+            out[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+            Ok(())
+        })
+    }
+
+    /// The Jacobian J (6 x n) of link frame `frame` at q: [v; w] = J q', the velocity of
+    /// the frame's origin and its angular velocity in world axes (Pinocchio's
+    /// `LOCAL_WORLD_ALIGNED`); a batch: rows x 6 x n.
+    fn frame_jacobian(
+        &self,
+        py: Python<'_>,
+        frame: &Bound<'_, PyAny>,
+        q: Array<'_>,
+    ) -> PyResult<Py<PyAny>> {
+        let k = self.frame(frame)?;
+        let n = self.system.info().n();
+        batched(py, &[self.arg("q", q)], &[6, n], |s, out| {
+            let mut jac = DMatrix::zeros(6, n);
+            self.system
+                .frame_jacobian(k, s[0], &mut jac)
+                .ok_or_else(|| PyErrLater::new(SolverError::new_err, "no frame routines"))?;
+            for i in 0..6 {
+                for j in 0..n {
+                    out[i * n + j] = jac[(i, j)];
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Simulates from the state assembled from the independent coordinates (`init`
+    /// changes positions, `"der(x)"` rates), as `mechanism simulate` does.
+    #[pyo3(signature = (*, t_end = 10.0, rtol = 1e-10, atol = 1e-10, integrator = "dop853",
+        step = None, samples_per_second = 100.0, stabilization = "projection", set = None,
+        init = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate(
+        &self,
+        py: Python<'_>,
+        t_end: f64,
+        rtol: f64,
+        atol: f64,
+        integrator: &str,
+        step: Option<f64>,
+        samples_per_second: f64,
+        stabilization: &str,
+        set: Option<HashMap<String, f64>>,
+        init: Option<HashMap<String, f64>>,
+    ) -> PyResult<Py<PyAny>> {
+        let options = RunOptions {
+            t_end,
+            samples_per_second,
+            integrator: integrator.to_string(),
+            rtol,
+            atol,
+            step,
+            stabilization: stabilization.to_string(),
+        };
+        runs::simulate(py, self, options, &pairs(set), &pairs(init))
+    }
+
+    /// The driving forces along the prescribed motions `drives` (`"phi = 2*pi*t"`), as
+    /// `mechanism inverse` computes them.
+    #[pyo3(signature = (drives, *, t_end = 1.0, samples_per_second = 100.0, set = None,
+        init = None))]
+    fn inverse(
+        &self,
+        py: Python<'_>,
+        drives: Vec<String>,
+        t_end: f64,
+        samples_per_second: f64,
+        set: Option<HashMap<String, f64>>,
+        init: Option<HashMap<String, f64>>,
+    ) -> PyResult<Py<PyAny>> {
+        runs::inverse(
+            py,
+            self,
+            drives,
+            t_end,
+            samples_per_second,
+            &pairs(set),
+            &pairs(init),
+        )
+    }
+
+    /// The linearisation about the equilibrium or steady motion the independent
+    /// coordinates give, in minimal variables, as `mechanism linearize` computes it.
+    #[pyo3(signature = (*, set = None, init = None))]
+    fn linearize(
+        &self,
+        py: Python<'_>,
+        set: Option<HashMap<String, f64>>,
+        init: Option<HashMap<String, f64>>,
+    ) -> PyResult<Py<PyAny>> {
+        runs::linearize(py, self, &pairs(set), &pairs(init))
+    }
+
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        reduce(self, py)
+    }
+
+    fn __repr__(&self) -> String {
+        let info = self.system.info();
+        format!(
+            "<mechanism.Model {} from {}: {} coordinates, {} constraint rows>",
+            info.name,
+            self.shown,
+            info.n(),
+            info.m()
+        )
+    }
+}
+
+/// Runs `simulate` once per parameter set of `sets` in parallel (all cores, or `threads`),
+/// each as `model.simulate(set=..., **options)` would; the trajectories in the order of
+/// `sets`. The first failure is raised, naming its set.
+#[pyfunction]
+#[pyo3(signature = (model, sets, *, t_end = 10.0, rtol = 1e-10, atol = 1e-10,
+    integrator = "dop853", step = None, samples_per_second = 100.0,
+    stabilization = "projection", init = None, threads = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn sweep(
+    py: Python<'_>,
+    model: &Model,
+    sets: Vec<HashMap<String, f64>>,
+    t_end: f64,
+    rtol: f64,
+    atol: f64,
+    integrator: &str,
+    step: Option<f64>,
+    samples_per_second: f64,
+    stabilization: &str,
+    init: Option<HashMap<String, f64>>,
+    threads: Option<usize>,
+) -> PyResult<Vec<Py<PyAny>>> {
+    let options = RunOptions {
+        t_end,
+        samples_per_second,
+        integrator: integrator.to_string(),
+        rtol,
+        atol,
+        step,
+        stabilization: stabilization.to_string(),
+    };
+    let sets: Vec<Vec<(String, f64)>> = sets.into_iter().map(|s| pairs(Some(s))).collect();
+    runs::sweep(py, model, sets, options, &pairs(init), threads)
+}
