@@ -224,6 +224,8 @@ mod book {
     struct Solvers;
     #[doc = include_str!("../docs/src/algebra.md")]
     struct Algebra;
+    #[doc = include_str!("../docs/src/reliability.md")]
+    struct Reliability;
     #[doc = include_str!("../docs/src/layout.md")]
     struct Layout;
 }
