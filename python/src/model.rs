@@ -218,9 +218,14 @@ fn apply(
     for (name, value) in set {
         let k = parameter_index(system, name)?;
         check_finite("set", name, *value)?;
-        system
-            .set_parameter(k, *value)
-            .map_err(|e| input(format!("set {name}={value}: {e}")))?;
+        let range = system.info().parameter_range(k);
+        system.set_parameter(k, *value).map_err(|_| {
+            input(format!(
+                "set {name}={value}: `{name}` must be {} (its declaration says `{}`), got {value}",
+                range.describe(),
+                range.keyword()
+            ))
+        })?;
     }
     let info = system.info();
     let mut values = vec![0.0; info.parameters.len()];

@@ -46,8 +46,9 @@ def test_an_unknown_parameter_suggests_the_likely_one():
 
 
 def test_an_impossible_body_is_refused_at_its_parameter():
-    # The rigid rod's inertia follows its mass: a negative mass is a body no one can build.
-    with pytest.raises(mechanism.InputError, match=r"^set m2=-1: .*mass"):
+    # The rigid rod's mass is declared `nonnegative`: a negative mass is refused at the
+    # parameter, naming it and its declared range, as the CLI's --set does.
+    with pytest.raises(mechanism.InputError, match=r"^set m2=-1: `m2` must be 0 or more \(its declaration says `nonnegative`\), got -1"):
         mechanism.load("spatial_crank_slider_rigid", set={"m2": -1.0})
 
 
