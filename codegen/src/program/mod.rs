@@ -16,7 +16,8 @@
 //! values that depend on parameters only out of several programs into one cache program
 //! ([`hoist_parameters`](crate::hoist_parameters)). [`liveness`] finds the last use of each
 //! register, and a [`Tape`](crate::Tape) is the program as register-file operations for
-//! repeated evaluation without allocation.
+//! repeated evaluation without allocation, one state at a time or a block of states side by side
+//! ([`tape_lanes`]).
 
 pub(crate) mod builder;
 pub(crate) mod cse;
@@ -30,3 +31,4 @@ pub(crate) mod liveness;
 pub(crate) mod scale;
 pub(crate) mod schedule;
 pub(crate) mod tape;
+pub(crate) mod tape_lanes;

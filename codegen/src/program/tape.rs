@@ -20,7 +20,7 @@ use mechanism_math::{mul_add, sin_cos};
 
 /// One tape operation; operands and destinations are register-file slots.
 #[derive(Clone, Copy, Debug)]
-enum Op {
+pub(super) enum Op {
     Add(u32, u32, u32),
     Sub(u32, u32, u32),
     Mul(u32, u32, u32),
@@ -45,9 +45,9 @@ enum Op {
 /// row-major, the matrices one after another) without allocating.
 #[derive(Clone, Debug)]
 pub struct Tape {
-    ops: Vec<Op>,
+    pub(super) ops: Vec<Op>,
     /// The constants, in slots 0.. of the register file.
-    constants: Vec<f64>,
+    pub(super) constants: Vec<f64>,
     /// The register file of `eval`.
     regs: Vec<f64>,
     /// (symbol, register-file slot, name) of each input.
