@@ -12,6 +12,8 @@
 //!
 //! [`Routines`]: mechanism_codegen::Routines
 
+mod rows;
+
 use mechanism_codegen::error::ProgramError;
 use mechanism_codegen::{
     Equations, Error, EvaluationOutput, Model, Role, Tangents, compile_interpreted,

@@ -109,4 +109,39 @@ impl Robotics {
         });
         Some(())
     }
+
+    /// [`Robotics::inverse_dynamics`] at each row of the batch `q`, `qd`, `qdd` (n values
+    /// per state, row-major) into the rows of `out`, side by side
+    /// ([`Routine::run_rows`]).
+    pub(crate) fn inverse_dynamics_rows(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut [f64],
+    ) {
+        let values = Values {
+            qd,
+            qdd,
+            ..self.parameters.at(t, q)
+        };
+        self.inverse.run_rows(&values, self.n, out);
+    }
+
+    /// The outputs of frame `frame`'s placement (R row-major, then p: 12 values) at each
+    /// row of the batch `q` into the rows of `out`; `None` past the last frame.
+    pub(crate) fn placement_rows(&self, frame: usize, q: &[f64], out: &mut [f64]) -> Option<()> {
+        let values = self.parameters.at(0.0, q);
+        self.placements.get(frame)?.run_rows(&values, self.n, out);
+        Some(())
+    }
+
+    /// J (6 x n, row-major) of frame `frame` at each row of the batch `q` into the rows of
+    /// `out`; `None` past the last frame.
+    pub(crate) fn jacobian_rows(&self, frame: usize, q: &[f64], out: &mut [f64]) -> Option<()> {
+        let values = self.parameters.at(0.0, q);
+        self.jacobians.get(frame)?.run_rows(&values, self.n, out);
+        Some(())
+    }
 }

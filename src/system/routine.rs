@@ -1,11 +1,12 @@
 //! One evaluation of the interpreted route: a codegen [`Tape`] of one compiled routine and
 //! where each of its inputs comes from (the routines' [`Sources`] table), checked once when
-//! it is built so that running it cannot fail.
+//! it is built so that running it cannot fail. It runs one state at a time or a batch's
+//! rows side by side ([`Routine::execute_rows`]).
 
 use mechanism_codegen::error::{EvalError, ProgramError};
 use mechanism_codegen::{Error, Program, Source, Sources, Tape};
 
-use crate::system::registers::with_registers;
+use crate::system::registers::{LANES, with_lanes, with_registers};
 
 /// The values one evaluation reads; a slice an evaluation does not have is empty.
 #[derive(Clone, Copy, Debug, Default)]
@@ -33,6 +34,23 @@ impl Values<'_> {
             Source::Acceleration(k) => at(self.qdd, k),
             Source::Multiplier(k) => at(self.lambda, k),
             Source::Time => self.t,
+        }
+    }
+
+    /// The value `source` names for row `row` of a batch whose `q`, `qd`, `qdd` hold one
+    /// state of `n` values per row (row-major); the parameters, cache and t are shared, and
+    /// a multiplier (which no batch carries) is NaN, as is a value past a short slice.
+    fn get_row(&self, source: Source, row: usize, n: usize) -> f64 {
+        let at = |values: &[f64], k: usize| match k < n {
+            true => values.get(row * n + k).copied().unwrap_or(f64::NAN),
+            false => f64::NAN,
+        };
+        match source {
+            Source::Coordinate(k) => at(self.q, k),
+            Source::Rate(k) => at(self.qd, k),
+            Source::Acceleration(k) => at(self.qdd, k),
+            Source::Multiplier(_) => f64::NAN,
+            _ => self.get(source),
         }
     }
 }
@@ -90,6 +108,63 @@ impl Routine {
     /// outputs: output entry k is at [`Routine::output_slot`]`(k)` of it.
     pub(crate) fn execute<R>(&self, values: &Values<'_>, sink: impl FnOnce(&[f64]) -> R) -> R {
         self.run_with(values, false, |regs, _| sink(regs))
+    }
+
+    /// Runs the tape on rows `rows.start..rows.end` of the batch `values` (see
+    /// [`Values::get_row`]: n values per state) side by side, `L` at a time in the thread's
+    /// lane register file ([`with_lanes`]), and calls `sink(first, count, registers)` after
+    /// each block: lane l of `registers[output_slot(k)]` is output entry k of row
+    /// `first + l`, for l < `count`, bit for bit what [`Routine::execute`] gives for that
+    /// row alone ([`mechanism_codegen::Tape::execute_lanes`]). The lanes of a last, partial
+    /// block repeat its last row. Allocates nothing after the thread's first block.
+    pub(crate) fn execute_rows<E>(
+        &self,
+        values: &Values<'_>,
+        n: usize,
+        rows: core::ops::Range<usize>,
+        mut sink: impl FnMut(usize, usize, &[[f64; LANES]]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        with_lanes(self.tape.register_len(), |regs| {
+            let mut first = rows.start;
+            while first < rows.end {
+                let count = (rows.end - first).min(LANES);
+                for &(slot, source) in &self.inputs {
+                    let lanes = &mut regs[slot];
+                    for (l, x) in lanes.iter_mut().enumerate() {
+                        *x = values.get_row(source, first + l.min(count - 1), n);
+                    }
+                }
+                self.tape.execute_lanes(regs);
+                sink(first, count, regs)?;
+                first += count;
+            }
+            Ok(())
+        })
+    }
+
+    /// Every output entry of each of the first `out.len() / output_len` rows of the batch
+    /// `values` (n values per state) into `out`, one row's outputs after another: the rows
+    /// side by side ([`Routine::execute_rows`]), each bit for bit [`Routine::run`].
+    pub(crate) fn run_rows(&self, values: &Values<'_>, n: usize, out: &mut [f64]) {
+        let width = self.tape.output_len();
+        let rows = out.len().checked_div(width).unwrap_or(0);
+        let Ok(()) = self.execute_rows::<core::convert::Infallible>(
+            values,
+            n,
+            0..rows,
+            |first, count, regs| {
+                for k in 0..width {
+                    let lanes = self
+                        .tape
+                        .output_slot(k)
+                        .map_or(&[f64::NAN; LANES], |s| &regs[s]);
+                    for (l, x) in lanes[..count].iter().enumerate() {
+                        out[(first + l) * width + k] = *x;
+                    }
+                }
+                Ok(())
+            },
+        );
     }
 
     /// The register-file slot of output entry `k` after [`Routine::execute`].

@@ -81,9 +81,31 @@ impl EvaluationScatter {
     /// Writes the outputs held in `registers` (after the tape ran) into `out`: M and Phi_q
     /// at their pattern only, every entry of the rest.
     pub(crate) fn write(&self, registers: &[f64], out: &mut Evaluation) {
-        write_matrix(&self.mass, registers, out.mass.as_mut_slice());
-        write_matrix(&self.phi_q, registers, out.phi_q.as_mut_slice());
-        let mut slots = self.vectors.iter().map(|&s| registers[s]);
+        self.write_from(|slot| registers[slot], out);
+    }
+
+    /// [`EvaluationScatter::write`] from lane `lane` of a lane register file
+    /// ([`crate::system::routine::Routine::execute_rows`]).
+    pub(crate) fn write_lane<const L: usize>(
+        &self,
+        registers: &[[f64; L]],
+        lane: usize,
+        out: &mut Evaluation,
+    ) {
+        self.write_from(|slot| registers[slot][lane], out);
+    }
+
+    /// Writes the value `value(slot)` of each output's slot into its place in `out`.
+    #[inline(always)]
+    fn write_from(&self, value: impl Fn(usize) -> f64, out: &mut Evaluation) {
+        let (mass, phi_q) = (out.mass.as_mut_slice(), out.phi_q.as_mut_slice());
+        for &(slot, k) in &self.mass {
+            mass[k] = value(slot);
+        }
+        for &(slot, k) in &self.phi_q {
+            phi_q[k] = value(slot);
+        }
+        let mut slots = self.vectors.iter().map(|&s| value(s));
         for v in [
             &mut out.coriolis,
             &mut out.gravity,

@@ -10,6 +10,7 @@ mod common;
 
 mod assembly;
 mod banded_kkt;
+mod batch_rows;
 mod closure;
 mod coordinate_singularity;
 mod energy;
