@@ -3,8 +3,11 @@
 //! row, and answers in kind. A batch runs in one call, without the GIL, its rows in parallel
 //! (rayon) when there are enough of them to pay for the threads.
 //!
-//! A new per-state function is one call of [`batched`]: the arguments with their lengths,
-//! the shape of one answer, and a closure that fills one answer from one state's slices.
+//! A new per-state function is one call of [`batched_rows`]: the arguments with their
+//! lengths, the shape of one answer, a closure that fills one answer from one state's
+//! slices, and one that fills the answers of a piece of rows at once through the library's
+//! rows methods ([`mechanism::Interpreted::evaluate_rows`]: the interpreter's tape on many
+//! states side by side).
 
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -12,9 +15,6 @@ use rayon::prelude::*;
 
 use crate::errors::input;
 
-/// Rows below which a batch runs on the calling thread: rayon's hand-off costs a few
-/// microseconds, about a dozen states' work.
-const PARALLEL_FROM: usize = 64;
 
 /// One argument of a per-state function: its name (for messages), its array and the
 /// number of values of one state.
@@ -79,46 +79,68 @@ fn describe(rows: Option<usize>) -> String {
     }
 }
 
-/// Evaluates `f` at every state of `args` (see the module docs): `f(state, out)` receives
-/// one slice per argument and fills `out`, `shape.iter().product()` values in row-major
-/// order. Returns an array of `shape` for one state, of `(rows, *shape)` for a batch.
+/// Rows of a batch handed to one call of a rows function: eight blocks of the lane tape
+/// (16 states each), whose work (tens of microseconds) dwarfs rayon's hand-off (a few); a
+/// batch of more rows than this runs its pieces in parallel.
+const PIECE: usize = 128;
+
+/// Evaluates a per-state function at every state of `args` (see the module docs) and
+/// returns an array of `shape` for one state, of `(rows, *shape)` for a batch. One state
+/// (1-D arrays) goes to `one(state, out)`, which receives one slice per argument and fills
+/// `out`, `shape.iter().product()` values in row-major order; a batch to `rows(states, out)` in pieces of at most
+/// [`PIECE`] rows, where `states` holds each argument's rows of the piece (row-major) and
+/// `out` the piece's answers; the pieces run in parallel (rayon) when there are enough
+/// rows (more than one piece). `rows` returns the first failing row of its piece with its error.
 ///
 /// # Errors
 /// [`crate::errors::InputError`] for a wrong shape or a non-finite entry; the first error
-/// `f` returns (by row).
-pub fn batched<F>(py: Python<'_>, args: &[Arg<'_>], shape: &[usize], f: F) -> PyResult<Py<PyAny>>
+/// the functions return (by row).
+pub fn batched_rows<F, G>(
+    py: Python<'_>,
+    args: &[Arg<'_>],
+    shape: &[usize],
+    one: F,
+    rows: G,
+) -> PyResult<Py<PyAny>>
 where
     F: Fn(&[&[f64]], &mut [f64]) -> Result<(), PyErrLater> + Sync,
+    G: Fn(&[&[f64]], &mut [f64]) -> Result<(), (usize, PyErrLater)> + Sync,
 {
-    let (buffers, rows) = gather(args)?;
+    let (buffers, count) = gather(args)?;
     let size: usize = shape.iter().product();
-    let count = rows.unwrap_or(1);
     let lens: Vec<usize> = args.iter().map(|a| a.len).collect();
     let result = py.detach(|| {
-        let mut out = vec![0.0; count * size];
-        let row = |(i, chunk): (usize, &mut [f64])| {
-            let state: Vec<&[f64]> = buffers
+        let mut out = vec![0.0; count.unwrap_or(1) * size];
+        if size == 0 {
+            return Ok(out);
+        }
+        let Some(count) = count else {
+            let state: Vec<&[f64]> = buffers.iter().map(Vec::as_slice).collect();
+            return one(&state, &mut out).map(|()| out).map_err(|e| (0, e));
+        };
+        let piece = |(p, chunk): (usize, &mut [f64])| {
+            let first = p * PIECE;
+            let last = (first + PIECE).min(count);
+            let states: Vec<&[f64]> = buffers
                 .iter()
                 .zip(&lens)
-                .map(|(b, &k)| &b[i * k..(i + 1) * k])
+                .map(|(b, &k)| &b[first * k..last * k])
                 .collect();
-            f(&state, chunk).map_err(|e| (i, e))
+            rows(&states, chunk).map_err(|(i, e)| (first + i, e))
         };
-        let done = if count >= PARALLEL_FROM && size > 0 {
-            out.par_chunks_mut(size).enumerate().try_for_each(row)
-        } else if size > 0 {
-            out.chunks_mut(size).enumerate().try_for_each(row)
+        let done = if count > PIECE {
+            out.par_chunks_mut(PIECE * size).enumerate().try_for_each(piece)
         } else {
-            Ok(())
+            out.chunks_mut(PIECE * size).enumerate().try_for_each(piece)
         };
         done.map(|()| out)
     });
     let out = match result {
         Ok(out) => out,
-        Err((i, e)) => return Err(e.at_row(rows.map(|_| i))),
+        Err((i, e)) => return Err(e.at_row(count.map(|_| i))),
     };
     let mut full = Vec::with_capacity(shape.len() + 1);
-    if let Some(r) = rows {
+    if let Some(r) = count {
         full.push(r);
     }
     full.extend_from_slice(shape);

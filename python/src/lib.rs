@@ -16,6 +16,7 @@ mod effort;
 mod errors;
 mod methods;
 mod model;
+mod rows;
 mod runs;
 mod sources;
 

@@ -10,9 +10,10 @@ use numpy::PyArrayLikeDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
-use crate::batch::{Arg, PyErrLater, batched, later};
+use crate::batch::{Arg, PyErrLater, batched_rows, later};
+use crate::rows::{forward_dynamics_rows, no_frames};
 use crate::effort::WithEffort;
-use crate::errors::{SolverError, declaration};
+use crate::errors::declaration;
 use crate::model::{Model, pairs, reduce};
 use crate::runs::{self, RunOptions};
 
@@ -26,7 +27,7 @@ thread_local! {
 }
 
 /// Runs `f` with this thread's evaluation buffers and dynamics workspace for `model`.
-fn with_scratch<R>(model: &Model, f: impl FnOnce(&mut Evaluation, &mut Dynamics) -> R) -> R {
+pub(crate) fn with_scratch<R>(model: &Model, f: impl FnOnce(&mut Evaluation, &mut Dynamics) -> R) -> R {
     SCRATCH.with(|cell| {
         let mut slot = cell.borrow_mut();
         let info = model.system.info();
@@ -131,32 +132,54 @@ impl Model {
     #[pyo3(signature = (q, t = 0.0))]
     fn mass_matrix(&self, py: Python<'_>, q: Array<'_>, t: f64) -> PyResult<Py<PyAny>> {
         let n = self.system.info().n();
-        batched(py, &[self.arg("q", q)], &[n, n], |s, out| {
+        let write = |e: &Evaluation, out: &mut [f64]| {
+            for i in 0..n {
+                for j in 0..n {
+                    out[i * n + j] = e.mass[(i, j)];
+                }
+            }
+        };
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             with_scratch(self, |e, _| {
                 self.system.evaluate(t, s[0], &vec![0.0; n], e);
-                for i in 0..n {
-                    for j in 0..n {
-                        out[i * n + j] = e.mass[(i, j)];
-                    }
-                }
+                write(e, out);
             });
             Ok(())
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            let zeros = vec![0.0; s[0].len()];
+            self.evaluate_rows(t, s[0], &zeros, n * n, out, |_, e, out| {
+                write(e, out);
+                Ok(())
+            })
+        };
+        batched_rows(py, &[self.arg("q", q)], &[n, n], one, rows)
     }
 
     /// The bias b = C(q, v) v + g(q) - tau(t, q, v): without constraints M q'' + b = u.
     #[pyo3(signature = (q, v, t = 0.0))]
     fn bias(&self, py: Python<'_>, q: Array<'_>, v: Array<'_>, t: f64) -> PyResult<Py<PyAny>> {
         let n = self.system.info().n();
-        batched(py, &[self.arg("q", q), self.arg("v", v)], &[n], |s, out| {
+        let write = |e: &Evaluation, out: &mut [f64]| {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = e.coriolis[i] + e.gravity[i] - e.forces[i];
+            }
+        };
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             with_scratch(self, |e, _| {
                 self.system.evaluate(t, s[0], s[1], e);
-                for (i, o) in out.iter_mut().enumerate() {
-                    *o = e.coriolis[i] + e.gravity[i] - e.forces[i];
-                }
+                write(e, out);
             });
             Ok(())
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            self.evaluate_rows(t, s[0], s[1], n, out, |_, e, out| {
+                write(e, out);
+                Ok(())
+            })
+        };
+        let args = [self.arg("q", q), self.arg("v", v)];
+        batched_rows(py, &args, &[n], one, rows)
     }
 
     /// The effort u = M(q) a + C(q, v) v + g(q) - tau that gives the accelerations a when
@@ -172,7 +195,7 @@ impl Model {
     ) -> PyResult<Py<PyAny>> {
         let n = self.system.info().n();
         let args = [self.arg("q", q), self.arg("v", v), self.arg("a", a)];
-        batched(py, &args, &[n], |s, out| {
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             if self
                 .system
                 .inverse_dynamics(t, s[0], s[1], s[2], out)
@@ -187,7 +210,23 @@ impl Model {
                 });
             }
             Ok(())
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            if self
+                .system
+                .inverse_dynamics_rows(t, s[0], s[1], s[2], out)
+                .is_none()
+            {
+                // Without the robotics routines: each row as one state.
+                for (i, o) in out.chunks_mut(n).enumerate() {
+                    let r = i * n..(i + 1) * n;
+                    let state = [&s[0][r.clone()], &s[1][r.clone()], &s[2][r]];
+                    one(&state, o).map_err(|e| (i, e))?;
+                }
+            }
+            Ok(())
+        };
+        batched_rows(py, &args, &[n], one, rows)
     }
 
     /// The accelerations q'' under the effort tau added to the declared forces, with the
@@ -204,14 +243,18 @@ impl Model {
     ) -> PyResult<Py<PyAny>> {
         let n = self.system.info().n();
         let args = [self.arg("q", q), self.arg("v", v), self.arg("tau", tau)];
-        batched(py, &args, &[n], |s, out| {
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             with_scratch(self, |_, dynamics| {
                 let system = WithEffort::new(self.system.as_ref(), s[2]);
                 dynamics.solve(&system, t, s[0], s[1]).map_err(later)?;
                 out.copy_from_slice(dynamics.accelerations());
                 Ok::<(), PyErrLater>(())
             })
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            forward_dynamics_rows(self, t, s, out)
+        };
+        batched_rows(py, &args, &[n], one, rows)
     }
 
     /// The placement of link frame `frame` (a name or an index into `frames`) at q as a
@@ -224,20 +267,34 @@ impl Model {
         q: Array<'_>,
     ) -> PyResult<Py<PyAny>> {
         let k = self.frame(frame)?;
-        batched(py, &[self.arg("q", q)], &[4, 4], |s, out| {
+        // R row-major then p (12 values) as a homogeneous transform (16).
+        let write = |rp: &[f64], out: &mut [f64]| {
+            for i in 0..3 {
+                out[4 * i..4 * i + 3].copy_from_slice(&rp[3 * i..3 * i + 3]);
+                out[4 * i + 3] = rp[9 + i];
+            }
+            out[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+        };
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             let (mut r, mut p) = (Matrix3::zeros(), Vector3::zeros());
             self.system
                 .frame_placement(k, s[0], &mut r, &mut p)
-                .ok_or_else(|| PyErrLater::new(SolverError::new_err, "no frame routines"))?;
-            for i in 0..3 {
-                for j in 0..3 {
-                    out[4 * i + j] = r[(i, j)];
-                }
-                out[4 * i + 3] = p[i];
-            }
-            out[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+                .ok_or_else(no_frames)?;
+            let rp: Vec<f64> = (0..9).map(|e| r[(e / 3, e % 3)]).chain(p.iter().copied()).collect();
+            write(&rp, out);
             Ok(())
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            let mut rp = vec![0.0; 12 * (out.len() / 16)];
+            self.system
+                .frame_placement_rows(k, s[0], &mut rp)
+                .ok_or_else(|| (0, no_frames()))?;
+            for (o, r) in out.chunks_mut(16).zip(rp.chunks(12)) {
+                write(r, o);
+            }
+            Ok(())
+        };
+        batched_rows(py, &[self.arg("q", q)], &[4, 4], one, rows)
     }
 
     /// The Jacobian J (6 x n) of link frame `frame` at q: [v; w] = J q', the velocity of
@@ -251,18 +308,24 @@ impl Model {
     ) -> PyResult<Py<PyAny>> {
         let k = self.frame(frame)?;
         let n = self.system.info().n();
-        batched(py, &[self.arg("q", q)], &[6, n], |s, out| {
+        let one = |s: &[&[f64]], out: &mut [f64]| {
             let mut jac = DMatrix::zeros(6, n);
             self.system
                 .frame_jacobian(k, s[0], &mut jac)
-                .ok_or_else(|| PyErrLater::new(SolverError::new_err, "no frame routines"))?;
+                .ok_or_else(no_frames)?;
             for i in 0..6 {
                 for j in 0..n {
                     out[i * n + j] = jac[(i, j)];
                 }
             }
             Ok(())
-        })
+        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| {
+            self.system
+                .frame_jacobian_rows(k, s[0], out)
+                .ok_or_else(|| (0, no_frames()))
+        };
+        batched_rows(py, &[self.arg("q", q)], &[6, n], one, rows)
     }
 
     /// Simulates from the state assembled from the independent coordinates (`init`
