@@ -45,6 +45,8 @@ pub struct Interpreted {
     sparsity: Sparsity,
     /// Where `full`'s outputs go: M and Phi_q at their pattern only.
     scatter: EvaluationScatter,
+    /// The same from `full`'s lane register file ([`Interpreted::evaluate_rows`]).
+    lane_scatter: EvaluationScatter,
     /// Phi, Phi_q, Phi_t ([`Role::constraint_rows`]).
     rows: ConstraintRows,
     /// dF/dq, dF/dq' of the residual, exact Jacobians for implicit integrators
@@ -242,6 +244,14 @@ impl Interpreted {
                 outputs: 0,
             },
         ))?;
+        let lane_scatter =
+            scatter
+                .for_lanes(&full)
+                .ok_or(Error::Program(ProgramError::OutputCount {
+                    what: "evaluation outputs in lanes",
+                    given: full_len,
+                    outputs: 0,
+                }))?;
         let constraint_tangent = match routines.get(Role::ConstraintTangent) {
             Some(_) => Some(routine(Role::ConstraintTangent, 3 * m * n)?),
             None => None,
@@ -253,6 +263,7 @@ impl Interpreted {
             full,
             sparsity,
             scatter,
+            lane_scatter,
             tangent: match routines.get(Role::Tangent) {
                 Some(_) => Some(routine(Role::Tangent, 2 * n * n)?),
                 None => None,

@@ -113,7 +113,7 @@ impl Routine {
     /// Runs the tape on rows `rows.start..rows.end` of the batch `values` (see
     /// [`Values::get_row`]: n values per state) side by side, `L` at a time in the thread's
     /// lane register file ([`with_lanes`]), and calls `sink(first, count, registers)` after
-    /// each block: lane l of `registers[output_slot(k)]` is output entry k of row
+    /// each block: lane l of `registers[lane_slot(output_slot(k))]` is output entry k of row
     /// `first + l`, for l < `count`, bit for bit what [`Routine::execute`] gives for that
     /// row alone ([`mechanism_codegen::Tape::execute_lanes`]). The lanes of a last, partial
     /// block repeat its last row. Allocates nothing after the thread's first block.
@@ -124,7 +124,7 @@ impl Routine {
         rows: core::ops::Range<usize>,
         mut sink: impl FnMut(usize, usize, &[[f64; LANES]]) -> Result<(), E>,
     ) -> Result<(), E> {
-        with_lanes(self.tape.register_len(), |regs| {
+        with_lanes(self.tape.lane_register_len(), |regs| {
             let mut first = rows.start;
             while first < rows.end {
                 let count = (rows.end - first).min(LANES);
@@ -156,7 +156,7 @@ impl Routine {
                 for k in 0..width {
                     let lanes = self
                         .tape
-                        .output_slot(k)
+                        .lane_output_slot(k)
                         .map_or(&[f64::NAN; LANES], |s| &regs[s]);
                     for (l, x) in lanes[..count].iter().enumerate() {
                         out[(first + l) * width + k] = *x;
@@ -165,6 +165,12 @@ impl Routine {
                 Ok(())
             },
         );
+    }
+
+    /// The lane register-file slot ([`Routine::execute_rows`]) of register-file slot `slot`
+    /// of [`Routine::execute`] that holds a constant, an input or an output.
+    pub(crate) fn lane_slot(&self, slot: usize) -> Option<usize> {
+        self.tape.lane_slot(slot)
     }
 
     /// The register-file slot of output entry `k` after [`Routine::execute`].

@@ -84,7 +84,27 @@ impl EvaluationScatter {
         self.write_from(|slot| registers[slot], out);
     }
 
-    /// [`EvaluationScatter::write`] from lane `lane` of a lane register file
+    /// The same places read from the lane register file of `routine`
+    /// ([`Routine::lane_slot`]); `None` when a slot has no lane slot.
+    pub(crate) fn for_lanes(&self, routine: &Routine) -> Option<Self> {
+        let map = |v: &[(usize, usize)]| {
+            v.iter()
+                .map(|&(s, k)| Some((routine.lane_slot(s)?, k)))
+                .collect::<Option<Vec<_>>>()
+        };
+        Some(Self {
+            mass: map(&self.mass)?,
+            phi_q: map(&self.phi_q)?,
+            vectors: self
+                .vectors
+                .iter()
+                .map(|&s| routine.lane_slot(s))
+                .collect::<Option<_>>()?,
+        })
+    }
+
+    /// [`EvaluationScatter::write`] from lane `lane` of a lane register file, through a
+    /// scatter made by [`EvaluationScatter::for_lanes`]
     /// ([`crate::system::routine::Routine::execute_rows`]).
     pub(crate) fn write_lane<const L: usize>(
         &self,

@@ -54,6 +54,9 @@ pub struct Tape {
     inputs: Vec<(SymbolId, u32, String)>,
     outputs: Vec<u32>,
     shapes: Vec<(usize, usize)>,
+    /// The operations renumbered for [`Tape::execute_lanes`], whose register file reuses
+    /// the slot of a value after its last use.
+    pub(super) lanes: crate::program::tape_lanes::LaneLayout,
 }
 
 impl Tape {
@@ -74,7 +77,7 @@ impl Tape {
     /// ```
     pub fn new(program: &Program) -> Tape {
         let layout = SlotLayout::of(program);
-        let ops = program
+        let ops: Vec<Op> = program
             .instructions()
             .iter()
             .map(|i| layout.op(i))
@@ -92,13 +95,20 @@ impl Tape {
             .enumerate()
             .map(|(k, (s, name))| (*s, (nc + k) as u32, name.clone()))
             .collect();
-        let outputs = program
+        let outputs: Vec<u32> = program
             .outputs()
             .iter()
             .flat_map(|o| o.entries.iter().map(|&e| layout.slot(e)))
             .collect();
         let shapes = program.outputs().iter().map(|o| (o.rows, o.cols)).collect();
+        let lanes = crate::program::tape_lanes::LaneLayout::of(
+            &ops,
+            layout.base as usize,
+            &outputs,
+            regs.len(),
+        );
         Tape {
+            lanes,
             ops,
             constants,
             regs,

@@ -4,6 +4,12 @@
 //! bounds checks are then paid once per block instead of once per state, and the lane loops
 //! are straight-line arithmetic on contiguous arrays that the compiler vectorises.
 //!
+//! The lane register file is as small as the values live at once allow ([`LaneLayout`]):
+//! a value's slot is reused once its last reader has run, so that L lanes of a large tape
+//! (the Panda's Newton-Euler) stay in the first-level cache. Constants and inputs keep
+//! their slots ([`Tape::input_slots`]); an output's lane slot is
+//! [`Tape::lane_output_slot`].
+//!
 //! Each lane computes exactly what [`Tape::execute`] computes for its state, bit for bit:
 //! every operation is the same f64 operation on the same operands (sums, products,
 //! quotients and square roots are correctly rounded; [`mechanism_math::mul_add`] rounds as it
@@ -17,15 +23,155 @@
 use crate::program::tape::{Op, Tape};
 use mechanism_math::{Baseline, Isa, mul_add};
 
+/// The operations of a tape with its registers' slots reused after their last use: a
+/// linear scan over the operations that frees a slot after the operation that reads it
+/// last (unless it holds an output) and gives each result the slot freed most recently
+/// (still in the cache), a new one when none is free. Constants and inputs keep their
+/// slots.
+#[derive(Clone, Debug)]
+pub(super) struct LaneLayout {
+    ops: Vec<Op>,
+    /// The number of slots.
+    registers: usize,
+    /// The slot of each tape slot that holds a value at the end (constants, inputs,
+    /// outputs); `u32::MAX` for the others.
+    slot: Vec<u32>,
+}
+
+impl Op {
+    /// The operation with each slot `s` read or written replaced by `f(s, written)`, the
+    /// reads first, in order.
+    fn map_slots(self, mut f: impl FnMut(u32, bool) -> u32) -> Op {
+        match self {
+            Op::Add(a, b, t) => Op::Add(f(a, false), f(b, false), f(t, true)),
+            Op::Sub(a, b, t) => Op::Sub(f(a, false), f(b, false), f(t, true)),
+            Op::Mul(a, b, t) => Op::Mul(f(a, false), f(b, false), f(t, true)),
+            Op::Div(a, b, t) => Op::Div(f(a, false), f(b, false), f(t, true)),
+            Op::Atan2(a, b, t) => Op::Atan2(f(a, false), f(b, false), f(t, true)),
+            Op::Powf(a, b, t) => Op::Powf(f(a, false), f(b, false), f(t, true)),
+            Op::Neg(a, t) => Op::Neg(f(a, false), f(t, true)),
+            Op::Sin(a, t) => Op::Sin(f(a, false), f(t, true)),
+            Op::Cos(a, t) => Op::Cos(f(a, false), f(t, true)),
+            Op::Tan(a, t) => Op::Tan(f(a, false), f(t, true)),
+            Op::Exp(a, t) => Op::Exp(f(a, false), f(t, true)),
+            Op::Ln(a, t) => Op::Ln(f(a, false), f(t, true)),
+            Op::Sqrt(a, t) => Op::Sqrt(f(a, false), f(t, true)),
+            Op::Abs(a, t) => Op::Abs(f(a, false), f(t, true)),
+            Op::Powi(a, k, t) => Op::Powi(f(a, false), k, f(t, true)),
+            Op::SinCos(a, s, c) => Op::SinCos(f(a, false), f(s, true), f(c, true)),
+            Op::MulAdd(a, b, c, t, np, na) => {
+                Op::MulAdd(f(a, false), f(b, false), f(c, false), f(t, true), np, na)
+            }
+        }
+    }
+}
+
+impl LaneLayout {
+    /// The layout of `ops`, whose slots below `base` are constants and inputs, whose
+    /// results `outputs` must survive to the end, in a file of `registers` slots.
+    pub(super) fn of(ops: &[Op], base: usize, outputs: &[u32], registers: usize) -> Self {
+        // The index of the last operation that reads each slot.
+        let mut last = vec![usize::MAX; registers];
+        for (i, op) in ops.iter().enumerate() {
+            op.map_slots(|s, written| {
+                if !written {
+                    last[s as usize] = i;
+                }
+                s
+            });
+        }
+        let mut kept = vec![false; registers];
+        for &o in outputs {
+            kept[o as usize] = true;
+        }
+        let mut slot: Vec<u32> = (0..registers)
+            .map(|s| if s < base { s as u32 } else { u32::MAX })
+            .collect();
+        // Free slots, the most recently freed last (popped first).
+        let mut free: Vec<u32> = Vec::new();
+        let mut used = base;
+        let mut lane_ops = Vec::with_capacity(ops.len());
+        for (i, op) in ops.iter().enumerate() {
+            let mut dying: [u32; 3] = [u32::MAX; 3];
+            let mut dead = 0;
+            let renamed = op.map_slots(|s, written| {
+                let su = s as usize;
+                if !written {
+                    let at = slot[su];
+                    if su >= base && last[su] == i && !kept[su] && !dying[..dead].contains(&at) {
+                        dying[dead] = at;
+                        dead += 1;
+                    }
+                    return at;
+                }
+                // The operands are read before a result is written, so a result may take
+                // the slot of an operand that dies here: free those first.
+                for &d in &dying[..dead] {
+                    free.push(d);
+                }
+                dead = 0;
+                let at = free.pop().unwrap_or_else(|| {
+                    used += 1;
+                    (used - 1) as u32
+                });
+                slot[su] = at;
+                if last[su] == usize::MAX && !kept[su] {
+                    // Never read: its slot is free again after this operation.
+                    dying[dead] = at;
+                    dead += 1;
+                }
+                at
+            });
+            for &d in &dying[..dead] {
+                free.push(d);
+            }
+            lane_ops.push(renamed);
+        }
+        for (s, k) in slot.iter_mut().zip(&kept) {
+            if !k && (*s as usize) >= base {
+                *s = u32::MAX;
+            }
+        }
+        LaneLayout {
+            ops: lane_ops,
+            registers: used,
+            slot,
+        }
+    }
+}
+
 impl Tape {
+    /// Length of the lane register file [`Tape::execute_lanes`] works in (at most
+    /// [`Tape::register_len`]: slots are reused, see [`LaneLayout`]).
+    pub fn lane_register_len(&self) -> usize {
+        self.lanes.registers
+    }
+
+    /// The lane register-file slot of output entry `k` after [`Tape::execute_lanes`], or
+    /// `None` past the last.
+    pub fn lane_output_slot(&self, k: usize) -> Option<usize> {
+        self.output_slot(k).and_then(|s| self.lane_slot(s))
+    }
+
+    /// The lane register-file slot of tape slot `slot` (a constant's, an input's or an
+    /// output's, as [`Tape::output_slot`] gives it); `None` for a slot that holds none of
+    /// these at the end.
+    pub fn lane_slot(&self, slot: usize) -> Option<usize> {
+        match self.lanes.slot.get(slot) {
+            Some(&s) if s != u32::MAX => Some(s as usize),
+            _ => None,
+        }
+    }
+
     /// Runs the tape on L states at once: `registers[slot][lane]` is slot `slot` of lane
-    /// `lane`'s register file ([`Tape::register_len`] slots), whose
+    /// `lane`'s register file ([`Tape::lane_register_len`] slots), whose
     /// [`Tape::input_slots`] already hold each lane's inputs. Afterwards output entry k of
-    /// lane l is at `registers[output_slot(k)][l]`, bit for bit what [`Tape::execute`] leaves
-    /// there for that lane's inputs (see the module docs). Nothing is checked or allocated.
+    /// lane l is at `registers[lane_output_slot(k)][l]`, bit for bit what
+    /// [`Tape::execute`] leaves at `output_slot(k)` for that lane's inputs (see the module
+    /// docs). Nothing is checked or allocated.
     ///
     /// # Panics
-    /// When `registers` is shorter than [`Tape::register_len`].
+    /// When `registers` is shorter than [`Tape::lane_register_len`].
     ///
     /// # Example
     /// ```
@@ -35,11 +181,11 @@ impl Tape {
     /// let x = a.symbol("x", SymbolKind::Free);
     /// let m = Matrix::column(vec![a.sin(x)]);
     /// let tape = Tape::new(&Program::new(&a, &[&m]).unwrap());
-    /// let mut regs = vec![[0.0; 4]; tape.register_len()];
+    /// let mut regs = vec![[0.0; 4]; tape.lane_register_len()];
     /// let (_, slot) = tape.input_slots().next().unwrap();
     /// regs[slot] = [0.0, 0.5, 1.0, 2.0];
     /// tape.execute_lanes(&mut regs);
-    /// let out = regs[tape.output_slot(0).unwrap()];
+    /// let out = regs[tape.lane_output_slot(0).unwrap()];
     /// assert_eq!(out[2], mechanism_math::sin_cos(1.0).0);
     /// ```
     pub fn execute_lanes<const L: usize>(&self, registers: &mut [[f64; L]]) {
@@ -84,7 +230,7 @@ fn execute<const L: usize, I: Isa>(tape: &Tape, r: &mut [[f64; L]], isa: I) {
     for (slot, &c) in r.iter_mut().zip(&tape.constants) {
         *slot = [c; L];
     }
-    for op in &tape.ops {
+    for op in &tape.lanes.ops {
         match *op {
             Op::Add(a, b, t) => r[t as usize] = zip(r[a as usize], r[b as usize], |x, y| x + y),
             Op::Sub(a, b, t) => r[t as usize] = zip(r[a as usize], r[b as usize], |x, y| x - y),
@@ -170,7 +316,9 @@ mod tests {
     }
 
     fn check_lanes<const L: usize>(tape: &mut Tape, xs: &[f64], ys: &[f64]) {
-        let mut regs = vec![[0.0; L]; tape.register_len()];
+        // Slots are reused: fewer than the one-state file's.
+        assert!(tape.lane_register_len() < tape.register_len());
+        let mut regs = vec![[0.0; L]; tape.lane_register_len()];
         let slots: Vec<usize> = tape.input_slots().map(|(_, s)| s).collect();
         for (lane, (&x, &y)) in xs.iter().zip(ys).enumerate() {
             regs[slots[0]][lane] = x;
@@ -183,10 +331,10 @@ mod tests {
             one[slots[1]] = y;
             tape.execute(&mut one);
             for k in 0..tape.output_len() {
-                let slot = tape.output_slot(k).unwrap();
+                let (slot, lane_slot) = (tape.output_slot(k), tape.lane_output_slot(k));
                 assert_eq!(
-                    regs[slot][lane].to_bits(),
-                    one[slot].to_bits(),
+                    regs[lane_slot.unwrap()][lane].to_bits(),
+                    one[slot.unwrap()].to_bits(),
                     "lane {lane}, output {k}: x = {x}, y = {y}"
                 );
             }

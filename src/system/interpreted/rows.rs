@@ -60,7 +60,7 @@ impl Interpreted {
         self.full
             .execute_rows(&values, n, 0..rows, |first, count, registers| {
                 for lane in 0..count {
-                    self.scatter.write_lane(registers, lane, scratch);
+                    self.lane_scatter.write_lane(registers, lane, scratch);
                     sink(first + lane, scratch)?;
                 }
                 Ok(())
