@@ -30,14 +30,16 @@ impl Interpreted {
     /// use mechanism::{Evaluation, Interpreted, Kinematic, System};
     /// use mechanism::builtin::builtin_source;
     ///
-    /// let seed = Interpreted::from_source(builtin_source("seed").unwrap())?;
-    /// let (n, m) = (seed.info().n(), seed.info().m());
+    /// let crank = Interpreted::from_source(builtin_source("spatial_crank_slider").unwrap())?;
+    /// let (n, m) = (crank.info().n(), crank.info().m());
     /// let q: Vec<f64> = (0..3 * n).map(|k| 0.1 * k as f64).collect();
-    /// let qd = vec![0.5; 3 * n];
+    /// let qd: Vec<f64> = (0..3 * n).map(|k| 0.5 - 0.05 * k as f64).collect();
     /// let (mut scratch, mut one) = (Evaluation::zeros(n, m), Evaluation::zeros(n, m));
-    /// seed.evaluate_rows(0.0, &q, &qd, &mut scratch, |row, e| {
-    ///     seed.evaluate(0.0, &q[row * n..(row + 1) * n], &qd[..n], &mut one);
-    ///     assert_eq!(e.mass, one.mass);
+    /// crank.evaluate_rows(0.0, &q, &qd, &mut scratch, |row, e| {
+    ///     let r = row * n..(row + 1) * n;
+    ///     crank.evaluate(0.0, &q[r.clone()], &qd[r], &mut one);
+    ///     assert_eq!(e.mass, one.mass); // bit for bit
+    ///     assert_eq!(e.gamma, one.gamma);
     ///     Ok::<(), ()>(())
     /// })
     /// .unwrap();
