@@ -252,6 +252,34 @@ pub enum Error {
         /// Rejected step size (s).
         h: f64,
     },
+    /// The adaptive step size collapsed (below the minimum, or as
+    /// [`Error::StepSizeCollapse`]) next to a singular position of the constraints: the
+    /// weakest row independence w of Phi_q (`simulation/singular.rs`) was below 0.3 at the
+    /// last accepted step. Near one, an error eps in Phi (the drift left by the
+    /// stabilisation, or a stage's truncation error) changes q'' by about eps / w^3, and a
+    /// step whose stages come that close measures that noise instead of its truncation
+    /// error. `remedy` names what passes it for the run's settings.
+    #[error(
+        "the step size collapsed to h = {h:.3e} s at t = {t} s next to a singular position \
+         of the constraints (Phi_q loses rank{}; weakest row independence {independence:.1e}; \
+         {passages} singular position(s) recorded so far): {remedy}",
+        match t_singular { Some(s) => format!(" at t = {s:.6} s"), None => String::new() }
+    )]
+    StuckAtSingularPosition {
+        /// Time reached (s).
+        t: f64,
+        /// The step size at the failure (s).
+        h: f64,
+        /// The predicted time of the singular position (s), when w was still falling.
+        t_singular: Option<f64>,
+        /// The weakest row independence at the last accepted step.
+        independence: f64,
+        /// Singular positions recorded so far in this run (the one it stopped at among them
+        /// when it was recorded on the way in).
+        passages: usize,
+        /// What passes it with these settings.
+        remedy: String,
+    },
     /// The integrator reached its step limit before the end time.
     #[error("too many steps: {max_steps} steps reached at t = {t} s before the end time")]
     TooManySteps {

@@ -92,6 +92,7 @@ pub fn kind(e: &Error) -> fn(String) -> PyErr {
         Error::StepSizeUnderflow { .. }
         | Error::TooManySteps { .. }
         | Error::StepSizeCollapse { .. }
+        | Error::StuckAtSingularPosition { .. }
         | Error::FixedStepTooSmall { .. }
         | Error::StepTooLarge { .. }
         | Error::SpanTooLong { .. }

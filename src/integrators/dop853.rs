@@ -281,6 +281,9 @@ impl RungeKutta for Dop853 {
     fn max_growth(&self) -> f64 {
         6.0
     }
+    fn nodes(&self) -> &'static [f64] {
+        &C
+    }
     fn k1_mut(&mut self) -> &mut [f64] {
         &mut self.k[0]
     }

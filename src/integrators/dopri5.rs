@@ -90,6 +90,9 @@ impl RungeKutta for Dopri5 {
     fn max_growth(&self) -> f64 {
         10.0
     }
+    fn nodes(&self) -> &'static [f64] {
+        &C
+    }
     fn k1_mut(&mut self) -> &mut [f64] {
         &mut self.k[0]
     }

@@ -171,6 +171,11 @@ pub trait RungeKutta: Send {
     fn pi_beta(&self) -> f64;
     /// Largest step growth factor.
     fn max_growth(&self) -> f64;
+    /// The nodes c_i in [0, 1] of every stage the method evaluates in a step and in its
+    /// dense output: f is evaluated at t + c_i h and nowhere else inside the step. The
+    /// driver places a predicted singular position between two of them
+    /// ([`crate::SingularPassage`]).
+    fn nodes(&self) -> &'static [f64];
     /// f(t, y) at the start of the step.
     fn k1_mut(&mut self) -> &mut [f64];
     /// One step of size h from (t, y): writes y(t + h) into `y_new` and returns the scaled

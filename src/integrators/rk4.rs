@@ -40,6 +40,9 @@ impl RungeKutta for Rk4 {
     fn max_growth(&self) -> f64 {
         1.0
     }
+    fn nodes(&self) -> &'static [f64] {
+        &[0.0, 0.5, 0.5, 1.0]
+    }
     fn k1_mut(&mut self) -> &mut [f64] {
         &mut self.k[0]
     }

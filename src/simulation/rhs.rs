@@ -25,46 +25,59 @@ pub(crate) fn projection_size(y: &[f64], before: &[f64], tol: Tolerance) -> f64 
         .fold(0.0, |m, (a, b)| m.max((a - b).abs() / tol.scale(*a, *b)))
 }
 
-/// The projection of every stage state onto Phi = 0 and Phi_q q' = -Phi_t, used when the
-/// constraints have redundant rows and the stabilisation is projection.
+/// When the stage states of a step are projected onto Phi = 0 and Phi_q q' = -Phi_t
+/// (stabilisation by projection only): at every stage where the constraints have redundant
+/// rows, and on the steps near a singular position otherwise.
 ///
-/// Why: with a redundant row, Phi_q off the constraint manifold regains full rank with a
+/// Why, with redundant rows: Phi_q off the constraint manifold regains full rank with a
 /// smallest singular value proportional to the distance d from it, and the row's part of
 /// gamma is proportional to d too. Once d exceeds the rank tolerance of the augmented
 /// solve (1e-6 relative), the solve treats the row as independent and q'' gains a
 /// component of order 1 along the near-null direction, which throws the next Runge-Kutta
 /// stage further off the manifold; at a loose tolerance the run diverges or rejects most
-/// of its steps (RELIABILITY.md records Bricard's case). f evaluated at the projected stage,
-/// f(P(y)), is as smooth as the constraints near the manifold and equal to f on it, where
-/// the exact solution stays: the integrated solution is the same, and the error estimate
-/// measures the truncation error.
+/// of its steps (RELIABILITY.md records Bricard's case).
+///
+/// Why, near a singular position: there q'' at a state off the manifold by eps (a stage's
+/// own truncation error, 1e-9 and more) differs from q'' on it by about eps / w^3 (w the
+/// weakest row independence, ~ |t - t*|): the motion on the level set Phi = eps turns onto
+/// another branch at the crossing (`stepper/passage.rs`). On the manifold eps is round-off.
+///
+/// f evaluated at the projected stage, f(P(y)), is as smooth as the constraints near the
+/// manifold and equal to f on it, where the exact solution stays: the integrated solution
+/// is the same, and the error estimate measures the truncation error. The driver switches
+/// between f and f(P(y)) only between steps, so that each step integrates one function.
 pub(crate) struct StageProjection {
-    projector: Projector,
     q: Vec<f64>,
     qd: Vec<f64>,
+    /// Every stage (redundant rows), or only while `near` is set.
+    always: bool,
+    near: bool,
 }
 
 impl StageProjection {
-    /// A workspace for `n` coordinates and the projector of the system.
-    pub(crate) fn new(projector: Projector, n: usize) -> Self {
+    /// Workspace for `n` coordinates; `always` for constraints with redundant rows.
+    pub(crate) fn new(n: usize, always: bool) -> Self {
         Self {
-            projector,
             q: vec![0.0; n],
             qd: vec![0.0; n],
+            always,
+            near: false,
         }
     }
 }
 
 /// y' = [q', q'', tau . q' + lambda . Phi_t] through the augmented system (at the projected
-/// state when `onto` is set: see [`StageProjection`]): W integrates the power of the applied
-/// forces and of the moving constraint rows ([`Dynamics::constraint_power`]). Built once
-/// per run; it owns the run's [`Dynamics`], whose last solve the driver reads for its
-/// samples.
+/// state when the stages are projected: see [`StageProjection`]): W integrates the power
+/// of the applied forces and of the moving constraint rows
+/// ([`Dynamics::constraint_power`]). Built once per run; it owns the run's [`Dynamics`],
+/// whose last solve the driver reads for its samples, and the run's [`Projector`], which
+/// the driver uses for the accepted states and the samples.
 pub(crate) struct Rhs<'s> {
     pub(crate) system: &'s dyn System,
     pub(crate) dynamics: Dynamics,
+    pub(crate) projector: Projector,
     n: usize,
-    onto: Option<StageProjection>,
+    stages: Option<StageProjection>,
     /// Set at the first solve whose Phi_t is not zero: from then on every solve computes
     /// the multipliers that the constraint power needs (rows that do not move with t,
     /// the common case, never pay for them).
@@ -72,19 +85,30 @@ pub(crate) struct Rhs<'s> {
 }
 
 impl<'s> Rhs<'s> {
-    /// The right-hand side of `system` with `n` coordinates, solved by `dynamics`.
+    /// The right-hand side of `system` with `n` coordinates, solved by `dynamics`, its
+    /// stage states projected by `projector` as `stages` says (`None`: never).
     pub(crate) fn new(
         system: &'s dyn System,
         dynamics: Dynamics,
+        projector: Projector,
         n: usize,
-        onto: Option<StageProjection>,
+        stages: Option<StageProjection>,
     ) -> Self {
         Self {
             system,
             dynamics,
+            projector,
             n,
-            onto,
+            stages,
             moving: false,
+        }
+    }
+
+    /// Whether the next steps start near a singular position (their stages are then
+    /// projected, when the run projects at all).
+    pub(crate) fn near_singular(&mut self, near: bool) {
+        if let Some(s) = self.stages.as_mut() {
+            s.near = near;
         }
     }
 }
@@ -92,11 +116,12 @@ impl<'s> Rhs<'s> {
 impl OdeRhs for Rhs<'_> {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Error> {
         let n = self.n;
-        let (q, qd) = match self.onto.as_mut() {
+        let (q, qd) = match self.stages.as_mut().filter(|p| p.always || p.near) {
             Some(p) => {
                 p.q.copy_from_slice(&y[..n]);
                 p.qd.copy_from_slice(&y[n..2 * n]);
-                p.projector.project(self.system, t, &mut p.q, &mut p.qd)?;
+                self.projector
+                    .project_stage(self.system, t, &mut p.q, &mut p.qd)?;
                 (&p.q[..], &p.qd[..])
             }
             None => (&y[..n], &y[n..2 * n]),

@@ -97,7 +97,6 @@ pub struct Simulator<'a> {
     rhs: Rhs<'a>,
     /// The local error tolerance (the step control's and the projection's measure).
     tol: Tolerance,
-    projector: Projector,
     /// Output samples: the next one's index, how many in all, and the trajectory.
     next_output: usize,
     outputs: usize,
@@ -209,9 +208,8 @@ impl<'a> Simulator<'a> {
         let reserve = (outputs + 1 + 64).min(RESERVED_SAMPLES);
         let mut trajectory = Trajectory::with_capacity(info.clone(), reserve);
         let mob = mobility(system, t0, &y[..n])?;
-        let stage = (options.stabilization == Stabilization::Projection
-            && !mob.redundant_rows.is_empty())
-        .then(|| StageProjection::new(Projector::new(info), n));
+        let stage = (options.stabilization == Stabilization::Projection && info.m() > 0)
+            .then(|| StageProjection::new(n, !mob.redundant_rows.is_empty()));
         trajectory.mobility = Some(mob);
         let tol = io.tolerance();
         let stepper = stepper_for(system, io, tol, t0, &y, &dynamics)?;
@@ -222,9 +220,8 @@ impl<'a> Simulator<'a> {
             finished: false,
             state: StateBuffers::new(y, n),
             stepper,
-            rhs: Rhs::new(system, dynamics, n, stage),
+            rhs: Rhs::new(system, dynamics, projector, n, stage),
             tol,
-            projector,
             next_output: 1,
             outputs,
             trajectory,
@@ -321,9 +318,25 @@ impl<'a> Simulator<'a> {
     /// [`Error::StepTooLarge`] (it left them that far within one step); a non-finite entry
     /// evaluated at a state beyond the divergence bounds is [`Error::Diverged`] (the
     /// entry overflowed because the state had); an undetermined motion that the coordinates
-    /// cause is [`Error::CoordinateSingularity`].
+    /// cause is [`Error::CoordinateSingularity`]; a step size that collapses next to a
+    /// singular position of the constraints is [`Error::StuckAtSingularPosition`].
     fn name_failure(&self, e: Error) -> Error {
         let names = &self.system().info().coordinates;
+        let stuck = self.watch.as_ref().and_then(SingularWatch::stuck);
+        if let (
+            Error::StepSizeUnderflow { t, h } | Error::StepSizeCollapse { t, h, .. },
+            Some((t_singular, independence)),
+        ) = (&e, stuck)
+        {
+            return Error::StuckAtSingularPosition {
+                t: *t,
+                h: *h,
+                t_singular,
+                independence,
+                passages: self.trajectory.singular_passages.len(),
+                remedy: singular_remedy(self.options.stabilization, self.options.integrator.method),
+            };
+        }
         match (e, self.options.integrator.method) {
             (
                 Error::NewtonDidNotConverge { t, residual, .. },
@@ -428,7 +441,8 @@ impl<'a> Simulator<'a> {
             let before = &mut self.state.before;
             before[..n].copy_from_slice(q);
             before[n..].copy_from_slice(&rest[..n]);
-            self.projector
+            self.rhs
+                .projector
                 .project(self.rhs.system, t_new, q, &mut rest[..n])?;
             moved = Some(projection_size(&self.state.y[..2 * n], before, self.tol));
         }
@@ -441,5 +455,21 @@ impl<'a> Simulator<'a> {
             self.finished = true;
         }
         Ok(())
+    }
+}
+
+/// What passes a singular position where an adaptive run with `stabilization` stopped
+/// ([`Error::StuckAtSingularPosition`]).
+fn singular_remedy(stabilization: Stabilization, method: Method) -> String {
+    match stabilization {
+        Stabilization::Projection => format!(
+            "{} cannot meet the tolerance with its stages this near the singular position; \
+             a looser --rtol, or a fixed step (--integrator rk4 or hht with --step), passes it",
+            method.name()
+        ),
+        _ => "without projection the state drifts off the constraints, and near a singular \
+              position the accelerations amplify that drift; --stabilization projection (the \
+              default) passes it"
+            .to_string(),
     }
 }

@@ -55,6 +55,12 @@ pub(crate) struct SingularWatch {
     last: f64,
     /// False after a passage until w rises above [`COARSE`].
     armed: bool,
+    /// The singular position predicted ahead of the last accepted step (see
+    /// [`SingularWatch::crossing`]).
+    crossing: Option<f64>,
+    /// Whether the next step may come near a singular position (see
+    /// [`SingularWatch::near`]).
+    near: bool,
     /// Minima of w below this are recorded as passages (default 1e-3).
     pub threshold: f64,
 }
@@ -73,6 +79,8 @@ impl SingularWatch {
             best: vec![1.0; m],
             last: 1.0,
             armed: true,
+            crossing: None,
+            near: false,
             threshold: 1e-3,
         };
         if let Some(s) = system.sparsity() {
@@ -114,6 +122,9 @@ impl SingularWatch {
     ) -> Result<Option<SingularPassage>, E> {
         let w0 = self.last;
         self.last = w1;
+        let ahead = predict(t0 + h, h, w0, w1);
+        self.near = ahead.is_some() || self.crossing.is_some();
+        self.crossing = ahead;
         self.best.copy_from_slice(&self.current);
         let (mut best_theta, mut best_w) = (1.0, w1);
         if w0.min(w1) < COARSE {
@@ -167,6 +178,27 @@ impl SingularWatch {
         }))
     }
 
+    /// The time t* at which w is predicted to reach zero after the last accepted step,
+    /// when w fell below [`COARSE`] over it: the line through w at the step's two ends
+    /// (w ~ |t - t*| near a simple passage). `None` while w rises or stays coarse.
+    pub(crate) fn crossing(&self) -> Option<f64> {
+        self.crossing
+    }
+
+    /// Whether the next step may come near a singular position: one is predicted ahead
+    /// ([`SingularWatch::crossing`]), or was at the start of the last step (which then
+    /// passed it, or ended just before it).
+    pub(crate) fn near(&self) -> bool {
+        self.near
+    }
+
+    /// Where a run whose step size collapsed stands with respect to a singular position:
+    /// the predicted t* (when w was still falling) and w at the last accepted step, when
+    /// that w is below [`COARSE`]; `None` farther away.
+    pub(crate) fn stuck(&self) -> Option<(Option<f64>, f64)> {
+        (self.last < COARSE).then_some((self.crossing, self.last))
+    }
+
     fn keep(&mut self, theta: f64, w: f64, best_theta: &mut f64, best_w: &mut f64) {
         if w < *best_w {
             *best_w = w;
@@ -174,4 +206,10 @@ impl SingularWatch {
             self.best.copy_from_slice(&self.current);
         }
     }
+}
+
+/// The zero of the line through (t1 - h, w0) and (t1, w1) when w falls to below
+/// [`COARSE`] (w1 < w0, w1 < COARSE), else `None`.
+fn predict(t1: f64, h: f64, w0: f64, w1: f64) -> Option<f64> {
+    (w1 < w0 && w1 < COARSE && h > 0.0).then(|| t1 + w1 * h / (w0 - w1))
 }

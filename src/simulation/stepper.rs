@@ -7,6 +7,7 @@
 
 mod explicit;
 mod implicit;
+mod passage;
 
 use crate::algorithms::dynamics::Dynamics;
 use crate::error::Error;
@@ -68,6 +69,11 @@ pub(crate) trait Stepper {
         theta: f64,
         out: &mut [f64],
     ) -> Result<(), Error>;
+
+    /// The singular position predicted ahead of the accepted state, t* (s), or `None`:
+    /// an adaptive explicit method places its next steps so that no stage falls near it
+    /// (`stepper/passage.rs`); a fixed-step method ignores it.
+    fn steer(&mut self, _crossing: Option<f64>) {}
 
     /// Right-hand sides evaluated outside `rhs` (HHT's Newton iterations), for the run's
     /// counters.

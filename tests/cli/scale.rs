@@ -90,3 +90,30 @@ fn figures_picks_every_coordinate_one_overview_or_none() {
     assert_eq!(run("overview"), ["constraint_error.png", "coordinates.png"]);
     assert!(run("none").is_empty());
 }
+
+/// A run that cannot get past a singular position says so, and what passes it: A02 without
+/// stabilisation drifts off the constraints, and the drift, amplified there, collapses the
+/// step at the first flat configuration (t = 0.7216 s); one line, exit 1, the partial
+/// results kept.
+#[test]
+fn a_run_stuck_at_a_singular_position_names_it_and_what_passes_it() {
+    let dir = out_dir("stuck-singular");
+    let d = dir.to_str().unwrap();
+    let o = mechanism(&[
+        "simulate",
+        "n_four_bar",
+        "--t-end",
+        "2",
+        "--stabilization",
+        "none",
+        "--no-animation",
+        "--out",
+        d,
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let err = stderr(&o);
+    let line = err.lines().find(|l| l.starts_with("error:")).expect(&err);
+    assert!(line.contains("next to a singular position"), "{line}");
+    assert!(line.contains("--stabilization projection"), "{line}");
+    assert!(line.contains("t = 0.72"), "{line}");
+}

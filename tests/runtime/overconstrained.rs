@@ -93,6 +93,73 @@ fn a02_chain_of_forty_four_bars_follows_the_exact_branch_through_every_singular_
     );
 }
 
+/// A02 with the CLI's defaults (DOP853, rtol = atol = 1e-10, projection) over `t_end` s: every passage
+/// through the flat configuration recorded where the exact branch crosses it, B0 on the
+/// exact branch, the loops closed and T + Pi - W kept. Before the steps were placed around
+/// the singular positions (`simulation/stepper/passage.rs`) the run stopped at t = 129.008 s
+/// at its 132nd passage (rtol 1e-12: at 17 s).
+fn a02_with_defaults_passes(t_end: f64) {
+    let sys = builtin("n_four_bar").unwrap();
+    let o = SimulationOptions {
+        t_end,
+        output_rate: 10.0,
+        integrator: IntegratorOptions::dop853(1e-10),
+        ..Default::default()
+    };
+    let tr = simulate(sys.as_ref(), &o).unwrap();
+    assert_eq!(tr.samples().last().unwrap().t, t_end);
+    let times: Vec<f64> = tr.samples().map(|s| s.t).collect();
+    let exact = mechanism_test_support::a02::branch(40, &times);
+    let worst = tr
+        .samples()
+        .zip(&exact)
+        .map(|(s, (th, _))| (s.q[0] - th.cos()).abs().max((s.q[1] - th.sin()).abs()))
+        .fold(0.0f64, f64::max);
+    let drift = energy_drift(&tr);
+    let scale = tr
+        .samples()
+        .map(|s| s.kinetic.abs().max(s.potential.abs()))
+        .fold(0.0, f64::max);
+    let steps = tr.stats.steps as f64;
+    let crossings = mechanism_test_support::a02::crossings(40, t_end);
+    println!(
+        "A02 N = 40, {t_end} s at the defaults: max |B0 - exact| = {worst:.3e} m, max |Phi| = {:.1e}, energy drift {drift:.2e} J of {scale:.0} J, {steps} steps, {} passages of {}",
+        max_constraint_error(&tr),
+        tr.singular_passages.len(),
+        crossings.len()
+    );
+    // Every crossing of the exact branch is one passage, within 1 ms, all 40 rocker rows
+    // dropping together: the run stays on the branch through each of them.
+    assert_eq!(tr.singular_passages.len(), crossings.len());
+    for (p, c) in tr.singular_passages.iter().zip(&crossings) {
+        assert!((p.t - c).abs() < 1e-3, "passage at {} for {c}", p.t);
+        assert_eq!(p.rank_drop, 40, "{p:?}");
+    }
+    // The phase error of a period-1.97 s oscillation grows linearly with t; rtol 1e-10 per
+    // step gives 7.1e-6 m at 200 s (measured); 1e-4 m per 1,000 s is the bound a drift
+    // off the branch (a wrong branch is 1 m away) would break at once.
+    assert!(
+        worst < 1e-7 * t_end,
+        "B0 off the exact branch by {worst:e} m"
+    );
+    assert!(max_constraint_error(&tr) < 1e-12);
+    // Each step's local error is at most rtol (1e-10) of the state; accumulated linearly
+    // over the steps, the energy can drift by at most steps * 1e-10 * scale.
+    assert!(drift < steps * 1e-10 * scale, "{drift:e} J");
+}
+
+#[test]
+fn a02_with_defaults_passes_every_singular_position_in_200_s() {
+    a02_with_defaults_passes(200.0);
+}
+
+/// The same for 1,000 s (1,018 passages; 6 s in release, about a minute in a debug build).
+#[test]
+#[ignore]
+fn a02_with_defaults_passes_every_singular_position_in_1000_s() {
+    a02_with_defaults_passes(1000.0);
+}
+
 /// Bricard's linkage (A04): Grubler says 0, the rank of Phi_q says 1; 10 s of free motion
 /// under gravity keep T + Pi and the loop.
 #[test]

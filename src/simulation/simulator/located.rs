@@ -61,7 +61,8 @@ impl Simulator<'_> {
             self.dense_at(((tr - t0) / h).clamp(0.0, 1.0))?;
             let (q, rest) = self.state.y_dense.split_at_mut(n);
             if self.options.stabilization == Stabilization::Projection {
-                self.projector
+                self.rhs
+                    .projector
                     .project(self.rhs.system, tr, q, &mut rest[..n])?;
             }
             self.events.hits.push(EventHit {

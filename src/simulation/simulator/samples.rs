@@ -38,6 +38,8 @@ impl Simulator<'_> {
             self.dense_at(theta)?;
             Ok::<f64, Error>(w.measure(system, t0 + theta * h, &self.state.y_dense[..n]))
         });
+        self.stepper.steer(watch.crossing());
+        self.rhs.near_singular(watch.near());
         self.watch = Some(watch);
         if let Some(p) = found? {
             self.trajectory.singular_passages.push(p);
@@ -75,7 +77,7 @@ impl Simulator<'_> {
         let (q, rest) = self.state.y_dense.split_at_mut(n);
         let (qd, w) = rest.split_at_mut(n);
         if self.options.stabilization == Stabilization::Projection {
-            self.projector.project(system, ts, q, qd)?;
+            self.rhs.projector.project(system, ts, q, qd)?;
         }
         let d = &mut self.rhs.dynamics;
         d.solve(system, ts, q, qd)?;

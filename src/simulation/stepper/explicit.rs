@@ -6,6 +6,7 @@
 // Comparisons are written `!(x > 0.0)` on purpose: NaN must fail them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::passage::{steer, straddles, widest_gap};
 use super::{Stepper, fixed_first_step, trial_step};
 use crate::error::Error;
 use crate::integrators::{
@@ -110,6 +111,10 @@ pub(super) struct Explicit {
     dense_ready: bool,
     /// Scratch for the starting-step estimate.
     scratch: Vec<f64>,
+    /// The widest interval of (0, 1) between the method's nodes, and the singular position
+    /// predicted ahead (see [`Stepper::steer`]).
+    gap: (f64, f64),
+    crossing: Option<f64>,
 }
 
 impl Explicit {
@@ -141,6 +146,7 @@ impl Explicit {
         tol: Tolerance,
     ) -> Self {
         let dim = rk.k1_mut().len();
+        let gap = widest_gap(rk.nodes());
         Self {
             rk,
             fixed,
@@ -151,6 +157,8 @@ impl Explicit {
             h_step: 0.0,
             dense_ready: false,
             scratch: vec![0.0; 2 * dim],
+            gap,
+            crossing: None,
         }
     }
 }
@@ -212,8 +220,20 @@ impl Stepper for Explicit {
         let io = self.options;
         let h_max = io.h_max.unwrap_or(f64::INFINITY);
         let adaptive = self.rk.adaptive();
+        let mut straddle_rejected = false;
         loop {
-            let (h, last) = trial_step(self.control.h, h_max, t, t_end);
+            // Ahead of a predicted singular position, the step that passes it puts it
+            // between two nodes, and no step ends just before it (`passage.rs`).
+            let ahead = self
+                .crossing
+                .map(|ts| ts - t)
+                .filter(|&d| adaptive && d > 0.0);
+            let wanted = match ahead {
+                Some(d) => steer(self.control.h, d, self.gap, straddle_rejected),
+                None => self.control.h,
+            };
+            let (h, last) = trial_step(wanted, h_max, t, t_end);
+            let straddling = ahead.is_some_and(|d| straddles(h, d));
             let err = match self.rk.attempt(rhs, t, y, h, y_new, self.tol) {
                 Ok(err) => err,
                 // A stage that cannot be evaluated (a non-finite entry, a projection or
@@ -221,6 +241,7 @@ impl Stepper for Explicit {
                 // norm above 1: a smaller step takes its stages closer. A failure that
                 // persists down to h_min is returned.
                 Err(e) if adaptive && is_trial_failure(&e) => {
+                    straddle_rejected |= straddling;
                     *rejected += 1;
                     self.control.rejected_last = true;
                     self.control.h = h * 0.2;
@@ -241,6 +262,7 @@ impl Stepper for Explicit {
                 return Ok(h);
             }
             *rejected += 1;
+            straddle_rejected |= straddling;
             self.control.rejected(self.rk.exponent(), h, err);
             if self.control.h < io.h_min {
                 return Err(Error::StepSizeUnderflow {
@@ -299,6 +321,10 @@ impl Stepper for Explicit {
         }
         self.rk.dense(theta, out);
         Ok(())
+    }
+
+    fn steer(&mut self, crossing: Option<f64>) {
+        self.crossing = crossing;
     }
 
     fn own_evaluations(&self) -> usize {
