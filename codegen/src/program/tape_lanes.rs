@@ -142,7 +142,7 @@ impl LaneLayout {
 
 impl Tape {
     /// Length of the lane register file [`Tape::execute_lanes`] works in (at most
-    /// [`Tape::register_len`]: slots are reused, see [`LaneLayout`]).
+    /// [`Tape::register_len`]: slots are reused, see `LaneLayout`).
     pub fn lane_register_len(&self) -> usize {
         self.lanes.registers
     }
