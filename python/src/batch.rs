@@ -15,7 +15,6 @@ use rayon::prelude::*;
 
 use crate::errors::input;
 
-
 /// One argument of a per-state function: its name (for messages), its array and the
 /// number of values of one state.
 pub struct Arg<'py> {
@@ -129,7 +128,9 @@ where
             rows(&states, chunk).map_err(|(i, e)| (first + i, e))
         };
         let done = if count > PIECE {
-            out.par_chunks_mut(PIECE * size).enumerate().try_for_each(piece)
+            out.par_chunks_mut(PIECE * size)
+                .enumerate()
+                .try_for_each(piece)
         } else {
             out.chunks_mut(PIECE * size).enumerate().try_for_each(piece)
         };

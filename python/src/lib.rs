@@ -18,6 +18,7 @@ mod methods;
 mod model;
 mod rows;
 mod runs;
+mod scratch;
 mod sources;
 
 use pyo3::prelude::*;

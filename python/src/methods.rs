@@ -1,47 +1,23 @@
 //! `Model`'s Python methods: its names, its equations, the per-state dynamics (one state
 //! or a batch, see `batch.rs`) and the runs (`runs.rs`).
 
-use std::cell::RefCell;
 use std::collections::HashMap;
 
-use mechanism::{Dynamics, Evaluation, Kinematic, System};
+use mechanism::{Evaluation, Kinematic, System};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use numpy::PyArrayLikeDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::batch::{Arg, PyErrLater, batched_rows, later};
-use crate::rows::{forward_dynamics_rows, no_frames};
 use crate::effort::WithEffort;
 use crate::errors::declaration;
 use crate::model::{Model, pairs, reduce};
+use crate::rows::{forward_dynamics_rows, no_frames};
 use crate::runs::{self, RunOptions};
+use crate::scratch::with_scratch;
 
 type Array<'py> = PyArrayLikeDyn<'py, f64, numpy::AllowTypeChange>;
-
-thread_local! {
-    /// Per thread: the evaluation buffers and the dynamics workspace of the model last used
-    /// (by its id), reused from state to state of a batch. A system writes M and Phi_q at
-    /// its own pattern only, so the buffers are never shared between models.
-    static SCRATCH: RefCell<Option<(u64, Evaluation, Dynamics)>> = const { RefCell::new(None) };
-}
-
-/// Runs `f` with this thread's evaluation buffers and dynamics workspace for `model`.
-pub(crate) fn with_scratch<R>(model: &Model, f: impl FnOnce(&mut Evaluation, &mut Dynamics) -> R) -> R {
-    SCRATCH.with(|cell| {
-        let mut slot = cell.borrow_mut();
-        let info = model.system.info();
-        if slot.as_ref().is_none_or(|(id, _, _)| *id != model.id) {
-            *slot = Some((
-                model.id,
-                Evaluation::zeros(info.n(), info.m()),
-                Dynamics::new(info),
-            ));
-        }
-        let (_, e, d) = slot.as_mut().expect("filled above");
-        f(e, d)
-    })
-}
 
 impl Model {
     fn arg<'py>(&self, name: &'static str, array: Array<'py>) -> Arg<'py> {
@@ -251,9 +227,7 @@ impl Model {
                 Ok::<(), PyErrLater>(())
             })
         };
-        let rows = |s: &[&[f64]], out: &mut [f64]| {
-            forward_dynamics_rows(self, t, s, out)
-        };
+        let rows = |s: &[&[f64]], out: &mut [f64]| forward_dynamics_rows(self, t, s, out);
         batched_rows(py, &args, &[n], one, rows)
     }
 
@@ -280,7 +254,10 @@ impl Model {
             self.system
                 .frame_placement(k, s[0], &mut r, &mut p)
                 .ok_or_else(no_frames)?;
-            let rp: Vec<f64> = (0..9).map(|e| r[(e / 3, e % 3)]).chain(p.iter().copied()).collect();
+            let rp: Vec<f64> = (0..9)
+                .map(|e| r[(e / 3, e % 3)])
+                .chain(p.iter().copied())
+                .collect();
             write(&rp, out);
             Ok(())
         };

@@ -9,8 +9,8 @@ use mechanism::Evaluation;
 use crate::batch::{PyErrLater, later};
 use crate::effort::Evaluated;
 use crate::errors::SolverError;
-use crate::methods::with_scratch;
 use crate::model::Model;
+use crate::scratch::with_scratch;
 
 /// A failure at a row of a piece.
 pub type Failed = (usize, PyErrLater);
@@ -60,14 +60,16 @@ pub fn forward_dynamics_rows(
 ) -> Result<(), Failed> {
     let n = mechanism::Kinematic::info(model.system.as_ref()).n();
     with_scratch(model, |scratch, dynamics| {
-        model.system.evaluate_rows(t, s[0], s[1], scratch, |row, e| {
-            let r = row * n..(row + 1) * n;
-            let system = Evaluated::new(model.system.as_ref(), e, &s[2][r.clone()]);
-            dynamics
-                .solve(&system, t, &s[0][r.clone()], &s[1][r.clone()])
-                .map_err(|err| (row, later(err)))?;
-            out[r].copy_from_slice(dynamics.accelerations());
-            Ok(())
-        })
+        model
+            .system
+            .evaluate_rows(t, s[0], s[1], scratch, |row, e| {
+                let r = row * n..(row + 1) * n;
+                let system = Evaluated::new(model.system.as_ref(), e, &s[2][r.clone()]);
+                dynamics
+                    .solve(&system, t, &s[0][r.clone()], &s[1][r.clone()])
+                    .map_err(|err| (row, later(err)))?;
+                out[r].copy_from_slice(dynamics.accelerations());
+                Ok(())
+            })
     })
 }

@@ -32,3 +32,4 @@ pub(crate) mod scale;
 pub(crate) mod schedule;
 pub(crate) mod tape;
 pub(crate) mod tape_lanes;
+pub(crate) mod tape_op;

@@ -16,30 +16,8 @@ use crate::error::{Error, Result};
 use crate::error::{EvalError, ProgramError};
 use crate::program::cse::Program;
 use crate::program::instructions::{BinOp, Instr, Operand, UnOp};
+use crate::program::tape_op::{LaneLayout, Op};
 use mechanism_math::{mul_add, sin_cos};
-
-/// One tape operation; operands and destinations are register-file slots.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Op {
-    Add(u32, u32, u32),
-    Sub(u32, u32, u32),
-    Mul(u32, u32, u32),
-    Div(u32, u32, u32),
-    Atan2(u32, u32, u32),
-    Powf(u32, u32, u32),
-    Neg(u32, u32),
-    Sin(u32, u32),
-    Cos(u32, u32),
-    Tan(u32, u32),
-    Exp(u32, u32),
-    Ln(u32, u32),
-    Sqrt(u32, u32),
-    Abs(u32, u32),
-    Powi(u32, i32, u32),
-    SinCos(u32, u32, u32),
-    /// dst = (+-a) b + (+-c): (a, b, c, dst, negate product, negate addend).
-    MulAdd(u32, u32, u32, u32, bool, bool),
-}
 
 /// A compiled [`Program`]: `eval` and `run` write every output entry (each output matrix
 /// row-major, the matrices one after another) without allocating.
@@ -56,7 +34,7 @@ pub struct Tape {
     shapes: Vec<(usize, usize)>,
     /// The operations renumbered for [`Tape::execute_lanes`], whose register file reuses
     /// the slot of a value after its last use.
-    pub(super) lanes: crate::program::tape_lanes::LaneLayout,
+    pub(super) lanes: LaneLayout,
 }
 
 impl Tape {
@@ -101,12 +79,7 @@ impl Tape {
             .flat_map(|o| o.entries.iter().map(|&e| layout.slot(e)))
             .collect();
         let shapes = program.outputs().iter().map(|o| (o.rows, o.cols)).collect();
-        let lanes = crate::program::tape_lanes::LaneLayout::of(
-            &ops,
-            layout.base as usize,
-            &outputs,
-            regs.len(),
-        );
+        let lanes = LaneLayout::of(&ops, layout.base as usize, &outputs, regs.len());
         Tape {
             lanes,
             ops,
