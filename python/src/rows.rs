@@ -7,7 +7,7 @@
 use mechanism::Evaluation;
 
 use crate::batch::{PyErrLater, later};
-use crate::effort::Evaluated;
+use crate::effort::WithEffort;
 use crate::errors::SolverError;
 use crate::model::Model;
 use crate::scratch::with_scratch;
@@ -64,7 +64,7 @@ pub fn forward_dynamics_rows(
             .system
             .evaluate_rows(t, s[0], s[1], scratch, |row, e| {
                 let r = row * n..(row + 1) * n;
-                let system = Evaluated::new(model.system.as_ref(), e, &s[2][r.clone()]);
+                let system = WithEffort::evaluated(model.system.as_ref(), e, &s[2][r.clone()]);
                 dynamics
                     .solve(&system, t, &s[0][r.clone()], &s[1][r.clone()])
                     .map_err(|err| (row, later(err)))?;
