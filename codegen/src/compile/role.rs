@@ -9,8 +9,9 @@ use crate::mechanics::equations::Equations;
 use crate::mechanics::forward_dynamics::forward_dynamics;
 use crate::mechanics::lagrange::coriolis_matrix_of;
 use crate::mechanics::model::Model;
-use crate::mechanics::recursive::frame_jacobian;
+use crate::mechanics::recursive::{articulated_forward_dynamics, frame_jacobian};
 use crate::mechanics::tangent::ResidualTangent;
+use crate::program::cse::Program;
 
 /// Which tangents the interpreter's routines carry ([`Role::interpreted`]). Deriving and
 /// compiling the residual's tangent costs more than the rest of a large mechanism's
@@ -241,17 +242,7 @@ impl Role {
             Role::MassAndBias => vec![eqs.mass.clone(), eqs.bias.clone()],
             Role::Bias => vec![eqs.bias.clone()],
             Role::InverseDynamics => vec![eqs.inverse_dynamics.clone()],
-            Role::ForwardDynamics => {
-                let effort: Vec<_> = effort_symbols(&mut model.arena, eqs.n)
-                    .into_iter()
-                    .map(|s| model.arena.symbol_node(s))
-                    .collect();
-                let order = elimination_order(model);
-                let a = &mut model.arena;
-                let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
-                let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
-                vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)]
-            }
+            Role::ForwardDynamics => forward_dynamics_outputs(model, eqs)?,
             Role::FramePlacement(k) => frame(k)
                 .map(|f| vec![f.rotation.clone(), f.position.clone()])
                 .unwrap_or_default(),
@@ -290,4 +281,38 @@ fn elimination_order(model: &Model) -> Vec<usize> {
     }
     order.extend((0..n).filter(|&c| !seen[c]));
     order
+}
+
+/// The outputs of [`Role::ForwardDynamics`]: q'', the pivots and the references they must
+/// exceed 1e-14 of, from whichever of two routes counts fewer operations once compiled:
+/// the factorisation M = L^T D L over M's pattern (references: M's diagonal), or for a
+/// tree of links the articulated-body algorithm (references: 0, its pivots being the
+/// articulated inertias along the axes). The factorisation wins on short trees (O(n d^2)
+/// for depth d), the recursion on long chains (O(n)).
+fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Matrix>> {
+    let effort: Vec<_> = effort_symbols(&mut model.arena, eqs.n)
+        .into_iter()
+        .map(|s| model.arena.symbol_node(s))
+        .collect();
+    let order = elimination_order(model);
+    let a = &mut model.arena;
+    let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
+    let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
+    let factored = vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)];
+    if !model.kinetic_from_links {
+        return Ok(factored);
+    }
+    let (qdd, pivots) = articulated_forward_dynamics(model, &effort)?;
+    let zeros = Matrix::zeros(&mut model.arena, eqs.n, 1);
+    let recursive = vec![qdd, pivots, zeros];
+    let ops = |model: &Model, outputs: &[Matrix]| -> Result<usize> {
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
+        Ok(Program::new(&model.arena, &outputs)?.op_counts().total())
+    };
+    let recursive_is_leaner = ops(model, &recursive)? < ops(model, &factored)?;
+    Ok(if recursive_is_leaner {
+        recursive
+    } else {
+        factored
+    })
 }

@@ -36,7 +36,7 @@ use crate::mechanics::mass_matrix::mass_from_momenta;
 use crate::mechanics::mass_slopes::MassSlopes;
 use crate::mechanics::model::Model;
 use crate::mechanics::rate_degree::is_homogeneous_quadratic;
-use crate::mechanics::recursive::tree_equations;
+use crate::mechanics::recursive::{TreeEquations, tree_equations};
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
 struct Symbols {
@@ -129,19 +129,7 @@ pub enum Route {
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
-    if n == 0 {
-        let kind = DeclarationError::NoCoordinates {
-            mechanism: model.name.clone(),
-            empty_section: false,
-        };
-        return Err(Error::declaration(kind, Location::default()));
-    }
-    if model.forces.len() != n {
-        return Err(Error::Derivation(DerivationError::ForceCount {
-            forces: model.forces.len(),
-            coordinates: n,
-        }));
-    }
+    check_sizes(model, n)?;
     // The declaration's own expressions first: their dependency sets are then those of
     // the arena's early nodes, not of the whole recursion's.
     let mut d = Differentiator::new();
@@ -155,18 +143,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         Some(_) => (model.kinetic, model.potential),
         None => energies(model)?,
     };
-    let (momenta, mass, kinetic) = match &tree {
-        Some(t) => {
-            check_moving_mass(model, &t.mass)?;
-            // T = 1/2 q'^T M q' from the same entries (the links' T is this quadratic form).
-            let kinetic = quadratic_form(&mut model.arena, &t.mass, &s.qd);
-            (Vec::new(), t.mass.clone(), kinetic)
-        }
-        None => {
-            let (momenta, mass) = mass_by_momenta(&mut model.arena, &mut d, kinetic, &s)?;
-            (momenta, mass, kinetic)
-        }
-    };
+    let (momenta, mass, kinetic) = mass_and_kinetic(model, &mut d, tree.as_ref(), kinetic, &s)?;
     let view = ModelView {
         coordinates: &model.coordinates,
         parameters: &model.parameters,
@@ -201,23 +178,21 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let phi = Matrix::column(model.constraints.iter().map(|c| c.expr).collect());
     let (phi_q, phi_t) = constraint_jacobians(arena, &mut d, &phi, &s)?;
     let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
-    // tau_id = M q'' + C q' + g - tau, and the bias b = C q' + g - tau: for a tree one
-    // Newton-Euler pass each, with the declared potential's forces added.
     let (inverse_dynamics, bias) = match &tree {
         Some(t) => {
-            let id = t
-                .inverse_dynamics
-                .add(arena, &declared)?
-                .sub(arena, &forces)?;
-            let b = t.bias.add(arena, &declared)?.sub(arena, &forces)?;
-            (id, b)
+            let id = t.inverse_dynamics.add(arena, &declared)?;
+            let b = t.bias.add(arena, &declared)?;
+            (id.sub(arena, &forces)?, b.sub(arena, &forces)?)
         }
         None => {
             let qdd = Symbols::column(arena, &s.qdd);
-            let inertial = mass.mul(arena, &qdd)?.add(arena, &coriolis_forces)?;
-            let id = inertial.add(arena, &gravity)?.sub(arena, &forces)?;
-            let b = coriolis_forces.add(arena, &gravity)?.sub(arena, &forces)?;
-            (id, b)
+            let parts = Dynamics {
+                mass: &mass,
+                coriolis_forces: &coriolis_forces,
+                gravity: &gravity,
+                forces: &forces,
+            };
+            parts.inverse_and_bias(arena, &qdd)?
         }
     };
     let frames = frame_equations(&model.links);
@@ -246,6 +221,69 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         bias,
         frames,
     })
+}
+
+/// The momenta dT/dq', M and T: for a tree of links, M from its recursion (refused when
+/// identically 0) and T = 1/2 q'^T M q' from the same entries (the links' T is this
+/// quadratic form), no momenta; else from `kinetic` ([`mass_by_momenta`]).
+fn mass_and_kinetic(
+    model: &mut Model,
+    d: &mut Differentiator,
+    tree: Option<&TreeEquations>,
+    kinetic: Id,
+    s: &Symbols,
+) -> Result<(Vec<Id>, Matrix, Id)> {
+    match tree {
+        Some(t) => {
+            check_moving_mass(model, &t.mass)?;
+            let kinetic = quadratic_form(&mut model.arena, &t.mass, &s.qd);
+            Ok((Vec::new(), t.mass.clone(), kinetic))
+        }
+        None => {
+            let (momenta, mass) = mass_by_momenta(&mut model.arena, d, kinetic, s)?;
+            Ok((momenta, mass, kinetic))
+        }
+    }
+}
+
+/// Errors unless `model` has coordinates and one force per coordinate.
+fn check_sizes(model: &Model, n: usize) -> Result<()> {
+    if n == 0 {
+        let kind = DeclarationError::NoCoordinates {
+            mechanism: model.name.clone(),
+            empty_section: false,
+        };
+        return Err(Error::declaration(kind, Location::default()));
+    }
+    if model.forces.len() != n {
+        return Err(Error::Derivation(DerivationError::ForceCount {
+            forces: model.forces.len(),
+            coordinates: n,
+        }));
+    }
+    Ok(())
+}
+
+/// M, C q', g and tau of the energy route.
+struct Dynamics<'a> {
+    mass: &'a Matrix,
+    coriolis_forces: &'a Matrix,
+    gravity: &'a Matrix,
+    forces: &'a Matrix,
+}
+
+impl Dynamics<'_> {
+    /// tau_id = M q'' + C q' + g - tau and the bias b = C q' + g - tau, for the column of
+    /// accelerations `qdd` (a tree of links has both from Newton-Euler instead).
+    fn inverse_and_bias(&self, arena: &mut Arena, qdd: &Matrix) -> Result<(Matrix, Matrix)> {
+        let inertial = self
+            .mass
+            .mul(arena, qdd)?
+            .add(arena, self.coriolis_forces)?;
+        let id = inertial.add(arena, self.gravity)?.sub(arena, self.forces)?;
+        let b = self.coriolis_forces.add(arena, self.gravity)?;
+        Ok((id, b.sub(arena, self.forces)?))
+    }
 }
 
 /// Khang's C of `mass`, the mass matrix of `model` ([`khang_coriolis_matrix`]): what

@@ -18,12 +18,14 @@
 //! O(1) nodes, whatever the depth of the tree; a numeric factor (a mass, a length) scales
 //! a named sum with one multiplication instead of being distributed over its terms.
 
+mod articulated;
 mod bodies;
 mod composite;
 mod newton_euler;
 mod vector;
 
-use crate::algebra::expr::{Arena, Id};
+use crate::algebra::diff::Differentiator;
+use crate::algebra::expr::{Arena, Id, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::Result;
 use crate::mechanics::model::Model;
@@ -94,6 +96,43 @@ pub(crate) fn tree_equations(model: &mut Model) -> Result<TreeEquations> {
     result
 }
 
+/// q'' (n x 1) and the pivots (n x 1, the articulated inertias along the axes) of the
+/// efforts `effort` (one node per coordinate) by the articulated-body algorithm
+/// (`articulated.rs`): M q'' + b = u with the joint forces u + tau - dPi/dq of the
+/// declared forces and potential (the links' gravity is the base's acceleration).
+///
+/// # Errors
+/// What differentiating the declared potential reports.
+pub(crate) fn articulated_forward_dynamics(
+    model: &mut Model,
+    effort: &[Id],
+) -> Result<(Matrix, Matrix)> {
+    let n = model.coordinates.len();
+    let qd: Vec<Id> = model.coordinates.iter().map(|c| c.qd).collect();
+    let q: Vec<SymbolId> = model
+        .coordinates
+        .iter()
+        .filter_map(|c| model.arena.as_symbol(c.q))
+        .collect();
+    let mut arena = std::mem::take(&mut model.arena);
+    let result = (|| {
+        let a = &mut arena;
+        let tree = tree_bodies(a, model)?;
+        let declared = Differentiator::new().gradient(a, model.potential, &q)?;
+        let torques: Vec<Id> = (0..n)
+            .map(|k| {
+                let t = a.add2(effort[k], model.forces[k]);
+                a.sub(t, declared[k])
+            })
+            .collect();
+        let g = model.gravity.as_ref();
+        let (qdd, pivots) = articulated::forward_dynamics(a, &tree, n, &qd, &torques, g);
+        Ok((Matrix::column(qdd), Matrix::column(pivots)))
+    })();
+    model.arena = arena;
+    result
+}
+
 /// The frame Jacobian of link `l` at its origin, world axes (6 x n): rows 0..3 the
 /// velocity of the origin, rows 3..6 the angular velocity; column of joint j (an ancestor
 /// of l or l itself), with z_j = R_w,j a_j: [z_j x (p_l - p_j); z_j] (revolute),
@@ -126,3 +165,6 @@ pub fn frame_jacobian(arena: &mut Arena, links: &[Link], l: usize, n: usize) -> 
     }
     jac
 }
+
+#[cfg(test)]
+mod tests;
