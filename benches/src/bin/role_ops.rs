@@ -1,4 +1,4 @@
-//! `role_ops FILE.mech...`: the arithmetic operations (additions and subtractions,
+//! `role_ops [--derived] FILE.mech...`: the arithmetic operations (additions and subtractions,
 //! multiplications, divisions, function calls) of each robotics routine's program as
 //! `mechanism!` compiles it (`mechanism_codegen::compile`: CSE, factoring, fusion, the
 //! parameter-only values moved into the cache, which is not counted), one markdown row per
@@ -33,11 +33,43 @@ fn describe(c: OpCounts) -> String {
     )
 }
 
+/// `--derived`: the programs of the derived M, g, bias and inverse dynamics lowered on
+/// their own (`Program::new`, no parameter cache), without the tangent and the other roles:
+/// for chains of hundreds of links, whose forward dynamics and tangent the macro alone
+/// would compile.
+fn derived(paths: &[String]) {
+    println!("| mechanism | n | M | g | C q' + g | inverse dynamics |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    for path in paths {
+        let source = std::fs::read_to_string(path).expect("readable");
+        let mut model = mechanism_codegen::parse_model_str(&source).expect("parses");
+        let eqs = mechanism_codegen::derive(&mut model).expect("derives");
+        let ops = |m: &mechanism_codegen::Matrix| {
+            let p = mechanism_codegen::Program::new(&model.arena, &[m]).expect("lowers");
+            p.op_counts().total()
+        };
+        println!(
+            "| {} | {} | {} | {} | {} | {} |",
+            model.name,
+            eqs.n,
+            ops(&eqs.mass),
+            ops(&eqs.gravity),
+            ops(&eqs.bias),
+            ops(&eqs.inverse_dynamics)
+        );
+    }
+}
+
 fn main() {
-    let paths: Vec<String> = std::env::args().skip(1).collect();
+    let mut paths: Vec<String> = std::env::args().skip(1).collect();
     if paths.is_empty() {
-        eprintln!("usage: role_ops FILE.mech...");
+        eprintln!("usage: role_ops [--derived] FILE.mech...");
         std::process::exit(2);
+    }
+    if paths[0] == "--derived" {
+        paths.remove(0);
+        derived(&paths);
+        return;
     }
     println!(
         "| mechanism | n | M | C q' | g | C q' + g | M and bias | inverse dynamics | forward dynamics |"

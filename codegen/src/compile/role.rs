@@ -147,8 +147,8 @@ impl Role {
     /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
     /// order (the order in which hoisting numbers the cache slots): the roles of
     /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics
-    /// roles and the frames. The parameter cache, made from all of them, is not in the
-    /// list.
+    /// roles (the forward dynamics for a mechanism without constraint rows only) and the
+    /// frames. The parameter cache, made from all of them, is not in the list.
     pub fn compiled(eqs: &Equations, drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
         let tangents = if constraint_tangent {
             Tangents::WithConstraints
@@ -180,7 +180,7 @@ impl Role {
     /// Whether the routine of this role may read a value from `source`: parameters and
     /// cached values always (the cache itself reads parameters only); t, q and q' in every
     /// other routine; q'' in the tangent and the inverse dynamics; the multipliers in the
-    /// tangent.
+    /// tangent; the efforts in the forward dynamics.
     pub fn provides(self, source: Source) -> bool {
         match (self, source) {
             (Role::ParameterCache | Role::InitialValues, s) => matches!(s, Source::Parameter(_)),
