@@ -67,7 +67,7 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
         ),
         Method::new(
             "frame_jacobian",
-            &[frame, q],
+            &[frame, q.clone()],
             quote!(-> ::core::option::Option<#sm6>),
             quote! {
                 match frame {

@@ -182,7 +182,11 @@ fn each_link_adds_the_same_operations_along_a_chain() {
             let p = mechanism_codegen::Program::new(&model.arena, &[m]).unwrap();
             p.op_counts().total() as i64
         };
-        [count(&eqs.inverse_dynamics), count(&eqs.bias), count(&eqs.mass)]
+        [
+            count(&eqs.inverse_dynamics),
+            count(&eqs.bias),
+            count(&eqs.mass),
+        ]
     };
     let counts: Vec<[i64; 3]> = [8, 16, 24, 32].into_iter().map(ops).collect();
     eprintln!("inverse dynamics, bias, M: {counts:?}");
@@ -191,7 +195,11 @@ fn each_link_adds_the_same_operations_along_a_chain() {
         assert_eq!(first(k, 0), first(k, 1), "{counts:?}");
         assert_eq!(first(k, 1), first(k, 2), "{counts:?}");
     }
-    assert_eq!(first(2, 1) - first(2, 0), first(2, 2) - first(2, 1), "{counts:?}");
+    assert_eq!(
+        first(2, 1) - first(2, 0),
+        first(2, 2) - first(2, 1),
+        "{counts:?}"
+    );
 }
 
 /// A chain whose derivation exceeds a size budget says what applies to links: lock joints
