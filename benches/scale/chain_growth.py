@@ -9,7 +9,7 @@ benches/baselines/casadi/run.sh) also the operations of Pinocchio's own algorith
 by CasADi (crba, rnea with q'' = 0, rnea, aba; `cse: True`), per link.
 
     cargo build --release -p mechanism-dynamics --bin mechanism
-    cargo build --release -p mechanism-benches --bin role_ops
+    cargo build --release -p mechanism-bench --bin role_ops
     python3 benches/scale/chain_growth.py [--sizes 50 100 200 300 500] [--casadi-python PY]
 
 Writes a markdown table to stdout and the figures to <target>/bench-results/chain_growth.json.

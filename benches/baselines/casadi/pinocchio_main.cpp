@@ -97,7 +97,7 @@ double call(int r, const Model & m, Data & d, const double * s)
   }
 }
 
-void print(const VectorXd & v)
+void print_vector(const VectorXd & v)
 {
   for (Eigen::Index i = 0; i < v.size(); ++i)
     std::printf(" %.17g", v[i]);
@@ -107,7 +107,7 @@ void print_mass(Data & d)
 {
   d.M.triangularView<Eigen::StrictlyLower>() = d.M.transpose().triangularView<Eigen::StrictlyLower>();
   for (Eigen::Index i = 0; i < d.M.rows(); ++i)
-    print(d.M.row(i).transpose());
+    print_vector(VectorXd(d.M.row(i).transpose()));
 }
 
 } // namespace
@@ -140,11 +140,11 @@ int main(int argc, char ** argv)
         if (r == 0 || r == 2)
           print_mass(d);
         if (r == 1 || r == 2)
-          print(d.nle);
+          print_vector(d.nle);
         if (r == 3)
-          print(d.tau);
+          print_vector(d.tau);
         if (r == 4)
-          print(d.ddq);
+          print_vector(d.ddq);
         std::printf("\n");
       }
     return 0;
