@@ -270,7 +270,32 @@ pub(crate) fn forward_dynamics(
         let bn = add(a, &bn, &rn);
         pass.bias[p] = (add(a, &bn, &orf), add(a, &bf, &rf));
     }
-    // Pass 3.
+    let qdd = accelerations(
+        a,
+        tree,
+        n,
+        &pass.velocity_products,
+        (&u_vec, &u, &inverse),
+        gravity,
+    );
+    (qdd, d)
+}
+
+/// Pass 3 of the articulated-body algorithm: from the base (accelerating at -g) to the
+/// leaves, q''_k = (u_k - U_k . a_k) / D_k and each body's acceleration a_k + S_k q''_k,
+/// with `articulated` = (U, u, 1/D) by body from pass 2.
+fn accelerations(
+    a: &mut Arena,
+    tree: &Tree,
+    n: usize,
+    products: &[(Vec3, Vec3)],
+    articulated: (&[(Vec3, Vec3)], &[Id], &[Id]),
+    gravity: Option<&Vec3>,
+) -> Vec<Id> {
+    let (u_vec, u, inverse) = articulated;
+    let bodies = &tree.bodies;
+    let nb = bodies.len();
+    let z = a.int(0);
     let zv = zero(a);
     let base = (zv, gravity.map_or(zv, |g| g.map(|x| a.neg(x))));
     let mut acc: Vec<(Vec3, Vec3)> = Vec::with_capacity(nb);
@@ -282,7 +307,7 @@ pub(crate) fn forward_dynamics(
         let nodw = scale_neg(a, &odw);
         let s = add(a, &dvp, &nodw);
         let dv = mul_t(a, &b.rotation, &s);
-        let (c1, c2) = pass.velocity_products[k];
+        let (c1, c2) = products[k];
         let dw = add(a, &dw, &c1);
         let dw = named(a, &dw);
         let dv = add(a, &dv, &c2);
@@ -303,5 +328,5 @@ pub(crate) fn forward_dynamics(
         let dv = add(a, &dv, &sv);
         acc.push((named(a, &dw), named(a, &dv)));
     }
-    (qdd, d)
+    qdd
 }
