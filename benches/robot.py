@@ -12,8 +12,8 @@ headers of `pip install pin cmeel-eigen cmeel-urdfdom-headers` in the interprete
 names (python3 by default). The three programs run in turn, `--rounds` times: each program
 run times every routine over 1000 random states in 11 rounds and reports medians. The table
 gives the median over the runs and each ratio ours / Pinocchio. Pinocchio's routines: crba
-(M), nonLinearEffects (C q' + g), rnea (tau), aba (q''), computeGeneralizedGravity (g),
-computeFrameJacobian (the hand, LOCAL_WORLD_ALIGNED).
+(M), nonLinearEffects (C q' + g, against our `bias`), rnea (tau), aba (q''),
+computeGeneralizedGravity (g), computeFrameJacobian (the hand, LOCAL_WORLD_ALIGNED).
 """
 
 import argparse
@@ -30,6 +30,7 @@ from target_dir import ROOT, TARGET  # noqa: E402
 ROWS = [
     ("M + C q' + g", "crba+nonLinearEffects", "mass_and_bias"),
     ("M + C q' + g + T + Pi (evaluate_into)", "crba+nonLinearEffects", "evaluate_into"),
+    ("C q' + g (bias)", "nonLinearEffects", "bias"),
     ("M", "crba", "mass_matrix"),
     ("tau = M q'' + C q' + g", "rnea", "inverse_dynamics"),
     ("forward dynamics q''", "aba", "forward_dynamics"),

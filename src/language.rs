@@ -178,4 +178,5 @@
 //! `set_parameter`, which refuses a value outside the declared range
 //! ([`ParameterError`](crate::ParameterError)); a field written directly is not checked. A tree of links also gets the
 //! robotics methods (`frame_placement`, `frame_jacobian`, `inverse_dynamics`,
-//! `mass_and_bias`, `forward_dynamics`).
+//! `mass_and_bias`, `bias`); `forward_dynamics` is generated for every mechanism without
+//! constraint rows.

@@ -72,6 +72,7 @@ pub fn macro_pipeline(source: &str) -> Result<usize> {
             Source::Cache(k) => quote!(cache[#k]),
             Source::Time => quote!(t),
             Source::Multiplier(k) => quote!(lambda[#k]),
+            Source::Effort(k) => quote!(effort[#k]),
         };
         b.bind(symbol, tokens);
     }

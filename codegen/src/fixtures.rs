@@ -117,6 +117,7 @@ pub fn closed_chain_model(n: usize) -> Model {
         potential_from_links: false,
         gravity: None,
         rotations: Vec::new(),
+        link_bodies: Vec::new(),
     }
 }
 

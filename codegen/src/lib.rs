@@ -142,6 +142,7 @@ pub mod internals {
     pub use crate::mechanics::lagrange::{
         christoffel_coriolis_forces, christoffel_coriolis_matrix,
     };
+    pub use crate::mechanics::recursive::frame_jacobian;
     pub use crate::mechanics::tangent::lambda_symbol_name;
     pub use crate::pipeline::parse_model;
     pub use crate::print::latex::{matrix_to_latex, to_latex};

@@ -84,6 +84,12 @@ pub struct Generated {
     pub mass_and_bias: TokenStream,
     /// `inverse_dynamics(&self, t, q, qd, qdd)`: M q'' + C q' + g - tau.
     pub inverse_dynamics: TokenStream,
+    /// `bias(&self, t, q, qd)`: b = C q' + g - tau, M-free.
+    pub bias: TokenStream,
+    /// `forward_dynamics(&self, t, q, qd, effort)`: q'' from M q'' + b = u by the
+    /// factorisation that follows M's pattern; `None` (the trait's default, for a mechanism
+    /// with constraint rows) when no such routine is compiled.
+    pub forward_dynamics: Option<TokenStream>,
     /// Per link frame: the body of one arm of `frame_placement`'s match, giving `(R, p)`.
     pub frame_placements: Vec<TokenStream>,
     /// Per link frame: the body of one arm of `frame_jacobian`'s match, giving J (6 x n).
@@ -138,6 +144,8 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
             mass_and_bias: b.mass_and_bias(eqs.n)?,
             inverse_dynamics: b.inverse_dynamics()?,
+            bias: b.matrix(Role::Bias)?,
+            forward_dynamics: b.forward_dynamics(eqs.n)?,
             frame_placements: (0..frames)
                 .map(|k| b.placement(Role::FramePlacement(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
@@ -207,6 +215,7 @@ impl Bodies<'_> {
                 Source::Cache(k) => quote!(cache[#k]),
                 Source::Time => quote!(t),
                 Source::Multiplier(k) => quote!(lambda[#k]),
+                Source::Effort(k) => quote!(effort[#k]),
             };
             b.bind(symbol, tokens);
         }
@@ -323,6 +332,37 @@ impl Bodies<'_> {
             #body
             out
         })
+    }
+
+    /// `Some(q'')` when every pivot of M = L^T D L is finite and above 1e-14 of its
+    /// diagonal entry (M positive definite beyond round-off) and q'' is finite, else
+    /// `None`; `None` overall for a mechanism without the routine.
+    fn forward_dynamics(&self, n: usize) -> mechanism_codegen::Result<Option<TokenStream>> {
+        let Some(program) = self.routines.get(Role::ForwardDynamics) else {
+            return Ok(None);
+        };
+        let bindings = self.bindings(Role::ForwardDynamics);
+        let targets = [
+            Self::place(program, quote!(qdd)),
+            Self::place(program, quote!(pivots)),
+            Self::place(program, quote!(diagonal)),
+        ];
+        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        let v = quote!(#krate::__private::SVector::<f64, #n>);
+        Ok(Some(quote! {
+            let _ = t;
+            #cache
+            let mut qdd = #v::zeros();
+            let mut pivots = #v::zeros();
+            let mut diagonal = #v::zeros();
+            #body
+            let definite = pivots
+                .iter()
+                .zip(diagonal.iter())
+                .all(|(d, m)| d.is_finite() && *d > 1e-14 * *m);
+            (definite && qdd.iter().all(|x| x.is_finite())).then_some(qdd)
+        }))
     }
 
     /// `(R, p)` of one link frame.

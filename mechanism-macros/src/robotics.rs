@@ -1,5 +1,6 @@
-//! The robotics methods of the emitted `impl Mechanism`: the bias with M in one program,
-//! the inverse dynamics, and the placement and Jacobian of each link frame (a `match` on
+//! The robotics methods of the emitted `impl Mechanism`: the bias with M in one program and
+//! alone, the inverse dynamics, the forward dynamics (for a mechanism without constraint
+//! rows), and the placement and Jacobian of each link frame (a `match` on
 //! the frame's index, one straight-line arm per frame). A new method here is one more
 //! [`Method`], compiled for the CPU's instruction set like the others
 //! ([`crate::dispatch`]).
@@ -10,14 +11,17 @@ use quote::quote;
 use crate::dispatch::Method;
 use crate::generate::Generated;
 
-/// `mass_and_bias`, `inverse_dynamics`, `frame_placement` and `frame_jacobian` (the
-/// frames' names, `FRAMES`, are a constant of the impl).
+/// `mass_and_bias`, `bias`, `inverse_dynamics`, `forward_dynamics` (where its routine is
+/// compiled), `frame_placement` and `frame_jacobian` (the frames' names, `FRAMES`, are a
+/// constant of the impl).
 pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
     let sv = |k: usize| quote!(#krate::__private::SVector<f64, #k>);
     let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix<f64, #r, #c>);
     let Generated {
         mass_and_bias,
+        bias,
         inverse_dynamics,
+        forward_dynamics,
         frame_placements,
         frame_jacobians,
         frame_names,
@@ -31,7 +35,7 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
         ("qd", quote!(&#svn)),
     );
     let frame = ("frame", quote!(usize));
-    vec![
+    let mut methods = vec![
         Method::new(
             "mass_and_bias",
             &[t.clone(), q.clone(), qd.clone()],
@@ -39,8 +43,14 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
             mass_and_bias.clone(),
         ),
         Method::new(
+            "bias",
+            &[t.clone(), q.clone(), qd.clone()],
+            quote!(-> #svn),
+            bias.clone(),
+        ),
+        Method::new(
             "inverse_dynamics",
-            &[t, q.clone(), qd, ("qdd", quote!(&#svn))],
+            &[t.clone(), q.clone(), qd.clone(), ("qdd", quote!(&#svn))],
             quote!(-> #svn),
             inverse_dynamics.clone(),
         ),
@@ -57,7 +67,7 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
         ),
         Method::new(
             "frame_jacobian",
-            &[frame, q],
+            &[frame, q.clone()],
             quote!(-> ::core::option::Option<#sm6>),
             quote! {
                 match frame {
@@ -66,5 +76,14 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
                 }
             },
         ),
-    ]
+    ];
+    if let Some(body) = forward_dynamics {
+        methods.push(Method::new(
+            "forward_dynamics",
+            &[t, q, qd, ("effort", quote!(&#svn))],
+            quote!(-> ::core::option::Option<#svn>),
+            body.clone(),
+        ));
+    }
+    methods
 }

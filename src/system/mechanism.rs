@@ -298,6 +298,15 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
         (e.mass, e.coriolis + e.gravity - e.forces)
     }
 
+    /// The bias b(t, q, q') = C q' + g - tau alone, without M: the effort that holds the
+    /// mechanism at q'' = 0 (Pinocchio's `nonLinearEffects` for a robot without declared
+    /// forces). Emitted as its own program (for links one Newton-Euler pass with the base
+    /// accelerating at -g, O(n)); the default reads [`Mechanism::evaluate`].
+    fn bias(&self, t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>) -> SVector<f64, N> {
+        let e = self.evaluate(t, q, qd);
+        e.coriolis + e.gravity - e.forces
+    }
+
     /// Inverse dynamics: the effort u = M q'' + C q' + g - tau that, added to the declared
     /// forces tau, gives the accelerations q'' when no constraint acts (Pinocchio's `rnea`
     /// for a robot without declared forces). Emitted for links by Newton-Euler (O(n)); the
@@ -315,9 +324,13 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
     }
 
     /// Forward dynamics of an unconstrained mechanism (M = 0 rows): q'' from
-    /// M q'' = u - b (Cholesky of the static M, no allocation). `None` when the mechanism has
-    /// constraint rows (solve the KKT system, [`crate::fixed::kkt_solve`]) or M is not
-    /// positive definite at q.
+    /// M q'' = u - b. Emitted as straight-line code (M, b and the factorisation
+    /// M = L^T D L whose fill-in follows M's pattern: for a tree of links, no branch fills
+    /// another); the default factors the static M by Cholesky at run time (no allocation).
+    /// `None` when the mechanism has constraint rows (solve the KKT system,
+    /// [`crate::fixed::kkt_solve`]) or M is not positive definite at q (a pivot not above
+    /// 1e-14 of its diagonal entry, or of the largest one for the default), or q'' is not
+    /// finite.
     fn forward_dynamics(
         &self,
         t: f64,

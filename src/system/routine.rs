@@ -33,6 +33,8 @@ impl Values<'_> {
             Source::Rate(k) => at(self.qd, k),
             Source::Acceleration(k) => at(self.qdd, k),
             Source::Multiplier(k) => at(self.lambda, k),
+            // No interpreted routine reads an effort (the forward dynamics is the macro's).
+            Source::Effort(_) => f64::NAN,
             Source::Time => self.t,
         }
     }

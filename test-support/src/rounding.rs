@@ -127,6 +127,8 @@ pub fn dag(
         }
         Node::Func(f, a) => func_approx(f, dag(arena, a, x, memo)),
         Node::Atan2(y, xx) => atan2_approx(dag(arena, y, x, memo), dag(arena, xx, x, memo)),
+        // Its child's value, with its child's bound.
+        Node::Named(a) => dag(arena, a, x, memo),
     };
     memo.insert(id, r);
     r

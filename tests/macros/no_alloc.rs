@@ -48,6 +48,7 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
     black_box(&e);
     // The robotics methods (every frame of a declaration with links).
     black_box(mech.mass_and_bias(t, &q, &qd));
+    black_box(mech.bias(t, &q, &qd));
     black_box(mech.inverse_dynamics(t, &q, &qd, &qd));
     black_box(mech.forward_dynamics(t, &q, &qd, &qd));
     for frame in 0..T::FRAMES.len() {

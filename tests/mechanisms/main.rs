@@ -8,6 +8,7 @@ mod bodies_dynamics;
 mod bodies_inline;
 mod bodies_joints;
 mod bodies_snapshots;
+mod chain_pinocchio;
 mod closed_chain;
 mod drawing;
 mod g1_pinocchio;

@@ -63,6 +63,10 @@ fn panda_dynamics_match_pinocchio() {
         let e = robot.evaluate(0.0, &q, &qd);
         check("M", k, &e.mass, &matrix::<7, 7>(&s["M"]));
         check("C q' + g", k, &(e.coriolis + e.gravity), &vector(&s["nle"]));
+        check("bias", k, &robot.bias(0.0, &q, &qd), &vector(&s["nle"]));
+        let (mass, bias) = robot.mass_and_bias(0.0, &q, &qd);
+        check("M (mass_and_bias)", k, &mass, &matrix::<7, 7>(&s["M"]));
+        check("bias (mass_and_bias)", k, &bias, &vector(&s["nle"]));
         check("g", k, &robot.gravity(&q), &vector(&s["g"]));
         let tau = robot.inverse_dynamics(0.0, &q, &qd, &qdd);
         check("tau", k, &tau, &vector(&s["tau"]));

@@ -54,16 +54,24 @@ GRIPPERS = [f"gripper_{side}_{j}" for side in ("left", "right") for j in (
 # (our routine, CasADi's function, the output compared, label)
 ROUTINES = [
     ("mass_matrix", "crba", "mass", "M"),
-    ("cqg_two", "bias", "bias", "C q' + g (coriolis_forces + gravity)"),
+    ("bias", "bias", "bias", "C q' + g (bias)"),
     ("cqg_id", "bias", "bias", "C q' + g (inverse_dynamics, q'' = 0)"),
     ("mass_and_bias", "mass_bias", "mass_bias", "M and C q' + g (mass_and_bias)"),
     ("inverse_dynamics", "rnea", "tau", "inverse dynamics"),
     ("forward_dynamics", "aba", "qdd", "forward dynamics"),
 ]
 # Our routines' programs (ours counts), and CasADi's functions, whose operations each row counts.
-OUR_OPS = {"mass_matrix": ["mass_matrix"], "cqg_two": ["coriolis_forces", "gravity"],
+OUR_OPS = {"mass_matrix": ["mass_matrix"], "bias": ["bias"],
            "cqg_id": ["inverse_dynamics"], "mass_and_bias": ["mass_and_bias"],
-           "inverse_dynamics": ["inverse_dynamics"], "forward_dynamics": ["mass_and_bias"]}
+           "inverse_dynamics": ["inverse_dynamics"], "forward_dynamics": ["forward_dynamics"]}
+# Pinocchio 4.1's C++ (pinocchio_main.cpp), timed native only: its routines are named as
+# CasADi's functions.
+PINOCCHIO_FLAGS = [
+    "-O3", "-march=native", "-DNDEBUG", "-std=c++17", "-DEIGEN_MAX_ALIGN_BYTES=16",
+    "-DEIGEN_MALLOC_ALREADY_ALIGNED=1", "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
+    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12", "-DPINOCCHIO_WITH_URDFDOM",
+    "-DPINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION=3", "-DPINOCCHIO_URDFDOM_HEADERS_MINOR_VERSION=0",
+    "-DPINOCCHIO_URDFDOM_HEADERS_PATCH_VERSION=0", "-Wno-stringop-overread"]
 BATCHES = 5
 
 
@@ -164,7 +172,7 @@ def check(name, side, got, ref, n):
     """The largest relative error of each compared output over the states."""
     res = {}
     for routine, outputs in got.items():
-        key = {"mass_matrix": "mass", "crba": "mass", "cqg_two": "bias", "cqg_id": "bias", "bias": "bias",
+        key = {"mass_matrix": "mass", "crba": "mass", "cqg_id": "bias", "bias": "bias",
                "mass_and_bias": "mass_bias", "mass_bias": "mass_bias", "inverse_dynamics": "tau",
                "rnea": "tau", "forward_dynamics": "qdd", "aba": "qdd"}[routine]
         worst, limit_ok = 0.0, True
@@ -188,6 +196,25 @@ def build_casadi(name, meta_dir, n):
                               os.path.join(meta_dir, "casadi.c"), "-lm", "-o", exe])
         exes[build] = exe
     return exes
+
+
+def build_pinocchio(pin_python):
+    """pinocchio_main.cpp against the pip packages' headers and libraries (the flags of
+    benches/baselines/pinocchio/build.sh: the algorithms instantiated here at -O3
+    -march=native, the URDF parser from libpinocchio_parsers.so). Rebuilt when the source
+    is newer than the program (the compilation takes minutes)."""
+    exe = os.path.join(WORK, "pinocchio_main")
+    src = os.path.join(HERE, "pinocchio_main.cpp")
+    if os.path.exists(exe) and os.path.getmtime(exe) > os.path.getmtime(src):
+        return exe
+    p = sh([pin_python, "-c", "import sysconfig, os; print(os.path.join(sysconfig.get_paths()['purelib'], "
+            "'cmeel.prefix'))"]).strip()
+    inc = [f"-I{p}/include", f"-I{p}/include/eigen3", f"-I{p}/include/urdfdom_headers", f"-I{p}/include/urdfdom"]
+    libs = [f"-L{p}/lib", f"-Wl,-rpath,{p}/lib", "-lpinocchio_parsers", "-lpinocchio_default", "-lurdfdom_model",
+            "-lconsole_bridge", "-lboost_filesystem", "-lboost_serialization"]
+    sh(["g++"] + PINOCCHIO_FLAGS + inc + ["-c", src, "-o", exe + ".o"])
+    sh(["g++", exe + ".o", "-o", exe] + libs)
+    return exe
 
 
 def build_ours(rs):
@@ -244,23 +271,30 @@ def table(res):
     for name, r in res["robots"].items():
         lines.append(f"**{name}** ({r['n']} coordinates; {r['source']}):\n")
         lines.append("| routine | ops ours | ops CasADi | native: ours (ns) | CasADi (ns) | ratio "
-                     "| portable: ours (ns) | CasADi (ns) | ratio | max error ours / CasADi |")
-        lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+                     "| Pinocchio (ns) | ratio | portable: ours (ns) | CasADi (ns) | ratio "
+                     "| max error ours / CasADi / Pinocchio |")
+        lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for ours, theirs, _, label in ROUTINES:
             t = r["times"]
             cells = []
             for build in ("native", "portable"):
                 a, b = t[f"ours {build}|{ours}"], t[f"casadi {build}|{theirs}"]
                 cells += [f"{a:.0f}", f"{b:.0f}", f"{a / b:.2f}x"]
-            ops = r["ops"]["ours"][ours]
-            ops_text = f"{ops}" + (" + solve" if ours == "forward_dynamics" else "")
-            err = f"{r['check']['ours'][ours]['error']:.0e} / {r['check']['casadi'][theirs]['error']:.0e}"
+                if build == "native":
+                    p = t[f"pinocchio native|{theirs}"]
+                    cells += [f"{p:.0f}", f"{a / p:.2f}x"]
+            ops_text = f"{r['ops']['ours'][ours]}"
+            chk = r["check"]
+            err = (f"{chk['ours'][ours]['error']:.0e} / {chk['casadi'][theirs]['error']:.0e} / "
+                   f"{chk['pinocchio'][theirs]['error']:.0e}")
             lines.append(f"| {label} | {ops_text} | {r['ops']['casadi'][theirs]} | " + " | ".join(cells) + f" | {err} |")
         lines.append("")
     lines.append(f"Thread CPU per call, median over {res['rounds']} interleaved rounds of the median of "
                  f"{BATCHES} batches; states: {res['states']} random states per robot. Load average at the "
                  f"rounds' starts: {', '.join(res['loads'])} ({os.cpu_count()} cores). CasADi "
-                 f"{res['casadi_version']} with its Pinocchio 2.6; checked against Pinocchio {res['pinocchio']}.")
+                 f"{res['casadi_version']} with its Pinocchio 2.6; Pinocchio {res['pinocchio']}'s C++ (crba, "
+                 f"nonLinearEffects, both for M and C q' + g, rnea, aba) built -O3 -march=native only; all "
+                 f"checked against Pinocchio {res['pinocchio']}'s Python.")
     return "\n".join(lines)
 
 
@@ -289,6 +323,8 @@ def main():
     casadi_version = sh([a.casadi_python, "-c", "import casadi; print(casadi.__version__)"], env=cenv).strip()
     log("ours: building the robots' crate, portable and native")
     ours = build_ours(rs)
+    log("Pinocchio 4.1: its C++ routines")
+    pin_exe = build_pinocchio(a.pin_python)
     res = dict(robots={}, rounds=a.rounds, states=a.states, casadi_version=casadi_version)
     r = rounds.Rounds()
     for name, robot in rs.items():
@@ -299,15 +335,21 @@ def main():
         names, n = ref["joints"], len(ref["joints"])
         our_order = sh([ours["portable"], name, "names"]).split()
         casadi_exes = build_casadi(name, d, n)
-        states = {"ours": os.path.join(d, "states_ours.bin"), "casadi": os.path.join(d, "states_casadi.bin")}
+        states = {"ours": os.path.join(d, "states_ours.bin"), "casadi": os.path.join(d, "states_casadi.bin"),
+                  "pinocchio": os.path.join(d, "states_pinocchio.bin")}
         write_states(states["ours"], ref["states"], our_order, names)
         write_states(states["casadi"], ref["states"], meta["joints"], names)
+        write_states(states["pinocchio"], ref["states"], names, names)
+        pin_cmd = [pin_exe, robot["urdf"]] + robot["lock"] + ["--"]
         checks = dict(ours=check(name, "ours", read_check(sh([ours["portable"], name, "check", states["ours"],
                                                                 str(a.states)]), our_order, names),
                                  ref["reference"], n),
                       casadi=check(name, "casadi", read_check(sh([casadi_exes["native"], "check", states["casadi"],
                                                                     str(a.states)]), meta["joints"], names),
-                                   ref["reference"], n))
+                                   ref["reference"], n),
+                      pinocchio=check(name, "pinocchio", read_check(sh(pin_cmd + ["check", states["pinocchio"],
+                                                                         str(a.states)]), names, names),
+                                      ref["reference"], n))
         counts = json.loads(sh([ours["portable"], "counts", robot["urdf"], str(robot["snap"] or "none")]
                                + robot["lock"]))
         ops = dict(ours={k: sum(counts[p] for p in v) for k, v in OUR_OPS.items()},
@@ -323,6 +365,10 @@ def main():
                 r.add((name, f"casadi {build}", fn),
                       lambda e=casadi_exes[build], f=fn, s=states["casadi"]:
                       [float(x) for x in sh([e, "time", f, s, str(a.states), str(BATCHES), calls]).split()])
+        for fn in meta["functions"]:
+            r.add((name, "pinocchio native", fn),
+                  lambda c=pin_cmd, f=fn, s=states["pinocchio"]:
+                  [float(x) for x in sh(c + ["time", f, s, str(a.states), str(BATCHES), calls]).split()])
     log(f"{len(r.subjects)} subjects, {a.rounds} rounds")
     r.run(a.rounds, log=log)
     for key, v in r.summary().items():

@@ -59,7 +59,7 @@ fn states<const N: usize>(path: &str, count: usize) -> Vec<State<N>> {
 
 const ROUTINES: [&str; 6] = [
     "mass_matrix",
-    "cqg_two",
+    "bias",
     "cqg_id",
     "mass_and_bias",
     "inverse_dynamics",
@@ -75,7 +75,7 @@ fn call<R: Mechanism<N, M>, const N: usize, const M: usize>(
     let z = SVector::<f64, N>::zeros();
     match k {
         0 => r.mass_matrix(&s.q).transpose().as_slice().to_vec(),
-        1 => (r.coriolis_forces(&s.q, &s.qd) + r.gravity(&s.q)).as_slice().to_vec(),
+        1 => r.bias(0.0, &s.q, &s.qd).as_slice().to_vec(),
         2 => r.inverse_dynamics(0.0, &s.q, &s.qd, &z).as_slice().to_vec(),
         3 => {
             let (m, b) = r.mass_and_bias(0.0, &s.q, &s.qd);
@@ -107,7 +107,7 @@ fn time<R: Mechanism<N, M>, const N: usize, const M: usize>(
             let s = black_box(&st[i % st.len()]);
             match k {
                 0 => drop(black_box(r.mass_matrix(&s.q))),
-                1 => drop(black_box(r.coriolis_forces(&s.q, &s.qd) + r.gravity(&s.q))),
+                1 => drop(black_box(r.bias(0.0, &s.q, &s.qd))),
                 2 => drop(black_box(r.inverse_dynamics(0.0, &s.q, &s.qd, &z))),
                 3 => drop(black_box(r.mass_and_bias(0.0, &s.q, &s.qd))),
                 4 => drop(black_box(r.inverse_dynamics(0.0, &s.q, &s.qd, &s.qdd))),
@@ -162,11 +162,13 @@ fn counts(urdf: &str, snap: &str, lock: &[String]) {
     let routines = compile(&mut model, &eqs, &tangent).expect("compiles");
     let ops = |role| routines.program(role).map_or(0, |p| p.op_counts().total());
     println!(
-        "{{\"mass_matrix\": {}, \"coriolis_forces\": {}, \"gravity\": {}, \"mass_and_bias\": {}, \"inverse_dynamics\": {}}}",
+        "{{\"mass_matrix\": {}, \"bias\": {}, \"coriolis_forces\": {}, \"gravity\": {}, \"mass_and_bias\": {}, \"inverse_dynamics\": {}, \"forward_dynamics\": {}}}",
         ops(Role::Mass),
+        ops(Role::Bias),
         ops(Role::CoriolisForces),
         ops(Role::Gravity),
         ops(Role::MassAndBias),
-        ops(Role::InverseDynamics)
+        ops(Role::InverseDynamics),
+        ops(Role::ForwardDynamics)
     );
 }

@@ -90,6 +90,12 @@ pub fn robot_json(rounds: usize) -> String {
             }),
         ),
         (
+            "bias",
+            Box::new(|s: &State| {
+                black_box(r.bias(0.0, &s.q, &s.qd));
+            }),
+        ),
+        (
             "mass_matrix",
             Box::new(|s: &State| {
                 black_box(r.mass_matrix(&s.q));

@@ -36,8 +36,16 @@ impl DependencySets {
     }
 
     /// Brings the sets up to date with `arena` (its new nodes).
+    #[cfg(test)]
     pub(crate) fn sync(&mut self, arena: &Arena) {
-        for n in self.runs.len()..arena.len() {
+        self.sync_to(arena, arena.len());
+    }
+
+    /// Brings the sets up to date with the first `end` nodes of `arena` (the nodes up to
+    /// one a query reads: its children have smaller ids). A query about an early node of a
+    /// large arena then costs the sets of the nodes before it only.
+    pub(crate) fn sync_to(&mut self, arena: &Arena, end: usize) {
+        for n in self.runs.len()..end.min(arena.len()) {
             let run = match arena.node(Id(n as u32)) {
                 Node::Num(_) | Node::Pi => (0, 0),
                 Node::Sym(s) => {
@@ -45,7 +53,7 @@ impl DependencySets {
                     self.pool.push(*s);
                     (start, 1)
                 }
-                Node::Func(_, a) => self.runs[a.index()],
+                Node::Func(_, a) | Node::Named(a) => self.runs[a.index()],
                 Node::Pow(a, b) | Node::Atan2(a, b) => self.union(&[*a, *b]),
                 Node::Add(v) | Node::Mul(v) => self.union(v),
             };

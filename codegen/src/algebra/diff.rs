@@ -64,13 +64,15 @@ impl Differentiator {
     /// Brings the dependency sets up to date. An arena with fewer nodes than seen before is
     /// not the arena this differentiator was used with: the caches are dropped rather than
     /// hand out ids that do not exist there.
-    fn sync(&mut self, arena: &Arena) {
+    /// Brings the dependency sets up to `id` (the nodes a query about `id` reads), or
+    /// starts them afresh for an arena shorter than they cover (another arena).
+    fn sync(&mut self, arena: &Arena, id: Id) {
         if arena.len() < self.deps.covered() {
             self.memo.clear();
             self.deps = DependencySets::default();
             self.wide.clear();
         }
-        self.deps.sync(arena);
+        self.deps.sync_to(arena, id.index() + 1);
     }
 
     fn check(arena: &Arena, id: Id) -> Result<()> {
@@ -102,7 +104,7 @@ impl Differentiator {
     /// [`crate::error::AlgebraError::InvalidId`] when `id` is not in `arena`.
     pub fn depends_on(&mut self, arena: &Arena, id: Id, s: SymbolId) -> Result<bool> {
         Self::check(arena, id)?;
-        self.sync(arena);
+        self.sync(arena, id);
         Ok(self.deps.contains(id, s))
     }
 
@@ -119,7 +121,7 @@ impl Differentiator {
         marked: &[bool],
     ) -> Result<bool> {
         Self::check(arena, id)?;
-        self.sync(arena);
+        self.sync(arena, id);
         Ok(self
             .deps
             .set(id)
@@ -133,7 +135,7 @@ impl Differentiator {
     /// [`crate::error::AlgebraError::InvalidId`] when `id` is not in `arena`.
     pub fn symbols_of(&mut self, arena: &Arena, id: Id) -> Result<Vec<SymbolId>> {
         Self::check(arena, id)?;
-        self.sync(arena);
+        self.sync(arena, id);
         Ok(self.deps.symbols(id))
     }
 
@@ -155,7 +157,7 @@ impl Differentiator {
         // Every derivation goes through here: the budget stops a runaway one within one
         // derivative's growth of the limit.
         arena.check_budget()?;
-        self.sync(arena);
+        self.sync(arena, id);
         if !self.deps.contains(id, sym) {
             return Ok(arena.int(0));
         }
@@ -280,6 +282,11 @@ impl Differentiator {
                 };
                 arena.mul2(outer, du)
             }
+            // d(named x) = named dx: a recursion's named steps keep named derivatives.
+            Node::Named(x) => {
+                let dx = self.child(arena, x, sym);
+                arena.named(dx)
+            }
             Node::Atan2(y, x) => {
                 let dy = self.child(arena, y, sym);
                 let dx = self.child(arena, x, sym);
@@ -364,7 +371,7 @@ impl Differentiator {
         with_acceleration: bool,
     ) -> Result<Id> {
         Self::check(arena, id)?;
-        self.sync(arena);
+        self.sync(arena, id);
         let mut terms = Vec::new();
         for s in self.deps.symbols(id) {
             let info = arena.symbol_info(s).clone();

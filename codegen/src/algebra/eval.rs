@@ -195,6 +195,8 @@ fn node_value(
         }
         Node::Func(f, a) => (apply(*f, v(a)), f.name()),
         Node::Atan2(y, x) => (v(y).atan2(v(x)), "atan2"),
+        // The child's value, checked when it was evaluated.
+        Node::Named(a) => return Ok(v(a)),
     };
     if r.is_finite() {
         Ok(r)

@@ -146,6 +146,12 @@ pub enum Node {
     Func(Func, Id),
     /// atan2(y, x), the angle of the point (x, y).
     Atan2(Id, Id),
+    /// The value of its child, a sum, kept as one operand: the canonical sum and product
+    /// treat it as an atom (a sum holding it is not flattened into it, a numeric factor is
+    /// not distributed over it, no like terms are collected across it). What a recursion
+    /// names once per step ([`Arena::named`]) stays one node that later steps read,
+    /// instead of a sum copied and scaled into every expression above it.
+    Named(Id),
 }
 
 impl Node {
@@ -158,6 +164,7 @@ impl Node {
             Node::Pow(a, b) => Node::Pow(f(*a), f(*b)),
             Node::Atan2(a, b) => Node::Atan2(f(*a), f(*b)),
             Node::Func(g, a) => Node::Func(*g, f(*a)),
+            Node::Named(a) => Node::Named(f(*a)),
         }
     }
 
@@ -170,7 +177,7 @@ impl Node {
                 f(*a);
                 f(*b);
             }
-            Node::Func(_, a) => f(*a),
+            Node::Func(_, a) | Node::Named(a) => f(*a),
         }
     }
 }
@@ -359,12 +366,14 @@ impl Arena {
             return Err(Error::Budget(BudgetError::Size {
                 size: self.size,
                 budget: self.budget.size,
+                links: None,
             }));
         }
         if self.work > self.budget.work {
             return Err(Error::Budget(BudgetError::Work {
                 work: self.work,
                 budget: self.budget.work,
+                links: None,
             }));
         }
         Ok(())
@@ -676,6 +685,27 @@ impl Arena {
         self.intern(Node::Atan2(y, x))
     }
 
+    /// `x` named ([`Node::Named`]) when it is a sum, `x` itself otherwise: a product, a
+    /// power or a function is one operand of a sum already, and a numeric factor scales a
+    /// product's coefficient without copying it. A sum's constant term stays outside the
+    /// name, `c + named(rest)`, so that constants added later still fold into one.
+    pub fn named(&mut self, x: Id) -> Id {
+        let Node::Add(ts) = self.node(x) else {
+            return x;
+        };
+        match (self.as_number(ts[0]), ts.len()) {
+            (Some(_), 2) => x,
+            (Some(c), _) => {
+                let rest = Operands::from(&ts[1..]);
+                let rest = self.intern(Node::Add(rest));
+                let named = self.intern(Node::Named(rest));
+                let c = self.number(c);
+                self.add(&[c, named])
+            }
+            (None, _) => self.intern(Node::Named(x)),
+        }
+    }
+
     /// Ids of the direct children of `id`.
     pub fn children(&self, id: Id) -> Vec<Id> {
         self.child_list(id).into_vec()
@@ -688,7 +718,7 @@ impl Arena {
             Node::Num(_) | Node::Pi | Node::Sym(_) => Short::new(),
             Node::Add(v) | Node::Mul(v) => Short::from_slice(v),
             Node::Pow(a, b) | Node::Atan2(a, b) => Short::from_slice(&[*a, *b]),
-            Node::Func(_, a) => Short::from_slice(&[*a]),
+            Node::Func(_, a) | Node::Named(a) => Short::from_slice(&[*a]),
         }
     }
 

@@ -35,10 +35,12 @@ use std::hash::{Hash, Hasher};
 use crate::algebra::expr::SymbolId;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
+use crate::mechanics::link_route::for_links;
 use crate::mechanics::model::Model;
 use crate::mechanics::tangent::{ResidualTangent, multiplier_symbols};
 use crate::program::cse::Program;
 use crate::program::hoist::hoist_parameters;
+use role::effort_symbols;
 
 pub use role::{Role, Tangents};
 pub use sources::{Source, Sources};
@@ -183,8 +185,19 @@ pub fn compile_robotics(model: &mut Model, eqs: &Equations) -> Result<Routines> 
     compile_roles(model, eqs, None, &Role::robotics(eqs))
 }
 
-/// The stage's steps (module docs) for `roles`, in their order.
+/// The stage's steps (module docs) for `roles`, in their order; a budget error of a tree
+/// of links says what applies to links.
 fn compile_roles(
+    model: &mut Model,
+    eqs: &Equations,
+    tangent: Option<&ResidualTangent>,
+    roles: &[Role],
+) -> Result<Routines> {
+    compile_steps(model, eqs, tangent, roles).map_err(|e| for_links(model, e))
+}
+
+/// [`compile_roles`]' steps.
+fn compile_steps(
     model: &mut Model,
     eqs: &Equations,
     tangent: Option<&ResidualTangent>,
@@ -194,15 +207,17 @@ fn compile_roles(
         Some(t) => t.lambda.clone(),
         None => multiplier_symbols(&mut model.arena, eqs.m),
     };
+    // Made for every list of roles, as the multipliers are, so that symbol ids agree.
+    let effort = effort_symbols(&mut model.arena, eqs.n);
     let mut programs = Vec::with_capacity(roles.len());
     for &role in roles {
-        let outputs = role.outputs(&mut model.arena, &model.drawing, eqs, tangent)?;
+        let outputs = role.outputs(model, eqs, tangent)?;
         let outputs: Vec<_> = outputs.iter().collect();
         programs.push(Program::new(&model.arena, &outputs)?);
     }
     let all: Vec<&Program> = programs.iter().collect();
     let hoisted = hoist_parameters(&mut model.arena, &all)?;
-    let sources = Sources::new(model, &lambda, &hoisted.slots)?;
+    let sources = Sources::new(model, &lambda, &effort, &hoisted.slots)?;
     let mut programs: Vec<(Role, Program)> = roles.iter().copied().zip(hoisted.programs).collect();
     programs.push((Role::ParameterCache, hoisted.cache));
     let initial = initial_values::outputs(model);

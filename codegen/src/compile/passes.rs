@@ -213,6 +213,8 @@ pub(crate) fn graph_ops(arena: &Arena, outputs: &[&Matrix]) -> usize {
                     });
                     (varying + usize::from(fixed)).saturating_sub(1)
                 }
+                // Its child's value: no instruction of its own.
+                Node::Named(_) => 0,
                 _ => 1,
             };
         }
@@ -245,9 +247,7 @@ mod tests {
             let tangent = crate::residual_tangent(&mut model, &eqs).unwrap();
             let roles = Role::compiled(&eqs, &drawing, tangent.constraints.is_some());
             for role in roles {
-                let outputs = role
-                    .outputs(&mut model.arena, &drawing, &eqs, Some(&tangent))
-                    .unwrap();
+                let outputs = role.outputs(&mut model, &eqs, Some(&tangent)).unwrap();
                 let outputs: Vec<&Matrix> = outputs.iter().collect();
                 let arena = &model.arena;
                 let (local, factored, _) = factored_copy(arena, &outputs);

@@ -1,12 +1,17 @@
 //! What each routine computes and which inputs its callers hand it.
 
-use crate::algebra::expr::Arena;
+use crate::algebra::expr::{Arena, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::compile::sources::Source;
 use crate::error::{Error, ProgramError, Result};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
+use crate::mechanics::forward_dynamics::forward_dynamics;
+use crate::mechanics::lagrange::coriolis_matrix_of;
+use crate::mechanics::model::Model;
+use crate::mechanics::recursive::{articulated_forward_dynamics, frame_jacobian};
 use crate::mechanics::tangent::ResidualTangent;
+use crate::program::cse::Program;
 
 /// Which tangents the interpreter's routines carry ([`Role::interpreted`]). Deriving and
 /// compiling the residual's tangent costs more than the rest of a large mechanism's
@@ -62,8 +67,17 @@ pub enum Role {
     ConstraintTangent,
     /// M (n x n) and the bias b = C q' + g - tau (n x 1) in one program: `mass_and_bias`.
     MassAndBias,
+    /// The bias b = C q' + g - tau (n x 1) alone, M-free (for links one Newton-Euler pass
+    /// with the base accelerating at -g): `bias`.
+    Bias,
     /// M q'' + C q' + g - tau (n x 1): `inverse_dynamics`.
     InverseDynamics,
+    /// q'' = M^-1 (u - b) for the effort u (read from `effort`), the pivots D of
+    /// M = L^T D L and M's diagonal in the same order (three n x 1 outputs), by the
+    /// factorisation that follows M's pattern (`mechanics::forward_dynamics`):
+    /// `forward_dynamics`, which refuses q'' when a pivot is not above 1e-14 of its
+    /// diagonal entry. Compiled for a mechanism without constraint rows only.
+    ForwardDynamics,
     /// R (3 x 3) and p (3 x 1) of link frame k: `frame_placement`.
     FramePlacement(usize),
     /// J (6 x n) of link frame k: `frame_jacobian`.
@@ -133,8 +147,8 @@ impl Role {
     /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
     /// order (the order in which hoisting numbers the cache slots): the roles of
     /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics
-    /// roles and the frames. The parameter cache, made from all of them, is not in the
-    /// list.
+    /// roles (the forward dynamics for a mechanism without constraint rows only) and the
+    /// frames. The parameter cache, made from all of them, is not in the list.
     pub fn compiled(eqs: &Equations, drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
         let tangents = if constraint_tangent {
             Tangents::WithConstraints
@@ -153,7 +167,11 @@ impl Role {
             Role::Potential,
             Role::MassAndBias,
             Role::InverseDynamics,
+            Role::Bias,
         ]);
+        if eqs.m == 0 {
+            roles.push(Role::ForwardDynamics);
+        }
         roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
         roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
         roles
@@ -162,7 +180,7 @@ impl Role {
     /// Whether the routine of this role may read a value from `source`: parameters and
     /// cached values always (the cache itself reads parameters only); t, q and q' in every
     /// other routine; q'' in the tangent and the inverse dynamics; the multipliers in the
-    /// tangent.
+    /// tangent; the efforts in the forward dynamics.
     pub fn provides(self, source: Source) -> bool {
         match (self, source) {
             (Role::ParameterCache | Role::InitialValues, s) => matches!(s, Source::Parameter(_)),
@@ -173,18 +191,19 @@ impl Role {
                 Source::Acceleration(_),
             ) => true,
             (Role::Tangent, Source::Multiplier(_)) => true,
+            (Role::ForwardDynamics, Source::Effort(_)) => true,
             _ => false,
         }
     }
 
     /// The matrices this role's program computes, in output order (not for
     /// [`Role::ParameterCache`], which hoisting makes, nor for [`Role::InitialValues`], made
-    /// from the model by `compile`). The bias of
-    /// [`Role::MassAndBias`] is built in `arena`; a frame past `eqs.frames` has none.
+    /// from the model by `compile`), built in `model`'s arena where `derive` leaves them to
+    /// the routines that need them: Khang's C of a tree of links and the frames' Jacobians.
+    /// A frame past `eqs.frames` has none.
     pub(crate) fn outputs(
         self,
-        arena: &mut Arena,
-        drawing: &Drawing,
+        model: &mut Model,
         eqs: &Equations,
         tangent: Option<&ResidualTangent>,
     ) -> Result<Vec<Matrix>> {
@@ -196,7 +215,10 @@ impl Role {
         };
         Ok(match self {
             Role::Mass => vec![eqs.mass.clone()],
-            Role::CoriolisMatrix => vec![eqs.coriolis_matrix.clone()],
+            Role::CoriolisMatrix => vec![match &eqs.coriolis_matrix {
+                Some(c) => c.clone(),
+                None => coriolis_matrix_of(model, &eqs.mass)?,
+            }],
             Role::CoriolisForces => vec![eqs.coriolis_forces.clone()],
             Role::Gravity => vec![eqs.gravity.clone()],
             Role::Forces => vec![eqs.forces.clone()],
@@ -217,25 +239,80 @@ impl Role {
                 .iter()
                 .flat_map(|c| [c.velocity.clone(), c.stiffness.clone(), c.damping.clone()])
                 .collect(),
-            Role::MassAndBias => {
-                let bias = eqs
-                    .coriolis_forces
-                    .add(arena, &eqs.gravity)?
-                    .sub(arena, &eqs.forces)?;
-                vec![eqs.mass.clone(), bias]
-            }
+            Role::MassAndBias => vec![eqs.mass.clone(), eqs.bias.clone()],
+            Role::Bias => vec![eqs.bias.clone()],
             Role::InverseDynamics => vec![eqs.inverse_dynamics.clone()],
+            Role::ForwardDynamics => forward_dynamics_outputs(model, eqs)?,
             Role::FramePlacement(k) => frame(k)
                 .map(|f| vec![f.rotation.clone(), f.position.clone()])
                 .unwrap_or_default(),
-            Role::FrameJacobian(k) => frame(k)
-                .map(|f| vec![f.jacobian.clone()])
-                .unwrap_or_default(),
+            Role::FrameJacobian(k) if k < eqs.frames.len() => {
+                vec![frame_jacobian(&mut model.arena, &model.links, k, eqs.n)]
+            }
+            Role::FrameJacobian(_) => vec![],
             Role::Draw => {
-                let entries = drawing.points.iter().flat_map(|p| p.position);
+                let entries = model.drawing.points.iter().flat_map(|p| p.position);
                 vec![Matrix::column(entries.collect())]
             }
             Role::ParameterCache | Role::InitialValues => vec![],
         })
     }
+}
+
+/// The effort symbols `effort[1]`..`effort[n]` of `arena` (made on first use): the input
+/// of [`Role::ForwardDynamics`], M q'' + b = u.
+pub(crate) fn effort_symbols(arena: &mut Arena, n: usize) -> Vec<SymbolId> {
+    (0..n)
+        .map(|k| arena.symbol_id(&format!("effort[{}]", k + 1), SymbolKind::Free))
+        .collect()
+}
+
+/// The coordinates in the order the forward dynamics eliminates them from the last: the
+/// links' moving joints in declaration order (each after its parent's), then any other
+/// coordinate in declared order.
+fn elimination_order(model: &Model) -> Vec<usize> {
+    let n = model.coordinates.len();
+    let mut seen = vec![false; n];
+    let mut order = Vec::with_capacity(n);
+    for c in model.links.iter().filter_map(|l| l.joint.coordinate()) {
+        if c < n && !std::mem::replace(&mut seen[c], true) {
+            order.push(c);
+        }
+    }
+    order.extend((0..n).filter(|&c| !seen[c]));
+    order
+}
+
+/// The outputs of [`Role::ForwardDynamics`]: q'', the pivots and the references they must
+/// exceed 1e-14 of, from whichever of two routes counts fewer operations once compiled:
+/// the factorisation M = L^T D L over M's pattern (references: M's diagonal), or for a
+/// tree of links the articulated-body algorithm (references: 0, its pivots being the
+/// articulated inertias along the axes). The factorisation wins on short trees (O(n d^2)
+/// for depth d), the recursion on long chains (O(n)).
+fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Matrix>> {
+    let effort: Vec<_> = effort_symbols(&mut model.arena, eqs.n)
+        .into_iter()
+        .map(|s| model.arena.symbol_node(s))
+        .collect();
+    let order = elimination_order(model);
+    let a = &mut model.arena;
+    let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
+    let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
+    let factored = vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)];
+    if !model.kinetic_from_links {
+        return Ok(factored);
+    }
+    let (qdd, pivots) = articulated_forward_dynamics(model, &effort)?;
+    let zeros = Matrix::zeros(&mut model.arena, eqs.n, 1);
+    let recursive = vec![qdd, pivots, zeros];
+    let ops = |model: &Model, outputs: &[Matrix]| -> Result<usize> {
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
+        Ok(Program::new(&model.arena, &outputs)?.op_counts().total())
+    };
+    let recursive_is_leaner = ops(model, &recursive)? < ops(model, &factored)?;
+    Ok(if recursive_is_leaner {
+        recursive
+    } else {
+        factored
+    })
 }

@@ -8,7 +8,7 @@ use crate::mechanics::model::Model;
 /// The origin of a routine input's value: an index into one of the arguments a routine is
 /// called with, or time. The emitted code reads `q[i]`, `qd[i]`, `qdd[i]`, the parameter
 /// struct's k-th field, `cache[slot]`, `t` and `lambda[k]`; the interpreter reads the same
-/// entries of its slices.
+/// entries of its slices (the forward dynamics reads `effort[k]` too).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Source {
     /// The coordinate q_i.
@@ -25,6 +25,8 @@ pub enum Source {
     Time,
     /// The multiplier lambda_k (the tangent's).
     Multiplier(usize),
+    /// The effort u_k along coordinate k (the forward dynamics', M q'' + b = u).
+    Effort(usize),
 }
 
 /// The symbol-source table: the [`Source`] of every symbol a routine of one model may read
@@ -36,13 +38,18 @@ pub struct Sources {
 }
 
 impl Sources {
-    /// The table of `model` with the tangent's multiplier symbols `lambda` and the cache
-    /// slot symbols `slots`.
+    /// The table of `model` with the tangent's multiplier symbols `lambda`, the forward
+    /// dynamics' effort symbols `effort` and the cache slot symbols `slots`.
     ///
     /// # Errors
     /// [`crate::error::DerivationError::NotASymbol`] for a hand-built model whose parameter or
     /// coordinate entry is not a symbol.
-    pub(crate) fn new(model: &Model, lambda: &[SymbolId], slots: &[SymbolId]) -> Result<Self> {
+    pub(crate) fn new(
+        model: &Model,
+        lambda: &[SymbolId],
+        effort: &[SymbolId],
+        slots: &[SymbolId],
+    ) -> Result<Self> {
         let arena = &model.arena;
         let symbol = |id: Id, role: String| {
             arena
@@ -68,6 +75,8 @@ impl Sources {
         }
         let multipliers = lambda.iter().enumerate();
         entries.extend(multipliers.map(|(k, &s)| (s, Source::Multiplier(k))));
+        let efforts = effort.iter().enumerate();
+        entries.extend(efforts.map(|(k, &s)| (s, Source::Effort(k))));
         let cache = slots.iter().enumerate();
         entries.extend(cache.map(|(k, &s)| (s, Source::Cache(k))));
         Ok(entries.into_iter().collect())

@@ -392,7 +392,7 @@ impl Lowering {
 
     /// Moves what the items built into `model`: the drawing, the links and which route
     /// they take, gravity, T and Pi ([`add_body_terms`]) and the joint rows.
-    fn finish(self, bodies: &Bodies, model: &mut Model) -> Result<()> {
+    fn finish(mut self, bodies: &Bodies, model: &mut Model) -> Result<()> {
         model.drawing = self.drawing.unwrap_or_default();
         model.kinetic_from_links = !self.links.is_empty()
             && model.arena.is_zero(model.kinetic)
@@ -405,6 +405,11 @@ impl Lowering {
             && self.system.springs.is_empty();
         model.gravity = self.system.gravity;
         model.links = self.links;
+        if model.kinetic_from_links {
+            // No `body` is declared: every body is a link's, and the recursive route needs
+            // none of their energies (their T alone is O(n^3) for a chain of n links).
+            model.link_bodies = std::mem::take(&mut self.system.bodies);
+        }
         add_body_terms(model, &self.system)?;
         model.constraints.extend(self.rows);
         model.vanished_rows = self.vanished;

@@ -183,6 +183,7 @@ fn build_with(d: &Declaration, values: &[(&str, f64)], budget: Budget) -> Result
         potential_from_links: false,
         gravity: None,
         rotations: Vec::new(),
+        link_bodies: Vec::new(),
     };
     crate::mechanics::body_model::build_bodies(&d.bodies, &mut model)?;
     Ok(ParsedModel { model, spans })

@@ -476,7 +476,10 @@ pub(crate) enum ModelFinding {
 pub(crate) fn check_model(model: &Model, kinetic_at: Location) -> Vec<ModelFinding> {
     let mut findings = Vec::new();
     check_constraints_depend_on_motion(model, &mut findings);
-    check_kinetic_has_rates(model, kinetic_at, &mut findings);
+    // Links that carry all of T are checked once M is built (`lagrange`): T is not formed.
+    if !model.kinetic_from_links {
+        check_kinetic_has_rates(model, kinetic_at, &mut findings);
+    }
     findings
 }
 

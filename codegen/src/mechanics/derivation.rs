@@ -5,6 +5,7 @@
 use crate::error::Result;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::lagrange::{self, Route};
+use crate::mechanics::link_route::for_links;
 use crate::mechanics::model::Model;
 use crate::mechanics::nonholonomic::append_velocity_rows;
 
@@ -21,11 +22,10 @@ use crate::mechanics::nonholonomic::append_velocity_rows;
 /// potential or a constraint depends on a rate or an acceleration, or T or a force on an
 /// acceleration; [`crate::error::AlgebraError::InvalidId`] for a foreign id; a velocity
 /// constraint not linear in the rates (`DeclarationError::VelocityNotLinear`, at its row);
-/// differentiation errors.
+/// differentiation errors; a [`crate::error::BudgetError`] beyond the arena's budget (for a
+/// tree of links, with the remedies that apply to links).
 pub fn derive(model: &mut Model) -> Result<Equations> {
-    let mut eqs = lagrange::derive(model)?;
-    append_velocity_rows(model, &mut eqs)?;
-    Ok(eqs)
+    derive_with(model, lagrange::Route::Auto)
 }
 
 /// [`derive()`] with the route for M and C q' chosen.
@@ -33,7 +33,9 @@ pub fn derive(model: &mut Model) -> Result<Equations> {
 /// # Errors
 /// As [`derive()`].
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
-    let mut eqs = lagrange::derive_with(model, route)?;
-    append_velocity_rows(model, &mut eqs)?;
-    Ok(eqs)
+    let derived = lagrange::derive_with(model, route).and_then(|mut eqs| {
+        append_velocity_rows(model, &mut eqs)?;
+        Ok(eqs)
+    });
+    derived.map_err(|e| for_links(model, e))
 }

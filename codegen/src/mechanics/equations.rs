@@ -19,8 +19,11 @@ pub struct Equations {
     pub velocity_rows: usize,
     /// M = d2T/dq'dq' (n x n).
     pub mass: Matrix,
-    /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (n x n).
-    pub coriolis_matrix: Matrix,
+    /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T (n x n); `None`
+    /// for a tree of links on the recursive route, where it is derived only when a
+    /// routine needs it (compiling the macro's `coriolis_matrix`): its n^2 entries read
+    /// every slope dM_ij/dq_k, O(n^3) of them for a chain.
+    pub coriolis_matrix: Option<Matrix>,
     /// The velocity-dependent inertial forces h (n x 1), simplified on their own (cheaper
     /// than multiplying C out). For the usual T = 1/2 q'^T M(q) q' this is exactly C q'. For a
     /// general T (terms linear in q', explicit t) it is the full
@@ -47,11 +50,16 @@ pub struct Equations {
     /// effort that, with the declared forces and no constraint forces, produces q''. In the
     /// acceleration symbols `der2(q)`.
     pub inverse_dynamics: Matrix,
+    /// The bias b(t, q, q') = C q' + g - tau (n x 1): with M, the unconstrained dynamics
+    /// M q'' + b = u for an effort u along the coordinates. For a tree of links one
+    /// Newton-Euler pass (with the base accelerating at -g), else the sum of the three.
+    pub bias: Matrix,
     /// The frames of the declared links, in declaration order (empty without links).
     pub frames: Vec<FrameEquations>,
 }
 
-/// The placement and Jacobian of one link frame.
+/// The placement of one link frame (its Jacobian is derived when a routine needs it:
+/// `Role::FrameJacobian`).
 #[derive(Clone, Debug)]
 pub struct FrameEquations {
     /// The link's name.
@@ -60,9 +68,6 @@ pub struct FrameEquations {
     pub rotation: Matrix,
     /// p (3x1): the link origin in the world.
     pub position: Matrix,
-    /// J (6 x n): [v; w] = J q' + [v_t; w_t], with v the velocity of the link origin and w
-    /// the angular velocity, both in world axes (Pinocchio's LOCAL_WORLD_ALIGNED).
-    pub jacobian: Matrix,
 }
 
 /// One output of the combined evaluation program: the emitted `evaluate` and the

@@ -29,14 +29,14 @@ use crate::algebra::expr::{Arena, FxHashMap, Id, Node, SymbolId};
 use crate::algebra::matrix::Matrix;
 use crate::error::{AlgebraError, DerivationError};
 use crate::error::{DeclarationError, Error, Location, Result};
-use crate::mechanics::equations::{Equations, FrameEquations};
-use crate::mechanics::kinetic_form::{ModelView, check_mass};
+use crate::mechanics::equations::Equations;
+use crate::mechanics::kinetic_form::{ModelView, check_mass, check_mass_semi_definite};
+use crate::mechanics::link_route::{check_moving_mass, energies, frame_equations, quadratic_form};
 use crate::mechanics::mass_matrix::mass_from_momenta;
 use crate::mechanics::mass_slopes::MassSlopes;
 use crate::mechanics::model::Model;
 use crate::mechanics::rate_degree::is_homogeneous_quadratic;
-use crate::mechanics::recursive::{frame_jacobian, tree_equations};
-use crate::mechanics::tree::Link;
+use crate::mechanics::recursive::{TreeEquations, tree_equations};
 
 /// The symbols of the coordinates, their rates and accelerations, and of time.
 struct Symbols {
@@ -110,21 +110,6 @@ fn reject_dependence(
     Ok(())
 }
 
-/// Derives the equations of motion of `model` (see the module documentation for the
-/// formulas). All expressions are built in `model.arena`.
-///
-/// # Errors
-/// [`DeclarationError::NoCoordinates`] (with no place),
-/// [`crate::error::DerivationError::NotASymbol`] for a coordinate that is not a symbol,
-/// [`crate::error::DerivationError::ForceCount`] when the number of forces differs from the
-/// number of coordinates, [`crate::error::DerivationError::ForbiddenDependence`] when the
-/// potential or a constraint depends on a rate or an acceleration, or T or a force on an
-/// acceleration; [`crate::error::AlgebraError::InvalidId`] for a foreign id; differentiation
-/// errors.
-pub fn derive(model: &mut Model) -> Result<Equations> {
-    derive_with(model, Route::Auto)
-}
-
 /// Which derivation [`crate::derive_with`] takes for M and C q'.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Route {
@@ -144,35 +129,21 @@ pub enum Route {
 pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
-    if n == 0 {
-        let kind = DeclarationError::NoCoordinates {
-            mechanism: model.name.clone(),
-            empty_section: false,
-        };
-        return Err(Error::declaration(kind, Location::default()));
-    }
-    if model.forces.len() != n {
-        return Err(Error::Derivation(DerivationError::ForceCount {
-            forces: model.forces.len(),
-            coordinates: n,
-        }));
-    }
+    check_sizes(model, n)?;
+    // The declaration's own expressions first: their dependency sets are then those of
+    // the arena's early nodes, not of the whole recursion's.
+    let mut d = Differentiator::new();
+    check_dependences(model, &mut d, &s)?;
     let tree = if route == Route::Auto && model.kinetic_from_links {
         Some(tree_equations(model)?)
     } else {
         None
     };
-    let mut d = Differentiator::new();
-    check_dependences(model, &mut d, &s)?;
-    let (mut kinetic, potential) = (model.kinetic, model.potential);
-    let (momenta, mass) = match &tree {
-        Some(t) => (Vec::new(), t.mass.clone()),
-        None => mass_by_momenta(&mut model.arena, &mut d, kinetic, &s)?,
+    let (kinetic, potential) = match &tree {
+        Some(_) => (model.kinetic, model.potential),
+        None => energies(model)?,
     };
-    if tree.is_some() {
-        // T = 1/2 q'^T M q' from the same entries (the links' T is this quadratic form).
-        kinetic = quadratic_form(&mut model.arena, &mass, &s);
-    }
+    let (momenta, mass, kinetic) = mass_and_kinetic(model, &mut d, tree.as_ref(), kinetic, &s)?;
     let view = ModelView {
         coordinates: &model.coordinates,
         parameters: &model.parameters,
@@ -180,36 +151,51 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         at: model.kinetic_location,
     };
     let arena = &mut model.arena;
-    check_mass(arena, &mut d, &mass, &view)?;
-
-    let slopes = MassSlopes::new(arena, &mut d, &mass, &s.q)?;
-    let coriolis_matrix = khang_coriolis_matrix(arena, &slopes, &s)?;
-    let coriolis_forces = match &tree {
-        Some(t) => t.coriolis_forces.clone(),
-        None => coriolis_forces(arena, &mut d, kinetic, &momenta, &mass, &slopes, &s)?,
+    match &tree {
+        Some(_) => check_mass_semi_definite(arena, &mass, &view)?,
+        None => check_mass(arena, &mut d, &mass, &view)?,
+    }
+    let (coriolis_matrix, coriolis_forces) = match &tree {
+        // Khang's C of a tree is derived when a routine needs it (`coriolis_matrix_of`).
+        Some(t) => (None, t.coriolis_forces.clone()),
+        None => {
+            let slopes = MassSlopes::new(arena, &mut d, &mass, &s.q)?;
+            let c = khang_coriolis_matrix(arena, &slopes, &s)?;
+            let h = coriolis_forces(arena, &mut d, kinetic, &momenta, &mass, &slopes, &s)?;
+            (Some(c), h)
+        }
     };
-    drop(slopes);
-    let (gravity, potential) = match tree.as_ref().and_then(|t| t.gravity.clone()) {
-        Some((g, pi)) => (g, pi),
-        None => (
-            Matrix::column(d.gradient(arena, potential, &s.q)?),
-            potential,
+    // dPi/dq of the declared potential: all of Pi but for a tree's gravity.
+    let declared = Matrix::column(d.gradient(arena, potential, &s.q)?);
+    let (gravity, potential) = match &tree {
+        Some(t) => (
+            t.gravity.add(arena, &declared)?,
+            arena.add2(t.potential, potential),
         ),
+        None => (declared.clone(), potential),
     };
     let forces = Matrix::column(model.forces.clone());
     let phi = Matrix::column(model.constraints.iter().map(|c| c.expr).collect());
     let (phi_q, phi_t) = constraint_jacobians(arena, &mut d, &phi, &s)?;
     let gamma = gamma(arena, &mut d, &phi_q, &phi_t, &s)?;
-    // tau_id = M q'' + C q' + g - tau.
-    let inertial = match &tree {
-        Some(t) => t.inertial_forces.clone(),
+    let (inverse_dynamics, bias) = match &tree {
+        Some(t) => {
+            let id = t.inverse_dynamics.add(arena, &declared)?;
+            let b = t.bias.add(arena, &declared)?;
+            (id.sub(arena, &forces)?, b.sub(arena, &forces)?)
+        }
         None => {
             let qdd = Symbols::column(arena, &s.qdd);
-            mass.mul(arena, &qdd)?.add(arena, &coriolis_forces)?
+            let parts = Dynamics {
+                mass: &mass,
+                coriolis_forces: &coriolis_forces,
+                gravity: &gravity,
+                forces: &forces,
+            };
+            parts.inverse_and_bias(arena, &qdd)?
         }
     };
-    let inverse_dynamics = inertial.add(arena, &gravity)?.sub(arena, &forces)?;
-    let frames = frame_equations(&mut model.arena, &model.links, n);
+    let frames = frame_equations(&model.links);
     if let Some(o) = model.arena.take_overflow() {
         return Err(Error::Derivation(DerivationError::Overflow {
             mechanism: model.name.clone(),
@@ -232,8 +218,85 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
         kinetic,
         potential,
         inverse_dynamics,
+        bias,
         frames,
     })
+}
+
+/// The momenta dT/dq', M and T: for a tree of links, M from its recursion (refused when
+/// identically 0) and T = 1/2 q'^T M q' from the same entries (the links' T is this
+/// quadratic form), no momenta; else from `kinetic` ([`mass_by_momenta`]).
+fn mass_and_kinetic(
+    model: &mut Model,
+    d: &mut Differentiator,
+    tree: Option<&TreeEquations>,
+    kinetic: Id,
+    s: &Symbols,
+) -> Result<(Vec<Id>, Matrix, Id)> {
+    match tree {
+        Some(t) => {
+            check_moving_mass(model, &t.mass)?;
+            let kinetic = quadratic_form(&mut model.arena, &t.mass, &s.qd);
+            Ok((Vec::new(), t.mass.clone(), kinetic))
+        }
+        None => {
+            let (momenta, mass) = mass_by_momenta(&mut model.arena, d, kinetic, s)?;
+            Ok((momenta, mass, kinetic))
+        }
+    }
+}
+
+/// Errors unless `model` has coordinates and one force per coordinate.
+fn check_sizes(model: &Model, n: usize) -> Result<()> {
+    if n == 0 {
+        let kind = DeclarationError::NoCoordinates {
+            mechanism: model.name.clone(),
+            empty_section: false,
+        };
+        return Err(Error::declaration(kind, Location::default()));
+    }
+    if model.forces.len() != n {
+        return Err(Error::Derivation(DerivationError::ForceCount {
+            forces: model.forces.len(),
+            coordinates: n,
+        }));
+    }
+    Ok(())
+}
+
+/// M, C q', g and tau of the energy route.
+struct Dynamics<'a> {
+    mass: &'a Matrix,
+    coriolis_forces: &'a Matrix,
+    gravity: &'a Matrix,
+    forces: &'a Matrix,
+}
+
+impl Dynamics<'_> {
+    /// tau_id = M q'' + C q' + g - tau and the bias b = C q' + g - tau, for the column of
+    /// accelerations `qdd` (a tree of links has both from Newton-Euler instead).
+    fn inverse_and_bias(&self, arena: &mut Arena, qdd: &Matrix) -> Result<(Matrix, Matrix)> {
+        let inertial = self
+            .mass
+            .mul(arena, qdd)?
+            .add(arena, self.coriolis_forces)?;
+        let id = inertial.add(arena, self.gravity)?.sub(arena, self.forces)?;
+        let b = self.coriolis_forces.add(arena, self.gravity)?;
+        Ok((id, b.sub(arena, self.forces)?))
+    }
+}
+
+/// Khang's C of `mass`, the mass matrix of `model` ([`khang_coriolis_matrix`]): what
+/// `derive` leaves out for a tree of links (`Equations::coriolis_matrix` is then `None`)
+/// and compiling the macro's `coriolis_matrix` asks for.
+///
+/// # Errors
+/// What differentiation reports; [`crate::error::BudgetError`] beyond the arena's budget.
+pub(crate) fn coriolis_matrix_of(model: &mut Model, mass: &Matrix) -> Result<Matrix> {
+    let s = Symbols::of(model)?;
+    let mut d = Differentiator::new();
+    let slopes = MassSlopes::new(&mut model.arena, &mut d, mass, &s.q)?;
+    khang_coriolis_matrix(&mut model.arena, &slopes, &s)
 }
 
 /// Errors when an expression of `model` depends on what it may not: the potential or a
@@ -340,37 +403,6 @@ fn constraint_jacobians(
         }
     }
     Ok((phi_q, phi_t))
-}
-
-/// Each link's frame: its name, rotation, position and Jacobian (6 x n).
-fn frame_equations(arena: &mut Arena, links: &[Link], n: usize) -> Vec<FrameEquations> {
-    (0..links.len())
-        .map(|l| {
-            let link = &links[l];
-            FrameEquations {
-                name: link.name.clone(),
-                rotation: link.rotation.clone(),
-                position: Matrix::column(link.position.to_vec()),
-                jacobian: frame_jacobian(arena, links, l, n),
-            }
-        })
-        .collect()
-}
-
-/// 1/2 q'^T M q', each pair once: sum_i 1/2 M_ii q_i'^2 + sum_{i<j} M_ij q_i' q_j'.
-fn quadratic_form(arena: &mut Arena, mass: &Matrix, s: &Symbols) -> Id {
-    let n = s.qd.len();
-    let half = arena.rational(1, 2).unwrap_or_else(|_| arena.int(0));
-    let mut terms = Vec::with_capacity(n * (n + 1) / 2);
-    for i in 0..n {
-        let qi = arena.symbol_node(s.qd[i]);
-        for j in i..n {
-            let qj = arena.symbol_node(s.qd[j]);
-            let c = if i == j { half } else { arena.int(1) };
-            terms.push(arena.mul(&[c, mass.get(i, j), qi, qj]));
-        }
-    }
-    arena.add(&terms)
 }
 
 /// Khang's C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T
@@ -545,6 +577,7 @@ pub(crate) fn substitute_all(
             Node::Pow(b, e) => arena.pow(get(b), get(e))?,
             Node::Func(f, u) => arena.func(f, get(u))?,
             Node::Atan2(y, x) => arena.atan2(get(y), get(x)),
+            Node::Named(x) => arena.named(get(x)),
             Node::Num(_) | Node::Pi => n,
         };
         image.insert(n, new);

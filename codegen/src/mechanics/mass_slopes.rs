@@ -126,6 +126,7 @@ fn check_kronecker_size(n: usize, entries: usize, limit: usize) -> Result<()> {
             coordinates: n,
             entries,
             limit,
+            links: None,
         }));
     }
     Ok(())

@@ -3,6 +3,7 @@
 use crate::algebra::expr::{Arena, Id};
 use crate::algebra::rotation::{Orientation, RotationFactor};
 use crate::error::Location;
+use crate::mechanics::bodies::Body;
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::tree::Link;
 pub use crate::syntax::parameter_range::ParameterRange;
@@ -149,6 +150,12 @@ pub struct Model {
     /// rotation sequences whose angles can be singular (a body that lies flat in
     /// `rot_z(psi) * rot_x(phi) * rot_y(th)`).
     pub rotations: Vec<RotationSequence>,
+    /// The links' rigid bodies when the links carry all of T (`kinetic_from_links`): their
+    /// T and gravity Pi are not in `kinetic` and `potential`, which the recursive route
+    /// never reads for them; the energy route (`derive_with(model, Route::Lagrange)`)
+    /// builds them from these bodies when asked. Empty otherwise (the links' bodies are
+    /// then terms of `kinetic` and `potential` like any other body).
+    pub link_bodies: Vec<Body>,
 }
 
 /// A body's orientation R = F_1 F_2 ... (body to world) as declared: for each factor, the

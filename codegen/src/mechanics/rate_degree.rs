@@ -49,6 +49,7 @@ pub(crate) fn is_homogeneous_quadratic(arena: &Arena, root: Id, is_rate: &[bool]
                 (None, _) => None,
             },
             Node::Func(_, a) => of(a).filter(|&d| d == (0, 0)),
+            Node::Named(a) => of(a),
             Node::Atan2(y, x) => match (of(y), of(x)) {
                 (Some((0, 0)), Some((0, 0))) => Some((0, 0)),
                 _ => None,

@@ -13,6 +13,7 @@ use crate::algebra::matrix::Matrix;
 use crate::error::DerivationError;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
+use crate::mechanics::link_route::for_links;
 use crate::mechanics::model::Model;
 
 /// K = dF/dq and D = dF/dq' of the residual F (module docs), with the multiplier symbols.
@@ -60,8 +61,15 @@ pub(crate) fn multiplier_symbols(arena: &mut Arena, m: usize) -> Vec<SymbolId> {
 /// Derives K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau + Phi_q^T lambda.
 ///
 /// # Errors
-/// A differentiation error (a division by a zero constant in a derivative).
+/// A differentiation error (a division by a zero constant in a derivative); a
+/// [`crate::error::BudgetError`] beyond the arena's budget (for a tree of links, with the
+/// remedies that apply to links).
 pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
+    derive_tangent(model, eqs).map_err(|e| for_links(model, e))
+}
+
+/// [`residual_tangent`] itself.
+fn derive_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
     let (n, m) = (eqs.n, eqs.m);
     let arena = &mut model.arena;
     let lambda = multiplier_symbols(arena, m);

@@ -300,22 +300,22 @@ pub fn equations_latex(model: &Model, eqs: &Equations) -> String {
             r.name(id, format!("w_{{{}}}", k + 1));
         }
     }
-    let sections: [(&str, &Matrix); 9] = [
-        ("M", &eqs.mass),
-        ("C", &eqs.coriolis_matrix),
-        ("C \\dot{q}", &eqs.coriolis_forces),
-        ("g", &eqs.gravity),
-        ("\\tau", &eqs.forces),
-        ("\\Phi", &eqs.phi),
-        ("\\Phi_q", &eqs.phi_q),
-        ("\\Phi_t", &eqs.phi_t),
-        ("\\gamma", &eqs.gamma),
+    let sections: [(&str, Option<&Matrix>); 9] = [
+        ("M", Some(&eqs.mass)),
+        ("C", eqs.coriolis_matrix.as_ref()),
+        ("C \\dot{q}", Some(&eqs.coriolis_forces)),
+        ("g", Some(&eqs.gravity)),
+        ("\\tau", Some(&eqs.forces)),
+        ("\\Phi", Some(&eqs.phi)),
+        ("\\Phi_q", Some(&eqs.phi_q)),
+        ("\\Phi_t", Some(&eqs.phi_t)),
+        ("\\gamma", Some(&eqs.gamma)),
     ];
     for (name, m) in sections {
-        if name == "C" && model.kinetic_from_links {
+        let Some(m) = m else {
             out.push_str("% C: Khang's C of the M above, not written out for links\n");
             continue;
-        }
+        };
         out.push_str(&format!("\\[ {name} = {} \\]\n", bmatrix(&mut r, m)));
     }
     out.push_str(&format!("\\[ T = {} \\]\n", r.render(eqs.kinetic).s));

@@ -292,6 +292,7 @@ impl<'a, S: Style> Renderer<'a, S> {
                 None => self.product(Number::int(1), fs),
             },
             Node::Add(ts) => self.sum(ts),
+            Node::Named(x) => self.get(*x).clone(),
         }
     }
 
@@ -473,7 +474,7 @@ pub(crate) fn shared_nodes(arena: &Arena, roots: &[Id]) -> Vec<Id> {
     (0..arena.len())
         .filter(|&i| uses[i] > 1)
         .map(|i| Id::new(i as u32))
-        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_)))
+        .filter(|&id| matches!(arena.node(id), Node::Add(_) | Node::Mul(_) | Node::Named(_)))
         .collect()
 }
 

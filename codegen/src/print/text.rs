@@ -216,15 +216,16 @@ pub fn equations_text(model: &Model, eqs: &Equations) -> String {
     if model.kinetic_from_links {
         out.push_str(&shared_subexpressions(&mut r, &model.arena, eqs));
     }
-    let size = |mat: &Matrix| format!("{} x {}", mat.rows, mat.cols);
     for (name, title, mat) in sections(model, eqs) {
-        out.push_str(&format!("\n{title} ({}):\n", size(mat)));
-        if name == "C" && model.kinetic_from_links {
-            // Its entries are the derivatives of M's: written out they repeat M's recursion
-            // per coordinate. The generated `coriolis_matrix` computes them.
+        let Some(mat) = mat else {
+            // Khang's C of a tree: its entries are the derivatives of M's, written out they
+            // repeat M's recursion per coordinate. The generated `coriolis_matrix` computes
+            // them.
+            out.push_str(&format!("\n{title} ({n} x {n}):\n", n = eqs.n));
             out.push_str("  (Khang's C of the M above: not written out for links)\n");
             continue;
-        }
+        };
+        out.push_str(&format!("\n{title} ({} x {}):\n", mat.rows, mat.cols));
         matrix_lines(&mut out, &mut r, name, mat, "  ");
         if name == "Phi" && !model.vanished_rows.is_empty() {
             let _ = writeln!(
@@ -274,12 +275,10 @@ fn header(model: &Model, eqs: &Equations) -> String {
 /// as w1, w2, ..., and named in `r` so that the entries read them.
 fn shared_subexpressions(r: &mut Renderer<'_, Text>, arena: &Arena, eqs: &Equations) -> String {
     let mut roots: Vec<Id> = Vec::new();
-    for mat in [
-        &eqs.mass,
-        &eqs.coriolis_matrix,
-        &eqs.coriolis_forces,
-        &eqs.gravity,
-    ] {
+    for mat in [&eqs.mass, &eqs.coriolis_forces, &eqs.gravity]
+        .into_iter()
+        .chain(&eqs.coriolis_matrix)
+    {
         roots.extend_from_slice(mat.data());
     }
     roots.push(eqs.kinetic);
@@ -299,20 +298,21 @@ fn shared_subexpressions(r: &mut Renderer<'_, Text>, arena: &Arena, eqs: &Equati
     out
 }
 
-/// The matrix sections of [`equations_text`]: (name, title, matrix), in print order; the
-/// titles of M, C q' and g say when the links' recursion built them.
+/// The matrix sections of [`equations_text`]: (name, title, matrix; `None` for Khang's C
+/// of a tree of links, which is not derived), in print order; the titles of M, C q' and g
+/// say when the links' recursion built them.
 fn sections<'e>(
     model: &Model,
     eqs: &'e Equations,
-) -> [(&'static str, &'static str, &'e Matrix); 9] {
+) -> [(&'static str, &'static str, Option<&'e Matrix>); 9] {
     let (mass_title, coriolis_title, gravity_title) = if model.kinetic_from_links {
         (
             "M = d2T/dq'dq', the mass matrix (by composite bodies over the links)",
             "C q', the Coriolis and centrifugal forces (by Newton-Euler over the links)",
             if model.potential_from_links {
-                "g = dPi/dq, the gravity forces (by Newton-Euler over the links)"
+                "g = dPi/dq, the gravity forces (by composite bodies over the links)"
             } else {
-                "g = dPi/dq, the gravity forces"
+                "g = dPi/dq, the gravity forces (the links' by composite bodies, the declared potential's by differentiation)"
             },
         )
     } else {
@@ -323,26 +323,26 @@ fn sections<'e>(
         )
     };
     [
-        ("M", mass_title, &eqs.mass),
+        ("M", mass_title, Some(&eqs.mass)),
         (
             "C",
             "C = (dM/dq)(I_n kron q') - 1/2 [(dM/dq)(q' kron I_n)]^T, Khang's Coriolis matrix",
-            &eqs.coriolis_matrix,
+            eqs.coriolis_matrix.as_ref(),
         ),
-        ("Cq'", coriolis_title, &eqs.coriolis_forces),
-        ("g", gravity_title, &eqs.gravity),
-        ("tau", "tau, the generalised forces", &eqs.forces),
-        ("Phi", "Phi, the constraints Phi(q, t) = 0", &eqs.phi),
+        ("Cq'", coriolis_title, Some(&eqs.coriolis_forces)),
+        ("g", gravity_title, Some(&eqs.gravity)),
+        ("tau", "tau, the generalised forces", Some(&eqs.forces)),
+        ("Phi", "Phi, the constraints Phi(q, t) = 0", Some(&eqs.phi)),
         (
             "Phi_q",
             "Phi_q = dPhi/dq, the constraint Jacobian",
-            &eqs.phi_q,
+            Some(&eqs.phi_q),
         ),
-        ("Phi_t", "Phi_t = dPhi/dt", &eqs.phi_t),
+        ("Phi_t", "Phi_t = dPhi/dt", Some(&eqs.phi_t)),
         (
             "gamma",
             "gamma = -(dPhi_q/dq)(q' kron q') - 2 Phi_qt q' - Phi_tt, so that Phi_q q'' = gamma",
-            &eqs.gamma,
+            Some(&eqs.gamma),
         ),
     ]
 }

@@ -404,6 +404,7 @@ impl<'a> InstructionSelection<'a> {
                 let (y, x) = (self.op(*y), self.op(*x));
                 self.b.bin(BinOp::Atan2, y, x)
             }
+            Node::Named(x) => Ok(self.op(*x)),
         }
     }
 

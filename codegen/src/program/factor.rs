@@ -142,6 +142,11 @@ impl Factoring<'_> {
                 let parts: Vec<Id> = fs.iter().map(|&f| self.rewrite(f)).collect();
                 self.arena.mul(&parts)
             }
+            // A named sum is factored on its own and stays one factor of what reads it.
+            Node::Named(x) => {
+                let r = self.rewrite(x);
+                self.arena.named(r)
+            }
             _ => id,
         };
         if self.done.len() <= id.index() {
@@ -236,6 +241,10 @@ impl Factoring<'_> {
                 }
                 Some(acc)
             }
+            Node::Named(_) => Some(vec![Monomial {
+                coef: Number::int(1),
+                factors: vec![self.rewrite(id)],
+            }]),
             _ => Some(vec![Monomial {
                 coef: Number::int(1),
                 factors: vec![id],

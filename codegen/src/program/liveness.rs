@@ -74,7 +74,7 @@ mod tests {
     #[test]
     fn blocks_hand_on_every_value_read_later() {
         let mut model = crate::fixtures::closed_chain_model(12);
-        let eqs = crate::mechanics::lagrange::derive(&mut model).unwrap();
+        let eqs = crate::derive(&mut model).unwrap();
         let outs = [
             &eqs.mass,
             &eqs.coriolis_forces,

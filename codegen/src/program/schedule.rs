@@ -81,7 +81,7 @@ mod tests {
     #[test]
     fn the_schedule_defines_before_reading_and_keeps_every_instruction() {
         let mut model = crate::fixtures::closed_chain_model(6);
-        let eqs = crate::mechanics::lagrange::derive(&mut model).unwrap();
+        let eqs = crate::derive(&mut model).unwrap();
         let outs = [&eqs.mass, &eqs.coriolis_forces, &eqs.phi_q, &eqs.gamma];
         let p = Program::new(&model.arena, &outs).unwrap();
         let s = schedule(p.instructions(), p.outputs());

@@ -295,5 +295,6 @@ fn two_coordinate_model_in(mut arena: Arena, x: &str, y: &str) -> mechanism_code
         potential_from_links: false,
         gravity: None,
         rotations: Vec::new(),
+        link_bodies: Vec::new(),
     }
 }

@@ -166,23 +166,57 @@ fn chain(n: usize) -> String {
     s
 }
 
-/// The operations per call of the inverse dynamics grow linearly with the number of links
-/// (Newton-Euler: a fixed amount of work per link, shared by CSE), where the expanded
-/// Lagrange form grows with n^3 or faster: doubling a chain from 8 to 16 links and again
-/// to 32 multiplies them by about 2 each time (2.5 allows the first links' cheaper
-/// zero-velocity terms).
+/// Each link adds the same operations to the inverse dynamics and to the bias, and each
+/// entry of M the same too (its operations grow with the square of n): every link's
+/// velocities, accelerations, forces and composite inertia are named once, so the
+/// expressions of a link read its parent's as operands instead of growing with the depth.
+/// Counted on chains of 8, 16, 24 and 32 links (the axes repeat every two links): the
+/// first differences of the inverse dynamics' and the bias' operations are equal, and so
+/// are the second differences of M's.
 #[test]
-fn inverse_dynamics_costs_grow_linearly_along_a_chain() {
+fn each_link_adds_the_same_operations_along_a_chain() {
     let ops = |n: usize| {
         let mut model = parse_model_str(&chain(n)).unwrap();
         let eqs = derive_with(&mut model, Route::Auto).unwrap();
-        let p = mechanism_codegen::Program::new(&model.arena, &[&eqs.inverse_dynamics]).unwrap();
-        p.op_counts().total() as f64
+        let count = |m: &mechanism_codegen::Matrix| {
+            let p = mechanism_codegen::Program::new(&model.arena, &[m]).unwrap();
+            p.op_counts().total() as i64
+        };
+        [
+            count(&eqs.inverse_dynamics),
+            count(&eqs.bias),
+            count(&eqs.mass),
+        ]
     };
-    let (a, b, c) = (ops(8), ops(16), ops(32));
-    eprintln!("inverse dynamics, operations per call: 8 links {a}, 16 links {b}, 32 links {c}");
-    assert!(b / a < 2.5 && c / b < 2.5, "{a} -> {b} -> {c}");
-    assert!(b / a > 1.5 && c / b > 1.5, "{a} -> {b} -> {c}");
+    let counts: Vec<[i64; 3]> = [8, 16, 24, 32].into_iter().map(ops).collect();
+    eprintln!("inverse dynamics, bias, M: {counts:?}");
+    let first = |k: usize, i: usize| counts[i + 1][k] - counts[i][k];
+    for k in 0..2 {
+        assert_eq!(first(k, 0), first(k, 1), "{counts:?}");
+        assert_eq!(first(k, 1), first(k, 2), "{counts:?}");
+    }
+    assert_eq!(
+        first(2, 1) - first(2, 0),
+        first(2, 2) - first(2, 1),
+        "{counts:?}"
+    );
+}
+
+/// A chain whose derivation exceeds a size budget says what applies to links: lock joints
+/// (or raise the budget), not fewer chained rotations.
+#[test]
+fn a_budget_met_by_links_names_what_links_can_do() {
+    let budget = mechanism_codegen::Budget {
+        size: 20_000,
+        ..Default::default()
+    };
+    let mut model = mechanism_codegen::parse_model_str_with(&chain(40), budget).unwrap();
+    let e = derive_with(&mut model, Route::Auto).unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("these 40 moving links"), "{text}");
+    assert!(text.contains("mechanism import --lock JOINT"), "{text}");
+    assert!(!text.contains("chained rotations"), "{text}");
+    assert!(text.contains("MECHANISM_MAX_SIZE="), "{text}");
 }
 
 /// A joint axis written with a parameter stays a unit vector when the parameter changes:

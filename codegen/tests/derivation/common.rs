@@ -234,6 +234,7 @@ fn eval_rec<D: DualNum<Primitive = f64> + Copy>(
                 Func::Abs => u.abs(),
             }
         }
+        Node::Named(x) => eval_rec(a, x, env, memo)?,
         Node::Atan2(y, x) => {
             let y = eval_rec(a, y, env, memo)? + D::from(0.0); // -0.0 -> +0.0, as in eval_ast
             let x = eval_rec(a, x, env, memo)?;
@@ -323,6 +324,7 @@ pub fn bare_model(
         potential_from_links: false,
         gravity: None,
         rotations: Vec::new(),
+        link_bodies: Vec::new(),
     }
 }
 
@@ -378,7 +380,11 @@ pub fn try_eval_equations(
         |m: &mechanism_codegen::Matrix| mechanism_codegen::eval_matrix(&model.arena, m, &env).ok();
     Some(EvaluatedEquations {
         mass: ev(&eqs.mass)?,
-        coriolis_matrix: ev(&eqs.coriolis_matrix)?,
+        // Khang's C of a tree of links is derived only where a routine needs it.
+        coriolis_matrix: match &eqs.coriolis_matrix {
+            Some(c) => ev(c)?,
+            None => Vec::new(),
+        },
         coriolis_forces: ev(&eqs.coriolis_forces)?,
         gravity: ev(&eqs.gravity)?,
         phi: ev(&eqs.phi)?,

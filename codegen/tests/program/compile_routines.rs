@@ -3,6 +3,7 @@
 //! outputs; the source table covers what each routine reads; and compiling twice gives the
 //! same routines.
 
+use mechanism_codegen::internals::frame_jacobian;
 use mechanism_codegen::{
     Equations, Matrix, Model, Program, ResidualTangent, Role, Routines, Source, Tangents, Tape,
     compile, compile_interpreted, derive, parse_model_str, residual_tangent,
@@ -30,6 +31,7 @@ fn inputs(model: &Model, routines: &Routines) -> Vec<f64> {
             Source::Parameter(k) => model.parameters[k].default,
             Source::Time => 0.45,
             Source::Multiplier(k) => 2.0 - 0.5 * k as f64,
+            Source::Effort(k) => 0.8 + 0.3 * k as f64,
             Source::Cache(_) => 0.0,
         };
     }
@@ -55,7 +57,7 @@ fn run(program: &Program, inputs: &[f64]) -> Vec<u64> {
 
 #[test]
 fn hoisted_routines_give_the_plain_programs_bits() {
-    let (model, eqs, tangent, routines) = compiled();
+    let (mut model, eqs, tangent, routines) = compiled();
     assert!(!eqs.frames.is_empty() && !model.drawing.points.is_empty());
     let values = inputs(&model, &routines);
     let column = |ids| Matrix::column(ids);
@@ -68,17 +70,23 @@ fn hoisted_routines_give_the_plain_programs_bits() {
             .collect(),
     );
     let frame = &eqs.frames[1];
+    let jacobian = {
+        let n = eqs.n;
+        frame_jacobian(&mut model.arena, &model.links, 1, n)
+    };
     let cases: Vec<(Role, Vec<&Matrix>)> = vec![
         (Role::Mass, vec![&eqs.mass]),
         (Role::ConstraintJacobian, vec![&eqs.phi_q]),
         (Role::Gamma, vec![&eqs.gamma]),
         (Role::Tangent, vec![&tangent.stiffness, &tangent.damping]),
         (Role::InverseDynamics, vec![&eqs.inverse_dynamics]),
+        (Role::Bias, vec![&eqs.bias]),
+        (Role::MassAndBias, vec![&eqs.mass, &eqs.bias]),
         (
             Role::FramePlacement(1),
             vec![&frame.rotation, &frame.position],
         ),
-        (Role::FrameJacobian(1), vec![&frame.jacobian]),
+        (Role::FrameJacobian(1), vec![&jacobian]),
         (Role::Draw, vec![&draw]),
     ];
     for (role, outputs) in cases {

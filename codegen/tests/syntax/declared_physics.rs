@@ -238,6 +238,7 @@ fn a_derivation_beyond_its_matrix_budget_fails_before_allocating() {
             coordinates,
             entries,
             limit,
+            links: None,
         })) => assert_eq!((coordinates, entries, limit), (520, 520, 519)),
         other => panic!("{:?}", other.map(|e| e.n)),
     }
@@ -259,7 +260,12 @@ fn a_derivation_beyond_its_work_budget_stops() {
         Err(e) => e,
         Ok(eqs) => panic!("derived {} coordinates within half its work", eqs.n),
     };
-    let Error::Budget(BudgetError::Work { work, budget }) = e else {
+    let Error::Budget(BudgetError::Work {
+        work,
+        budget,
+        links: None,
+    }) = e
+    else {
         panic!("{e:?}");
     };
     assert!(work > budget && budget == whole / 2, "{work} of {budget}");
@@ -314,7 +320,11 @@ fn the_size_of_the_expressions_is_counted_and_checked() {
     assert!(a.check_budget().is_ok());
     a.set_budget(budget(a.size() - 1, effort.work));
     match a.check_budget() {
-        Err(Error::Budget(BudgetError::Size { size, budget })) => {
+        Err(Error::Budget(BudgetError::Size {
+            size,
+            budget,
+            links: None,
+        })) => {
             assert_eq!((size, budget), (a.size(), a.size() - 1));
         }
         other => panic!("{other:?}"),
@@ -323,7 +333,11 @@ fn the_size_of_the_expressions_is_counted_and_checked() {
     // but no size.
     a.set_budget(budget(a.size(), effort.work - 1));
     match a.check_budget() {
-        Err(Error::Budget(BudgetError::Work { work, budget })) => {
+        Err(Error::Budget(BudgetError::Work {
+            work,
+            budget,
+            links: None,
+        })) => {
             assert_eq!((work, budget), (effort.work, effort.work - 1));
         }
         other => panic!("{other:?}"),

@@ -62,7 +62,7 @@ fn every_printed_entry_reads_back_to_the_entry() {
     let mut arena = m.arena.clone();
     let matrices: [(&str, &Matrix); 9] = [
         ("M", &eqs.mass),
-        ("C", &eqs.coriolis_matrix),
+        ("C", eqs.coriolis_matrix.as_ref().expect("the seed's C")),
         ("Cq'", &eqs.coriolis_forces),
         ("g", &eqs.gravity),
         ("tau", &eqs.forces),

@@ -87,3 +87,76 @@ fn a_hash_collision_keeps_both_nodes_apart() {
     assert_eq!(a.intern(x_node), x);
     assert_eq!(a.len(), before + 1);
 }
+
+/// A named sum is one operand: a sum holding it is not flattened into it, a number scales
+/// it with one product, like named terms collect, and its constant stays outside, so
+/// constants still fold. A product, a symbol or a number is not named.
+#[test]
+fn a_named_sum_is_one_operand() {
+    let mut a = Arena::new();
+    let [x, y, z] = ["x", "y", "z"].map(|s| a.symbol(s, SymbolKind::Free));
+    let xy = a.add2(x, y);
+    let n = a.named(xy);
+    assert_eq!(a.node(n), &Node::Named(xy));
+    assert_eq!(a.named(n), n, "named once");
+    let s = a.add2(n, z);
+    assert!(
+        matches!(a.node(s), Node::Add(ts) if ts.len() == 2),
+        "not flattened"
+    );
+    let three = a.int(3);
+    let scaled = a.mul2(three, n);
+    assert!(
+        matches!(a.node(scaled), Node::Mul(fs) if fs.len() == 2),
+        "not distributed"
+    );
+    let twice = a.add2(n, n);
+    let two = a.int(2);
+    assert_eq!(twice, a.mul2(two, n));
+    let minus = a.neg(n);
+    let none = a.add2(n, minus);
+    assert!(a.is_zero(none));
+    // The constant of a named sum stays outside the name and folds with another.
+    let one = a.int(1);
+    let c = a.add(&[one, x, y]);
+    let named = a.named(c);
+    assert_eq!(named, a.add2(one, n));
+    let four = a.int(4);
+    let folded = a.add2(named, four);
+    let five = a.int(5);
+    assert_eq!(folded, a.add2(five, n));
+    // A constant plus one term is not worth a name.
+    let x1 = a.add2(one, x);
+    assert_eq!(a.named(x1), x1);
+    let p = a.mul2(x, y);
+    assert_eq!(a.named(p), p);
+    assert_eq!(a.named(x), x);
+    assert_eq!(a.named(three), three);
+}
+
+/// Evaluation, differentiation and lowering see through a name: its value is its sum's,
+/// d(named u)/dx = named du/dx, and a program computes it once, with no instruction of its
+/// own.
+#[test]
+fn a_named_sum_evaluates_and_differentiates_as_its_sum() {
+    use crate::algebra::diff::Differentiator;
+    use crate::algebra::eval::eval;
+    let mut a = Arena::new();
+    let [x, y] = ["x", "y"].map(|s| a.symbol(s, SymbolKind::Free));
+    let xs = a.as_symbol(x).unwrap();
+    let x2 = a.mul2(x, x);
+    let u = a.add2(x2, y);
+    let n = a.named(u);
+    let e = a.mul2(n, n);
+    let env = |s: SymbolId| Some(if s == xs { 1.5 } else { -0.25 });
+    let v = 1.5 * 1.5 - 0.25;
+    assert_eq!(eval(&a, e, &env).unwrap(), v * v);
+    let mut d = Differentiator::new();
+    let de = d.diff(&mut a, e, xs).unwrap();
+    // d(u^2)/dx = 2 u du/dx = 2 u (2 x).
+    assert_eq!(eval(&a, de, &env).unwrap(), 2.0 * v * 3.0);
+    let program =
+        crate::program::cse::Program::new(&a, &[&crate::Matrix::column(vec![e])]).unwrap();
+    // x*x, + y, then the square: three operations.
+    assert_eq!(program.op_counts().total(), 3);
+}

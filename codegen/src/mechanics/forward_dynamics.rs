@@ -1,0 +1,148 @@
+//! Forward dynamics as straight-line expressions: q'' = M^-1 (u - b) for an effort u along
+//! the coordinates and the bias b = C q' + g - tau, by the factorisation M = L^T D L whose
+//! fill-in follows the tree (Featherstone's LTDL, "Rigid Body Dynamics Algorithms", 2008,
+//! section 6.5, tables 6.3 and 6.4), written out over M's structural pattern.
+//!
+//! The coordinates are taken in an order where a link's coordinate comes after its
+//! parent's (the links' declaration order; for a model without links, the declared order).
+//! Eliminating from the last coordinate to the first, coordinate k's lower neighbours (the
+//! j < k with M_kj not identically 0, and the fill-in that eliminating the later ones
+//! brought) all lie on the chain of its elimination parent lambda(k), the largest of them:
+//! for a tree of links that chain is k's ancestors, and a branch never fills another.
+//! Then, for k = n..1 and each i on k's chain, a = H_ki / H_kk and H_ij -= a H_kj for the
+//! j on i's chain from i down; H_ki = a. D = diag(H) (the pivots), L the unit lower
+//! triangle of H below it. The solve: z = L^-T (u - b) (for i = n..1, z_j -= L_ij z_i along
+//! i's chain), z_i /= D_ii, q'' = L^-1 z (for i = 1..n, q''_i -= L_ij q''_j along i's
+//! chain). Every entry is named once ([`crate::Node::Named`]).
+//!
+//! M is positive definite exactly when every pivot D_kk is: the pivots are an output, and
+//! the caller refuses q'' (it is then not finite, or meaningless) when one is not > 0.
+
+use crate::algebra::expr::{Arena, Id};
+use crate::algebra::matrix::Matrix;
+use crate::error::Result;
+
+/// q'' (n x 1, by coordinate) and the pivots D (n x 1, in elimination order).
+pub(crate) struct ForwardDynamics {
+    pub(crate) accelerations: Matrix,
+    pub(crate) pivots: Matrix,
+}
+
+/// The elimination parent of each position of the pattern `lower` (for position k, the
+/// positions j < k with H_kj not identically 0): the largest lower neighbour once the
+/// fill-in of the later positions is added, `None` for a root.
+fn elimination_parents(lower: &[Vec<usize>]) -> Vec<Option<usize>> {
+    let n = lower.len();
+    let mut sets: Vec<Vec<usize>> = lower.to_vec();
+    let mut parent = vec![None; n];
+    for k in (0..n).rev() {
+        let mut s = std::mem::take(&mut sets[k]);
+        s.sort_unstable();
+        s.dedup();
+        if let Some(&p) = s.last() {
+            parent[k] = Some(p);
+            // Eliminating k connects its other lower neighbours to p.
+            sets[p].extend(s.iter().copied().filter(|&j| j != p));
+        }
+    }
+    parent
+}
+
+/// q'' = M^-1 (u - b) and the pivots of M = L^T D L (module docs), with the coordinates
+/// taken in `order` (a permutation of 0..n, parents before children).
+pub(crate) fn forward_dynamics(
+    a: &mut Arena,
+    mass: &Matrix,
+    bias: &Matrix,
+    effort: &[Id],
+    order: &[usize],
+) -> Result<ForwardDynamics> {
+    let n = order.len();
+    // H in elimination order, lower triangle (row >= column).
+    let mut h: Vec<Vec<Id>> = (0..n)
+        .map(|k| (0..=k).map(|j| mass.get(order[k], order[j])).collect())
+        .collect();
+    let lower: Vec<Vec<usize>> = (0..n)
+        .map(|k| (0..k).filter(|&j| !a.is_zero(h[k][j])).collect())
+        .collect();
+    let parent = elimination_parents(&lower);
+    let chain = |mut i: Option<usize>| {
+        let mut out = Vec::new();
+        while let Some(x) = i {
+            out.push(x);
+            i = parent[x];
+        }
+        out
+    };
+    // 1/D_kk, or 0 where D_kk is identically 0 (M singular at every q: the pivot, an
+    // output, makes the caller refuse q'').
+    let mut inverse = vec![a.int(0); n];
+    for k in (0..n).rev() {
+        if !a.is_zero(h[k][k]) {
+            inverse[k] = a.powi(h[k][k], -1)?;
+        }
+        let inverse = inverse[k];
+        for i in chain(parent[k]) {
+            let hki = a.mul2(h[k][i], inverse);
+            let l = a.named(hki);
+            for j in chain(Some(i)) {
+                let t = a.mul2(l, h[k][j]);
+                let d = a.sub(h[i][j], t);
+                h[i][j] = a.named(d);
+            }
+            h[k][i] = l;
+        }
+    }
+    let mut x: Vec<Id> = order
+        .iter()
+        .map(|&c| {
+            let d = a.sub(effort[c], bias.get(c, 0));
+            a.named(d)
+        })
+        .collect();
+    for i in (0..n).rev() {
+        for j in chain(parent[i]) {
+            let t = a.mul2(h[i][j], x[i]);
+            let d = a.sub(x[j], t);
+            x[j] = a.named(d);
+        }
+    }
+    for (xi, &inverse) in x.iter_mut().zip(&inverse) {
+        *xi = a.mul2(*xi, inverse);
+    }
+    for i in 0..n {
+        let mut terms = vec![x[i]];
+        for j in chain(parent[i]) {
+            let t = a.mul2(h[i][j], x[j]);
+            terms.push(a.neg(t));
+        }
+        let s = a.add(&terms);
+        x[i] = a.named(s);
+    }
+    let mut accelerations = vec![a.int(0); n];
+    for (k, &c) in order.iter().enumerate() {
+        accelerations[c] = x[k];
+    }
+    Ok(ForwardDynamics {
+        accelerations: Matrix::column(accelerations),
+        pivots: Matrix::column((0..n).map(|k| h[k][k]).collect()),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tree's pattern has no fill-in: each position's parent is its nearest lower
+    /// neighbour, and a branch's positions do not gain the other branch's.
+    #[test]
+    fn the_elimination_parents_of_a_tree_are_its_parents() {
+        // 0 - 1 - 2 and 0 - 3 - 4: lower neighbours are the ancestors.
+        let lower = vec![vec![], vec![0], vec![0, 1], vec![0], vec![0, 3]];
+        let parent = elimination_parents(&lower);
+        assert_eq!(parent, [None, Some(0), Some(1), Some(0), Some(3)]);
+        // A pattern with fill: 2's neighbours 0 and 1, 1 not connected to 0 before.
+        let lower = vec![vec![], vec![], vec![0, 1]];
+        assert_eq!(elimination_parents(&lower), [None, Some(0), Some(1)]);
+    }
+}

@@ -1,0 +1,138 @@
+//! M by composite bodies (CRBA) and Pi by the static recursion, over the bodies of a tree.
+//!
+//! Composite bodies: the inertia (m, h, I) of each body's subtree, each child's moved into
+//! its parent's frame by (R, o) (`bodies::moved`). The momentum of unit motion of joint k
+//! about its origin, (f, n) = (S x h, I S) (revolute) or (m S, h x S) (prismatic), is
+//! carried up the tree (f <- R f, n <- R n + o x R f) and projected on each ancestor j's
+//! axis: M_jk = S_j . n (revolute j) or S_j . f (prismatic j).
+//!
+//! Pi: the gravity vector in each body's axes, gamma_k = R_k^T gamma_p (gamma_world = g),
+//! and the height term G_k = g . p_k of its origin, G_k = G_p + gamma_p . o_k;
+//! Pi = -sum_k (m_k G_k + gamma_k . h_k) plus the links fixed to the world.
+
+use crate::algebra::expr::{Arena, Id, Vec3};
+use crate::algebra::matrix::Matrix;
+use crate::mechanics::recursive::bodies::{Inertia, Tree, TreeBody, moved, sum};
+use crate::mechanics::recursive::vector::{add, cross, dot, mul, mul_t, named, scale};
+
+/// S_j . n (revolute) or S_j . f (prismatic): the joint force of body `b` for the force
+/// and moment (f, n) about its origin.
+fn project(a: &mut Arena, b: &TreeBody, f: &Vec3, n: &Vec3) -> Id {
+    if b.revolute {
+        dot(a, &b.axis, n)
+    } else {
+        dot(a, &b.axis, f)
+    }
+}
+
+/// M by composite bodies (module docs), n x n.
+pub(crate) fn composite_mass(a: &mut Arena, tree: &Tree, n: usize) -> Matrix {
+    let bodies = &tree.bodies;
+    let mut composite: Vec<Inertia> = bodies.iter().map(|b| b.inertia.clone()).collect();
+    for k in (0..bodies.len()).rev() {
+        if let Some(p) = bodies[k].parent {
+            let x = moved(a, &composite[k], &bodies[k].rotation, &bodies[k].origin);
+            composite[p] = sum(a, &composite[p], &x);
+        }
+    }
+    let mut mass = Matrix::zeros(a, n, n);
+    for (k, b) in bodies.iter().enumerate() {
+        let x = &composite[k];
+        let (mut f, mut nm) = if b.revolute {
+            (cross(a, &b.axis, &x.h), mul(a, &x.i, &b.axis))
+        } else {
+            (scale(a, x.m, &b.axis), cross(a, &x.h, &b.axis))
+        };
+        f = named(a, &f);
+        nm = named(a, &nm);
+        let diag = project(a, b, &f, &nm);
+        mass.set(b.coordinate, b.coordinate, diag);
+        let mut j = k;
+        while let Some(p) = bodies[j].parent {
+            // Named where the carry goes on: at the last ancestor the projection reads
+            // them once, and the moment's terms merge with the force's.
+            let further = bodies[p].parent.is_some();
+            let keep = |a: &mut Arena, v: Vec3| if further { named(a, &v) } else { v };
+            let rf = mul(a, &bodies[j].rotation, &f);
+            let rf = keep(a, rf);
+            let rn = mul(a, &bodies[j].rotation, &nm);
+            let orf = cross(a, &bodies[j].origin, &rf);
+            f = rf;
+            let s = add(a, &rn, &orf);
+            nm = keep(a, s);
+            j = p;
+            let e = project(a, &bodies[j], &f, &nm);
+            mass.set(bodies[j].coordinate, b.coordinate, e);
+            mass.set(b.coordinate, bodies[j].coordinate, e);
+        }
+    }
+    mass
+}
+
+/// Pi of the links' gravity (module docs), for the gravity vector `g` (world axes).
+pub(crate) fn potential(a: &mut Arena, tree: &Tree, g: &Vec3) -> Id {
+    let z = a.int(0);
+    let nb = tree.bodies.len();
+    let mut gamma = vec![[z, z, z]; nb];
+    let mut height = vec![z; nb];
+    let mut pi = vec![tree.fixed_potential];
+    for (k, b) in tree.bodies.iter().enumerate() {
+        let (gp, hp) = match b.parent {
+            Some(p) => (gamma[p], height[p]),
+            None => (*g, z),
+        };
+        gamma[k] = {
+            let t = mul_t(a, &b.rotation, &gp);
+            named(a, &t)
+        };
+        let rise = dot(a, &gp, &b.origin);
+        let h = a.add2(hp, rise);
+        height[k] = a.named(h);
+        let x = &b.inertia;
+        let mh = a.mul2(x.m, height[k]);
+        let gh = dot(a, &gamma[k], &x.h);
+        let e = a.add2(mh, gh);
+        pi.push(a.neg(e));
+    }
+    a.add(&pi)
+}
+
+/// g = dPi/dq of the links' gravity by composite first moments: with gamma_k = R_k^T
+/// gamma_p the gravity vector in body k's axes (gamma_world = g) and (m_k^C, h_k^C) the
+/// mass and first moment of k's subtree about k's origin (h_p^C = h_p + sum_c (R_c h_c^C +
+/// m_c^C o_c)), g_k = S_k . (gamma_k x h_k^C) for a revolute joint (the moment of the
+/// subtree's weight about the axis) and -m_k^C S_k . gamma_k for a prismatic one.
+pub(crate) fn composite_gravity(a: &mut Arena, tree: &Tree, n: usize, g: &Vec3) -> Vec<Id> {
+    let bodies = &tree.bodies;
+    let z = a.int(0);
+    let mut gamma = vec![[z, z, z]; bodies.len()];
+    for (k, b) in bodies.iter().enumerate() {
+        let gp = b.parent.map_or(*g, |p| gamma[p]);
+        let t = mul_t(a, &b.rotation, &gp);
+        gamma[k] = named(a, &t);
+    }
+    let mut mass: Vec<Id> = bodies.iter().map(|b| b.inertia.m).collect();
+    let mut first: Vec<Vec3> = bodies.iter().map(|b| b.inertia.h).collect();
+    let mut tau = vec![z; n];
+    for k in (0..bodies.len()).rev() {
+        let b = &bodies[k];
+        let m = a.named(mass[k]);
+        let h = named(a, &first[k]);
+        tau[b.coordinate] = if b.revolute {
+            let t = cross(a, &gamma[k], &h);
+            dot(a, &b.axis, &t)
+        } else {
+            let t = dot(a, &b.axis, &gamma[k]);
+            let mt = a.mul2(m, t);
+            a.neg(mt)
+        };
+        if let Some(p) = b.parent {
+            let rh = mul(a, &b.rotation, &h);
+            let mo = scale(a, m, &b.origin);
+            let moved = add(a, &rh, &mo);
+            first[p] = add(a, &first[p], &moved);
+            mass[p] = a.add2(mass[p], m);
+        }
+    }
+    tau
+}
