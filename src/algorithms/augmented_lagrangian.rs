@@ -71,9 +71,14 @@ pub struct AugmentedLagrangian {
     r1: Vec<f64>,
     r2: Vec<f64>,
     work: Vec<f64>,
-    /// With a fixed pattern ([`AugmentedLagrangian::fix`]): the first column of each row
-    /// of M's lower triangle that can be nonzero (i itself for a diagonal row).
+    /// With a fixed pattern ([`AugmentedLagrangian::fix`]): the first position of each row
+    /// of M's lower triangle (in the solver order) that can be nonzero (p itself for a
+    /// diagonal row).
     mass_first: Option<Vec<usize>>,
+    /// The coordinate at each position of the envelope (identity unless fixed in an
+    /// order), and the right-hand side of its solves in that order.
+    order: Vec<usize>,
+    permuted: Vec<f64>,
     /// Penalty factor kappa (default [`DEFAULT_PENALTY`]).
     pub penalty: f64,
     /// Iteration limit per solve (default 60).
@@ -100,6 +105,8 @@ impl AugmentedLagrangian {
             r2: vec![0.0; m],
             work: vec![0.0; n],
             mass_first: None,
+            order: (0..n).collect(),
+            permuted: vec![0.0; n],
             penalty: DEFAULT_PENALTY,
             max_iterations: 60,
             iterations: 0,
@@ -110,12 +117,29 @@ impl AugmentedLagrangian {
     /// Fixes the structural nonzeros of every M and A to come, (row, column) pairs: A's
     /// row spans and Gram pairs are no longer scanned per solve, nor M's envelope
     /// (see [`RowSpans::fix`]). Allocates (once).
+    #[cfg(test)]
     pub fn fix(&mut self, mass: &[(usize, usize)], a: &[(usize, usize)]) {
-        self.spans.fix(a);
-        self.basis.fix(a);
+        let order: Vec<usize> = (0..self.n).collect();
+        self.fix_ordered(mass, a, &order);
+    }
+
+    /// [`AugmentedLagrangian::fix`] in the coordinate order `order` (the mechanism's
+    /// `Sparsity::order`, the coordinate at each position): the envelope of
+    /// M + alpha A^T A is stored and factored in that order, A's spans and rank basis
+    /// too, so a declaration that scatters the coordinates of a row costs what the
+    /// pattern's band allows. The solution is the same up to round-off. Allocates (once).
+    pub fn fix_ordered(&mut self, mass: &[(usize, usize)], a: &[(usize, usize)], order: &[usize]) {
+        self.spans.fix_ordered(a, order);
+        self.basis.fix_ordered(a, order);
+        self.order = order.to_vec();
+        let mut place = vec![0; self.n];
+        for (p, &i) in order.iter().enumerate() {
+            place[i] = p;
+        }
         let mut first: Vec<usize> = (0..self.n).collect();
         for &(i, j) in mass {
-            let (hi, lo) = (i.max(j), i.min(j));
+            let (pi, pj) = (place[i], place[j]);
+            let (hi, lo) = (pi.max(pj), pi.min(pj));
             first[hi] = first[hi].min(lo);
         }
         self.matrix
@@ -185,7 +209,13 @@ impl AugmentedLagrangian {
             for i in 0..n {
                 self.work[i] = self.r1[i] + alpha * self.work[i];
             }
-            self.matrix.solve(&mut self.work);
+            for (v, &i) in self.permuted.iter_mut().zip(&self.order) {
+                *v = self.work[i];
+            }
+            self.matrix.solve(&mut self.permuted);
+            for (&v, &i) in self.permuted.iter().zip(&self.order) {
+                self.work[i] = v;
+            }
             let step = inf_norm(&self.work);
             for i in 0..n {
                 self.x[i] += self.work[i];
@@ -242,6 +272,7 @@ impl AugmentedLagrangian {
         let mut mass_scale = 0.0f64;
         for i in 0..n {
             mass_scale = max_nan(mass_scale, ms[i + i * n].abs());
+            // Without a fixed pattern the order is the declaration's (positions are columns).
             let first = match &self.mass_first {
                 Some(f) => Some(f[i]),
                 None => (0..i).find(|&j| ms[j + i * n] != 0.0),
@@ -263,11 +294,13 @@ impl AugmentedLagrangian {
             0.0
         };
         self.spans.add_gram_transpose(a, alpha, env);
-        for i in 0..n {
-            for j in env.first(i)..=i {
-                let v = ms[j + i * n];
+        for p in 0..n {
+            let i = self.order[p];
+            for pj in env.first(p)..=p {
+                let j = self.order[pj];
+                let v = ms[i.min(j) + i.max(j) * n];
                 if v != 0.0 {
-                    env.add(i, j, v);
+                    env.add(p, pj, v);
                 }
             }
         }
@@ -279,11 +312,13 @@ impl AugmentedLagrangian {
         let n = self.n;
         let ms = mass.as_slice();
         self.work.fill(0.0);
-        for i in 0..n {
+        for p in 0..n {
+            let i = self.order[p];
             let xi = self.x[i];
             let mut acc = ms[i + i * n] * xi;
-            for j in self.matrix.first(i)..i {
-                let v = ms[j + i * n];
+            for pj in self.matrix.first(p)..p {
+                let j = self.order[pj];
+                let v = ms[i.min(j) + i.max(j) * n];
                 acc += v * self.x[j];
                 self.work[j] += v * xi;
             }
@@ -309,8 +344,11 @@ impl AugmentedLagrangian {
 
     /// After a failed solve: the motion v (length n, largest entry 1 in magnitude) on which
     /// M + alpha A^T A is singular, i.e. an allowed motion (A v ~ 0) with no inertia.
-    pub fn undetermined_direction(&self, failure: NotPositiveDefinite, v: &mut [f64]) {
-        self.matrix.null_direction(failure.row, v);
+    pub fn undetermined_direction(&mut self, failure: NotPositiveDefinite, v: &mut [f64]) {
+        self.matrix.null_direction(failure.row, &mut self.permuted);
+        for (&x, &i) in self.permuted.iter().zip(&self.order) {
+            v[i] = x;
+        }
         let s = inf_norm(v);
         if s > 0.0 {
             v.iter_mut().for_each(|x| *x /= s);

@@ -93,23 +93,45 @@ pub struct BandedKkt {
     lambda: Vec<f64>,
     /// Solves that left rows out (rank below m).
     pub rank_deficient_solves: usize,
+    /// Multiply-adds of the rank factorisations ([`RowBasis::work`]) of all solves.
+    pub factor_work: u64,
 }
 
 impl BandedKkt {
     /// Workspace for n coordinates and m rows whose M and Phi_q are nonzero only at `mass`
     /// and `jacobian` ((row, column) pairs). Allocates (once).
-    pub fn new(n: usize, m: usize, mass: &[(usize, usize)], jacobian: &[(usize, usize)]) -> Self {
+    ///
+    /// The rank basis works with its spans in the coordinate order `coordinates` (the
+    /// mechanism's `Sparsity::order`, the coordinate at each position; empty for the
+    /// declaration's): its factor costs the rows' overlaps in that order.
+    pub fn new(
+        n: usize,
+        m: usize,
+        mass: &[(usize, usize)],
+        jacobian: &[(usize, usize)],
+        coordinates: &[usize],
+    ) -> Self {
         let edges: Vec<(usize, usize)> = mass
             .iter()
             .copied()
             .chain(jacobian.iter().map(|&(r, j)| (n + r, j)))
             .collect();
-        let order = BandOrder::new(n + m, &edges);
+        // Coordinates ranked by their position in `coordinates`, rows after them: the order
+        // of the KKT matrix then follows the coordinates' order, not their numbers.
+        let mut rank: Vec<usize> = (0..n + m).collect();
+        for (p, &j) in coordinates.iter().enumerate() {
+            rank[j] = p;
+        }
+        let order = BandOrder::ranked(n + m, &edges, &rank);
         let band = order.full_band().min(widest(n + m));
         let mut spans = RowSpans::new(m, n);
         spans.fix(jacobian);
         let mut basis = RowBasis::new(m, n);
-        basis.fix(jacobian);
+        if coordinates.is_empty() {
+            basis.fix(jacobian);
+        } else {
+            basis.fix_ordered(jacobian, coordinates);
+        }
         let normal = Envelope::with_profile(&spans.normal_profile((0..n).collect()));
         Self {
             n,
@@ -133,6 +155,7 @@ impl BandedKkt {
             x: vec![0.0; n],
             lambda: vec![0.0; m],
             rank_deficient_solves: 0,
+            factor_work: 0,
         }
     }
 
@@ -164,6 +187,7 @@ impl BandedKkt {
     ) -> Result<(), Declined> {
         let (n, m) = (self.n, self.dropped.len());
         let rank = self.basis.factor(a);
+        self.factor_work += self.basis.work();
         self.consistent.copy_from_slice(gamma);
         if rank < m {
             self.rank_deficient_solves += 1;
@@ -379,7 +403,7 @@ mod tests {
             .into_iter()
             .map(|loops| {
                 let (n, m, mass, jacobian) = a02_pattern(loops);
-                let kkt = BandedKkt::new(n, m, &mass, &jacobian);
+                let kkt = BandedKkt::new(n, m, &mass, &jacobian, &[]);
                 assert!(kkt.is_banded(), "N {loops}: band {}", kkt.band());
                 kkt.band()
             })

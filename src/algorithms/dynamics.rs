@@ -109,6 +109,8 @@ pub struct Dynamics {
     pub baumgarte: Option<(f64, f64)>,
     /// Number of augmented solves performed (right-hand-side evaluations).
     pub evaluations: usize,
+    /// Multiply-adds of the rank factorisations of Phi_q outside the banded route.
+    factor_work: u64,
 }
 
 impl Dynamics {
@@ -141,7 +143,14 @@ impl Dynamics {
             banded_solves: 0,
             baumgarte: None,
             evaluations: 0,
+            factor_work: 0,
         }
+    }
+
+    /// Multiply-adds of every rank factorisation of Phi_q so far ([`RowBasis::work`]), the
+    /// banded route's included: the counted work that depends on the coordinate order.
+    pub fn factor_work(&self) -> u64 {
+        self.factor_work + self.banded.as_ref().map_or(0, |b| b.factor_work)
     }
 
     /// Evaluates the system at (t, q, q') and solves the augmented system for q'' and lambda.
@@ -202,10 +211,10 @@ impl Dynamics {
             if let Some(s) = system.sparsity()
                 && (s.n, s.m) == (n, m)
             {
-                self.augmented.fix(&s.mass, &s.jacobian);
-                self.basis.fix(&s.jacobian);
+                self.augmented.fix_ordered(&s.mass, &s.jacobian, &s.order);
+                self.basis.fix_ordered(&s.jacobian, &s.order);
                 if n + m > LU_MAX_ORDER && m > 0 {
-                    let banded = BandedKkt::new(n, m, &s.mass, &s.jacobian);
+                    let banded = BandedKkt::new(n, m, &s.mass, &s.jacobian, &s.order);
                     self.banded = (banded.is_banded() || m > n).then_some(banded);
                 }
                 self.sparsity = Some(s.clone());
@@ -456,6 +465,7 @@ impl Dynamics {
         }
         let e = &self.eval;
         self.basis.factor(&e.phi_q);
+        self.factor_work += self.basis.work();
         if self.last_augmented {
             match &self.sparsity {
                 // M q'' over M's pattern only (the other entries are zero).

@@ -79,6 +79,8 @@ pub struct Projector {
     pub accept: f64,
     /// Iteration limit (default 20).
     pub max_iterations: usize,
+    /// Multiply-adds of every Gram matrix Phi_q Phi_q^T formed ([`RowSpans::gram`]).
+    pub(crate) factor_work: u64,
 }
 
 impl Projector {
@@ -98,13 +100,21 @@ impl Projector {
             tolerance: 1e-14,
             accept: 1e-12,
             max_iterations: 20,
+            factor_work: 0,
         }
     }
 
     /// Fixes the row spans of Phi_q from its structural nonzeros (see
-    /// [`RowSpans::fix`]): no scan of the dense Jacobian per projection.
-    pub fn fix(&mut self, pattern: &[(usize, usize)]) {
-        self.spans.fix(pattern);
+    /// [`RowSpans::fix_ordered`]), in the column order `order` (the mechanism's
+    /// `Sparsity::order`; empty for the declaration's): no scan of the dense Jacobian per
+    /// projection, and the Gram matrix Phi_q Phi_q^T costs the overlaps of the rows in that
+    /// order. With more rows than coordinates the projection factors Phi_q^T Phi_q, indexed
+    /// by coordinate, and keeps the declaration's order.
+    pub fn fix_ordered(&mut self, pattern: &[(usize, usize)], order: &[usize]) {
+        match (&self.normal, order.is_empty()) {
+            (None, false) => self.spans.fix_ordered(pattern, order),
+            _ => self.spans.fix(pattern),
+        }
         match &mut self.normal {
             Some((normal, _)) => {
                 normal.reserve(&self.spans.normal_profile((0..normal.dim()).collect()));
@@ -144,6 +154,7 @@ impl Projector {
             }
             None => {
                 self.spans.gram(&self.phi_q, 0.0, &mut self.gram);
+                self.factor_work += self.spans.work;
                 &mut self.gram
             }
         };

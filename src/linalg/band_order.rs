@@ -37,6 +37,15 @@ impl BandOrder {
     /// The reverse Cuthill-McKee order of the graph on `nodes` nodes with the undirected
     /// `edges` (pairs (u, v); self loops and repeats are ignored).
     pub fn new(nodes: usize, edges: &[(usize, usize)]) -> Self {
+        let rank: Vec<usize> = (0..nodes).collect();
+        Self::ranked(nodes, edges, &rank)
+    }
+
+    /// [`BandOrder::new`] with the ties between nodes of equal degree (the start of the
+    /// search, the order within a level) broken by `rank` (distinct values, one per node)
+    /// instead of the node numbers: nodes ranked by something their numbering does not
+    /// decide get the same order however they are numbered.
+    pub fn ranked(nodes: usize, edges: &[(usize, usize)], rank: &[usize]) -> Self {
         let mut degree = vec![0usize; nodes + 1];
         for &(u, v) in edges {
             if u != v {
@@ -66,11 +75,13 @@ impl BandOrder {
         let mut order = Vec::with_capacity(nodes);
         let mut seen = vec![false; nodes];
         let mut level = vec![usize::MAX; nodes];
-        for root in 0..nodes {
+        let mut roots: Vec<usize> = (0..nodes).collect();
+        roots.sort_by_key(|&v| rank[v]);
+        for root in roots {
             if seen[root] {
                 continue;
             }
-            let root = peripheral(root, &start, &adj, &mut level);
+            let root = peripheral(root, &start, &adj, &mut level, rank);
             let first = order.len();
             seen[root] = true;
             order.push(root);
@@ -85,7 +96,7 @@ impl BandOrder {
                         order.push(v);
                     }
                 }
-                order[from..].sort_by_key(|&v| (degree(v), v));
+                order[from..].sort_by_key(|&v| (degree(v), rank[v]));
             }
         }
         order.reverse();
@@ -153,11 +164,99 @@ impl BandOrder {
     pub fn full_band(&self) -> usize {
         self.full_band
     }
+
+    /// All nodes in band order (the node at each position, before any restriction).
+    pub fn nodes(&self) -> &[usize] {
+        &self.order
+    }
+}
+
+/// Pairs of columns beyond which a row's coordinates are joined in a path rather than all
+/// to each other (a dense row of n columns would give n^2 / 2 edges; a path keeps them
+/// adjacent in the order at n edges).
+const CLIQUE_PAIRS: usize = 1 << 20;
+
+/// The solvers' order of n coordinates from the structural pattern of M (n x n) and Phi_q
+/// ((row, column) pairs): the reverse Cuthill-McKee order ([`BandOrder`]) of the graph with
+/// an edge between two coordinates that share an entry of M or a row of Phi_q, i.e. the
+/// pattern of M + Phi_q^T Phi_q. The coordinate at each position.
+///
+/// Every row of Phi_q then spans the positions of few coordinates whatever order they were
+/// declared in, and rows overlap only their neighbours: the row spans, the rank basis and
+/// the Gram matrices of the projections cost what the pattern's band allows, O(m b^2),
+/// where a declaration that scatters a row's coordinates makes every row overlap every
+/// other (m^2 n). Ties are broken by the rows each coordinate appears in, not by its
+/// number: declaring the coordinates in another order (the rows in the same) gives the same
+/// sequence of coordinates, so the solvers do the same operations in the same order.
+pub fn coordinate_order(
+    n: usize,
+    mass: &[(usize, usize)],
+    jacobian: &[(usize, usize)],
+) -> Vec<usize> {
+    let mut edges: Vec<(usize, usize)> = mass
+        .iter()
+        .copied()
+        .filter(|&(i, j)| i < n && j < n)
+        .collect();
+    let mut row: Vec<usize> = Vec::new();
+    let mut pairs = 0usize;
+    let mut rows: Vec<Vec<usize>> = Vec::new();
+    let mut sorted = jacobian.to_vec();
+    sorted.sort_unstable();
+    let mut current = usize::MAX;
+    for &(r, j) in &sorted {
+        if r != current {
+            if !row.is_empty() {
+                rows.push(std::mem::take(&mut row));
+            }
+            current = r;
+        }
+        if j < n {
+            row.push(j);
+        }
+    }
+    if !row.is_empty() {
+        rows.push(row);
+    }
+    for row in &rows {
+        pairs += row.len() * row.len().saturating_sub(1) / 2;
+    }
+    for row in &rows {
+        if pairs <= CLIQUE_PAIRS {
+            for (a, &u) in row.iter().enumerate() {
+                edges.extend(row[a + 1..].iter().map(|&v| (u, v)));
+            }
+        } else {
+            edges.extend(row.windows(2).map(|w| (w[0], w[1])));
+        }
+    }
+    // Rank the coordinates by the rows they appear in (then by number): the same
+    // coordinates declared in another order get the same ranks, so the same order, unless
+    // two of them share every row.
+    let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for &(r, j) in &sorted {
+        if j < n {
+            rows_of[j].push(r);
+        }
+    }
+    let mut by_rows: Vec<usize> = (0..n).collect();
+    by_rows.sort_by(|&a, &b| rows_of[a].cmp(&rows_of[b]).then(a.cmp(&b)));
+    let mut rank = vec![0; n];
+    for (k, &j) in by_rows.iter().enumerate() {
+        rank[j] = k;
+    }
+    BandOrder::ranked(n, &edges, &rank).nodes().to_vec()
 }
 
 /// A pseudo-peripheral node of `root`'s component (George & Liu's algorithm): breadth-first
 /// search, move to a node of least degree on the last level while the depth grows.
-fn peripheral(root: usize, start: &[usize], adj: &[usize], level: &mut [usize]) -> usize {
+fn peripheral(
+    root: usize,
+    start: &[usize],
+    adj: &[usize],
+    level: &mut [usize],
+    rank: &[usize],
+) -> usize {
     let mut root = root;
     let mut depth = 0;
     let mut queue = Vec::new();
@@ -181,7 +280,7 @@ fn peripheral(root: usize, start: &[usize], adj: &[usize], level: &mut [usize]) 
             .iter()
             .copied()
             .filter(|&v| level[v] == last)
-            .min_by_key(|&v| (start[v + 1] - start[v], v))
+            .min_by_key(|&v| (start[v + 1] - start[v], rank[v]))
             .unwrap_or(root);
         for &v in &queue {
             level[v] = usize::MAX;

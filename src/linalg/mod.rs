@@ -41,7 +41,7 @@ mod square_band;
 mod svd;
 
 pub use band_lu::BandLu;
-pub use band_order::BandOrder;
+pub use band_order::{BandOrder, coordinate_order};
 pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
 pub use eigenvalues::eigenvalues;
 pub use envelope::{Envelope, NotPositiveDefinite};

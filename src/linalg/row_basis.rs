@@ -61,6 +61,8 @@ pub struct RowBasis {
     dependence: Vec<f64>,
     small: Envelope,
     work: Vec<f64>,
+    /// Multiply-adds of the last factor.
+    work_done: u64,
     /// Rows whose distance to the span of the independent rows before them is at most this
     /// times their norm are redundant (default [`DEFAULT_RANK_TOLERANCE`]).
     pub tolerance: f64,
@@ -87,6 +89,7 @@ impl RowBasis {
             dependence: vec![0.0; m * most],
             small: Envelope::new(most),
             work: vec![0.0; m.max(n)],
+            work_done: 0,
             tolerance: DEFAULT_RANK_TOLERANCE,
         };
         basis.reserve();
@@ -111,6 +114,14 @@ impl RowBasis {
         self.reserve();
     }
 
+    /// [`RowBasis::fix`] with the spans in the column order `order`
+    /// ([`RowSpans::fix_ordered`]): the same rows kept and the same multipliers up to
+    /// round-off, at the cost of the overlaps in that order. Allocates (once).
+    pub fn fix_ordered(&mut self, pattern: &[(usize, usize)], order: &[usize]) {
+        self.spans.fix_ordered(pattern, order);
+        self.reserve();
+    }
+
     /// Finds the independent rows of `a` (see the module docs); returns the rank.
     pub fn factor(&mut self, a: &DMatrix<f64>) -> usize {
         self.spans.scan(a);
@@ -119,9 +130,14 @@ impl RowBasis {
         let tol2 = self.tolerance * self.tolerance;
         let mut rank = 0;
         let mut used = 0;
+        let mut work = 0u64;
         for i in 0..m {
-            let span = self.spans.span(i);
-            let norm2: f64 = span.clone().map(|j| s[i + j * m] * s[i + j * m]).sum();
+            let span = self.spans.positions(i);
+            let norm2: f64 = self
+                .spans
+                .span(i)
+                .map(|j| s[i + j * m] * s[i + j * m])
+                .sum();
             self.before[i] = rank;
             let from = self.before[self.spans.first_overlap(i)];
             self.from[i] = from;
@@ -131,9 +147,11 @@ impl RowBasis {
             // A_R a_i over the kept rows that can overlap row i, then L^-1 of it.
             for (c, p) in (from..rank).enumerate() {
                 let k = self.kept[p];
-                let other = self.spans.span(k);
+                let other = self.spans.positions(k);
                 let (lo, hi) = (span.start.max(other.start), span.end.min(other.end));
-                row[c] = (lo..hi).map(|j| s[i + j * m] * s[k + j * m]).sum();
+                work += hi.saturating_sub(lo) as u64;
+                let columns = (lo..hi).map(|p| self.spans.column(p));
+                row[c] = columns.map(|j| s[i + j * m] * s[k + j * m]).sum();
             }
             for c in 0..row.len() {
                 let p = from + c;
@@ -141,6 +159,7 @@ impl RowBasis {
                 let lp = &done[self.start[self.kept[p]] + fp - self.from[self.kept[p]]..];
                 let dot: f64 = row[fp - from..c].iter().zip(lp).map(|(x, y)| x * y).sum();
                 row[c] = (row[c] - dot) * self.inverse[p];
+                work += (c - (fp - from)) as u64;
             }
             let d = norm2 - row.iter().map(|x| x * x).sum::<f64>();
             used += row.len();
@@ -163,7 +182,15 @@ impl RowBasis {
             }
         }
         self.rank = rank;
+        self.work_done = work;
         rank
+    }
+
+    /// Multiply-adds of the last [`RowBasis::factor`]: the products of each row with the
+    /// kept rows its span overlaps and the forward substitutions (the counted cost of the
+    /// factor, which depends on the column order of the spans, not on the values).
+    pub fn work(&self) -> u64 {
+        self.work_done
     }
 
     /// Whether row r was found redundant.

@@ -6,16 +6,25 @@ use nalgebra::DMatrix;
 
 use super::envelope::Envelope;
 
-/// Nonzero column span [lo_r, hi_r] of every row of a matrix (lo > hi for a zero row).
+/// Nonzero span [lo_r, hi_r] of every row of a matrix (lo > hi for a zero row), in a
+/// column order: positions p = 0..n, column `order[p]` at position p.
 ///
-/// The spans are found by [`RowSpans::scan`] on every matrix, or fixed once from the
-/// matrix's structural pattern ([`RowSpans::fix`]): then `scan` does nothing and
-/// [`RowSpans::gram`] visits only the pairs of rows whose spans overlap, so that neither
-/// reads the dense matrix outside the spans (O(m) for a chain instead of O(m n + m^2)).
+/// The spans are found by [`RowSpans::scan`] on every matrix (in the columns' own order),
+/// or fixed once from the matrix's structural pattern ([`RowSpans::fix`], or
+/// [`RowSpans::fix_ordered`] in a fill-reducing order of the columns): then `scan` does
+/// nothing and [`RowSpans::gram`] visits only the pairs of rows whose spans overlap, so
+/// that neither reads the dense matrix outside the spans (O(m) for a chain instead of
+/// O(m n + m^2)). A span is a range of positions: with the columns in declaration order a
+/// row whose columns lie far apart spans nearly all of them, and every row overlaps every
+/// other; in an order that bands the pattern (`Sparsity::order`) it spans a few.
 #[derive(Clone, Debug, Default)]
 pub struct RowSpans {
     lo: Vec<usize>,
     hi: Vec<usize>,
+    /// The column at each position (identity unless fixed in an order).
+    order: Vec<usize>,
+    /// Multiply-adds of the last [`RowSpans::gram`].
+    pub work: u64,
     /// For each row r, the first row q <= r whose span overlaps its own (r itself for an
     /// empty span): no row before it shares a column with r. 0 for every row before the
     /// first [`RowSpans::scan`] or [`RowSpans::fix`].
@@ -31,6 +40,8 @@ impl RowSpans {
         Self {
             lo: vec![0; m],
             hi: vec![0; m],
+            order: (0..n).collect(),
+            work: 0,
             first_overlap: vec![0; m],
             cover: vec![0; n],
             fixed: false,
@@ -42,16 +53,34 @@ impl RowSpans {
     /// pattern, [`RowSpans::scan`] becomes a no-op and [`RowSpans::gram`] visits only
     /// overlapping pairs. Allocates (once, outside any step loop).
     pub fn fix(&mut self, pattern: &[(usize, usize)]) {
+        let columns = pattern.iter().map(|&(_, j)| j + 1).max().unwrap_or(0);
+        let n = columns.max(self.order.len());
+        let order: Vec<usize> = (0..n).collect();
+        self.fix_ordered(pattern, &order);
+    }
+
+    /// [`RowSpans::fix`] with the columns in `order` (a permutation of 0..n: the column at
+    /// each position; covering every column of `pattern`): each row's span is the range of
+    /// the positions of its columns. The products below give the same values in any order
+    /// up to round-off (sums taken in another order); the work of [`RowSpans::gram`] and of
+    /// a row basis over these spans is the sum of the overlaps, small when `order` bands
+    /// the pattern. Allocates (once).
+    pub fn fix_ordered(&mut self, pattern: &[(usize, usize)], order: &[usize]) {
+        let n = order.len();
+        let mut place = vec![usize::MAX; n];
+        for (p, &j) in order.iter().enumerate() {
+            place[j] = p;
+        }
+        self.order = order.to_vec();
         self.lo.fill(usize::MAX);
         self.hi.fill(0);
         for &(r, j) in pattern {
-            self.lo[r] = self.lo[r].min(j);
-            self.hi[r] = self.hi[r].max(j);
+            let p = place[j];
+            self.lo[r] = self.lo[r].min(p);
+            self.hi[r] = self.hi[r].max(p);
         }
-        let columns = self.lo.iter().zip(&self.hi).filter(|(l, h)| l <= h);
-        let columns = columns.map(|(_, h)| h + 1).max().unwrap_or(0);
-        if columns > self.cover.len() {
-            self.cover.resize(columns, 0);
+        if n > self.cover.len() {
+            self.cover.resize(n, 0);
         }
         self.find_overlaps();
         self.fixed = true;
@@ -66,13 +95,13 @@ impl RowSpans {
         let m = self.lo.len();
         self.cover.fill(usize::MAX);
         for r in 0..m {
-            for j in self.span(r) {
-                self.cover[j] = self.cover[j].min(r);
+            for p in self.positions(r) {
+                self.cover[p] = self.cover[p].min(r);
             }
         }
         for r in 0..m {
             let cover = &self.cover;
-            self.first_overlap[r] = self.span(r).map(|j| cover[j]).min().unwrap_or(r);
+            self.first_overlap[r] = self.positions(r).map(|p| cover[p]).min().unwrap_or(r);
         }
     }
 
@@ -90,14 +119,15 @@ impl RowSpans {
         self.first_overlap[r]
     }
 
-    /// The storage profile of `base` + A^T A (n x n) that [`RowSpans::add_gram_transpose`]
-    /// fills: `lowest[i]` of `base` (each row's first column, i for a diagonal row) widened
-    /// to the first column of every span that holds column i.
+    /// The storage profile of `base` + A^T A (n x n, indexed by position: entry (p, p') is
+    /// that of the columns at positions p and p') that [`RowSpans::add_gram_transpose`]
+    /// fills: `lowest[p]` of `base` (each row's first position, p for a diagonal row)
+    /// widened to the first position of every span that holds position p.
     pub fn normal_profile(&self, mut lowest: Vec<usize>) -> Vec<usize> {
         for r in 0..self.lo.len() {
-            let span = self.span(r);
-            for i in span.clone() {
-                lowest[i] = lowest[i].min(span.start);
+            let span = self.positions(r);
+            for p in span.clone() {
+                lowest[p] = lowest[p].min(span.start);
             }
         }
         lowest
@@ -128,6 +158,9 @@ impl RowSpans {
             return;
         }
         let (m, n) = a.shape();
+        if self.order.len() != n {
+            self.order = (0..n).collect();
+        }
         self.lo.fill(n);
         self.hi.fill(0);
         for (j, col) in a.as_slice().chunks_exact(m.max(1)).enumerate().take(n) {
@@ -160,14 +193,26 @@ impl RowSpans {
         }
     }
 
-    /// The span of row r as a range (empty for a zero row).
+    /// The span of row r as a range of positions (empty for a zero row).
     #[inline]
-    pub fn span(&self, r: usize) -> std::ops::Range<usize> {
+    pub fn positions(&self, r: usize) -> std::ops::Range<usize> {
         if self.lo[r] > self.hi[r] {
             0..0
         } else {
             self.lo[r]..self.hi[r] + 1
         }
+    }
+
+    /// The column at position p.
+    #[inline]
+    pub fn column(&self, p: usize) -> usize {
+        self.order[p]
+    }
+
+    /// The columns inside row r's span, in position order (empty for a zero row).
+    #[inline]
+    pub fn span(&self, r: usize) -> impl Iterator<Item = usize> + Clone + '_ {
+        self.positions(r).map(|p| self.order[p])
     }
 
     /// out = A x.
@@ -197,45 +242,48 @@ impl RowSpans {
         }
     }
 
-    /// Adds w A^T A to the lower triangle of `env` (n x n), widening its envelope.
+    /// Adds w A^T A to the lower triangle of `env` (n x n, indexed by position), widening
+    /// its envelope.
     pub fn add_gram_transpose(&self, a: &DMatrix<f64>, w: f64, env: &mut Envelope) {
         let m = a.nrows();
         let s = a.as_slice();
         for r in 0..m {
-            let span = self.span(r);
+            let span = self.positions(r);
             if span.is_empty() {
                 continue;
             }
-            for i in span.clone() {
-                env.widen(i, span.start);
+            for p in span.clone() {
+                env.widen(p, span.start);
             }
-            for i in span.clone() {
-                let ai = s[r + i * m];
+            for p in span.clone() {
+                let ai = s[r + self.order[p] * m];
                 if ai == 0.0 {
                     continue;
                 }
-                for j in span.start..=i {
-                    env.add(i, j, w * ai * s[r + j * m]);
+                for pj in span.start..=p {
+                    env.add(p, pj, w * ai * s[r + self.order[pj] * m]);
                 }
             }
         }
     }
 
     /// Fills `env` (m x m) with G = A A^T + mu I over the overlapping spans.
-    pub fn gram(&self, a: &DMatrix<f64>, mu: f64, env: &mut Envelope) {
+    pub fn gram(&mut self, a: &DMatrix<f64>, mu: f64, env: &mut Envelope) {
         let m = a.nrows();
         let s = a.as_slice();
         env.clear();
+        let mut work = 0;
         for r in 0..m {
-            let sr = self.span(r);
+            let sr = self.positions(r);
             for q in self.first_overlap[r]..=r {
-                let sq = self.span(q);
+                let sq = self.positions(q);
                 let (lo, hi) = (sr.start.max(sq.start), sr.end.min(sq.end));
                 if lo >= hi {
                     continue;
                 }
+                work += (hi - lo) as u64;
                 let mut v = 0.0;
-                for j in lo..hi {
+                for &j in &self.order[lo..hi] {
                     v += s[r + j * m] * s[q + j * m];
                 }
                 if v != 0.0 || q == r {
@@ -245,6 +293,7 @@ impl RowSpans {
             }
             env.add(r, r, mu);
         }
+        self.work = work;
     }
 }
 

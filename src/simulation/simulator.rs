@@ -179,7 +179,7 @@ impl<'a> Simulator<'a> {
         }
         let mut projector = Projector::new(info);
         if let Some(s) = system.sparsity() {
-            projector.fix(&s.jacobian);
+            projector.fix_ordered(&s.jacobian, &s.order);
         }
         let mut y = vec![0.0; 2 * n + 1];
         y[..n].copy_from_slice(&q);
@@ -287,6 +287,7 @@ impl<'a> Simulator<'a> {
         stats.rhs_evaluations = self.rhs.dynamics.evaluations;
         stats.augmented_solves = self.rhs.dynamics.augmented_solves;
         stats.banded_solves = self.rhs.dynamics.banded_solves;
+        stats.factor_work = self.rhs.dynamics.factor_work() + self.rhs.projector.factor_work;
         stats.rhs_evaluations += self.stepper.own_evaluations();
         Simulation {
             trajectory: self.trajectory,

@@ -84,7 +84,7 @@ impl SingularWatch {
             threshold: 1e-3,
         };
         if let Some(s) = system.sparsity() {
-            w.basis.fix(&s.jacobian);
+            w.basis.fix_ordered(&s.jacobian, &s.order);
         }
         w.measure(system, t0, q0);
         for r in 0..m {

@@ -229,12 +229,12 @@ impl Interpreted {
             Some(_) => Some(routine(Role::Draw, 3 * model.drawing.points.len())?),
             None => None,
         };
-        let sparsity = Sparsity {
+        let sparsity = Sparsity::new(
             n,
             m,
-            mass: routines.sparsity(EvaluationOutput::Mass)?.entries,
-            jacobian: routines.sparsity(EvaluationOutput::PhiQ)?.entries,
-        };
+            routines.sparsity(EvaluationOutput::Mass)?.entries,
+            routines.sparsity(EvaluationOutput::PhiQ)?.entries,
+        );
         let full = routine(Role::Evaluation, full_len)?;
         // `full` has full_len outputs (checked above), all that the scatter reads.
         let scatter = EvaluationScatter::new(&full, &sparsity).ok_or(Error::Program(

@@ -84,19 +84,38 @@ mod runtime {
         pub mass: Vec<(usize, usize)>,
         /// The entries of Phi_q (m x n) that can be nonzero.
         pub jacobian: Vec<(usize, usize)>,
+        /// The solvers' order of the coordinates: the coordinate at each position, a
+        /// fill-reducing order of the pattern of M + Phi_q^T Phi_q
+        /// ([`crate::linalg::coordinate_order`]), computed once with the pattern. Every
+        /// run-time structure that works on ranges of coordinates (row spans, the rank
+        /// basis, the projections' Gram matrices) works in this order; inputs and outputs
+        /// stay in the declaration's.
+        pub order: Vec<usize>,
     }
 
     impl Sparsity {
+        /// The pattern of M and Phi_q with its coordinate order.
+        pub fn new(
+            n: usize,
+            m: usize,
+            mass: Vec<(usize, usize)>,
+            jacobian: Vec<(usize, usize)>,
+        ) -> Self {
+            let order = crate::linalg::coordinate_order(n, &mass, &jacobian);
+            Self {
+                n,
+                m,
+                mass,
+                jacobian,
+                order,
+            }
+        }
+
         /// The run-time copy of a compiled mechanism's pattern.
         pub fn from_static(n: usize, m: usize, s: &StaticSparsity) -> Self {
             let wide =
                 |p: &[(u32, u32)]| p.iter().map(|&(i, j)| (i as usize, j as usize)).collect();
-            Self {
-                n,
-                m,
-                mass: wide(s.mass),
-                jacobian: wide(s.jacobian),
-            }
+            Self::new(n, m, wide(s.mass), wide(s.jacobian))
         }
 
         /// Whether every M and Phi_q entry is finite, reading the pattern only (the other

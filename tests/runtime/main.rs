@@ -12,6 +12,7 @@ mod assembly;
 mod banded_kkt;
 mod batch_rows;
 mod closure;
+mod coordinate_order;
 mod coordinate_singularity;
 mod energy;
 mod fail_fast;
