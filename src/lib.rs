@@ -156,9 +156,11 @@ pub use crate::simulation::singular::SingularPassage;
 pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
+pub use crate::system::floating::integrate as integrate_floating;
 pub use crate::system::{
-    Accelerations, Coordinates, EvaluationSlices, Independent, JointLimits, Mechanism, Multipliers,
-    ParameterError, ParameterRange, RotationFactor, StaticEvaluation, StaticSparsity, Velocities,
+    Accelerations, Coordinates, EvaluationSlices, FloatingBase, Independent, JointLimits,
+    Mechanism, Multipliers, ParameterError, ParameterRange, RotationFactor, StaticEvaluation,
+    StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{

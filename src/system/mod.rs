@@ -22,6 +22,7 @@ mod constraint_rows;
 mod drawing;
 #[cfg(feature = "std")]
 mod dynamic;
+pub(crate) mod floating;
 #[cfg(feature = "std")]
 mod info;
 #[cfg(feature = "interpreter")]
@@ -54,6 +55,7 @@ pub use drawing::{Drawing, DrawnPoint};
 pub(crate) use dynamic::SolverKey;
 #[cfg(feature = "std")]
 pub use dynamic::{ConstraintTangent, Evaluation, Kinematic, System, Tangent};
+pub use floating::FloatingBase;
 #[cfg(feature = "std")]
 pub use info::{BodyOrientation, ConstraintRow, SystemInfo};
 #[cfg(feature = "interpreter")]

@@ -61,4 +61,19 @@ pub enum DerivationError {
         /// The folding that overflowed, e.g. `2 * 1e308`.
         operation: String,
     },
+    /// A floating-base model asked for a route written for q' = dq/dt (the interpreter,
+    /// the `Mechanism` trait's routines, the residual's tangent).
+    #[error(
+        "`{mechanism}` has a floating base (q has {nq} entries, v {nv}): {what} takes q' = dq/dt; use the macro's `FloatingBase` methods (`mechanism!`), which integrate q on its manifold"
+    )]
+    FloatingBase {
+        /// The struct name.
+        mechanism: String,
+        /// What was asked for.
+        what: String,
+        /// NQ.
+        nq: usize,
+        /// NV.
+        nv: usize,
+    },
 }

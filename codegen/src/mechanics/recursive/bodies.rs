@@ -15,7 +15,7 @@
 
 use crate::algebra::expr::{Arena, Id, Vec3};
 use crate::error::Result;
-use crate::mechanics::links::joint_rotation;
+use crate::mechanics::links::{joint_rotation, quaternion_matrix};
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::vector::{
     Mat3, add, dot, identity, mat_mul, mat3, mul, named, scale, transpose, zero,
@@ -37,8 +37,12 @@ pub(crate) struct TreeBody {
     pub(crate) parent: Option<usize>,
     /// Its coordinate's index in q.
     pub(crate) coordinate: usize,
-    /// True for a revolute joint, false for a prismatic one.
+    /// True for a revolute joint, false for a prismatic or floating one.
     pub(crate) revolute: bool,
+    /// True for the floating root (`LinkJoint::Floating`): six coordinates from
+    /// `coordinate` on, the velocity of its origin and its angular velocity in its axes;
+    /// its rotation is R(quaternion) and its origin p, both relative to the world.
+    pub(crate) free: bool,
     /// The unit joint axis S in the body's axes (e_z unless written with parameters).
     pub(crate) axis: Vec3,
     /// R: the body's axes in its parent's axes, E rot(S, q) (E for a prismatic joint).
@@ -235,6 +239,28 @@ pub(crate) fn tree_bodies(a: &mut Arena, model: &Model) -> Result<Tree> {
                 });
                 continue;
             }
+            LinkJoint::Floating {
+                coordinate,
+                configuration,
+            } => {
+                let z = zero(a);
+                bodies.push(TreeBody {
+                    parent: None,
+                    coordinate: *coordinate,
+                    revolute: false,
+                    free: true,
+                    axis: z,
+                    rotation: mat3(&quaternion_matrix(a, configuration)),
+                    origin: [configuration[0], configuration[1], configuration[2]],
+                    inertia: link_inertia(l),
+                });
+                place.push(Place {
+                    body: Some(bodies.len() - 1),
+                    rotation: identity(a),
+                    origin: z,
+                });
+                continue;
+            }
             LinkJoint::Revolute { coordinate, axis } => (*coordinate, axis, true),
             LinkJoint::Prismatic { coordinate, axis } => (*coordinate, axis, false),
         };
@@ -270,6 +296,7 @@ pub(crate) fn tree_bodies(a: &mut Arena, model: &Model) -> Result<Tree> {
             parent: parent.body,
             coordinate,
             revolute,
+            free: false,
             axis,
             rotation,
             origin,
