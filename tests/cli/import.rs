@@ -79,7 +79,7 @@ fn a_refused_urdf_is_one_line_and_exit_status_1() {
         &o,
         "bad.urdf:4:1: <joint name=\"free\">: joint type \"floating\" (a free joint of six \
          coordinates) is not supported (supported: revolute, continuous, prismatic, fixed): \
-         the imported tree is fixed to the world at its root link",
+         only the root link floats (--floating, or `floating = true` in mechanism!)",
     );
     assert!(!out.exists(), "nothing written");
     // A lock that names no joint, a folder, a missing file.
