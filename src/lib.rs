@@ -119,6 +119,10 @@ pub use crate::algorithms::drive::{DriveError, parse_drive};
 #[cfg(feature = "std")]
 pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 #[cfg(feature = "std")]
+pub use crate::algorithms::floating_motion::{
+    FloatingStep, FloatingTrajectory, QUATERNION_NORM_TOLERANCE, simulate_floating,
+};
+#[cfg(feature = "std")]
 pub use crate::algorithms::inverse::{
     InverseDynamics, InverseResult, InverseSample, check_inverse_dynamics, inverse_dynamics,
     inverse_dynamics_from, sample_times,

@@ -3,13 +3,15 @@
 //! `impl FloatingBase<NQ, NV>` instead of `impl Mechanism<N, M>` (why: the runtime's
 //! `system/floating.rs`). The bodies come from `mechanism_codegen::compile_floating`'s
 //! routines, q read in the configuration's layout (NQ entries), v, a and the efforts in
-//! the velocities' (NV).
+//! the velocities' (NV). The neutral configuration takes the joints' declared guesses (the
+//! inherent `initial_values` gives them at other parameters).
 
 use mechanism_codegen::Role;
 use proc_macro2::TokenStream;
 use quote::quote;
 
 use crate::ast::Declaration;
+use crate::dispatch::{self, Method};
 use crate::expand::{Tables, expand_struct, method_allows};
 use crate::generate::{Bodies, Generated, codegen_error};
 
@@ -66,6 +68,7 @@ pub fn expand(decl: &mut Declaration) -> syn::Result<TokenStream> {
         let generated = Generated {
             cache_len: routines.cache_len(),
             cache: b.cache()?,
+            initial_values: b.initial_values()?,
             routines: routines.fingerprint(),
             ..Default::default()
         };
@@ -117,7 +120,102 @@ fn constants(decl: &Declaration, t: &Tables) -> TokenStream {
     }
 }
 
-/// `impl FloatingBase<NQ, NV>`.
+/// The dispatched methods (`crate::dispatch`: each body generic over the instruction set,
+/// with its AVX2 copy) of a floating-base type, q of `nq` entries and v of `nv`.
+fn methods(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Vec<Method> {
+    let sv = |n: usize| quote!(#krate::__private::SVector<f64, #n>);
+    let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix<f64, #r, #c>);
+    let (svq, svv, smv) = (sv(nq), sv(nv), sm(nv, nv));
+    let (sv3, sm3, sm6) = (sv(3), sm(3, 3), sm(6, nv));
+    let t = ("t", quote!(f64));
+    let q = ("q", quote!(&#svq));
+    let qd = ("qd", quote!(&#svv));
+    let frame = ("frame", quote!(usize));
+    let frames: Vec<usize> = (0..b.frame_names.len()).collect();
+    let (placements, jacobians) = (&b.frame_placements, &b.frame_jacobians);
+    let tq = || [t.clone(), q.clone(), qd.clone()];
+    vec![
+        Method::new(
+            "mass_matrix",
+            std::slice::from_ref(&q),
+            quote!(-> #smv),
+            b.mass_matrix.clone(),
+        ),
+        Method::new(
+            "coriolis_forces",
+            &[q.clone(), qd.clone()],
+            quote!(-> #svv),
+            b.coriolis_forces.clone(),
+        ),
+        Method::new(
+            "gravity",
+            std::slice::from_ref(&q),
+            quote!(-> #svv),
+            b.gravity.clone(),
+        ),
+        Method::new(
+            "generalized_forces",
+            &tq(),
+            quote!(-> #svv),
+            b.generalized_forces.clone(),
+        ),
+        Method::new(
+            "kinetic_energy",
+            &[q.clone(), qd.clone()],
+            quote!(-> f64),
+            b.kinetic_energy.clone(),
+        ),
+        Method::new(
+            "potential_energy",
+            std::slice::from_ref(&q),
+            quote!(-> f64),
+            b.potential_energy.clone(),
+        ),
+        Method::new(
+            "mass_and_bias",
+            &tq(),
+            quote!(-> (#smv, #svv)),
+            b.mass_and_bias.clone(),
+        ),
+        Method::new("bias", &tq(), quote!(-> #svv), b.bias.clone()),
+        Method::new(
+            "inverse_dynamics",
+            &[t.clone(), q.clone(), qd.clone(), ("qdd", quote!(&#svv))],
+            quote!(-> #svv),
+            b.inverse_dynamics.clone(),
+        ),
+        Method::new(
+            "forward_dynamics",
+            &[t.clone(), q.clone(), qd.clone(), ("effort", quote!(&#svv))],
+            quote!(-> ::core::option::Option<#svv>),
+            b.forward_dynamics.clone(),
+        ),
+        Method::new(
+            "frame_placement",
+            &[frame.clone(), q.clone()],
+            quote!(-> ::core::option::Option<(#sm3, #sv3)>),
+            quote! {
+                match frame {
+                    #(#frames => ::core::option::Option::Some({ #placements }),)*
+                    _ => ::core::option::Option::None,
+                }
+            },
+        ),
+        Method::new(
+            "frame_jacobian",
+            &[frame, q],
+            quote!(-> ::core::option::Option<#sm6>),
+            quote! {
+                match frame {
+                    #(#frames => ::core::option::Option::Some({ #jacobians }),)*
+                    _ => ::core::option::Option::None,
+                }
+            },
+        ),
+    ]
+}
+
+/// `impl FloatingBase<NQ, NV>` and the inherent functions behind its methods.
 fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream {
     let krate = &decl.krate;
     let name_str = &decl.model.name;
@@ -140,26 +238,16 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
         .cloned()
         .chain(guesses.iter().skip(6).cloned());
     let indices: Vec<usize> = (0..*p).collect();
-    let sv = quote!(#krate::__private::SVector);
-    let sm = quote!(#krate::__private::SMatrix);
-    let FloatingBodies {
-        mass_matrix,
-        coriolis_forces,
-        gravity,
-        generalized_forces,
-        kinetic_energy,
-        potential_energy,
-        mass_and_bias,
-        bias,
-        inverse_dynamics,
-        forward_dynamics,
-        frame_placements,
-        frame_jacobians,
-        frame_names,
-    } = b;
-    let frames: Vec<usize> = (0..frame_names.len()).collect();
+    let frame_names = &b.frame_names;
+    let dispatched = methods(krate, nq, *nv, b);
+    let bodies = dispatch::bodies(krate, &dispatched);
+    let trait_methods = dispatch::trait_methods(krate, &dispatched);
     let allows = method_allows();
     quote! {
+        #allows
+        impl #name {
+            #bodies
+        }
         #allows
         impl #krate::FloatingBase<#nq, #nv> for #name {
             const NAME: &'static str = #name_str;
@@ -185,78 +273,7 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
                     _ => false,
                 }
             }
-            fn mass_matrix(&self, q: &#sv<f64, #nq>) -> #sm<f64, #nv, #nv> {
-                #mass_matrix
-            }
-            fn coriolis_forces(&self, q: &#sv<f64, #nq>, qd: &#sv<f64, #nv>) -> #sv<f64, #nv> {
-                #coriolis_forces
-            }
-            fn gravity(&self, q: &#sv<f64, #nq>) -> #sv<f64, #nv> {
-                #gravity
-            }
-            fn generalized_forces(
-                &self,
-                t: f64,
-                q: &#sv<f64, #nq>,
-                qd: &#sv<f64, #nv>,
-            ) -> #sv<f64, #nv> {
-                #generalized_forces
-            }
-            fn kinetic_energy(&self, q: &#sv<f64, #nq>, qd: &#sv<f64, #nv>) -> f64 {
-                #kinetic_energy
-            }
-            fn potential_energy(&self, q: &#sv<f64, #nq>) -> f64 {
-                #potential_energy
-            }
-            fn mass_and_bias(
-                &self,
-                t: f64,
-                q: &#sv<f64, #nq>,
-                qd: &#sv<f64, #nv>,
-            ) -> (#sm<f64, #nv, #nv>, #sv<f64, #nv>) {
-                #mass_and_bias
-            }
-            fn bias(&self, t: f64, q: &#sv<f64, #nq>, qd: &#sv<f64, #nv>) -> #sv<f64, #nv> {
-                #bias
-            }
-            fn inverse_dynamics(
-                &self,
-                t: f64,
-                q: &#sv<f64, #nq>,
-                qd: &#sv<f64, #nv>,
-                qdd: &#sv<f64, #nv>,
-            ) -> #sv<f64, #nv> {
-                #inverse_dynamics
-            }
-            fn forward_dynamics(
-                &self,
-                t: f64,
-                q: &#sv<f64, #nq>,
-                qd: &#sv<f64, #nv>,
-                effort: &#sv<f64, #nv>,
-            ) -> ::core::option::Option<#sv<f64, #nv>> {
-                #forward_dynamics
-            }
-            fn frame_placement(
-                &self,
-                frame: usize,
-                q: &#sv<f64, #nq>,
-            ) -> ::core::option::Option<(#sm<f64, 3, 3>, #sv<f64, 3>)> {
-                match frame {
-                    #(#frames => ::core::option::Option::Some({ #frame_placements }),)*
-                    _ => ::core::option::Option::None,
-                }
-            }
-            fn frame_jacobian(
-                &self,
-                frame: usize,
-                q: &#sv<f64, #nq>,
-            ) -> ::core::option::Option<#sm<f64, 6, #nv>> {
-                match frame {
-                    #(#frames => ::core::option::Option::Some({ #frame_jacobians }),)*
-                    _ => ::core::option::Option::None,
-                }
-            }
+            #trait_methods
         }
     }
 }

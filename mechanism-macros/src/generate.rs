@@ -586,7 +586,7 @@ impl Bodies<'_> {
     /// The body of `fn initial_values(p: &Parameters) -> ([f64; n], [f64; 2 k])`: the
     /// program of [`Role::InitialValues`], reading the parameters from `p` (never the
     /// cache, so a field changed without `refresh` is followed).
-    fn initial_values(&self) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn initial_values(&self) -> mechanism_codegen::Result<TokenStream> {
         let role = Role::InitialValues;
         let program = self.routines.program(role)?;
         let rows = |k: usize| program.outputs().get(k).map_or(0, |o| o.rows);

@@ -382,3 +382,50 @@ fn snap_angles_writes_rounded_quarter_turns_as_multiples_of_pi() {
         "the angle snapping tolerance 0.1 rad is not between 0 and 0.001",
     );
 }
+
+/// `--floating` gives the root link the free-flyer joint; the bad inputs are one line each:
+/// a robot fixed by a `world` link, a URDF whose root has a parent (the joints form a
+/// cycle), and the floating declaration handed to `simulate` (the interpreter route takes
+/// q' = dq/dt; the macro's `FloatingBase` runs it).
+#[test]
+fn floating_import_and_its_bad_inputs() {
+    let o = mechanism(&["import", ARM, "--floating"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).expect("UTF-8");
+    assert!(text.contains("joint = floating(root_joint);"), "{text}");
+    assert!(text.contains("floats: q = [position, quaternion (x, y, z, w), joints]"));
+    let dir = out_dir("import-floating");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("floating.mech");
+    std::fs::write(&mech, &text).unwrap();
+    assert_one_line_error(
+        &mechanism(&["simulate", mech.to_str().unwrap(), "--t-end", "0.1"]),
+        "has a floating base (q has 9 entries, v 8): the interpreter route takes q' = dq/dt",
+    );
+    let world = dir.join("world.urdf");
+    std::fs::write(
+        &world,
+        "<robot name=\"r\">\n<link name=\"world\"/>\n<link name=\"b\"/>\n\
+         <joint name=\"anchor\" type=\"fixed\"><parent link=\"world\"/><child link=\"b\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    assert_one_line_error(
+        &mechanism(&["import", world.to_str().unwrap(), "--floating"]),
+        "world.urdf:2:1: <link name=\"world\">: the robot is fixed to the world by its root \
+         link `world`, so its base cannot float",
+    );
+    let cycle = dir.join("cycle.urdf");
+    std::fs::write(
+        &cycle,
+        "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n\
+         <joint name=\"ab\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    assert_one_line_error(
+        &mechanism(&["import", cycle.to_str().unwrap(), "--floating"]),
+        "no root link: every link is the child of a joint",
+    );
+}

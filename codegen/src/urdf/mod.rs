@@ -178,7 +178,9 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
             .order
             .first()
             .map_or(&robot.place, |&r| &robot.links[r].place);
-        let message = "--floating: the robot is fixed to the world by its root link `world`;                        remove the `world` link and its joint to let the robot float, or import without --floating";
+        let message = "the robot is fixed to the world by its root link `world`, so its base \
+                       cannot float (--floating, `floating = true`): remove the `world` link and \
+                       its joint, or import it fixed";
         return Err(root.error(file, message));
     }
     if options.damping {
