@@ -105,6 +105,23 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
     /// [velocity of the frame's origin; its angular velocity], world axes.
     fn frame_jacobian(&self, frame: usize, q: &SVector<f64, NQ>) -> Option<SMatrix<f64, 6, NV>>;
 
+    /// The centre of mass c in the world: x + R h / m, with m = M[0, 0] the total mass and
+    /// h the first moment about the root's origin in its axes, read off M's root block
+    /// [[m 1, -[h]x], [[h]x, I]] (Pinocchio's `centerOfMass`).
+    fn center_of_mass(&self, q: &SVector<f64, NQ>) -> SVector<f64, 3> {
+        let m = self.mass_matrix(q);
+        center_of_mass(q, &m)
+    }
+
+    /// The centroidal momentum matrix A_g (6 x NV, Pinocchio's `ccrba`): A_g v = [p; L_c],
+    /// the linear momentum and the angular momentum about the centre of mass, world axes.
+    /// M's root rows are the momentum in the root's axes about its origin, so
+    /// A_g = [[R, 0], [-[c - x]x R, R]] M[0..6, :].
+    fn centroidal_momentum_matrix(&self, q: &SVector<f64, NQ>) -> SMatrix<f64, 6, NV> {
+        let m = self.mass_matrix(q);
+        centroidal_momentum_matrix(q, &m)
+    }
+
     /// The neutral configuration as a vector.
     fn neutral() -> SVector<f64, NQ> {
         SVector::from(Self::NEUTRAL)
@@ -213,4 +230,45 @@ fn product(a: &[f64; 4], b: &[f64; 4]) -> [f64; 4] {
         aw * bz + bw * az + ax * by - ay * bx,
         aw * bw - ax * bx - ay * by - az * bz,
     ]
+}
+
+/// c = x + R h / m from q and M (see [`FloatingBase::center_of_mass`]).
+fn center_of_mass<const NQ: usize, const NV: usize>(
+    q: &SVector<f64, NQ>,
+    m: &SMatrix<f64, NV, NV>,
+) -> SVector<f64, 3> {
+    if NQ < 7 || NV < 6 {
+        return SVector::zeros();
+    }
+    // M[0..3, 3..6] = -[h]x = [[0, h_z, -h_y], [-h_z, 0, h_x], [h_y, -h_x, 0]].
+    let h = [m[(1, 5)], m[(2, 3)], m[(0, 4)]];
+    let r = rotation(&[q[3], q[4], q[5], q[6]]);
+    let mass = m[(0, 0)];
+    SVector::from_fn(|i, _| q[i] + (r[i][0] * h[0] + r[i][1] * h[1] + r[i][2] * h[2]) / mass)
+}
+
+/// A_g from q and M (see [`FloatingBase::centroidal_momentum_matrix`]).
+fn centroidal_momentum_matrix<const NQ: usize, const NV: usize>(
+    q: &SVector<f64, NQ>,
+    m: &SMatrix<f64, NV, NV>,
+) -> SMatrix<f64, 6, NV> {
+    let mut out = SMatrix::<f64, 6, NV>::zeros();
+    if NQ < 7 || NV < 6 {
+        return out;
+    }
+    let r = rotation(&[q[3], q[4], q[5], q[6]]);
+    let c = center_of_mass(q, m);
+    let d = [c[0] - q[0], c[1] - q[1], c[2] - q[2]];
+    for j in 0..NV {
+        let f = [m[(0, j)], m[(1, j)], m[(2, j)]];
+        let n = [m[(3, j)], m[(4, j)], m[(5, j)]];
+        let rot = |v: [f64; 3]| [0, 1, 2].map(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]);
+        let (p, l) = (rot(f), rot(n));
+        let dp = cross(&d, &p);
+        for i in 0..3 {
+            out[(i, j)] = p[i];
+            out[(3 + i, j)] = l[i] - dp[i];
+        }
+    }
+    out
 }

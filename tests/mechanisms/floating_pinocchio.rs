@@ -5,8 +5,9 @@
 //! written by `benches/baselines/pinocchio/floating_fixture.py`): M (`crba`), C v + g
 //! (`nonLinearEffects`, both from `mass_and_bias` and from `bias`), g, the inverse dynamics
 //! (`rnea`), the forward dynamics (`aba`), every link frame's placement, the
-//! LOCAL_WORLD_ALIGNED Jacobians of the feet, hands, head and base, and `integrate` (q moved
-//! by v dt on SE(3) x R^joints).
+//! LOCAL_WORLD_ALIGNED Jacobians of the feet, hands, head and base, the centroidal momentum
+//! matrix (`ccrba`) and the centre of mass, and `integrate` (q moved by v dt on
+//! SE(3) x R^joints).
 //!
 //! Pinocchio numbers the joints depth-first, the importer in the file's link order: the
 //! entries are matched by name.
@@ -119,6 +120,18 @@ fn check_robot<R: FloatingBase<NQ, NV> + Default, const NQ: usize, const NV: usi
         let aba = column(&numbers(&s["aba"]));
         worst[3] = worst[3].max(check("aba", k, &theirs_v(&acc), &aba, 1e-12));
         check_frames(&robot, k, s, &q, &v_of);
+        let ag = robot.centroidal_momentum_matrix(&q);
+        let ours = DMatrix::from_fn(6, NV, |r, c| ag[(r, v_of[c])]);
+        check("ccrba", k, &ours, &rows(&s["Ag"]), 1e-12);
+        let c = robot.center_of_mass(&q);
+        let theirs = column(&numbers(&s["com"]));
+        check(
+            "com",
+            k,
+            &DMatrix::from_fn(3, 1, |i, _| c[i]),
+            &theirs,
+            1e-12,
+        );
         let moved = R::integrate(&q, &v, data["dt"].as_f64().unwrap());
         let theirs = column(&numbers(&s["integrate"]));
         check(

@@ -89,6 +89,11 @@ def one_state(model, data, q, v, a, tau_in, frames, jac_frames, worst):
     jacobians = {n: mat(pin.getFrameJacobian(model, data, frames[n], pin.LOCAL_WORLD_ALIGNED))
                  for n in jac_frames}
     moved = pin.integrate(model, q, v * DT)
+    ag = pin.ccrba(model, data, q, v).copy()
+    com = pin.centerOfMass(model, data, q).copy()
+    e = float(np.max(np.abs(ag @ v - data.hg.vector)))
+    worst["ccrba_hg"] = max(worst["ccrba_hg"], e)
+    assert e < 1e-12, e
     # Self-checks: Pinocchio's routines agree with one another.
     assert np.all(np.linalg.eigvalsh(M) > 0.0)
     e = float(np.max(np.abs(tau - (M @ a + nle))))
@@ -102,6 +107,7 @@ def one_state(model, data, q, v, a, tau_in, frames, jac_frames, worst):
         "q": vec(q), "v": vec(v), "a": vec(a), "tau_in": vec(tau_in), "M": mat(M),
         "nle": vec(nle), "g": vec(g), "tau": vec(tau), "aba": vec(ddq),
         "placements": placements, "jacobians": jacobians, "integrate": vec(moved),
+        "Ag": mat(ag), "com": vec(com),
         "cond_M": float(np.linalg.cond(M)),
     }
 
@@ -113,7 +119,7 @@ def fixture(name, spec, rng):
     frames = {f.name: i for i, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
     for n in spec["jacobians"]:
         assert n in frames, n
-    worst = {"rnea_vs_M": 0.0, "aba_inv": 0.0}
+    worst = {"rnea_vs_M": 0.0, "aba_inv": 0.0, "ccrba_hg": 0.0}
     states = [one_state(model, data, *random_state(model, rng), frames, spec["jacobians"], worst)
               for _ in range(N_STATES)]
     doc = {
@@ -140,6 +146,9 @@ def fixture(name, spec, rng):
                 "placements": "oMf of every BODY frame: R (row-major), p",
                 "jacobians": "getFrameJacobian(.., LOCAL_WORLD_ALIGNED) of the named frames",
                 "integrate": f"integrate(q, v * {DT})",
+                "Ag": "ccrba(q, v): the centroidal momentum matrix, [linear; angular about "
+                      "the centre of mass], world axes, row-major",
+                "com": "centerOfMass(q), world",
                 "cond_M": "numpy.linalg.cond(M), 2-norm",
             },
             "self_check_max_abs": worst,
