@@ -188,6 +188,33 @@ fn axis_frame(a: &mut Arena, axis: &Vec3) -> Option<Mat3> {
     Some(m)
 }
 
+/// Pushes the floating root link `l` (its first coordinate and configuration symbols) as a
+/// body, R(quaternion) and p relative to the world with its inertia in its own frame (no
+/// axis to turn to z), and its frame's place in that body.
+fn push_floating(
+    a: &mut Arena,
+    l: &Link,
+    (coordinate, configuration): (usize, &[Id; 7]),
+    bodies: &mut Vec<TreeBody>,
+    place: &mut Vec<Place>,
+) {
+    bodies.push(TreeBody {
+        parent: None,
+        coordinate,
+        revolute: false,
+        free: true,
+        axis: zero(a),
+        rotation: mat3(&quaternion_matrix(a, configuration)),
+        origin: [configuration[0], configuration[1], configuration[2]],
+        inertia: link_inertia(l),
+    });
+    place.push(Place {
+        body: Some(bodies.len() - 1),
+        rotation: identity(a),
+        origin: zero(a),
+    });
+}
+
 /// Where a link's frame is: the body it moves with (`None`: the world) and its axes and
 /// origin in that body's frame.
 #[derive(Clone)]
@@ -243,22 +270,7 @@ pub(crate) fn tree_bodies(a: &mut Arena, model: &Model) -> Result<Tree> {
                 coordinate,
                 configuration,
             } => {
-                let z = zero(a);
-                bodies.push(TreeBody {
-                    parent: None,
-                    coordinate: *coordinate,
-                    revolute: false,
-                    free: true,
-                    axis: z,
-                    rotation: mat3(&quaternion_matrix(a, configuration)),
-                    origin: [configuration[0], configuration[1], configuration[2]],
-                    inertia: link_inertia(l),
-                });
-                place.push(Place {
-                    body: Some(bodies.len() - 1),
-                    rotation: identity(a),
-                    origin: z,
-                });
+                push_floating(a, l, (*coordinate, configuration), &mut bodies, &mut place);
                 continue;
             }
             LinkJoint::Revolute { coordinate, axis } => (*coordinate, axis, true),
