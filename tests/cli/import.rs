@@ -400,7 +400,7 @@ fn floating_import_and_its_bad_inputs() {
     std::fs::write(&mech, &text).unwrap();
     assert_one_line_error(
         &mechanism(&["simulate", mech.to_str().unwrap(), "--t-end", "0.1"]),
-        "has a floating base (q has 9 entries, v 8): the interpreter route takes q' = dq/dt",
+        "has a floating base (q has 9 entries, v 8), which the interpreter route cannot take",
     );
     let world = dir.join("world.urdf");
     std::fs::write(

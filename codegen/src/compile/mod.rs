@@ -200,7 +200,7 @@ pub fn compile_floating(model: &mut Model, eqs: &Equations) -> Result<Routines> 
     if model.floating_root().is_none() {
         return Err(Error::Derivation(DerivationError::FloatingBase {
             mechanism: model.name.clone(),
-            what: "it has no floating root, and `compile_floating`".into(),
+            what: "(it has none) `compile_floating`".into(),
             nq: model.configuration_size(),
             nv: eqs.n,
         }));
