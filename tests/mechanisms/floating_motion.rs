@@ -31,7 +31,8 @@ mechanism! {
     }
 }
 
-mechanism!(urdf = "mechanisms/urdf/solo12.urdf", floating = true);
+// Solo12 as floating_pinocchio.rs declares it (one expansion for the binary).
+use super::floating_pinocchio::Solo;
 
 type Q = SVector<f64, 7>;
 type V = SVector<f64, 6>;
