@@ -96,25 +96,23 @@ fn carry_up(
     mut nm: Vec3,
     mass: &mut Matrix,
 ) {
-    {
-        let mut j = k;
-        while let Some(p) = bodies[j].parent {
-            // Named where the carry goes on: at the last ancestor the projection reads
-            // them once, and the moment's terms merge with the force's.
-            let further = bodies[p].parent.is_some();
-            let keep = |a: &mut Arena, v: Vec3| if further { named(a, &v) } else { v };
-            let rf = mul(a, &bodies[j].rotation, &f);
-            let rf = keep(a, rf);
-            let rn = mul(a, &bodies[j].rotation, &nm);
-            let orf = cross(a, &bodies[j].origin, &rf);
-            f = rf;
-            let s = add(a, &rn, &orf);
-            nm = keep(a, s);
-            j = p;
-            for (row, e) in project(a, &bodies[j], &f, &nm) {
-                mass.set(row, column, e);
-                mass.set(column, row, e);
-            }
+    let mut j = k;
+    while let Some(p) = bodies[j].parent {
+        // Named where the carry goes on: at the last ancestor the projection reads
+        // them once, and the moment's terms merge with the force's.
+        let further = bodies[p].parent.is_some();
+        let keep = |a: &mut Arena, v: Vec3| if further { named(a, &v) } else { v };
+        let rf = mul(a, &bodies[j].rotation, &f);
+        let rf = keep(a, rf);
+        let rn = mul(a, &bodies[j].rotation, &nm);
+        let orf = cross(a, &bodies[j].origin, &rf);
+        f = rf;
+        let s = add(a, &rn, &orf);
+        nm = keep(a, s);
+        j = p;
+        for (row, e) in project(a, &bodies[j], &f, &nm) {
+            mass.set(row, column, e);
+            mass.set(column, row, e);
         }
     }
 }
@@ -168,7 +166,7 @@ pub(crate) fn composite_gravity(a: &mut Arena, tree: &Tree, n: usize, g: &Vec3) 
         let b = &bodies[k];
         let m = a.named(mass[k]);
         let h = named(a, &first[k]);
-        tau[b.coordinate] = if b.free {
+        if b.free {
             // The subtree's weight against the root: -m gamma and the moment gamma x h.
             let moment = cross(a, &gamma[k], &h);
             for i in 0..3 {
@@ -176,15 +174,14 @@ pub(crate) fn composite_gravity(a: &mut Arena, tree: &Tree, n: usize, g: &Vec3) 
                 tau[b.coordinate + i] = a.neg(mg);
                 tau[b.coordinate + 3 + i] = moment[i];
             }
-            tau[b.coordinate]
         } else if b.revolute {
             let t = cross(a, &gamma[k], &h);
-            dot(a, &b.axis, &t)
+            tau[b.coordinate] = dot(a, &b.axis, &t);
         } else {
             let t = dot(a, &b.axis, &gamma[k]);
             let mt = a.mul2(m, t);
-            a.neg(mt)
-        };
+            tau[b.coordinate] = a.neg(mt);
+        }
         if let Some(p) = b.parent {
             let rh = mul(a, &b.rotation, &h);
             let mo = scale(a, m, &b.origin);
