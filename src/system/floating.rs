@@ -107,7 +107,7 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
 
     /// The centre of mass c in the world: x + R h / m, with m = M[0, 0] the total mass and
     /// h the first moment about the root's origin in its axes, read off M's root block
-    /// [[m 1, -[h]x], [[h]x, I]] (Pinocchio's `centerOfMass`).
+    /// `[[m 1, -[h]x], [[h]x, I]]` (Pinocchio's `centerOfMass`).
     fn center_of_mass(&self, q: &SVector<f64, NQ>) -> SVector<f64, 3> {
         let m = self.mass_matrix(q);
         center_of_mass(q, &m)
@@ -116,7 +116,7 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
     /// The centroidal momentum matrix A_g (6 x NV, Pinocchio's `ccrba`): A_g v = [p; L_c],
     /// the linear momentum and the angular momentum about the centre of mass, world axes.
     /// M's root rows are the momentum in the root's axes about its origin, so
-    /// A_g = [[R, 0], [-[c - x]x R, R]] M[0..6, :].
+    /// `A_g = [[R, 0], [-[c - x]x R, R]] M[0..6, :]`.
     fn centroidal_momentum_matrix(&self, q: &SVector<f64, NQ>) -> SMatrix<f64, 6, NV> {
         let m = self.mass_matrix(q);
         centroidal_momentum_matrix(q, &m)
@@ -135,7 +135,7 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
 
 /// q (+) v dt (Pinocchio's `integrate`): the root by the exponential of SE(3), its pose
 /// (R, p) moved to (R exp([w dt]x), p + R V(w dt) v dt) with the body-frame twist (v, w),
-/// V(phi) = 1 + (1 - cos t)/t^2 [phi]x + (t - sin t)/t^3 [phi]x^2 (t = |phi|); the
+/// `V(phi) = 1 + (1 - cos t)/t^2 [phi]x + (t - sin t)/t^3 [phi]x^2` (t = |phi|); the
 /// quaternion multiplied by (sin(t/2) phi/t, cos(t/2)) and normalised; each joint position
 /// plus its rate times dt. Exact for a constant twist.
 pub fn integrate<const NQ: usize, const NV: usize>(
