@@ -122,6 +122,8 @@ pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 pub use crate::algorithms::floating_motion::{
     FloatingStep, FloatingTrajectory, QUATERNION_NORM_TOLERANCE, simulate_floating,
 };
+#[cfg(feature = "interpreter")]
+pub use crate::algorithms::interpreted_floating_motion::simulate_interpreted_floating;
 #[cfg(feature = "std")]
 pub use crate::algorithms::inverse::{
     InverseDynamics, InverseResult, InverseSample, check_inverse_dynamics, inverse_dynamics,
@@ -172,7 +174,7 @@ pub use crate::system::{
     Kinematic, Sparsity, System, SystemInfo, Tangent,
 };
 #[cfg(feature = "interpreter")]
-pub use crate::system::{Interpreted, InterpretedConstraints};
+pub use crate::system::{Interpreted, InterpretedConstraints, InterpretedFloating, Momentum};
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].
 pub use mechanism_macros::mechanism;

@@ -134,6 +134,16 @@ fn unit_start<const NQ: usize>(q0: &SVector<f64, NQ>) -> Result<SVector<f64, NQ>
     if NQ < 7 {
         return Ok(q);
     }
+    let norm = quaternion_norm(q.as_slice())?;
+    for k in 3..7 {
+        q[k] /= norm;
+    }
+    Ok(q)
+}
+
+/// The norm of q's quaternion (entries 3..7), or [`Error::QuaternionNotUnit`] when it
+/// differs from 1 by more than [`QUATERNION_NORM_TOLERANCE`] (or is NaN).
+pub(crate) fn quaternion_norm(q: &[f64]) -> Result<f64, Error> {
     let norm = (3..7).map(|k| q[k] * q[k]).sum::<f64>().sqrt();
     // A NaN norm is refused too.
     if (norm - 1.0).abs().is_nan() || (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
@@ -142,10 +152,7 @@ fn unit_start<const NQ: usize>(q0: &SVector<f64, NQ>) -> Result<SVector<f64, NQ>
             norm,
         });
     }
-    for k in 3..7 {
-        q[k] /= norm;
-    }
-    Ok(q)
+    Ok(norm)
 }
 
 /// q' of the embedded ODE: p' = R v, quaternion' = 1/2 quaternion (w, 0), joints' = rates.
@@ -154,6 +161,12 @@ fn rate<const NQ: usize, const NV: usize>(
     v: &SVector<f64, NV>,
 ) -> SVector<f64, NQ> {
     let mut d = SVector::<f64, NQ>::zeros();
+    configuration_rate(q.as_slice(), v.as_slice(), d.as_mut_slice());
+    d
+}
+
+/// [`rate`] on slices (q of nq = nv + 1 entries, v of nv, the rate into `d`, nq).
+pub(crate) fn configuration_rate(q: &[f64], v: &[f64], d: &mut [f64]) {
     let quat = [q[3], q[4], q[5], q[6]];
     let r = crate::system::floating::rotation(&quat);
     for i in 0..3 {
@@ -166,10 +179,7 @@ fn rate<const NQ: usize, const NV: usize>(
     d[4] = 0.5 * (w * b + z * a - x * c);
     d[5] = 0.5 * (w * c + x * b - y * a);
     d[6] = -0.5 * (x * a + y * b + z * c);
-    for j in 6..NV {
-        d[j + 1] = v[j];
-    }
-    d
+    d[7..].copy_from_slice(&v[6..]);
 }
 
 type Step<const NQ: usize, const NV: usize> = (SVector<f64, NQ>, SVector<f64, NV>);

@@ -29,6 +29,8 @@ mod info;
 mod interpreted;
 #[cfg(feature = "interpreter")]
 mod interpreted_constraints;
+#[cfg(feature = "interpreter")]
+mod interpreted_floating;
 mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
@@ -62,6 +64,8 @@ pub use info::{BodyOrientation, ConstraintRow, SystemInfo};
 pub use interpreted::Interpreted;
 #[cfg(feature = "interpreter")]
 pub use interpreted_constraints::InterpretedConstraints;
+#[cfg(feature = "interpreter")]
+pub use interpreted_floating::{InterpretedFloating, Momentum};
 pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,

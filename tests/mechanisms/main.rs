@@ -11,6 +11,7 @@ mod bodies_snapshots;
 mod chain_pinocchio;
 mod closed_chain;
 mod drawing;
+mod floating_interpreted;
 mod floating_motion;
 mod floating_pinocchio;
 mod g1_pinocchio;

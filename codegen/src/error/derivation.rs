@@ -64,7 +64,7 @@ pub enum DerivationError {
     /// A floating-base model asked for a route written for q' = dq/dt (the interpreter,
     /// the `Mechanism` trait's routines, the residual's tangent).
     #[error(
-        "`{mechanism}` has a floating base (q has {nq} entries, v {nv}), which {what} cannot take (written for q' = dq/dt); use the macro's `FloatingBase` methods (`mechanism!`), which move q on its manifold"
+        "`{mechanism}` has a floating base (q has {nq} entries, v {nv}), which {what} cannot take (written for q' = dq/dt); the macro's `FloatingBase` methods, `InterpretedFloating` and `mechanism simulate` take it, moving q on its manifold"
     )]
     FloatingBase {
         /// The struct name.
