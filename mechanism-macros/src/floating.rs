@@ -227,6 +227,7 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
         parameter_names,
         coordinate_names,
         guesses,
+        ranges,
         ..
     } = t;
     let nq = decl.model.configuration_size();
@@ -256,6 +257,7 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
             const PARAMETERS: &'static [&'static str] = &[#(#parameter_names),*];
             const NEUTRAL: [f64; #nq] = [#(#neutral),*];
             const FRAMES: &'static [&'static str] = &[#(#frame_names),*];
+            const PARAMETER_RANGES: &'static [#krate::ParameterRange] = &[#(#ranges),*];
 
             fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
                 match index {
@@ -263,15 +265,23 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
                     _ => ::core::option::Option::None,
                 }
             }
-            fn set_parameter(&mut self, index: usize, value: f64) -> bool {
+            fn set_parameter(
+                &mut self,
+                index: usize,
+                value: f64,
+            ) -> ::core::result::Result<(), #krate::ParameterError> {
+                #krate::__private::check_parameter(
+                    index,
+                    value,
+                    #p,
+                    <Self as #krate::FloatingBase<#nq, #nv>>::PARAMETER_RANGES,
+                )?;
                 match index {
-                    #(#indices => {
-                        self.__parameters.#fields = value;
-                        #name::refresh(self);
-                        true
-                    })*
-                    _ => false,
+                    #(#indices => self.__parameters.#fields = value,)*
+                    _ => {}
                 }
+                #name::refresh(self);
+                ::core::result::Result::Ok(())
             }
             #trait_methods
         }

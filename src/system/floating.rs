@@ -20,6 +20,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::{ParameterError, ParameterRange};
+
 /// A floating-base robot with static sizes (module docs): what `mechanism!` emits for a
 /// declaration whose root link floats.
 pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 'static {
@@ -38,10 +40,20 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
     /// The link frames' names, in declaration order.
     const FRAMES: &'static [&'static str] = &[];
 
+    /// The range each parameter's declaration gives it (`m = 3.0 positive;`), in
+    /// declaration order; empty (the default) when no parameter has one.
+    /// [`FloatingBase::set_parameter`] refuses a value outside it.
+    const PARAMETER_RANGES: &'static [ParameterRange] = &[];
+
     /// The value of parameter `index`, `None` past the last.
     fn parameter(&self, index: usize) -> Option<f64>;
-    /// Sets parameter `index`; false past the last.
-    fn set_parameter(&mut self, index: usize, value: f64) -> bool;
+    /// Sets parameter `index` to `value` and refreshes the cached values.
+    ///
+    /// # Errors
+    /// [`ParameterError::NoSuchParameter`] for an index past the last parameter,
+    /// [`ParameterError::OutOfRange`] for a value outside the declared range
+    /// ([`FloatingBase::PARAMETER_RANGES`]); the parameter keeps its value.
+    fn set_parameter(&mut self, index: usize, value: f64) -> Result<(), ParameterError>;
 
     /// M(q), NV x NV, symmetric positive definite (Pinocchio's `crba`, both triangles).
     fn mass_matrix(&self, q: &SVector<f64, NQ>) -> SMatrix<f64, NV, NV>;

@@ -4,8 +4,8 @@
 //! routines and the same step.
 
 use mechanism::{
-    Error, FloatingBase, FloatingStep, InterpretedFloating, ParameterError, mechanism,
-    simulate_floating, simulate_interpreted_floating,
+    Error, FloatingBase, FloatingStep, InterpretedFloating, ParameterError, ParameterRange,
+    mechanism, simulate_floating, simulate_interpreted_floating,
 };
 use nalgebra::{SVector, Vector3};
 
@@ -163,8 +163,8 @@ fn interpreted_solo12_agrees_with_the_macro() {
     }
 }
 
-/// Parameters keep their declared ranges on the run-time route: a negative mass is refused
-/// and the old value kept; a quaternion off unit is refused before the first step.
+/// Parameters keep their declared ranges on both routes: a negative mass is refused and the
+/// old value kept; a quaternion off unit is refused before the first step.
 #[test]
 fn interpreted_floating_bad_inputs() {
     let mut robot = InterpretedFloating::from_text(BRICK).unwrap();
@@ -178,6 +178,25 @@ fn interpreted_floating_bad_inputs() {
     let mut m = vec![0.0; 36];
     robot.mass_matrix(&robot.neutral(), &mut m);
     assert_eq!(m[0], 4.0);
+    // The macro's type keeps the same range.
+    assert_eq!(
+        Falling::PARAMETER_RANGES,
+        [ParameterRange::Any, ParameterRange::Positive]
+    );
+    assert_eq!(robot.parameter_ranges(), Falling::PARAMETER_RANGES);
+    let mut brick = Falling::default();
+    let refused = brick.set_parameter(1, -1.0);
+    assert!(
+        matches!(refused, Err(ParameterError::OutOfRange { index: 1, .. })),
+        "{refused:?}"
+    );
+    assert_eq!(brick.parameter(1), Some(3.0));
+    assert!(matches!(
+        brick.set_parameter(2, 1.0),
+        Err(ParameterError::NoSuchParameter { index: 2, count: 2 })
+    ));
+    assert!(brick.set_parameter(1, 4.0).is_ok());
+    assert_eq!(brick.mass_matrix(&Falling::neutral())[(0, 0)], 4.0);
     let mut q0 = robot.neutral();
     q0[6] = 1.5;
     let result =
