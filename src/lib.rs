@@ -224,6 +224,8 @@ mod book {
     struct Nonholonomic;
     #[doc = include_str!("../docs/src/robots.md")]
     struct Robots;
+    #[doc = include_str!("../docs/src/floating.md")]
+    struct Floating;
     #[doc = include_str!("../docs/src/embedding.md")]
     struct Embedding;
     #[doc = include_str!("../docs/src/python.md")]

@@ -14,7 +14,7 @@
 //!   [Theta, xi]] (enough for order 4), so the quaternion stays unit by construction.
 //!
 //! The test `floating_free_body` measures both on a tumbling body; `Projection` is the
-//! default (docs/drafts/floating.md says why).
+//! default (docs/src/floating.md says why).
 
 use nalgebra::SVector;
 
