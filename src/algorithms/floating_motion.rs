@@ -94,7 +94,7 @@ where
     }
     let mut q = unit_start(q0)?;
     let mut v = *v0;
-    let steps = (t_end / h).ceil() as usize;
+    let steps = step_count(t_end, h);
     let mut out = FloatingTrajectory {
         t: vec![0.0],
         q: vec![q],
@@ -126,6 +126,13 @@ where
         }
     }
     Ok(out)
+}
+
+/// The steps of h that reach t_end: t_end / h rounded up, a quotient within 1e-9 of a
+/// whole number taken as that number (0.1 / 1e-3 is 100.00000000000001 in f64: 100
+/// steps, not 101 ending at 0.101).
+pub(crate) fn step_count(t_end: f64, h: f64) -> usize {
+    (t_end / h - 1e-9).ceil().max(1.0) as usize
 }
 
 /// q0 with its quaternion normalised, or the error for one too far from unit.

@@ -6,7 +6,7 @@
 //! for a floating declaration. The step loop allocates nothing: its stages live in one
 //! scratch buffer made before the first step.
 
-use crate::algorithms::floating_motion::{configuration_rate, quaternion_norm};
+use crate::algorithms::floating_motion::{configuration_rate, quaternion_norm, step_count};
 use crate::error::Error;
 use crate::system::InterpretedFloating;
 
@@ -53,7 +53,7 @@ pub fn simulate_interpreted_floating(
         effort: vec![0.0; nv],
     };
     sample(0.0, &q, &v);
-    let steps = (t_end / h).ceil() as usize;
+    let steps = step_count(t_end, h);
     for k in 0..steps {
         let t = k as f64 * h;
         step(robot, &mut s, t, (&mut q, &mut v), h)?;

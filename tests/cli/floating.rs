@@ -214,6 +214,12 @@ fn floating_bad_inputs_are_one_line() {
     let out_s = out.to_str().unwrap();
     let o = mechanism(&["simulate", mech, "--t-end", "0.1", "--out", out_s]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // 0.1 / 1e-3 is 100.00000000000001 in f64: still 100 steps, ending at t = 0.1.
+    let s = summary(&out);
+    assert_eq!(
+        (s["steps"].as_u64(), s["t_last"].as_f64()),
+        (Some(100), Some(0.1))
+    );
     let before = std::fs::read(out.join("summary.json")).unwrap();
     let cases: [(&[&str], &str); 4] = [
         (
