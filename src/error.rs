@@ -495,6 +495,17 @@ pub enum Error {
         /// How many more drives are needed.
         missing: usize,
     },
+    /// The starting quaternion of a floating base is not unit: its norm differs from 1 by
+    /// more than `QUATERNION_NORM_TOLERANCE` (1e-9).
+    #[error(
+        "the root's quaternion (x, y, z, w) = {quaternion:?} has norm {norm}, not 1: give a unit quaternion (within 1e-9), e.g. [0, 0, 0, 1] for the world's axes"
+    )]
+    QuaternionNotUnit {
+        /// The quaternion given.
+        quaternion: [f64; 4],
+        /// Its norm.
+        norm: f64,
+    },
     /// A numeric option outside its allowed range.
     #[error("invalid option: {option} = {value} (allowed: {allowed})")]
     InvalidOption {

@@ -119,6 +119,12 @@ pub use crate::algorithms::drive::{DriveError, parse_drive};
 #[cfg(feature = "std")]
 pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 #[cfg(feature = "std")]
+pub use crate::algorithms::floating_motion::{
+    FloatingStep, FloatingTrajectory, QUATERNION_NORM_TOLERANCE, simulate_floating,
+};
+#[cfg(feature = "interpreter")]
+pub use crate::algorithms::interpreted_floating_motion::simulate_interpreted_floating;
+#[cfg(feature = "std")]
 pub use crate::algorithms::inverse::{
     InverseDynamics, InverseResult, InverseSample, check_inverse_dynamics, inverse_dynamics,
     inverse_dynamics_from, sample_times,
@@ -156,9 +162,11 @@ pub use crate::simulation::singular::SingularPassage;
 pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
+pub use crate::system::floating::integrate as integrate_floating;
 pub use crate::system::{
-    Accelerations, Coordinates, EvaluationSlices, Independent, JointLimits, Mechanism, Multipliers,
-    ParameterError, ParameterRange, RotationFactor, StaticEvaluation, StaticSparsity, Velocities,
+    Accelerations, Coordinates, EvaluationSlices, FloatingBase, Independent, JointLimits,
+    Mechanism, Multipliers, ParameterError, ParameterRange, RotationFactor, StaticEvaluation,
+    StaticSparsity, Velocities,
 };
 #[cfg(feature = "std")]
 pub use crate::system::{
@@ -166,7 +174,7 @@ pub use crate::system::{
     Kinematic, Sparsity, System, SystemInfo, Tangent,
 };
 #[cfg(feature = "interpreter")]
-pub use crate::system::{Interpreted, InterpretedConstraints};
+pub use crate::system::{Interpreted, InterpretedConstraints, InterpretedFloating, Momentum};
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].
 pub use mechanism_macros::mechanism;
@@ -216,6 +224,8 @@ mod book {
     struct Nonholonomic;
     #[doc = include_str!("../docs/src/robots.md")]
     struct Robots;
+    #[doc = include_str!("../docs/src/floating.md")]
+    struct Floating;
     #[doc = include_str!("../docs/src/embedding.md")]
     struct Embedding;
     #[doc = include_str!("../docs/src/python.md")]

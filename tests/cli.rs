@@ -16,6 +16,8 @@ mod diagnoses;
 mod energy_balance;
 #[path = "cli/fail_fast.rs"]
 mod fail_fast;
+#[path = "cli/floating.rs"]
+mod floating;
 #[path = "cli/implicit.rs"]
 mod implicit;
 #[path = "cli/import.rs"]

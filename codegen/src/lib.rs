@@ -90,7 +90,7 @@ pub use algebra::expr::{Arena, Func, Id, Node, Operands, Symbol, SymbolId, Symbo
 pub use algebra::matrix::Matrix;
 pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
-    compile_interpreted, compile_robotics,
+    compile_floating, compile_interpreted, compile_robotics,
 };
 pub use emit::body::{EmitBindings, EmittedBody, LEAN_ABOVE, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};
@@ -98,6 +98,7 @@ pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::derivation::{derive, derive_with};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
+pub use mechanics::floating::FloatingRoot;
 pub use mechanics::lagrange::Route;
 pub use mechanics::model::{
     Constraint, Coordinate, IndependentSpec, Model, Parameter, ParameterRange, RotationSequence,

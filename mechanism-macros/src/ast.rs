@@ -77,7 +77,7 @@ fn file_literal(tokens: &TokenStream) -> Option<syn::Result<LitStr>> {
 }
 
 /// `urdf = "robot.urdf"`, with an optional `lock = ["joint", ...]`, `name = Struct`,
-/// `damping = true` and `snap_angles = 1e-9` after it.
+/// `damping = true`, `snap_angles = 1e-9` and `floating = true` after it.
 struct UrdfInput {
     /// The path as written.
     literal: LitStr,
@@ -90,6 +90,8 @@ struct UrdfInput {
     /// `snap_angles = 1e-9`: angles within this many rad of a multiple of pi/2 written as
     /// one.
     snap_angles: Option<f64>,
+    /// `floating = true`: the root link on a free-flyer joint.
+    floating: bool,
 }
 
 /// `urdf = "..."` and its options, recognised by its first two tokens.
@@ -107,7 +109,7 @@ fn urdf_input(tokens: &TokenStream) -> Option<syn::Result<UrdfInput>> {
 }
 
 /// `"robot.urdf" [, lock = ["a", "b"]] [, name = Struct] [, damping = true]
-/// [, snap_angles = 1e-9] [,]`.
+/// [, snap_angles = 1e-9] [, floating = true] [,]`.
 fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
     let mut urdf = UrdfInput {
         literal: input.parse()?,
@@ -115,6 +117,7 @@ fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
         name: None,
         damping: false,
         snap_angles: None,
+        floating: false,
     };
     while !input.is_empty() {
         input.parse::<Token![,]>()?;
@@ -134,11 +137,13 @@ fn parse_urdf_options(input: ParseStream) -> syn::Result<UrdfInput> {
             urdf.damping = input.parse::<syn::LitBool>()?.value;
         } else if key == "snap_angles" {
             urdf.snap_angles = Some(snap_tolerance(input)?);
+        } else if key == "floating" {
+            urdf.floating = input.parse::<syn::LitBool>()?.value;
         } else {
             return Err(syn::Error::new(
                 key.span(),
-                "expected `lock = [\"joint\", ...]`, `name = Struct`, `damping = true` or \
-                 `snap_angles = 1e-9` after the URDF path",
+                "expected `lock = [\"joint\", ...]`, `name = Struct`, `damping = true`, \
+                 `snap_angles = 1e-9` or `floating = true` after the URDF path",
             ));
         }
     }
@@ -259,6 +264,7 @@ fn parse_urdf(urdf: UrdfInput) -> syn::Result<Declaration> {
         lock: urdf.lock,
         damping: urdf.damping,
         snap_angles: urdf.snap_angles,
+        floating: urdf.floating,
     };
     let text = mechanism_codegen::urdf_to_mech(&xml, &options)
         .map_err(|e| syn::Error::new(urdf.literal.span(), e.to_string()))?;

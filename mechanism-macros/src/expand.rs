@@ -18,6 +18,9 @@ use crate::generate::{self, Generated};
 pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
     let mut decl = ast::parse(input)?;
     check::check(&decl)?;
+    if decl.model.floating_root().is_some() {
+        return crate::floating::expand(&mut decl);
+    }
     let generated = generate::generate(&mut decl)?;
     Ok(expand_declaration(&decl, &generated))
 }
@@ -30,29 +33,29 @@ fn float(x: f64) -> TokenStream {
 }
 
 /// The tables of a declaration as the tokens that the expansion repeats.
-struct Tables {
-    name: Ident,
-    n: usize,
-    m: usize,
-    p: usize,
-    fields: Vec<Ident>,
-    defaults: Vec<TokenStream>,
-    field_docs: Vec<String>,
-    parameter_names: Vec<String>,
-    coordinate_names: Vec<String>,
-    guesses: Vec<TokenStream>,
-    independent: Vec<TokenStream>,
+pub(crate) struct Tables {
+    pub(crate) name: Ident,
+    pub(crate) n: usize,
+    pub(crate) m: usize,
+    pub(crate) p: usize,
+    pub(crate) fields: Vec<Ident>,
+    pub(crate) defaults: Vec<TokenStream>,
+    pub(crate) field_docs: Vec<String>,
+    pub(crate) parameter_names: Vec<String>,
+    pub(crate) coordinate_names: Vec<String>,
+    pub(crate) guesses: Vec<TokenStream>,
+    pub(crate) independent: Vec<TokenStream>,
     /// The coordinate index of each independent entry.
-    independent_coordinates: Vec<usize>,
+    pub(crate) independent_coordinates: Vec<usize>,
     /// `Krate::ParameterRange::X` per parameter.
-    ranges: Vec<TokenStream>,
-    row_joints: Vec<String>,
-    row_components: Vec<String>,
-    velocity_rows: usize,
+    pub(crate) ranges: Vec<TokenStream>,
+    pub(crate) row_joints: Vec<String>,
+    pub(crate) row_components: Vec<String>,
+    pub(crate) velocity_rows: usize,
 }
 
 impl Tables {
-    fn of(decl: &Declaration) -> Tables {
+    pub(crate) fn of(decl: &Declaration) -> Tables {
         let model = &decl.model;
         let krate = &decl.krate;
         let independent = model
@@ -130,7 +133,7 @@ fn expand_declaration(decl: &Declaration, g: &Generated) -> TokenStream {
 /// parameters (`model.l2`); `DerefMut` writes them (`model.l2 = 0.35`) and marks the cache
 /// stale, so a body then computes the values itself until `refresh` (or `set_parameter`,
 /// `new`, `Compiled::new`) stores them again: a stale value is never read.
-fn expand_struct(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
+pub(crate) fn expand_struct(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStream {
     let vis = if decl.model.public {
         quote!(pub)
     } else {
@@ -498,7 +501,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
 
 /// The lints allowed on the impls of generated methods: their bodies are straight-line SSA
 /// with many short names, long literals and unsimplified signs.
-fn method_allows() -> TokenStream {
+pub(crate) fn method_allows() -> TokenStream {
     quote! {
         #[allow(
             non_snake_case,

@@ -39,6 +39,7 @@ pub const TANGENT_INSTRUCTIONS_MAX: usize = 100_000;
 pub type Pattern = Vec<(usize, usize)>;
 
 /// The bodies of the trait methods and the equations text.
+#[derive(Default)]
 pub struct Generated {
     /// `mass_matrix(&self, q)`.
     pub mass_matrix: TokenStream,
@@ -164,16 +165,16 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
 
 /// A codegen error as a compile error at the user's token (or the file literal). An error
 /// without a location of its own (one found while deriving) points at the mechanism's name.
-fn codegen_error(decl: &Declaration, e: &mechanism_codegen::Error) -> syn::Error {
+pub(crate) fn codegen_error(decl: &Declaration, e: &mechanism_codegen::Error) -> syn::Error {
     let at = ast::location(e).unwrap_or(decl.spans.name);
     decl.error_at(Some(at), &ast::message(e))
 }
 
 /// Emits bodies for one model.
-struct Bodies<'a> {
-    model: &'a Model,
-    krate: &'a TokenStream,
-    routines: &'a Routines,
+pub(crate) struct Bodies<'a> {
+    pub(crate) model: &'a Model,
+    pub(crate) krate: &'a TokenStream,
+    pub(crate) routines: &'a Routines,
 }
 
 impl Bodies<'_> {
@@ -265,7 +266,7 @@ impl Bodies<'_> {
     }
 
     /// A body returning one nalgebra matrix (or vector) of the shape of `role`'s output.
-    fn matrix(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn matrix(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
         let targets = [Self::place(program, quote!(out))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
@@ -286,7 +287,7 @@ impl Bodies<'_> {
     }
 
     /// `(M, b)`: M (n x n) and the bias b = C q' + g - tau (n x 1), one program.
-    fn mass_and_bias(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn mass_and_bias(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
         self.pair(
             Role::MassAndBias,
             (quote!(mass), n, n),
@@ -320,7 +321,7 @@ impl Bodies<'_> {
     }
 
     /// M q'' + C q' + g - tau, with q'' read from `qdd`.
-    fn inverse_dynamics(&self) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn inverse_dynamics(&self) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(Role::InverseDynamics)?;
         let targets = [Self::place(program, quote!(out))];
         let body = emit_body(program, &bindings, &targets)?.tokens;
@@ -337,7 +338,10 @@ impl Bodies<'_> {
     /// `Some(q'')` when every pivot of M = L^T D L is finite and above 1e-14 of its
     /// diagonal entry (M positive definite beyond round-off) and q'' is finite, else
     /// `None`; `None` overall for a mechanism without the routine.
-    fn forward_dynamics(&self, n: usize) -> mechanism_codegen::Result<Option<TokenStream>> {
+    pub(crate) fn forward_dynamics(
+        &self,
+        n: usize,
+    ) -> mechanism_codegen::Result<Option<TokenStream>> {
         let Some(program) = self.routines.get(Role::ForwardDynamics) else {
             return Ok(None);
         };
@@ -366,7 +370,7 @@ impl Bodies<'_> {
     }
 
     /// `(R, p)` of one link frame.
-    fn placement(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn placement(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
         self.pair(role, (quote!(rotation), 3, 3), (quote!(position), 3, 1))
     }
 
@@ -394,7 +398,7 @@ impl Bodies<'_> {
     }
 
     /// A body returning the single entry of a 1 x 1 output.
-    fn scalar(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn scalar(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
         let body = emit_body(program, &bindings, &[OutputTarget::Return])?.tokens;
         let cache = self.cache_read(program);
@@ -582,7 +586,7 @@ impl Bodies<'_> {
     /// The body of `fn initial_values(p: &Parameters) -> ([f64; n], [f64; 2 k])`: the
     /// program of [`Role::InitialValues`], reading the parameters from `p` (never the
     /// cache, so a field changed without `refresh` is followed).
-    fn initial_values(&self) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn initial_values(&self) -> mechanism_codegen::Result<TokenStream> {
         let role = Role::InitialValues;
         let program = self.routines.program(role)?;
         let rows = |k: usize| program.outputs().get(k).map_or(0, |o| o.rows);
@@ -602,7 +606,7 @@ impl Bodies<'_> {
     }
 
     /// The body of `fn parameter_cache(p: &Parameters) -> [f64; K]`.
-    fn cache(&self) -> mechanism_codegen::Result<TokenStream> {
+    pub(crate) fn cache(&self) -> mechanism_codegen::Result<TokenStream> {
         let role = Role::ParameterCache;
         let program = self.routines.program(role)?;
         let k = self.routines.cache_len();

@@ -17,6 +17,7 @@ mod ast;
 mod check;
 mod dispatch;
 mod expand;
+mod floating;
 mod generate;
 mod orientations;
 mod robotics;

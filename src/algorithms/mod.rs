@@ -32,6 +32,9 @@ pub(crate) mod coordinate_singularity;
 pub(crate) mod drive;
 pub(crate) mod dynamics;
 pub(crate) mod finite;
+pub(crate) mod floating_motion;
+#[cfg(feature = "interpreter")]
+pub(crate) mod interpreted_floating_motion;
 pub(crate) mod inverse;
 pub(crate) mod kinematics;
 pub(crate) mod kink;

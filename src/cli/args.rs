@@ -251,6 +251,11 @@ pub struct ImportArgs {
     /// nonzero multiples within 1e-12 only.
     #[arg(long, value_name = "RAD")]
     pub snap_angles: Option<f64>,
+    /// Let the root link float: a free-flyer joint `root_joint` (Pinocchio's layout: q =
+    /// [position, quaternion x y z w, joints], v = [velocity, angular velocity in the root
+    /// frame, joint rates]). Refused for a robot fixed by a `world` link.
+    #[arg(long)]
+    pub floating: bool,
 }
 
 /// Integrators offered on the command line.

@@ -120,6 +120,30 @@ pub fn equations(spec: &str, latex: bool) -> Result<String, CliError> {
     }
     let mut text = mechanism_codegen::equations_text(&model, &eqs);
     text.push('\n');
+    if model.floating_root().is_some() {
+        let joints = model.coordinates.len() - 6;
+        let _ = writeln!(
+            text,
+            "Mobility: a floating base, no constraint rows: 6 + {joints} degrees of freedom."
+        );
+        // The equations above are written in v (their q' is v, their q'' is a = v'), q
+        // in the configuration's layout: say so first.
+        let joints: Vec<&str> = (model.coordinates[6..].iter())
+            .map(|c| c.name.as_str())
+            .collect();
+        let root = &model.coordinates[0].name;
+        let base = root.strip_suffix("_vx").unwrap_or(root);
+        let note = format!(
+            "Floating base: the coordinates below are the velocities v (der(NAME) reads v's \
+             entry NAME, der(der(NAME)) its rate a); the configuration is q = [{base}_x, \
+             {base}_y, {base}_z, {base}_qx, {base}_qy, {base}_qz, {base}_qw{}{}] ({} entries), \
+             p' = R v, R' = R [w]x.\n",
+            if joints.is_empty() { "" } else { ", " },
+            joints.join(", "),
+            model.configuration_size()
+        );
+        return Ok(note + &text);
+    }
     // A file's mobility needs its constraint rows only: compiling the dynamics as well
     // would be most of the command's work on a large mechanism.
     let mobility = match builtin_system {

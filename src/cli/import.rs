@@ -29,6 +29,7 @@ pub fn run(args: &ImportArgs) -> Result<(), CliError> {
         lock: args.lock.clone(),
         damping: args.damping,
         snap_angles: args.snap_angles,
+        floating: args.floating,
     };
     let import = urdf_import(&xml, &options).map_err(|e| CliError::Import(e.to_string()))?;
     // What the import changed from the URDF, one line each (also in the header).

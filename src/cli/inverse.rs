@@ -29,6 +29,7 @@ use mechanism_codegen::Tangents;
 /// where and why.
 pub fn run(a: &InverseArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
+    super::floating::refuse(&a.common.mechanism, "inverse")?;
     let prepared = prepare(a)?;
     let dir = output_folder(&a.common, &prepared.loaded.key);
     let known = Known::of(prepared.loaded.system.as_ref());

@@ -20,6 +20,7 @@ pub const LINEARIZATION_FILE: &str = "linearization.json";
 
 /// Runs `linearize` with `a`.
 pub fn run(a: &LinearizeArgs) -> Result<(), CliError> {
+    super::floating::refuse(&a.mechanism, "linearize")?;
     let mut loaded = load_for_linearization(&a.mechanism)?;
     apply_sets(&mut loaded, &a.set)?;
     let system = loaded.system.as_ref();

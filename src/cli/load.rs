@@ -123,7 +123,7 @@ pub fn key_of(spec: &str) -> Option<String> {
 }
 
 /// The key of a `.mech` file: its stem as a folder name.
-fn file_key(path: &Path) -> String {
+pub fn file_key(path: &Path) -> String {
     folder_name(&path.file_stem().unwrap_or_default().to_string_lossy())
 }
 

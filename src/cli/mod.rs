@@ -11,6 +11,7 @@ pub mod args;
 mod budget;
 mod drawing;
 mod equations;
+mod floating;
 mod import;
 mod input;
 mod inverse;

@@ -124,6 +124,10 @@ fn residuals(system: &dyn System, trajectory: &Trajectory) -> Vec<Vec<f64>> {
 /// run starts. A failure from the assembly on leaves a `summary.json` saying where and why.
 pub fn run(a: &SimulateArgs) -> Result<(), CliError> {
     check_span(&a.common)?;
+    // A floating base steps on its own route (`floating`).
+    if let Some(loaded) = super::floating::load(&a.common.mechanism)? {
+        return super::floating::run(a, loaded);
+    }
     let settings = settings(a)?;
     let prepared = prepare(a, &settings)?;
     let dir = output_folder(&a.common, &prepared.loaded.key);

@@ -27,6 +27,8 @@ pub mod csv;
 #[cfg(feature = "files")]
 mod excursions;
 #[cfg(feature = "files")]
+mod floating_summary;
+#[cfg(feature = "files")]
 mod inverse_summary;
 mod lock;
 #[cfg(feature = "files")]
@@ -50,6 +52,10 @@ pub use self::atomic::{check_target, temporary_path, write_atomically};
 pub use self::csv::{write_inverse_csv, write_trajectory_csv};
 #[cfg(feature = "files")]
 pub use self::excursions::{LimitExcursion, LimitWatch, excursion_lines, inverse_excursions};
+#[cfg(feature = "files")]
+pub use self::floating_summary::{
+    Conservation, FloatingInitialState, FloatingSummary, write_floating_summary,
+};
 #[cfg(feature = "files")]
 pub use self::inverse_summary::{InverseSummary, write_inverse_summary};
 pub use self::lock::{FolderLock, LOCK_FILE};

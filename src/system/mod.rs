@@ -22,12 +22,15 @@ mod constraint_rows;
 mod drawing;
 #[cfg(feature = "std")]
 mod dynamic;
+pub(crate) mod floating;
 #[cfg(feature = "std")]
 mod info;
 #[cfg(feature = "interpreter")]
 mod interpreted;
 #[cfg(feature = "interpreter")]
 mod interpreted_constraints;
+#[cfg(feature = "interpreter")]
+mod interpreted_floating;
 mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
@@ -54,12 +57,15 @@ pub use drawing::{Drawing, DrawnPoint};
 pub(crate) use dynamic::SolverKey;
 #[cfg(feature = "std")]
 pub use dynamic::{ConstraintTangent, Evaluation, Kinematic, System, Tangent};
+pub use floating::FloatingBase;
 #[cfg(feature = "std")]
 pub use info::{BodyOrientation, ConstraintRow, SystemInfo};
 #[cfg(feature = "interpreter")]
 pub use interpreted::Interpreted;
 #[cfg(feature = "interpreter")]
 pub use interpreted_constraints::InterpretedConstraints;
+#[cfg(feature = "interpreter")]
+pub use interpreted_floating::{InterpretedFloating, Momentum};
 pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,

@@ -113,6 +113,16 @@ impl Parameters {
         });
     }
 
+    /// The first `n` outputs of the initial-value program at the current values: the
+    /// initial guesses of the coordinates.
+    pub(crate) fn initial_guess(&self, n: usize) -> Vec<f64> {
+        let values = Values {
+            parameters: &self.values,
+            ..Values::default()
+        };
+        self.initial.run(&values, |v| v[..n.min(v.len())].to_vec())
+    }
+
     /// Computes the cache of the current values.
     fn refresh(&mut self) {
         let values = Values {

@@ -19,6 +19,8 @@ pub(crate) struct Values<'a> {
     pub(crate) qd: &'a [f64],
     pub(crate) qdd: &'a [f64],
     pub(crate) lambda: &'a [f64],
+    /// The efforts u of a forward dynamics (M q'' + b = u).
+    pub(crate) effort: &'a [f64],
 }
 
 impl Values<'_> {
@@ -33,8 +35,7 @@ impl Values<'_> {
             Source::Rate(k) => at(self.qd, k),
             Source::Acceleration(k) => at(self.qdd, k),
             Source::Multiplier(k) => at(self.lambda, k),
-            // No interpreted routine reads an effort (the forward dynamics is the macro's).
-            Source::Effort(_) => f64::NAN,
+            Source::Effort(k) => at(self.effort, k),
             Source::Time => self.t,
         }
     }

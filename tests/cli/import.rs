@@ -79,7 +79,7 @@ fn a_refused_urdf_is_one_line_and_exit_status_1() {
         &o,
         "bad.urdf:4:1: <joint name=\"free\">: joint type \"floating\" (a free joint of six \
          coordinates) is not supported (supported: revolute, continuous, prismatic, fixed): \
-         the imported tree is fixed to the world at its root link",
+         only the root link floats (--floating, or `floating = true` in mechanism!)",
     );
     assert!(!out.exists(), "nothing written");
     // A lock that names no joint, a folder, a missing file.
@@ -380,5 +380,54 @@ fn snap_angles_writes_rounded_quarter_turns_as_multiples_of_pi() {
     assert_one_line_error(
         &mechanism(&["import", ur5, "--snap-angles", "0.1"]),
         "the angle snapping tolerance 0.1 rad is not between 0 and 0.001",
+    );
+}
+
+/// `--floating` gives the root link the free-flyer joint; the bad inputs are one line each:
+/// a robot fixed by a `world` link, a URDF whose root has a parent (the joints form a
+/// cycle), and the floating arm given to `simulate`, whose massless base makes M singular
+/// (the floating runs themselves: tests/cli/floating.rs).
+#[test]
+fn floating_import_and_its_bad_inputs() {
+    let o = mechanism(&["import", ARM, "--floating"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).expect("UTF-8");
+    assert!(text.contains("joint = floating(root_joint);"), "{text}");
+    assert!(text.contains("floats: q = [position, quaternion (x, y, z, w), joints]"));
+    let dir = out_dir("import-floating");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mech = dir.join("floating.mech");
+    std::fs::write(&mech, &text).unwrap();
+    // The arm's massless base turns about z with nothing but the shoulder's axis: M is
+    // singular there, which the floating run reports at its first step.
+    assert_one_line_error(
+        &mechanism(&["simulate", mech.to_str().unwrap(), "--t-end", "0.1"]),
+        "the forward dynamics (M not positive definite or a non-finite a) at t = 0 s",
+    );
+    let world = dir.join("world.urdf");
+    std::fs::write(
+        &world,
+        "<robot name=\"r\">\n<link name=\"world\"/>\n<link name=\"b\"/>\n\
+         <joint name=\"anchor\" type=\"fixed\"><parent link=\"world\"/><child link=\"b\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    assert_one_line_error(
+        &mechanism(&["import", world.to_str().unwrap(), "--floating"]),
+        "world.urdf:2:1: <link name=\"world\">: the robot is fixed to the world by its root \
+         link `world`, so its base cannot float",
+    );
+    let cycle = dir.join("cycle.urdf");
+    std::fs::write(
+        &cycle,
+        "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n\
+         <joint name=\"ab\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"ba\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>\n\
+         </robot>\n",
+    )
+    .unwrap();
+    assert_one_line_error(
+        &mechanism(&["import", cycle.to_str().unwrap(), "--floating"]),
+        "no root link: every link is the child of a joint",
     );
 }

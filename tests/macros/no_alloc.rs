@@ -87,3 +87,44 @@ fn emitted_methods_do_not_allocate() {
     assert_eq!(count::<RollingDisc, _, _>(), 0, "rolling_disc");
     assert_eq!(count::<ChaplyginSleigh, _, _>(), 0, "chaplygin_sleigh");
 }
+
+mechanism::mechanism! {
+    pub struct FloatingArm;
+    parameters { g = 9.81; }
+    gravity = [0, 0, -g];
+    link base { joint = floating(base); mass = 2.0; inertia = diag(0.1, 0.2, 0.3); }
+    link arm {
+        parent = base; joint = revolute(q1, [0, 1, 0]); xyz = [0.1, 0, 0];
+        mass = 1.0; com = [0.2, 0, 0]; inertia = diag(0.01, 0.02, 0.02);
+    }
+}
+
+/// The floating-base methods, the provided ones (centre of mass, centroidal momentum
+/// matrix, integrate) included, allocate nothing either.
+#[test]
+fn floating_base_methods_do_not_allocate() {
+    use mechanism::FloatingBase;
+    let robot = FloatingArm::default();
+    let q = FloatingArm::neutral();
+    let v = SVector::<f64, 7>::from_fn(|i, _| 0.3 + i as f64);
+    let t = 0.25;
+    let before = mechanism_test_support::allocations();
+    black_box(robot.mass_matrix(black_box(&q)));
+    black_box(robot.coriolis_forces(&q, &v));
+    black_box(robot.gravity(&q));
+    black_box(robot.generalized_forces(t, &q, &v));
+    black_box(robot.kinetic_energy(&q, &v));
+    black_box(robot.potential_energy(&q));
+    black_box(robot.mass_and_bias(t, &q, &v));
+    black_box(robot.bias(t, &q, &v));
+    black_box(robot.inverse_dynamics(t, &q, &v, &v));
+    black_box(robot.forward_dynamics(t, &q, &v, &v));
+    black_box(robot.center_of_mass(&q));
+    black_box(robot.centroidal_momentum_matrix(&q));
+    black_box(FloatingArm::integrate(&q, &v, 0.01));
+    for frame in 0..FloatingArm::FRAMES.len() {
+        black_box(robot.frame_placement(frame, &q));
+        black_box(robot.frame_jacobian(frame, &q));
+    }
+    assert_eq!(mechanism_test_support::allocations() - before, 0);
+}

@@ -240,3 +240,27 @@ fn the_constraint_tangent_allocates_nothing() {
     // The rows' tangent is not all zero: the rolling rows depend on the configuration.
     assert!(out.velocity.iter().any(|v| *v != 0.0));
 }
+
+#[test]
+fn the_interpreted_floating_step_allocates_nothing() {
+    // Solo12 with a floating base on the run-time route: between two samples (one step
+    // each) nothing is allocated once the first step has grown the register file.
+    let options = mechanism_codegen::UrdfOptions {
+        file_name: "solo12.urdf".into(),
+        floating: true,
+        ..Default::default()
+    };
+    let urdf = include_str!("../../mechanisms/urdf/solo12.urdf");
+    let text = mechanism_codegen::urdf_to_mech(urdf, &options).unwrap();
+    let robot = mechanism::InterpretedFloating::from_text(&text).unwrap();
+    let q0 = robot.neutral();
+    let v0: Vec<f64> = (0..robot.nv()).map(|k| 0.1 * k as f64).collect();
+    let mut counts = Vec::with_capacity(200);
+    mechanism::simulate_interpreted_floating(&robot, (&q0, &v0), (0.1, 1e-3, 1), |_, _, _| {
+        counts.push(mechanism_test_support::allocations())
+    })
+    .unwrap();
+    assert_eq!(counts.len(), 101);
+    let grown = counts.windows(2).skip(1).map(|w| w[1] - w[0]).max();
+    assert_eq!(grown, Some(0), "{counts:?}");
+}

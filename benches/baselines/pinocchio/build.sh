@@ -74,6 +74,9 @@ LDFLAGS=(-L"$P/lib" -Wl,-rpath,"$P/lib"
 set -x
 "$CXX" "${CXXFLAGS[@]}" -c "$HERE/panda_bench.cpp" -o "$BUILD_DIR/panda_bench.o"
 "$CXX" "$BUILD_DIR/panda_bench.o" -o "$BIN" "${LDFLAGS[@]}"
+# The floating-base program (Solo12, Talos: benches/floating_robot.py).
+"$CXX" "${CXXFLAGS[@]}" -c "$HERE/floating_bench.cpp" -o "$BUILD_DIR/floating_bench.o"
+"$CXX" "$BUILD_DIR/floating_bench.o" -o "$BUILD_DIR/floating_bench" "${LDFLAGS[@]}"
 set +x
 echo "built $BIN" >&2
 

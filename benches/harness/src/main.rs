@@ -10,6 +10,8 @@
 //!                                             step control, or the predictive controller)
 //! harness reference <model>                   q at 10 s from DOP853 at 1e-13
 //! harness robot <rounds>                      the Panda's robotics routines (robot.rs)
+//! harness floating <robot> <rounds>           Solo12's or Talos' floating-base routines
+//!                                             (floating.rs)
 //! ```
 //!
 //! `<what>` is `evaluate` (the combined evaluation into the caller's buffer) or `five` (M,
@@ -20,6 +22,7 @@
 //! grows by 1e-15 before every call, exactly as in the C loop. The model names are `seed`,
 //! `four_bar`, `rssr`, `chain8`, `chain16` and `chain32`.
 
+mod floating;
 mod models;
 mod robot;
 mod simulate;
@@ -31,6 +34,22 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |k: usize| args.get(k).map(String::as_str).unwrap_or("");
     let number = |k: usize| arg(k).parse::<f64>().ok();
+    if arg(0) == "floating" {
+        let rounds = number(2).map_or(11, |r| r as usize).max(1);
+        return match floating::floating_json(arg(1), rounds) {
+            Some(json) => {
+                println!("{json}");
+                ExitCode::SUCCESS
+            }
+            None => {
+                eprintln!(
+                    "harness floating: unknown robot {:?} (solo12, talos)",
+                    arg(1)
+                );
+                ExitCode::FAILURE
+            }
+        };
+    }
     if arg(0) == "robot" {
         let rounds = number(1).map_or(11, |r| r as usize).max(1);
         println!("{}", robot::robot_json(rounds));

@@ -29,7 +29,7 @@ pub(crate) mod role;
 pub(crate) mod sources;
 pub(crate) mod sparsity;
 
-use crate::error::{EvalError, ProgramError};
+use crate::error::{DerivationError, EvalError, ProgramError};
 use std::hash::{Hash, Hasher};
 
 use crate::algebra::expr::SymbolId;
@@ -91,6 +91,7 @@ pub struct Routines {
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
+    refuse_floating(model, "compiling the `Mechanism` routines")?;
     let roles = Role::compiled(eqs, &model.drawing, tangent.constraints.is_some());
     compile_roles(model, eqs, Some(tangent), &roles)
 }
@@ -111,6 +112,7 @@ pub fn compile_interpreted(
     eqs: &Equations,
     tangent: Option<&ResidualTangent>,
 ) -> Result<Routines> {
+    refuse_floating(model, "the interpreter route")?;
     let tangents = match tangent {
         None => Tangents::None,
         Some(t) if t.constraints.is_some() => Tangents::WithConstraints,
@@ -149,6 +151,7 @@ pub fn compile_interpreted(
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile_constraints(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    refuse_floating(model, "the constraint rows' routines")?;
     compile_roles(model, eqs, None, &Role::constraint_rows())
 }
 
@@ -182,7 +185,40 @@ pub fn compile_constraints(model: &mut Model, eqs: &Equations) -> Result<Routine
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile_robotics(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    refuse_floating(model, "the run-time robotics routines")?;
     compile_roles(model, eqs, None, &Role::robotics(eqs))
+}
+
+/// The routines of a floating-base model ([`Role::floating`]: M, the bias, the inverse
+/// and forward dynamics, T, Pi and the frames, each in v; `mechanics::floating`), with q
+/// read in the configuration's layout (NQ entries) and q', q'', the efforts in v's (NV).
+///
+/// # Errors
+/// As [`compile`]; [`crate::error::DerivationError::FloatingBase`] for a model without a
+/// floating root.
+pub fn compile_floating(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    if model.floating_root().is_none() {
+        return Err(Error::Derivation(DerivationError::FloatingBase {
+            mechanism: model.name.clone(),
+            what: "(it has none) `compile_floating`".into(),
+            nq: model.configuration_size(),
+            nv: eqs.n,
+        }));
+    }
+    compile_roles(model, eqs, None, &Role::floating(eqs, &model.drawing))
+}
+
+/// Refuses a floating-base model where `what` assumes q' = dq/dt.
+fn refuse_floating(model: &Model, what: &str) -> Result<()> {
+    if model.floating_root().is_none() {
+        return Ok(());
+    }
+    Err(Error::Derivation(DerivationError::FloatingBase {
+        mechanism: model.name.clone(),
+        what: what.to_string(),
+        nq: model.configuration_size(),
+        nv: model.coordinates.len(),
+    }))
 }
 
 /// The stage's steps (module docs) for `roles`, in their order; a budget error of a tree

@@ -11,6 +11,7 @@ use crate::mechanics::lagrange::coriolis_matrix_of;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{articulated_forward_dynamics, frame_jacobian};
 use crate::mechanics::tangent::ResidualTangent;
+use crate::mechanics::tree::LinkJoint;
 use crate::program::cse::Program;
 
 /// Which tangents the interpreter's routines carry ([`Role::interpreted`]). Deriving and
@@ -177,6 +178,30 @@ impl Role {
         roles
     }
 
+    /// The roles of a floating-base model (`mechanics::floating`), in compilation order:
+    /// M, C v, g, tau, T, Pi, the robotics roles, the forward dynamics and the frames (and
+    /// the drawing); none of the roles written for q' = dq/dt.
+    pub fn floating(eqs: &Equations, drawing: &Drawing) -> Vec<Role> {
+        let mut roles = vec![
+            Role::Mass,
+            Role::CoriolisForces,
+            Role::Gravity,
+            Role::Forces,
+            Role::Kinetic,
+            Role::Potential,
+            Role::MassAndBias,
+            Role::InverseDynamics,
+            Role::Bias,
+            Role::ForwardDynamics,
+        ];
+        if !drawing.points.is_empty() {
+            roles.push(Role::Draw);
+        }
+        roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
+        roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
+        roles
+    }
+
     /// Whether the routine of this role may read a value from `source`: parameters and
     /// cached values always (the cache itself reads parameters only); t, q and q' in every
     /// other routine; q'' in the tangent and the inverse dynamics; the multipliers in the
@@ -274,9 +299,15 @@ fn elimination_order(model: &Model) -> Vec<usize> {
     let n = model.coordinates.len();
     let mut seen = vec![false; n];
     let mut order = Vec::with_capacity(n);
-    for c in model.links.iter().filter_map(|l| l.joint.coordinate()) {
-        if c < n && !std::mem::replace(&mut seen[c], true) {
-            order.push(c);
+    for l in &model.links {
+        let width = match l.joint {
+            LinkJoint::Floating { .. } => 6,
+            _ => 1,
+        };
+        for c in l.joint.coordinate().map_or(0..0, |c| c..c + width) {
+            if c < n && !std::mem::replace(&mut seen[c], true) {
+                order.push(c);
+            }
         }
     }
     order.extend((0..n).filter(|&c| !seen[c]));
@@ -299,7 +330,8 @@ fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Ma
     let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
     let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
     let factored = vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)];
-    if !model.kinetic_from_links {
+    // The recursion is written for one-coordinate joints: a floating root factors M.
+    if !model.kinetic_from_links || model.floating_root().is_some() {
         return Ok(factored);
     }
     let (qdd, pivots) = articulated_forward_dynamics(model, &effort)?;

@@ -61,12 +61,22 @@ impl Sources {
             let s = symbol(p.symbol, format!("parameter `{}`", p.name))?;
             entries.push((s, Source::Parameter(k)));
         }
+        // With a floating root q has the configuration's layout (`mechanics::floating`):
+        // its seven symbols first, each joint's position one place after its rate's.
+        if let Some(root) = model.floating_root() {
+            for (k, &c) in root.configuration.iter().enumerate() {
+                let s = symbol(c, format!("configuration entry {k}"))?;
+                entries.push((s, Source::Coordinate(k)));
+            }
+        }
         for (i, c) in model.coordinates.iter().enumerate() {
             let name = &c.name;
             let q = symbol(c.q, format!("coordinate `{name}`"))?;
             let qd = symbol(c.qd, format!("the rate of `{name}`"))?;
             let qdd = symbol(c.qdd, format!("the acceleration of `{name}`"))?;
-            entries.push((q, Source::Coordinate(i)));
+            if let Some(k) = model.configuration_index(i) {
+                entries.push((q, Source::Coordinate(k)));
+            }
             entries.push((qd, Source::Rate(i)));
             entries.push((qdd, Source::Acceleration(i)));
         }

@@ -61,4 +61,19 @@ pub enum DerivationError {
         /// The folding that overflowed, e.g. `2 * 1e308`.
         operation: String,
     },
+    /// A floating-base model asked for a route written for q' = dq/dt (the interpreter,
+    /// the `Mechanism` trait's routines, the residual's tangent).
+    #[error(
+        "`{mechanism}` has a floating base (q has {nq} entries, v {nv}), which {what} cannot take (written for q' = dq/dt); the macro's `FloatingBase` methods, `InterpretedFloating` and `mechanism simulate` take it, moving q on its manifold"
+    )]
+    FloatingBase {
+        /// The struct name.
+        mechanism: String,
+        /// What was asked for.
+        what: String,
+        /// NQ.
+        nq: usize,
+        /// NV.
+        nv: usize,
+    },
 }

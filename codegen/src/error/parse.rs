@@ -145,7 +145,7 @@ pub enum ParseError {
     },
     /// A link's joint of a kind the language does not have.
     #[error(
-        "unknown joint `{found}`: a link's joint is `fixed`, or `revolute`, `continuous` or `prismatic` as `KIND(COORDINATE, [ax, ay, az])`"
+        "unknown joint `{found}`: a link's joint is `fixed`, `revolute`, `continuous` or `prismatic` as `KIND(COORDINATE, [ax, ay, az])`, or `floating(NAME)` on a root link"
     )]
     UnknownJoint {
         /// The word written.

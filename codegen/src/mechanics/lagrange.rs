@@ -30,6 +30,7 @@ use crate::algebra::matrix::Matrix;
 use crate::error::{AlgebraError, DerivationError};
 use crate::error::{DeclarationError, Error, Location, Result};
 use crate::mechanics::equations::Equations;
+use crate::mechanics::floating::check_floating;
 use crate::mechanics::kinetic_form::{ModelView, check_mass, check_mass_semi_definite};
 use crate::mechanics::link_route::{check_moving_mass, energies, frame_equations, quadratic_form};
 use crate::mechanics::mass_matrix::mass_from_momenta;
@@ -130,6 +131,7 @@ pub fn derive_with(model: &mut Model, route: Route) -> Result<Equations> {
     let s = Symbols::of(model)?;
     let n = s.q.len();
     check_sizes(model, n)?;
+    check_floating(model, route == Route::Lagrange)?;
     // The declaration's own expressions first: their dependency sets are then those of
     // the arena's early nodes, not of the whole recursion's.
     let mut d = Differentiator::new();

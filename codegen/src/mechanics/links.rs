@@ -18,6 +18,7 @@
 //! checks the recursive one. Points and axes of a link are in link-frame coordinates.
 
 use crate::algebra::eval::eval;
+use crate::algebra::expr::SymbolKind;
 use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
 use crate::algebra::rotation::{Axis, Orientation, RotationFactor, elementary_rotation};
@@ -29,7 +30,8 @@ use crate::mechanics::tree::{Link, LinkJoint};
 use crate::mechanics::vectors::{VectorNames, scalar, vec3, vector_value};
 use crate::syntax::ast::Ast;
 use crate::syntax::bodies::Entry;
-use crate::syntax::bodies::MOVING_JOINTS;
+use crate::syntax::bodies::{FLOATING_JOINT, MOVING_JOINTS};
+use crate::syntax::links::floating_configuration_names;
 
 /// What building one link gives besides the [`Link`]: its body (when it has mass), its
 /// orientation (for the links below it) and its points and axes in world coordinates.
@@ -210,6 +212,9 @@ pub(crate) fn build_link(
     }
     let parent = r.parent()?;
     let joint = r.joint(arena)?;
+    if let LinkJoint::Floating { .. } = joint {
+        r.check_floating(parent)?;
+    }
     let placed = r.placement(arena, parent, &joint)?;
     let inertia = r.inertia(arena, &placed)?;
     let limits = r.limits(arena, &joint)?;
@@ -367,14 +372,63 @@ impl LinkEntries<'_> {
                     LinkJoint::Revolute { coordinate, axis }
                 })
             }
+            Ast::Call(kind, args, kat) if kind == FLOATING_JOINT => {
+                let Some(Ast::Name(base, bat)) = args.first().filter(|_| args.len() == 1) else {
+                    let problem = "write `joint = floating(NAME);`: NAME names the root's configuration (NAME_x, .., NAME_qw) and velocities (NAME_vx, .., NAME_wz)".to_string();
+                    return Err(link_error(name, problem, *kat));
+                };
+                let coordinate = self.joint_coordinate(&format!("{base}_vx"), *bat)?;
+                let configuration = floating_configuration_names(base)
+                    .map(|c| arena.symbol(&c, SymbolKind::Coordinate));
+                Ok(LinkJoint::Floating {
+                    coordinate,
+                    configuration,
+                })
+            }
             other => {
                 let problem = format!(
-                    "unknown joint `{}`: write `fixed`, or revolute, continuous or prismatic(COORDINATE, [ax, ay, az])",
+                    "unknown joint `{}`: write `fixed`, revolute, continuous or prismatic(COORDINATE, [ax, ay, az]), or floating(NAME) on a root link",
                     other.text()
                 );
                 Err(link_error(name, problem, other.location()))
             }
         }
+    }
+
+    /// A floating joint joins a root link to the world (its `parent`, if written, is
+    /// `world`), one link of the tree has it, and the configuration alone places the link
+    /// (no `xyz`, `rpy` or limits).
+    fn check_floating(&self, parent: Option<usize>) -> Result<()> {
+        let at = self.take("joint")?.map_or(Location::default(), |e| e.at);
+        if let Some(p) = parent {
+            let problem = format!(
+                "a floating joint joins a root link to the world, and `{}` has the parent `{}`: remove `parent` (or write `parent = world;`), or give `{}` a revolute, prismatic or fixed joint",
+                self.name, self.cx.links[p].name, self.name
+            );
+            return Err(link_error(self.name, problem, at));
+        }
+        if let Some(other) =
+            (self.cx.links.iter()).find(|l| matches!(l.joint, LinkJoint::Floating { .. }))
+        {
+            let problem = format!(
+                "the link `{}` is already the floating root: one link of a tree floats, the others hang from it",
+                other.name
+            );
+            return Err(link_error(self.name, problem, at));
+        }
+        let placed = ["xyz", "rpy", "limit", "velocity_limit", "effort_limit"];
+        if let Some(e) = self
+            .entries
+            .iter()
+            .find(|e| placed.contains(&e.key.as_str()))
+        {
+            let problem = format!(
+                "a floating link is placed by its configuration (position and quaternion) and has no `{}`",
+                e.key
+            );
+            return Err(link_error(self.name, problem, e.at));
+        }
+        Ok(())
     }
 
     /// The index of the coordinate `q` a moving joint names, which no link above moves.
@@ -477,6 +531,12 @@ impl LinkEntries<'_> {
                 let aq = axis.map(|a| arena.mul2(a, q));
                 let slide = mat_vec(arena, &origin_rotation, &aq)?;
                 relative_origin = add3(arena, &origin, &slide);
+            }
+            LinkJoint::Floating { configuration, .. } => {
+                let m = quaternion_matrix(arena, configuration);
+                relative_rotation = m.clone();
+                relative_origin = [configuration[0], configuration[1], configuration[2]];
+                factors.push(RotationFactor::Explicit(m));
             }
         }
         let rotation = parent_rotation.mul(arena, &relative_rotation)?;
@@ -672,4 +732,34 @@ fn about_origin(
         }
     }
     Ok(inertia)
+}
+
+/// R(q) of the unit quaternion q = (x, y, z, w) = `configuration[3..7]`:
+/// [[1 - 2(y^2 + z^2), 2(xy - zw), 2(xz + yw)],
+///  [2(xy + zw), 1 - 2(x^2 + z^2), 2(yz - xw)],
+///  [2(xz - yw), 2(yz + xw), 1 - 2(x^2 + y^2)]] (Eigen's and Pinocchio's convention).
+pub(crate) fn quaternion_matrix(arena: &mut Arena, configuration: &[Id; 7]) -> Matrix {
+    let [x, y, z, w] = [3, 4, 5, 6].map(|k| configuration[k]);
+    let two = arena.int(2);
+    let one = arena.int(1);
+    let mut p = |a: Id, b: Id| arena.mul(&[two, a, b]);
+    let (xx, yy, zz) = (p(x, x), p(y, y), p(z, z));
+    let (xy, xz, yz) = (p(x, y), p(x, z), p(y, z));
+    let (xw, yw, zw) = (p(x, w), p(y, w), p(z, w));
+    let d = |arena: &mut Arena, a: Id, b: Id| {
+        let s = arena.add2(a, b);
+        arena.sub(one, s)
+    };
+    let entries = [
+        d(arena, yy, zz),
+        arena.sub(xy, zw),
+        arena.add2(xz, yw),
+        arena.add2(xy, zw),
+        d(arena, xx, zz),
+        arena.sub(yz, xw),
+        arena.sub(xz, yw),
+        arena.add2(yz, xw),
+        d(arena, xx, yy),
+    ];
+    Matrix::from_fn(3, 3, |i, j| entries[3 * i + j])
 }

@@ -26,6 +26,7 @@ pub(crate) mod check;
 pub(crate) mod derivation;
 pub(crate) mod drawing;
 pub(crate) mod equations;
+pub(crate) mod floating;
 pub(crate) mod forward_dynamics;
 pub(crate) mod joints;
 pub(crate) mod kinetic_form;

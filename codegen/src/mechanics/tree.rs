@@ -26,16 +26,27 @@ pub enum LinkJoint {
         /// The unit axis a, joint frame (= link frame).
         axis: Vec3,
     },
+    /// Moves freely relative to the world (a root link only): placed by its configuration,
+    /// the origin p = (x, y, z) in the world and the unit quaternion (qx, qy, qz, qw) of
+    /// its axes, and moving with the six velocity coordinates from `coordinate` on, the
+    /// linear velocity of its origin and its angular velocity, both in its own axes
+    /// (`mechanics::floating`).
+    Floating {
+        /// Index of the first velocity coordinate (vx; then vy, vz, wx, wy, wz).
+        coordinate: usize,
+        /// The configuration symbols x, y, z, qx, qy, qz, qw.
+        configuration: [Id; 7],
+    },
 }
 
 impl LinkJoint {
-    /// The coordinate of a moving joint.
+    /// The coordinate of a moving joint (the first of a floating joint's six).
     pub fn coordinate(&self) -> Option<usize> {
         match self {
             LinkJoint::Fixed => None,
-            LinkJoint::Revolute { coordinate, .. } | LinkJoint::Prismatic { coordinate, .. } => {
-                Some(*coordinate)
-            }
+            LinkJoint::Revolute { coordinate, .. }
+            | LinkJoint::Prismatic { coordinate, .. }
+            | LinkJoint::Floating { coordinate, .. } => Some(*coordinate),
         }
     }
 }

@@ -63,6 +63,11 @@ pub(crate) const BODY_SECTIONS: &[&str] = &[
 /// The joint kinds of a link that move: each carries a coordinate.
 pub(crate) const MOVING_JOINTS: &[&str] = &["revolute", "continuous", "prismatic"];
 
+/// The joint of a floating root link, `floating(NAME)`: six degrees of freedom relative to
+/// the world, its configuration the position and unit quaternion `NAME_x`, .., `NAME_qw`
+/// and its velocity `NAME_vx`, .., `NAME_wz` in the link's frame (`mechanics::floating`).
+pub(crate) const FLOATING_JOINT: &str = "floating";
+
 /// True when `keyword` starts a body section.
 pub(crate) fn is_body_section(keyword: &str) -> bool {
     BODY_SECTIONS.contains(&keyword)
@@ -320,18 +325,25 @@ fn entry(c: &mut Cursor<'_>, block: &str) -> Result<Entry> {
     })
 }
 
-/// A link's joint: `fixed`, or `KIND(COORDINATE, axis)` as a call (its kind and arguments
-/// are checked when the link is built, `mechanics::links`).
+/// A link's joint: `fixed`, `KIND(COORDINATE, axis)` or `floating(NAME)` as a call (its
+/// kind and arguments are checked when the link is built, `mechanics::links`).
 fn link_joint(c: &mut Cursor<'_>) -> Result<Ast> {
     let (kind, at) = name(c, "joint")?;
     let moving = MOVING_JOINTS.contains(&kind.as_str());
-    if !moving && kind != "fixed" {
+    if !moving && kind != "fixed" && kind != FLOATING_JOINT {
         return Err(Error::parse(ParseError::UnknownJoint { found: kind }, at));
     }
     if !c.eat(&Tok::Open(crate::syntax::lex::Delim::Paren)) {
         return Ok(Ast::Name(kind, at));
     }
     let (q, qat) = name(c, "joint")?;
+    if kind == FLOATING_JOINT {
+        c.expect(
+            &Tok::Close(crate::syntax::lex::Delim::Paren),
+            Expected::ArgumentSeparator,
+        )?;
+        return Ok(Ast::Call(kind, vec![Ast::Name(q, qat)], at));
+    }
     c.expect(&Tok::Punct(','), Expected::ArgumentSeparator)?;
     let axis = parse(c, Language::Vector)?;
     c.expect(

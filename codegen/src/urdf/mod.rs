@@ -56,6 +56,11 @@ pub struct UrdfOptions {
     /// rounded to 11 decimals (`1.57079632679`, 4.9e-12 rad from pi/2) numeric. At most
     /// [`MAX_SNAP_ANGLES`].
     pub snap_angles: Option<f64>,
+    /// Give the root link a floating joint, `joint = floating(root_joint);` (Pinocchio's
+    /// `JointModelFreeFlyer` and its name): its configuration `root_joint_x`, ..,
+    /// `root_joint_qw` and velocities `root_joint_vx`, .., `root_joint_wz` come before the
+    /// joints'. Refused for a robot whose root is the `world` link (already fixed).
+    pub floating: bool,
 }
 
 /// The angles an import wrote as multiples of pi/2 under [`UrdfOptions::snap_angles`]
@@ -70,6 +75,10 @@ pub struct SnappedAngles {
     /// rotations moved along its path compose, each by at most its angle's deviation).
     pub total: f64,
 }
+
+/// The name a floating root's joint is given on import (Pinocchio's for the free flyer it
+/// adds to a URDF's root).
+pub const FLOATING_ROOT: &str = "root_joint";
 
 /// The declaration text of the robot the URDF `xml` describes.
 ///
@@ -113,7 +122,8 @@ pub struct SnappedAngles {
 /// zero-length axis; a negative mass; an inertia with a negative principal moment beyond
 /// round-off (others no rigid body has are adjusted: [`UrdfImport::notes`]); two joints,
 /// or two links, written alike; a `lock` name that is not a movable joint, or whose limits
-/// exclude 0; a `struct_name` that is not an identifier, or is a Rust keyword.
+/// exclude 0; a `struct_name` that is not an identifier, or is a Rust keyword; `floating`
+/// for a robot whose root link is `world`.
 pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfError> {
     urdf_import(xml, options).map(|import| import.text)
 }
@@ -163,6 +173,16 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
         ));
     }
     let tree = check::check(&mut robot, &options.lock, file)?;
+    if options.floating && tree.world_root {
+        let root = tree
+            .order
+            .first()
+            .map_or(&robot.place, |&r| &robot.links[r].place);
+        let message = "the robot is fixed to the world by its root link `world`, so its base \
+                       cannot float (--floating, `floating = true`): remove the `world` link and \
+                       its joint, or import it fixed";
+        return Err(root.error(file, message));
+    }
     if options.damping {
         check_damping(&robot, &tree, file)?;
     }

@@ -269,8 +269,8 @@ impl<'a, 'input> Reader<'a, 'input> {
                     node,
                     format!(
                         "joint type \"{kind}\" ({what}) is not supported (supported: \
-                         {SUPPORTED_JOINTS}): the imported tree is fixed to the world at its \
-                         root link"
+                         {SUPPORTED_JOINTS}): only the root link floats (--floating, or \
+                         `floating = true` in mechanism!)"
                     ),
                 ));
             }

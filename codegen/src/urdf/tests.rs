@@ -14,6 +14,7 @@ fn options(lock: &[&str]) -> UrdfOptions {
         lock: lock.iter().map(|s| s.to_string()).collect(),
         damping: false,
         snap_angles: None,
+        floating: false,
     }
 }
 

@@ -21,7 +21,7 @@ pub(crate) fn write(
 ) -> String {
     let (file, damping) = (options.file_name.as_str(), options.damping);
     let snap = options.snap_angles.map_or_else(Snap::default, Snap::within);
-    let mut out = header(robot, tree, file, damping);
+    let mut out = header(robot, tree, file, damping, options.floating);
     if let Some(tolerance) = options.snap_angles {
         out.push_str(&snap_line(tolerance, snapped_angles(robot, tree, snap)));
     }
@@ -34,7 +34,8 @@ pub(crate) fn write(
             continue;
         }
         out.push('\n');
-        out.push_str(&link_block(robot, tree, l, joint, snap));
+        let floating = options.floating && tree.order.first() == Some(&l);
+        out.push_str(&link_block(robot, tree, l, joint, snap, floating));
     }
     out.push_str(&mimic_rows(tree));
     if damping {
@@ -186,7 +187,7 @@ fn drawing(tree: &Tree) -> String {
 
 /// The doc comment: where the declaration came from, what it holds, what was locked, the
 /// gravity convention, and what was left out.
-fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool) -> String {
+fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool, floating: bool) -> String {
     let kinds = [
         JointKind::Revolute,
         JointKind::Continuous,
@@ -244,6 +245,12 @@ fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool) -> String {
     out.push_str("/// Gravity: z up, g = 9.81 m/s^2 along -z.\n");
     if tree.world_root {
         out.push_str("/// The URDF's root link `world` is the declaration's world frame.\n");
+    } else if let Some(&root) = tree.order.first().filter(|_| floating) {
+        let _ = writeln!(
+            out,
+            "/// The root link `{}` floats: q = [position, quaternion (x, y, z, w), joints], v = [velocity, angular velocity (root axes), joint rates].",
+            tree.link_names[root]
+        );
     } else if let Some(&root) = tree.order.first() {
         // A legged robot or humanoid is fixed where a floating base would be: say so.
         let _ = writeln!(
@@ -378,9 +385,13 @@ fn link_block(
     l: usize,
     joint: Option<(usize, &Joint)>,
     snap: Snap,
+    floating: bool,
 ) -> String {
     let link: &Link = &robot.links[l];
     let mut keys: Vec<String> = Vec::new();
+    if floating {
+        keys.push(format!("joint = floating({});", super::FLOATING_ROOT));
+    }
     if let Some((j, joint)) = joint {
         // A child of the `world` root is written without a parent: its joint is to the world.
         if let Some(parent) = tree.parent_link[l]

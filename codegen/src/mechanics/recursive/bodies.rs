@@ -15,7 +15,7 @@
 
 use crate::algebra::expr::{Arena, Id, Vec3};
 use crate::error::Result;
-use crate::mechanics::links::joint_rotation;
+use crate::mechanics::links::{joint_rotation, quaternion_matrix};
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::vector::{
     Mat3, add, dot, identity, mat_mul, mat3, mul, named, scale, transpose, zero,
@@ -37,8 +37,12 @@ pub(crate) struct TreeBody {
     pub(crate) parent: Option<usize>,
     /// Its coordinate's index in q.
     pub(crate) coordinate: usize,
-    /// True for a revolute joint, false for a prismatic one.
+    /// True for a revolute joint, false for a prismatic or floating one.
     pub(crate) revolute: bool,
+    /// True for the floating root (`LinkJoint::Floating`): six coordinates from
+    /// `coordinate` on, the velocity of its origin and its angular velocity in its axes;
+    /// its rotation is R(quaternion) and its origin p, both relative to the world.
+    pub(crate) free: bool,
     /// The unit joint axis S in the body's axes (e_z unless written with parameters).
     pub(crate) axis: Vec3,
     /// R: the body's axes in its parent's axes, E rot(S, q) (E for a prismatic joint).
@@ -184,6 +188,33 @@ fn axis_frame(a: &mut Arena, axis: &Vec3) -> Option<Mat3> {
     Some(m)
 }
 
+/// Pushes the floating root link `l` (its first coordinate and configuration symbols) as a
+/// body, R(quaternion) and p relative to the world with its inertia in its own frame (no
+/// axis to turn to z), and its frame's place in that body.
+fn push_floating(
+    a: &mut Arena,
+    l: &Link,
+    (coordinate, configuration): (usize, &[Id; 7]),
+    bodies: &mut Vec<TreeBody>,
+    place: &mut Vec<Place>,
+) {
+    bodies.push(TreeBody {
+        parent: None,
+        coordinate,
+        revolute: false,
+        free: true,
+        axis: zero(a),
+        rotation: mat3(&quaternion_matrix(a, configuration)),
+        origin: [configuration[0], configuration[1], configuration[2]],
+        inertia: link_inertia(l),
+    });
+    place.push(Place {
+        body: Some(bodies.len() - 1),
+        rotation: identity(a),
+        origin: zero(a),
+    });
+}
+
 /// Where a link's frame is: the body it moves with (`None`: the world) and its axes and
 /// origin in that body's frame.
 #[derive(Clone)]
@@ -235,6 +266,13 @@ pub(crate) fn tree_bodies(a: &mut Arena, model: &Model) -> Result<Tree> {
                 });
                 continue;
             }
+            LinkJoint::Floating {
+                coordinate,
+                configuration,
+            } => {
+                push_floating(a, l, (*coordinate, configuration), &mut bodies, &mut place);
+                continue;
+            }
             LinkJoint::Revolute { coordinate, axis } => (*coordinate, axis, true),
             LinkJoint::Prismatic { coordinate, axis } => (*coordinate, axis, false),
         };
@@ -270,6 +308,7 @@ pub(crate) fn tree_bodies(a: &mut Arena, model: &Model) -> Result<Tree> {
             parent: parent.body,
             coordinate,
             revolute,
+            free: false,
             axis,
             rotation,
             origin,

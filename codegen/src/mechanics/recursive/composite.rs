@@ -4,7 +4,9 @@
 //! its parent's frame by (R, o) (`bodies::moved`). The momentum of unit motion of joint k
 //! about its origin, (f, n) = (S x h, I S) (revolute) or (m S, h x S) (prismatic), is
 //! carried up the tree (f <- R f, n <- R n + o x R f) and projected on each ancestor j's
-//! axis: M_jk = S_j . n (revolute j) or S_j . f (prismatic j).
+//! axis: M_jk = S_j . n (revolute j) or S_j . f (prismatic j). The floating root's six
+//! unit motions are translations and rotations along its axes, and its six rows of M are
+//! (f, n) themselves: its spatial inertia [[m 1, -[h]x], [[h]x, I]] on the diagonal.
 //!
 //! Pi: the gravity vector in each body's axes, gamma_k = R_k^T gamma_p (gamma_world = g),
 //! and the height term G_k = g . p_k of its origin, G_k = G_p + gamma_p . o_k;
@@ -16,13 +18,46 @@ use crate::mechanics::recursive::bodies::{Inertia, Tree, TreeBody, moved, sum};
 use crate::mechanics::recursive::vector::{add, cross, dot, mul, mul_t, named, scale};
 
 /// S_j . n (revolute) or S_j . f (prismatic): the joint force of body `b` for the force
-/// and moment (f, n) about its origin.
-fn project(a: &mut Arena, b: &TreeBody, f: &Vec3, n: &Vec3) -> Id {
-    if b.revolute {
-        dot(a, &b.axis, n)
+/// and moment (f, n) about its origin, by coordinate; the floating root's six are f and n.
+fn project(a: &mut Arena, b: &TreeBody, f: &Vec3, n: &Vec3) -> Vec<(usize, Id)> {
+    let c = b.coordinate;
+    if b.free {
+        (0..3)
+            .map(|i| (c + i, f[i]))
+            .chain((0..3).map(|i| (c + 3 + i, n[i])))
+            .collect()
+    } else if b.revolute {
+        vec![(c, dot(a, &b.axis, n))]
     } else {
-        dot(a, &b.axis, f)
+        vec![(c, dot(a, &b.axis, f))]
     }
+}
+
+/// The momenta (f, n) of the unit motions of body `b`'s joint, for its composite inertia
+/// `x`: (S x h, I S) for a revolute joint, (m S, h x S) for a prismatic one, and for the
+/// floating root the three of each along its axes e_i (its spatial inertia's columns).
+fn unit_momenta(a: &mut Arena, b: &TreeBody, x: &Inertia) -> Vec<(usize, Vec3, Vec3)> {
+    let along = |a: &mut Arena, s: &Vec3, revolute: bool| {
+        if revolute {
+            (cross(a, s, &x.h), mul(a, &x.i, s))
+        } else {
+            (scale(a, x.m, s), cross(a, &x.h, s))
+        }
+    };
+    if !b.free {
+        let (f, n) = along(a, &b.axis, b.revolute);
+        return vec![(b.coordinate, f, n)];
+    }
+    let mut out = Vec::with_capacity(6);
+    for (k, revolute) in [(0, false), (1, true)] {
+        for i in 0..3 {
+            let mut e = [a.int(0); 3];
+            e[i] = a.int(1);
+            let (f, n) = along(a, &e, revolute);
+            out.push((b.coordinate + 3 * k + i, f, n));
+        }
+    }
+    out
 }
 
 /// M by composite bodies (module docs), n x n.
@@ -37,36 +72,49 @@ pub(crate) fn composite_mass(a: &mut Arena, tree: &Tree, n: usize) -> Matrix {
     }
     let mut mass = Matrix::zeros(a, n, n);
     for (k, b) in bodies.iter().enumerate() {
-        let x = &composite[k];
-        let (mut f, mut nm) = if b.revolute {
-            (cross(a, &b.axis, &x.h), mul(a, &x.i, &b.axis))
-        } else {
-            (scale(a, x.m, &b.axis), cross(a, &x.h, &b.axis))
-        };
-        f = named(a, &f);
-        nm = named(a, &nm);
-        let diag = project(a, b, &f, &nm);
-        mass.set(b.coordinate, b.coordinate, diag);
-        let mut j = k;
-        while let Some(p) = bodies[j].parent {
-            // Named where the carry goes on: at the last ancestor the projection reads
-            // them once, and the moment's terms merge with the force's.
-            let further = bodies[p].parent.is_some();
-            let keep = |a: &mut Arena, v: Vec3| if further { named(a, &v) } else { v };
-            let rf = mul(a, &bodies[j].rotation, &f);
-            let rf = keep(a, rf);
-            let rn = mul(a, &bodies[j].rotation, &nm);
-            let orf = cross(a, &bodies[j].origin, &rf);
-            f = rf;
-            let s = add(a, &rn, &orf);
-            nm = keep(a, s);
-            j = p;
-            let e = project(a, &bodies[j], &f, &nm);
-            mass.set(bodies[j].coordinate, b.coordinate, e);
-            mass.set(b.coordinate, bodies[j].coordinate, e);
+        for (column, f, nm) in unit_momenta(a, b, &composite[k]) {
+            let f = named(a, &f);
+            let nm = named(a, &nm);
+            for (row, e) in project(a, b, &f, &nm) {
+                mass.set(row, column, e);
+            }
+            carry_up(a, bodies, k, column, f, nm, &mut mass);
         }
     }
     mass
+}
+
+/// Carries the momentum (f, n) of the unit motion of coordinate `column` (of body `k`) up
+/// the tree, projecting it on every ancestor's joint: M's entries of that column above
+/// body k, and their mirror images.
+fn carry_up(
+    a: &mut Arena,
+    bodies: &[TreeBody],
+    k: usize,
+    column: usize,
+    mut f: Vec3,
+    mut nm: Vec3,
+    mass: &mut Matrix,
+) {
+    let mut j = k;
+    while let Some(p) = bodies[j].parent {
+        // Named where the carry goes on: at the last ancestor the projection reads
+        // them once, and the moment's terms merge with the force's.
+        let further = bodies[p].parent.is_some();
+        let keep = |a: &mut Arena, v: Vec3| if further { named(a, &v) } else { v };
+        let rf = mul(a, &bodies[j].rotation, &f);
+        let rf = keep(a, rf);
+        let rn = mul(a, &bodies[j].rotation, &nm);
+        let orf = cross(a, &bodies[j].origin, &rf);
+        f = rf;
+        let s = add(a, &rn, &orf);
+        nm = keep(a, s);
+        j = p;
+        for (row, e) in project(a, &bodies[j], &f, &nm) {
+            mass.set(row, column, e);
+            mass.set(column, row, e);
+        }
+    }
 }
 
 /// Pi of the links' gravity (module docs), for the gravity vector `g` (world axes).
@@ -118,14 +166,22 @@ pub(crate) fn composite_gravity(a: &mut Arena, tree: &Tree, n: usize, g: &Vec3) 
         let b = &bodies[k];
         let m = a.named(mass[k]);
         let h = named(a, &first[k]);
-        tau[b.coordinate] = if b.revolute {
+        if b.free {
+            // The subtree's weight against the root: -m gamma and the moment gamma x h.
+            let moment = cross(a, &gamma[k], &h);
+            for i in 0..3 {
+                let mg = a.mul2(m, gamma[k][i]);
+                tau[b.coordinate + i] = a.neg(mg);
+                tau[b.coordinate + 3 + i] = moment[i];
+            }
+        } else if b.revolute {
             let t = cross(a, &gamma[k], &h);
-            dot(a, &b.axis, &t)
+            tau[b.coordinate] = dot(a, &b.axis, &t);
         } else {
             let t = dot(a, &b.axis, &gamma[k]);
             let mt = a.mul2(m, t);
-            a.neg(mt)
-        };
+            tau[b.coordinate] = a.neg(mt);
+        }
         if let Some(p) = b.parent {
             let rh = mul(a, &b.rotation, &h);
             let mo = scale(a, m, &b.origin);

@@ -136,7 +136,9 @@ pub(crate) fn articulated_forward_dynamics(
 /// The frame Jacobian of link `l` at its origin, world axes (6 x n): rows 0..3 the
 /// velocity of the origin, rows 3..6 the angular velocity; column of joint j (an ancestor
 /// of l or l itself), with z_j = R_w,j a_j: [z_j x (p_l - p_j); z_j] (revolute),
-/// [z_j; 0] (prismatic).
+/// [z_j; 0] (prismatic); the floating root's six, with z_k = R_w,root e_k: [z_k; 0] for
+/// its velocity and [z_k x (p_l - p_root); z_k] for its angular velocity (Pinocchio's
+/// LOCAL_WORLD_ALIGNED Jacobian).
 pub fn frame_jacobian(arena: &mut Arena, links: &[Link], l: usize, n: usize) -> Matrix {
     let mut jac = Matrix::zeros(arena, 6, n);
     let target = links[l].position;
@@ -158,6 +160,19 @@ pub fn frame_jacobian(arena: &mut Arena, links: &[Link], l: usize, n: usize) -> 
                 let z = mul(arena, &mat3(&link.rotation), axis);
                 for (i, zi) in z.into_iter().enumerate() {
                     jac.set(i, *coordinate, zi);
+                }
+            }
+            LinkJoint::Floating { coordinate, .. } => {
+                // Translations and rotations along the root's axes z_k = R e_k.
+                let d = [0, 1, 2].map(|i| arena.sub(target[i], link.position[i]));
+                for k in 0..3 {
+                    let z = [0, 1, 2].map(|i| link.rotation.get(i, k));
+                    let v = cross(arena, &z, &d);
+                    for i in 0..3 {
+                        jac.set(i, coordinate + k, z[i]);
+                        jac.set(i, coordinate + 3 + k, v[i]);
+                        jac.set(3 + i, coordinate + 3 + k, z[i]);
+                    }
                 }
             }
         }

@@ -14,6 +14,13 @@
 //!   about the origin that the body's motion needs, h = m c its first moment, I its
 //!   inertia about the origin).
 //!
+//! The floating root (`free`, six coordinates from its first, Pinocchio's free flyer) moves
+//! with the velocity v of its origin and the angular velocity w, both in its axes, and
+//! their rates of change a and dw: w_0 = w, dw_0 = dw and
+//! dv_0 = R^T (-g) + a + w x v (the acceleration of the origin in the root's axes:
+//! d/dt (R v) = R (a + w x v)). Its six joint forces are the force and the moment about
+//! its origin, (f_0, n_0), in its axes.
+//!
 //! Backward, children before parents: f_k = F_k + sum_c R_c f_c,
 //! n_k = N_k + sum_c (R_c n_c + o_c x R_c f_c), and tau_k = S . n_k (revolute) or S . f_k
 //! (prismatic).
@@ -113,6 +120,29 @@ fn child_kinematics(
     Kinematics { w, dw, dv, u }
 }
 
+/// The kinematics of the floating root `b` (module docs) with the world's `p` as parent
+/// (w = 0, dw = 0, dv = -g or 0).
+fn free_kinematics(a: &mut Arena, b: &TreeBody, p: &Kinematics, m: &Motion<'_>) -> Kinematics {
+    let c = b.coordinate;
+    let part = |r: Option<&[Id]>, from: usize| r.map(|r| [r[from], r[from + 1], r[from + 2]]);
+    let z = zero(a);
+    let (v, w) = (part(m.rates, c), part(m.rates, c + 3));
+    let (dv_own, dw) = (part(m.accelerations, c), part(m.accelerations, c + 3));
+    let mut dv = mul_t(a, &b.rotation, &p.dv);
+    if let Some(x) = dv_own {
+        dv = add(a, &dv, &x);
+    }
+    if let (Some(v), Some(w)) = (v, w) {
+        let wv = cross(a, &w, &v);
+        dv = add(a, &dv, &wv);
+    }
+    let w = named(a, &w.unwrap_or(z));
+    let dw = named(a, &dw.unwrap_or(z));
+    let dv = named(a, &dv);
+    let u = u_matrix(a, &w, &dw);
+    Kinematics { w, dw, dv, u }
+}
+
 /// F = m dv + U h and N = I dw + w x (I w) + h x dv (module docs).
 fn body_forces(a: &mut Arena, b: &TreeBody, k: &Kinematics) -> (Vec3, Vec3) {
     let x = &b.inertia;
@@ -158,7 +188,11 @@ pub(crate) fn newton_euler(a: &mut Arena, tree: &Tree, n: usize, m: &Motion<'_>)
         let p = b.parent.map_or(&base, |p| &kin[p]);
         let rate = m.rates.map(|r| r[b.coordinate]);
         let accel = m.accelerations.map(|r| r[b.coordinate]);
-        let k = child_kinematics(a, b, p, rate, accel);
+        let k = if b.free {
+            free_kinematics(a, b, p, m)
+        } else {
+            child_kinematics(a, b, p, rate, accel)
+        };
         let (fk, nk) = body_forces(a, b, &k);
         kin.push(k);
         f.push(fk);
@@ -183,11 +217,16 @@ pub(crate) fn backward(
         let b = &bodies[k];
         let fk = named(a, &f[k]);
         let nk = named(a, &nm[k]);
-        tau[b.coordinate] = if b.revolute {
-            dot(a, &b.axis, &nk)
+        if b.free {
+            for i in 0..3 {
+                tau[b.coordinate + i] = fk[i];
+                tau[b.coordinate + 3 + i] = nk[i];
+            }
+        } else if b.revolute {
+            tau[b.coordinate] = dot(a, &b.axis, &nk);
         } else {
-            dot(a, &b.axis, &fk)
-        };
+            tau[b.coordinate] = dot(a, &b.axis, &fk);
+        }
         if let Some(p) = b.parent {
             let rf = {
                 let t = mul(a, &b.rotation, &fk);

@@ -1,0 +1,5 @@
+use mechanism::prelude::*;
+
+mechanism!(urdf = "world_fixed.urdf", floating = true);
+
+fn main() {}
