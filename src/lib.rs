@@ -119,6 +119,8 @@ pub use crate::algorithms::drive::{DriveError, parse_drive};
 #[cfg(feature = "std")]
 pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 #[cfg(feature = "std")]
+pub use crate::algorithms::dynamics_derivatives::DynamicsDerivatives;
+#[cfg(feature = "std")]
 pub use crate::algorithms::inverse::{
     InverseDynamics, InverseResult, InverseSample, check_inverse_dynamics, inverse_dynamics,
     inverse_dynamics_from, sample_times,
@@ -216,6 +218,8 @@ mod book {
     struct Nonholonomic;
     #[doc = include_str!("../docs/src/robots.md")]
     struct Robots;
+    #[doc = include_str!("../docs/src/derivatives.md")]
+    struct Derivatives;
     #[doc = include_str!("../docs/src/embedding.md")]
     struct Embedding;
     #[doc = include_str!("../docs/src/python.md")]

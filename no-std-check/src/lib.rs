@@ -71,3 +71,4 @@ mod tests {
 }
 
 pub mod arm;
+pub mod constrained;

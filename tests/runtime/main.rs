@@ -13,6 +13,7 @@ mod banded_kkt;
 mod batch_rows;
 mod closure;
 mod coordinate_singularity;
+mod dynamics_derivatives;
 mod energy;
 mod fail_fast;
 mod fixed;
