@@ -148,10 +148,7 @@ fn forms(
 ///
 /// # Errors
 /// A coordinate or rate that is not a symbol; a differentiation error.
-pub fn inverse_dynamics_derivative_forms(
-    model: &mut Model,
-    eqs: &Equations,
-) -> Result<Vec<Form>> {
+pub fn inverse_dynamics_derivative_forms(model: &mut Model, eqs: &Equations) -> Result<Vec<Form>> {
     let (q, qd, qdd) = motion_symbols(model)?;
     let mut d = Differentiator::new();
     Ok(forms(model, &mut d, eqs, (&q, &qd, &qdd))?.1)
