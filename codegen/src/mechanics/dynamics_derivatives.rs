@@ -21,9 +21,9 @@
 //!
 //! | robot | M q'' + C q' + g | traced recursion | analytical recursion | kept |
 //! |---|---:|---:|---:|---|
-//! | Panda (7) | 17,089 | 15,046 | 6,928 | analytical (the others ruled out by estimate) |
-//! | UR5 (6) | 4,632 | 4,333 | 3,078 | analytical |
-//! | Solo12, base fixed (12) | 3,415 | 3,615 | 3,518 | M q'' + C q' + g (3,410 with hoisting) |
+//! | Panda (7) | 9,477 | 7,349 | 6,956 | analytical recursion |
+//! | UR5 (6) | 3,105 | 2,336 | 3,084 | traced recursion |
+//! | Solo12, base fixed (12) | 2,984 | 3,162 | 3,524 | M q'' + C q' + g |
 
 use crate::algebra::cost::graph_ops;
 use crate::algebra::diff::Differentiator;
@@ -91,9 +91,9 @@ pub(crate) fn inverse_dynamics_jacobians(
 /// Forms whose estimate is within this ratio of the least are compiled and counted; the
 /// others are ruled out by the estimate alone. Wider than the 5/4 with which the compile
 /// stage trusts its estimates between a derived and a factored program
-/// (`compile::passes`): the forms here differ in kind, and on Solo12 the estimate of
-/// M q'' + C q' + g is 1.39 times the analytical recursion's (6,776 against 4,860) while it
-/// compiles to fewer operations (3,410 against 3,518).
+/// (`compile::passes`): the forms here differ in kind, and the estimate has ranked a form
+/// first by a factor of 1.39 that compiled to more operations than another (Solo12's
+/// analytical recursion against M q'' + C q' + g, before the recursive route's emission).
 const CLOSE: (usize, usize) = (3, 2);
 
 /// One form of dtau_id/dq, dtau_id/dq': its name and the two matrices.
