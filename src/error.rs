@@ -531,6 +531,18 @@ pub enum Error {
         /// Why.
         reason: String,
     },
+    /// A routine the solver needs is not provided by the system: an exact tangent of the
+    /// equations for their derivatives ([`crate::DynamicsDerivatives`]), which
+    /// [`crate::Interpreted`] compiles only when asked ([`crate::Interpreted::for_derivatives`])
+    /// and a hand-written [`crate::Mechanism`] may not provide.
+    #[error(
+        "{what} is not provided: build the system with Interpreted::for_derivatives, or \
+         compile it with mechanism!"
+    )]
+    NotProvided {
+        /// What is missing (`the residual's tangent of `FiveBar``).
+        what: String,
+    },
     /// A vector given with the wrong number of entries.
     #[error("{what} has {got} entries; the mechanism has {expected}")]
     WrongLength {

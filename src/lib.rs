@@ -119,6 +119,8 @@ pub use crate::algorithms::drive::{DriveError, parse_drive};
 #[cfg(feature = "std")]
 pub use crate::algorithms::dynamics::{DEFAULT_CONDITION_LIMIT, Dynamics};
 #[cfg(feature = "std")]
+pub use crate::algorithms::dynamics_derivatives::DynamicsDerivatives;
+#[cfg(feature = "std")]
 pub use crate::algorithms::floating_motion::{
     FloatingStep, FloatingTrajectory, QUATERNION_NORM_TOLERANCE, simulate_floating,
 };
@@ -226,6 +228,8 @@ mod book {
     struct Robots;
     #[doc = include_str!("../docs/src/floating.md")]
     struct Floating;
+    #[doc = include_str!("../docs/src/derivatives.md")]
+    struct Derivatives;
     #[doc = include_str!("../docs/src/embedding.md")]
     struct Embedding;
     #[doc = include_str!("../docs/src/python.md")]

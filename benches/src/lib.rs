@@ -51,14 +51,15 @@ pub fn derive_and_cse(mut model: Model) -> Result<OpCounts> {
 }
 
 /// What `mechanism!` does at build time, minus the final `quote!` of the impl: parse the
-/// declaration, derive the equations and the residual's tangent, compile the routines
+/// declaration, derive the equations and every tangent (`full_tangent`: the residual's, the
+/// constraint rows' and the inverse dynamics' derivatives), compile the routines
 /// (`mechanism_codegen::compile`: one program per role, the parameter-only values moved
 /// into the cache program), emit every body, and print the equations text. Returns the
 /// number of emitted token trees (to keep the work observable).
 pub fn macro_pipeline(source: &str) -> Result<usize> {
     let mut model = mechanism_codegen::parse_model_str(source)?;
     let eqs = mechanism_codegen::derive(&mut model)?;
-    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs)?;
+    let tangent = mechanism_codegen::full_tangent(&mut model, &eqs)?;
     let routines = mechanism_codegen::compile(&mut model, &eqs, &tangent)?;
     let mut b = EmitBindings::new();
     b.set_prefix("v");

@@ -97,6 +97,9 @@ pub use error::{Error, Location, Result};
 pub use mechanics::build::{ModelSpans, ParsedModel};
 pub use mechanics::derivation::{derive, derive_with};
 pub use mechanics::drawing::{Drawing, DrawnPoint};
+pub use mechanics::dynamics_derivatives::{
+    InverseDynamicsDerivatives, inverse_dynamics_derivative_forms,
+};
 pub use mechanics::equations::{Equations, EvaluationOutput, FrameEquations};
 pub use mechanics::floating::FloatingRoot;
 pub use mechanics::lagrange::Route;
@@ -105,7 +108,7 @@ pub use mechanics::model::{
 };
 pub use mechanics::resolve::parse_expr;
 pub use mechanics::tangent::{
-    ConstraintTangent, ResidualTangent, constraint_tangent, residual_tangent,
+    ConstraintTangent, ResidualTangent, constraint_tangent, full_tangent, residual_tangent,
 };
 pub use mechanics::tree::{DeclaredLimits, Link, LinkJoint, declared_limits};
 pub use number::Number;

@@ -604,7 +604,8 @@ fn expand_equation_methods(
 
 /// Every method whose body comes from a routine, with its signature: M, C, C q', g, tau,
 /// Phi, Phi_q, Phi_t, gamma, T, Pi, the combined and sparse evaluations, the residual's
-/// tangent, the drawing, and the robotics methods ([`crate::robotics`]). Each is compiled
+/// tangent, the drawing, the robotics methods ([`crate::robotics`]) and the derivatives
+/// ([`crate::derivatives`]). Each is compiled
 /// for the CPU's instruction set ([`crate::dispatch`]).
 fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) -> Vec<Method> {
     let sv = |k: usize| quote!(&#krate::__private::SVector<f64, #k>);
@@ -687,7 +688,7 @@ fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) ->
             ("lambda", sv(m)),
         ],
         quote!(-> ::core::option::Option<(#sm, #sm)>),
-        c(&g.residual_tangent),
+        crate::derivatives::residual_tangent(&g.residual_tangent, &g.derivatives),
     ));
     methods.push(Method::new(
         "draw_points",
@@ -696,6 +697,7 @@ fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) ->
         c(&g.draw_points),
     ));
     methods.extend(crate::robotics::methods(krate, n, g));
+    methods.extend(crate::derivatives::methods(krate, n, m, &g.derivatives));
     methods
 }
 

@@ -14,7 +14,7 @@
 
 use mechanism_codegen::{
     EmitBindings, EvaluationOutput, LEAN_ABOVE, Model, Operand, OutputTarget, Program, Role,
-    Routines, Source, emit_body, residual_tangent,
+    Routines, Source, emit_body, full_tangent,
 };
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
@@ -76,6 +76,8 @@ pub struct Generated {
     pub sparsity: (Pattern, Pattern),
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
+    /// The bodies of the derivative methods (`crate::derivatives`).
+    pub derivatives: crate::derivatives::DerivativeBodies,
     /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
     /// drawing).
     pub draw_points: TokenStream,
@@ -111,7 +113,9 @@ pub struct Generated {
 /// Derives the equations of `decl`, compiles them into routines and generates every body.
 pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
-    let tangent = residual_tangent(&mut decl.model, &eqs).map_err(|e| codegen_error(decl, &e))?;
+    // Every tangent: the residual's, the constraint rows' and the inverse dynamics'
+    // derivatives by the motion and the parameters (the derivative methods).
+    let tangent = full_tangent(&mut decl.model, &eqs).map_err(|e| codegen_error(decl, &e))?;
     let routines = mechanism_codegen::compile(&mut decl.model, &eqs, &tangent);
     let routines = routines.map_err(|e| codegen_error(decl, &e))?;
     let b = Bodies {
@@ -141,6 +145,13 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
                 routines.sparsity(EvaluationOutput::PhiQ)?.entries,
             ),
             residual_tangent: b.tangent(eqs.n)?,
+            derivatives: crate::derivatives::DerivativeBodies {
+                inverse_dynamics: b.inverse_dynamics_derivatives(eqs.n)?,
+                parameters: b.parameter_derivatives()?,
+                constraint_tangent: b.constraint_tangent(eqs.n, eqs.m)?,
+                tangent_is_inverse_dynamics: routines.program(Role::Tangent)?
+                    == routines.program(Role::InverseDynamicsDerivatives)?,
+            },
             draw_points: b.draw_points()?,
             equations: mechanism_codegen::equations_text(&decl.model, &eqs),
             mass_and_bias: b.mass_and_bias(eqs.n)?,
@@ -224,14 +235,17 @@ impl Bodies<'_> {
     }
 
     /// The program of `role` and its bindings.
-    fn routine(&self, role: Role) -> mechanism_codegen::Result<(&Program, EmitBindings)> {
+    pub(crate) fn routine(
+        &self,
+        role: Role,
+    ) -> mechanism_codegen::Result<(&Program, EmitBindings)> {
         Ok((self.routines.program(role)?, self.bindings(role)))
     }
 
     /// `let cache = ...;` when `program` reads a cached value: the struct's cache while it
     /// is current, else the values computed here from the parameters (after a change
     /// through `DerefMut` that was not followed by `refresh`).
-    fn cache_read(&self, program: &Program) -> TokenStream {
+    pub(crate) fn cache_read(&self, program: &Program) -> TokenStream {
         let sources = self.routines.sources();
         let reads = program
             .symbols()
@@ -288,35 +302,34 @@ impl Bodies<'_> {
 
     /// `(M, b)`: M (n x n) and the bias b = C q' + g - tau (n x 1), one program.
     pub(crate) fn mass_and_bias(&self, n: usize) -> mechanism_codegen::Result<TokenStream> {
-        self.pair(
+        self.tuple(
             Role::MassAndBias,
-            (quote!(mass), n, n),
-            (quote!(bias), n, 1),
+            &[(quote!(mass), n, n), (quote!(bias), n, 1)],
         )
     }
 
-    /// A body returning the two outputs of `role`'s program as a tuple of nalgebra matrices,
+    /// A body returning the outputs of `role`'s program as a tuple of nalgebra matrices,
     /// `(name, rows, cols)` each.
-    fn pair(
+    pub(crate) fn tuple(
         &self,
         role: Role,
-        first: (TokenStream, usize, usize),
-        second: (TokenStream, usize, usize),
+        outputs: &[(TokenStream, usize, usize)],
     ) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
-        let targets = [
-            Self::place(program, first.0.clone()),
-            Self::place(program, second.0.clone()),
-        ];
+        let targets: Vec<OutputTarget> = (outputs.iter())
+            .map(|(name, _, _)| Self::place(program, name.clone()))
+            .collect();
         let body = emit_body(program, &bindings, &targets)?.tokens;
         let (krate, cache) = (self.krate, self.cache_read(program));
-        let ((a, ar, ac), (b, br, bc)) = (first, second);
+        let names = outputs.iter().map(|(name, _, _)| name);
+        let zeros = outputs.iter().map(|(name, r, c)| {
+            quote!(let mut #name = #krate::__private::SMatrix::<f64, #r, #c>::zeros();)
+        });
         Ok(quote! {
             #cache
-            let mut #a = #krate::__private::SMatrix::<f64, #ar, #ac>::zeros();
-            let mut #b = #krate::__private::SMatrix::<f64, #br, #bc>::zeros();
+            #(#zeros)*
             #body
-            (#a, #b)
+            (#(#names),*)
         })
     }
 
@@ -371,7 +384,7 @@ impl Bodies<'_> {
 
     /// `(R, p)` of one link frame.
     pub(crate) fn placement(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
-        self.pair(role, (quote!(rotation), 3, 3), (quote!(position), 3, 1))
+        self.tuple(role, &[(quote!(rotation), 3, 3), (quote!(position), 3, 1)])
     }
 
     /// The drawn points' x, y, z into the slice `out` (3 per point, in drawing order),

@@ -15,6 +15,7 @@
 
 mod ast;
 mod check;
+mod derivatives;
 mod dispatch;
 mod expand;
 mod floating;

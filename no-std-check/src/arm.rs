@@ -37,6 +37,24 @@ pub fn hand_jacobian(q: &SVector<f64, 7>) -> Option<SMatrix<f64, 6, 7>> {
     Panda::default().frame_jacobian(hand, q)
 }
 
+/// The derivatives a controller linearises the free arm with at (q, q', u): dtau/dq and
+/// dtau/dq' of the inverse dynamics at q'' = `qdd`, and dq''/dq, dq''/dq' and M^-1 of the
+/// forward dynamics (`None` where M is not positive definite).
+#[allow(clippy::type_complexity)]
+pub fn derivatives(
+    q: &SVector<f64, 7>,
+    qd: &SVector<f64, 7>,
+    qdd: &SVector<f64, 7>,
+    u: &SVector<f64, 7>,
+) -> Option<(
+    (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>),
+    (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>),
+)> {
+    let arm = Panda::default();
+    let inverse = arm.inverse_dynamics_derivatives(0.0, q, qd, qdd);
+    Some((inverse, arm.forward_dynamics_derivatives(0.0, q, qd, u)?))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -52,5 +70,9 @@ mod tests {
         // M's condition number here is below 1e3: 1e-10 of |u| bounds the round trip.
         assert!((back - u).amax() < 1e-10 * u.amax());
         assert!(hand_jacobian(&q).is_some());
+        // dq''/du = M^-1: the product with M is the identity (cond(M) < 1e3 as above).
+        let ((_, _), (_, _, inverse)) = derivatives(&q, &qd, &qdd, &u).unwrap();
+        let m = Panda::default().mass_matrix(&q);
+        assert!((inverse * m - SMatrix::<f64, 7, 7>::identity()).amax() < 1e-12);
     }
 }

@@ -71,4 +71,5 @@ mod tests {
 }
 
 pub mod arm;
+pub mod constrained;
 pub mod legged;

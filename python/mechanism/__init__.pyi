@@ -1,7 +1,7 @@
 """Type stubs of the `mechanism` package (the native module `mechanism._native` and the
 result classes of `mechanism._results`), so that editors complete the API."""
 
-from typing import List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -81,6 +81,30 @@ class Model:
     ) -> np.ndarray:
         """q'' under the effort tau added to the declared forces, the constraints acting
         (Pinocchio's `aba` for a robot): (n,) or (rows, n)."""
+    def inverse_dynamics_derivatives(
+        self, q: ArrayLike, v: ArrayLike, a: ArrayLike, t: float = 0.0
+    ) -> Tuple[np.ndarray, np.ndarray]:
+        """(du/dq, du/dv) of the inverse dynamics u = M(q) a + C(q, v) v + g(q) - tau
+        (Pinocchio's `computeRNEADerivatives`; du/da is `mass_matrix`): (n, n) each, or
+        (rows, n, n) for a batch."""
+    def inverse_dynamics_parameter_derivatives(
+        self, q: ArrayLike, v: ArrayLike, a: ArrayLike, t: float = 0.0
+    ) -> np.ndarray:
+        """du/dp by the declared parameters (columns in the order of `parameters`):
+        (n, p) or (rows, n, p)."""
+    def forward_dynamics_derivatives(
+        self, q: ArrayLike, v: ArrayLike, tau: ArrayLike, t: float = 0.0
+    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(dq''/dq, dq''/dv, dq''/dtau) of `forward_dynamics`, the constraints acting
+        (Pinocchio's `computeABADerivatives` for a robot: dq''/dtau = M^-1): (n, n) each,
+        or (rows, n, n)."""
+    def constrained_dynamics_derivatives(
+        self, q: ArrayLike, v: ArrayLike, tau: ArrayLike, t: float = 0.0
+    ) -> Dict[str, np.ndarray]:
+        """q'' and the multipliers lambda of the augmented system and their derivatives:
+        keys `qdd` (n,), `lambda` (m,), `dqdd_dq`, `dqdd_dv`, `dqdd_dtau` (n, n),
+        `dlambda_dq`, `dlambda_dv`, `dlambda_dtau` (m, n); a batch adds a leading axis of
+        rows. Rows found redundant keep lambda = 0 and zero derivatives."""
     def frame_placement(self, frame: Frame, q: ArrayLike) -> np.ndarray:
         """The frame's placement as 4 x 4 transforms [[R, p], [0, 0, 0, 1]] (world axes):
         (4, 4) or (rows, 4, 4)."""

@@ -6,12 +6,14 @@
 //!
 //! - `model.rs`: `load` (a built-in name, a `.mech` file, a URDF), the `Model` and its
 //!   pickling;
-//! - `methods.rs`: `Model`'s methods and `sweep`;
+//! - `methods.rs`: `Model`'s methods and `sweep`; `derivatives.rs`: the derivatives of the
+//!   dynamics;
 //! - `batch.rs`: one state or a batch for every per-state function;
 //! - `runs.rs`: simulate, inverse, linearize, sweep as the command-line tool runs them;
 //! - `errors.rs`: the exception classes; `effort.rs`, `sources.rs`: helpers.
 
 mod batch;
+mod derivatives;
 mod effort;
 mod errors;
 mod methods;

@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::batch::{Arg, PyErrLater, batched_rows, later};
+use crate::derivatives;
 use crate::effort::WithEffort;
 use crate::errors::declaration;
 use crate::model::{Model, pairs, reduce};
@@ -229,6 +230,63 @@ impl Model {
         };
         let rows = |s: &[&[f64]], out: &mut [f64]| forward_dynamics_rows(self, t, s, out);
         batched_rows(py, &args, &[n], one, rows)
+    }
+
+    /// (dtau/dq, dtau/dv) of the inverse dynamics u = M(q) a + C(q, v) v + g(q) - tau, n x n
+    /// each (Pinocchio's `computeRNEADerivatives`; du/da is `mass_matrix`).
+    #[pyo3(signature = (q, v, a, t = 0.0))]
+    fn inverse_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        v: Array<'py>,
+        a: Array<'py>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        derivatives::inverse_dynamics(self, py, (q, v, a), t)
+    }
+
+    /// du/dp of the inverse dynamics by the declared parameters, n x p (columns in the order
+    /// of `parameters`).
+    #[pyo3(signature = (q, v, a, t = 0.0))]
+    fn inverse_dynamics_parameter_derivatives(
+        &self,
+        py: Python<'_>,
+        q: Array<'_>,
+        v: Array<'_>,
+        a: Array<'_>,
+        t: f64,
+    ) -> PyResult<Py<PyAny>> {
+        derivatives::parameters(self, py, (q, v, a), t)
+    }
+
+    /// (dq''/dq, dq''/dv, dq''/dtau) of `forward_dynamics`, n x n each (Pinocchio's
+    /// `computeABADerivatives`: dq''/dtau = M^-1 without constraint rows).
+    #[pyo3(signature = (q, v, tau, t = 0.0))]
+    fn forward_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        v: Array<'py>,
+        tau: Array<'py>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        derivatives::forward_dynamics(self, py, (q, v, tau), t, false)
+    }
+
+    /// q'', the multipliers lambda and their derivatives by q, v and tau, as a dict (`qdd`,
+    /// `lambda`, `dqdd_dq`, `dqdd_dv`, `dqdd_dtau`, `dlambda_dq`, `dlambda_dv`,
+    /// `dlambda_dtau`), through the augmented system's derivative.
+    #[pyo3(signature = (q, v, tau, t = 0.0))]
+    fn constrained_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        v: Array<'py>,
+        tau: Array<'py>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        derivatives::forward_dynamics(self, py, (q, v, tau), t, true)
     }
 
     /// The placement of link frame `frame` (a name or an index into `frames`) at q as a

@@ -29,6 +29,9 @@ pub struct Model {
     pub(crate) system: Arc<Interpreted>,
     /// The same with the residual's tangent, for HHT, derived on first use.
     pub(crate) implicit: OnceLock<Arc<Interpreted>>,
+    /// The same with every derivative of the dynamics (`Tangents::Derivatives`), derived
+    /// on first use.
+    pub(crate) derivatives: OnceLock<Arc<Interpreted>>,
     /// Unique among the models of this process (the per-thread buffers' key).
     pub(crate) id: u64,
 }
@@ -105,8 +108,32 @@ impl Model {
             values,
             system: Arc::new(system),
             implicit: OnceLock::new(),
+            derivatives: OnceLock::new(),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         })
+    }
+
+    /// The system at the model's values with `tangents` compiled (and the robotics routines),
+    /// kept in `slot` once derived.
+    fn with_tangents(
+        &self,
+        slot: &OnceLock<Arc<Interpreted>>,
+        tangents: Tangents,
+    ) -> PyResult<Arc<Interpreted>> {
+        if let Some(s) = slot.get() {
+            return Ok(s.clone());
+        }
+        let mut s = derive(&self.source, &self.shown, tangents, true)?;
+        for (i, v) in self.values.iter().enumerate() {
+            // The model's own values, accepted when it was built.
+            s.set_parameter(i, *v).map_err(|e| input(e.to_string()))?;
+        }
+        Ok(slot.get_or_init(|| Arc::new(s)).clone())
+    }
+
+    /// The system with every derivative of the dynamics (`derivatives.rs`).
+    pub(crate) fn system_with_derivatives(&self) -> PyResult<Arc<Interpreted>> {
+        self.with_tangents(&self.derivatives, Tangents::Derivatives)
     }
 
     /// The system for a run: with the residual's tangent when `implicit` (HHT), with
@@ -117,17 +144,7 @@ impl Model {
         set: &[(String, f64)],
     ) -> PyResult<Interpreted> {
         let base = if implicit {
-            match self.implicit.get() {
-                Some(s) => s.clone(),
-                None => {
-                    let mut s = derive(&self.source, &self.shown, Tangents::Residual, true)?;
-                    for (i, v) in self.values.iter().enumerate() {
-                        // The model's own values, accepted when it was built.
-                        s.set_parameter(i, *v).map_err(|e| input(e.to_string()))?;
-                    }
-                    self.implicit.get_or_init(|| Arc::new(s)).clone()
-                }
-            }
+            self.with_tangents(&self.implicit, Tangents::Residual)?
         } else {
             self.system.clone()
         };

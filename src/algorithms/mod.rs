@@ -7,6 +7,8 @@
 //! - [`dynamics`]: q'' and lambda at one instant from the augmented system, by LU, by a
 //!   direct solve inside a band for large chains ([`banded_kkt`]), or by the augmented
 //!   Lagrangian iteration ([`augmented_lagrangian`]) where neither applies;
+//! - [`dynamics_derivatives`]: the derivatives of q'' and lambda by q, q' and an effort,
+//!   through the augmented system's derivative;
 //! - [`inverse`]: the driving forces of a prescribed motion, through [`drive`]s, whose
 //!   kinks are found between samples ([`kink`]), the positions that velocity rows leave
 //!   free integrated between samples ([`rolling_positions`]);
@@ -31,6 +33,7 @@ pub(crate) mod coordinate_singularity;
 #[cfg(feature = "interpreter")]
 pub(crate) mod drive;
 pub(crate) mod dynamics;
+pub(crate) mod dynamics_derivatives;
 pub(crate) mod finite;
 pub(crate) mod floating_motion;
 #[cfg(feature = "interpreter")]

@@ -2,7 +2,8 @@
 
 use core::fmt;
 
-/// Why [`super::kkt_solve`] or [`super::FixedStep::step`] failed.
+/// Why [`super::kkt_solve`], [`super::kkt_derivatives`] or [`super::FixedStep::step`]
+/// failed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FixedError {
     /// M is not positive definite on the motions the constraints allow: the accelerations
@@ -16,6 +17,13 @@ pub enum FixedError {
     },
     /// An input of the solve (M, forces, Phi_q, gamma or the state) is NaN or infinite.
     NotFinite {
+        /// Time of the evaluation, s.
+        t: f64,
+    },
+    /// The mechanism provides no residual's or constraint rows' tangent (a hand-written
+    /// impl of [`crate::Mechanism`]; the code `mechanism!` emits provides both), which the
+    /// derivatives of the constrained dynamics need.
+    TangentNotProvided {
         /// Time of the evaluation, s.
         t: f64,
     },
@@ -41,6 +49,11 @@ impl fmt::Display for FixedError {
             FixedError::NotFinite { t } => {
                 write!(f, "NaN or infinity in the equations at t = {t}")
             }
+            FixedError::TangentNotProvided { t } => write!(
+                f,
+                "no exact tangent of the equations at t = {t}: the mechanism does not \
+                 provide residual_tangent and constraint_tangent"
+            ),
             FixedError::ProjectionDidNotConverge {
                 residual,
                 iterations,

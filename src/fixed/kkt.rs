@@ -66,39 +66,86 @@ pub fn kkt_solve<const N: usize, const M: usize>(
     if !finite {
         return Err(FixedError::NotFinite { t });
     }
-    let jt = e.phi_q.transpose();
-    let gram = jt * e.phi_q;
-    // Without constraints or without mass there is no scale to match: alpha = 1 (and a
-    // zero M is then reported by the pivot test).
-    let ratio = e.mass.trace() / gram.trace();
-    let alpha = if ratio > 0.0 && ratio.is_finite() {
-        ratio
-    } else {
-        1.0
-    };
-    let mt = e.mass + gram * alpha;
-    let m_fac = Cholesky::new(mt, DEFINITE);
-    if let Some(coordinate) = m_fac.first_dropped() {
-        return Err(FixedError::UndeterminedMotion { coordinate, t });
-    }
-    let mut y = SMatrix::<f64, N, M>::zeros();
-    for i in 0..M {
-        y.set_column(i, &m_fac.solve(&jt.column(i).into_owned()));
-    }
-    let s_fac = Cholesky::new(e.phi_q * y, REDUNDANT);
-    let solve = |r1: &SVector<f64, N>, r2: &SVector<f64, M>| {
-        let u = m_fac.solve(r1);
-        let lambda = s_fac.solve(&(e.phi_q * u - r2));
-        (u - y * lambda, lambda)
-    };
-    let q_load = e.forces - e.coriolis - e.gravity;
-    let r1 = q_load + jt * e.gamma * alpha;
-    let (mut qdd, mut lambda) = solve(&r1, &e.gamma);
-    // One refinement step on the residual of the system that was factored.
-    let res1 = r1 - mt * qdd - jt * lambda;
-    let res2 = e.gamma - e.phi_q * qdd;
-    let (dq, dl) = solve(&res1, &res2);
-    qdd += dq;
-    lambda += dl;
+    let kkt = KktFactors::new(&e.mass, &e.phi_q, t)?;
+    let (qdd, lambda) = kkt.solve(&(e.forces - e.coriolis - e.gravity), &e.gamma);
     Ok(KktSolution { qdd, lambda })
+}
+
+/// The factors of one augmented matrix [M, Phi_q^T; Phi_q, 0] (module docs): M~'s Cholesky
+/// factor, Y = M~^-1 Phi_q^T and the Cholesky factor of Phi_q Y with its redundant rows
+/// dropped, so that each right-hand side costs two triangular solve pairs with M~ and one
+/// with Phi_q Y.
+pub(crate) struct KktFactors<'a, const N: usize, const M: usize> {
+    mass: &'a SMatrix<f64, N, N>,
+    phi_q: &'a SMatrix<f64, M, N>,
+    alpha: f64,
+    m_fac: Cholesky<N>,
+    y: SMatrix<f64, N, M>,
+    s_fac: Cholesky<M>,
+}
+
+impl<'a, const N: usize, const M: usize> KktFactors<'a, N, M> {
+    /// Factors the augmented matrix of `mass` and `phi_q` (finite).
+    ///
+    /// # Errors
+    /// [`FixedError::UndeterminedMotion`] when M is singular on an allowed motion (`t`
+    /// says when).
+    pub(crate) fn new(
+        mass: &'a SMatrix<f64, N, N>,
+        phi_q: &'a SMatrix<f64, M, N>,
+        t: f64,
+    ) -> Result<Self, FixedError> {
+        let jt = phi_q.transpose();
+        let gram = jt * phi_q;
+        // Without constraints or without mass there is no scale to match: alpha = 1 (and a
+        // zero M is then reported by the pivot test).
+        let ratio = mass.trace() / gram.trace();
+        let alpha = if ratio > 0.0 && ratio.is_finite() {
+            ratio
+        } else {
+            1.0
+        };
+        let m_fac = Cholesky::new(mass + gram * alpha, DEFINITE);
+        if let Some(coordinate) = m_fac.first_dropped() {
+            return Err(FixedError::UndeterminedMotion { coordinate, t });
+        }
+        let mut y = SMatrix::<f64, N, M>::zeros();
+        for i in 0..M {
+            y.set_column(i, &m_fac.solve(&jt.column(i).into_owned()));
+        }
+        let s_fac = Cholesky::new(phi_q * y, REDUNDANT);
+        Ok(Self {
+            mass,
+            phi_q,
+            alpha,
+            m_fac,
+            y,
+            s_fac,
+        })
+    }
+
+    /// (x, mu) with M x + Phi_q^T mu = `r1` and Phi_q x = `r2`, mu = 0 on the dropped rows,
+    /// by the Schur complement of M~ on r1 + alpha Phi_q^T r2, then one step of iterative
+    /// refinement on the residual of the system that was factored.
+    pub(crate) fn solve(
+        &self,
+        r1: &SVector<f64, N>,
+        r2: &SVector<f64, M>,
+    ) -> (SVector<f64, N>, SVector<f64, M>) {
+        let jt = self.phi_q.transpose();
+        let r1 = r1 + jt * r2 * self.alpha;
+        let solve = |r1: &SVector<f64, N>, r2: &SVector<f64, M>| {
+            let u = self.m_fac.solve(r1);
+            let lambda = self.s_fac.solve(&(self.phi_q * u - r2));
+            (u - self.y * lambda, lambda)
+        };
+        let (mut x, mut mu) = solve(&r1, r2);
+        let mt = self.mass + jt * self.phi_q * self.alpha;
+        let res1 = r1 - mt * x - jt * mu;
+        let res2 = r2 - self.phi_q * x;
+        let (dx, dmu) = solve(&res1, &res2);
+        x += dx;
+        mu += dmu;
+        (x, mu)
+    }
 }

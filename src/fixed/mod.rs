@@ -14,6 +14,10 @@
 //!   by the augmented-Lagrangian Schur complement (see [`kkt`](self::kkt_solve)), which
 //!   needs M positive definite only on the allowed motions (the seed's M is singular) and
 //!   accepts redundant rows;
+//! - [`forward_dynamics_derivatives`] and [`kkt_derivatives`]: the derivatives of q'' (and
+//!   lambda) by q, q' and the effort, without and with constraint rows, through the same
+//!   factorisation (what [`crate::Mechanism::forward_dynamics_derivatives`] and
+//!   [`crate::Mechanism::constrained_dynamics_derivatives`] return);
 //! - [`FixedStep`]: one classical Runge–Kutta step of the index-1 equations followed by the
 //!   projection of q onto Phi(q, t) = 0 and of q' onto Phi_q q' + Phi_t = 0.
 //!
@@ -21,10 +25,12 @@
 //! diagnostics; these are the parts small enough to live without an allocator.
 
 pub(crate) mod cholesky;
+pub(crate) mod derivatives;
 mod error;
 mod kkt;
 mod step;
 
+pub use derivatives::{KktDerivatives, forward_dynamics_derivatives, kkt_derivatives};
 pub use error::FixedError;
 pub use kkt::{KktSolution, kkt_solve};
 pub use step::{FixedStep, State};

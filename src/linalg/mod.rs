@@ -5,6 +5,8 @@
 //! - [`Lu`]: an in-place LU factorisation with partial pivoting on preallocated storage,
 //!   with solves by A and A^T and a 1-norm condition estimate (the KKT route of small
 //!   systems when the null-space route declines);
+//! - [`DenseCholesky`]: Cholesky of a dense symmetric positive semi-definite matrix in
+//!   storage allocated once, dropping vanishing pivots (the dynamics' derivatives);
 //! - [`Envelope`]: Cholesky of a symmetric positive definite matrix inside its envelope (the
 //!   augmented Lagrangian's M + alpha Phi_q^T Phi_q, the projections' Gram matrices), O(n)
 //!   for banded chains;
@@ -28,6 +30,7 @@
 mod band_lu;
 mod band_order;
 mod conditioned_solve;
+mod dense_cholesky;
 mod eigenvalues;
 mod envelope;
 mod kernels;
@@ -43,6 +46,7 @@ mod svd;
 pub use band_lu::BandLu;
 pub use band_order::{BandOrder, coordinate_order};
 pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
+pub use dense_cholesky::DenseCholesky;
 pub use eigenvalues::eigenvalues;
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use learnt_band::LearntBand;

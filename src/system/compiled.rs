@@ -3,7 +3,7 @@
 use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
 
 use super::drawing::Drawing;
-use super::dynamic::{Evaluation, Kinematic, SolverKey, System, Tangent};
+use super::dynamic::{ConstraintTangent, Evaluation, Kinematic, SolverKey, System, Tangent};
 use super::info::{BodyOrientation, ConstraintRow, SystemInfo};
 use super::mechanism::{Mechanism, StaticEvaluation};
 use super::parameter_range::ParameterError;
@@ -215,5 +215,58 @@ impl<T: Mechanism<N, M>, const N: usize, const M: usize> System for Compiled<T, 
         out.stiffness.copy_from(&k);
         out.damping.copy_from(&d);
         Some(())
+    }
+    fn constraint_tangent(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut ConstraintTangent,
+    ) -> Option<()> {
+        let (velocity, stiffness, damping) =
+            self.mechanism
+                .constraint_tangent(t, &to_static(q), &to_static(qd), &to_static(qdd))?;
+        out.velocity.copy_from(&velocity);
+        out.stiffness.copy_from(&stiffness);
+        out.damping.copy_from(&damping);
+        Some(())
+    }
+    fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let (dq, dqd) = self.mechanism.inverse_dynamics_derivatives(
+            t,
+            &to_static(q),
+            &to_static(qd),
+            &to_static(qdd),
+        );
+        out.stiffness.copy_from(&dq);
+        out.damping.copy_from(&dqd);
+        Some(())
+    }
+    fn parameter_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut DMatrix<f64>,
+    ) -> Option<()> {
+        // A DMatrix stores its entries column-major, the layout the method writes.
+        self.mechanism
+            .inverse_dynamics_parameter_derivatives(
+                t,
+                &to_static(q),
+                &to_static(qd),
+                &to_static(qdd),
+                out.as_mut_slice(),
+            )
+            .then_some(())
     }
 }

@@ -184,11 +184,45 @@ pub trait System: Kinematic {
         None
     }
 
+    /// The derivatives of the inverse dynamics tau_id = M q'' + C q' + g - tau at
+    /// (t, q, q', q''): `out.stiffness` = dtau_id/dq and `out.damping` = dtau_id/dq' (n x n;
+    /// the residual's tangent at lambda = 0, see [`System::tangent`]). `None` when not
+    /// provided (the default; [`crate::Compiled`] provides them, and
+    /// [`crate::Interpreted::for_derivatives`]) or not finite.
+    fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let _ = (t, q, qd, qdd, out);
+        None
+    }
+
+    /// dtau_id/dp, the inverse dynamics' derivatives by the declared parameters (n x p,
+    /// columns in declaration order) into `out`. `None` when not provided (the default, and
+    /// [`crate::Interpreted`] unless built by [`crate::Interpreted::for_derivatives`]), for
+    /// `out` of another shape, or not finite.
+    fn parameter_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut DMatrix<f64>,
+    ) -> Option<()> {
+        let _ = (t, q, qd, qdd, out);
+        None
+    }
+
     /// Exact tangents of the constraint rows for linearisation (see [`ConstraintTangent`]):
     /// with w = Phi_q q' + Phi_t and R = Phi_q q'' - gamma, `out.velocity` = dw/dq,
     /// `out.stiffness` = dR/dq and `out.damping` = dR/dq' (m x n), at (t, q, q', q'').
-    /// `None` when not provided (the default; [`crate::Interpreted`] provides them for a
-    /// mechanism with velocity constraints).
+    /// `None` when not provided (the default; [`crate::Compiled`] provides them, and
+    /// [`crate::Interpreted`] for a mechanism with velocity constraints, or built by
+    /// [`crate::Interpreted::for_linearization`] or [`crate::Interpreted::for_derivatives`]).
     fn constraint_tangent(
         &self,
         t: f64,

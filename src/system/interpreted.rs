@@ -17,7 +17,7 @@ mod rows;
 use mechanism_codegen::error::ProgramError;
 use mechanism_codegen::{
     Equations, Error, EvaluationOutput, Model, Role, Tangents, compile_interpreted,
-    constraint_tangent, residual_tangent,
+    constraint_tangent, full_tangent, residual_tangent,
 };
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
@@ -55,6 +55,12 @@ pub struct Interpreted {
     /// D, R_q, R_q' of the constraint rows, for a model with velocity constraints
     /// ([`Role::ConstraintTangent`]).
     constraint_tangent: Option<Routine>,
+    /// dtau_id/dq and dtau_id/dq' of the inverse dynamics ([`Role::InverseDynamicsDerivatives`]),
+    /// when built with [`Tangents::Derivatives`].
+    inverse_dynamics_derivatives: Option<Routine>,
+    /// dtau_id/dp ([`Role::ParameterDerivatives`]), when built with
+    /// [`Tangents::Derivatives`].
+    parameter_derivatives: Option<Routine>,
     /// The drawn points' positions (3 per point), when the declaration draws
     /// ([`Role::Draw`]).
     draw: Option<Routine>,
@@ -121,7 +127,8 @@ impl Interpreted {
     /// residual's tangent ([`Tangents::None`]: on a large mechanism, deriving and compiling
     /// it costs more than the rest of the routines together) [`System::tangent`] returns
     /// `None` and implicit integrators fall back to finite differences; with
-    /// [`Tangents::WithConstraints`], as [`Interpreted::for_linearization`].
+    /// [`Tangents::WithConstraints`], as [`Interpreted::for_linearization`]; with
+    /// [`Tangents::Derivatives`], as [`Interpreted::for_derivatives`].
     ///
     /// # Errors
     /// As [`Interpreted::from_equations`].
@@ -143,6 +150,20 @@ impl Interpreted {
     pub fn for_linearization(mut model: Model) -> Result<Self, Error> {
         let eqs = mechanism_codegen::derive(&mut model)?;
         Self::build(model, eqs, Tangents::WithConstraints, false)
+    }
+
+    /// [`Interpreted::from_model`] with every derivative compiled
+    /// ([`Tangents::Derivatives`]): [`System::inverse_dynamics_derivatives`],
+    /// [`System::parameter_derivatives`] and both tangents, which
+    /// [`crate::DynamicsDerivatives`] reads for the forward and constrained dynamics'
+    /// derivatives. Its routines are those `mechanism!` compiles from the same declaration,
+    /// cut down to the roles it runs.
+    ///
+    /// # Errors
+    /// As [`Interpreted::from_model`].
+    pub fn for_derivatives(mut model: Model) -> Result<Self, Error> {
+        let eqs = mechanism_codegen::derive(&mut model)?;
+        Self::build(model, eqs, Tangents::Derivatives, false)
     }
 
     /// [`Interpreted::from_model`] with the tangents `tangents` asks for and, when
@@ -200,6 +221,7 @@ impl Interpreted {
         robotics: bool,
     ) -> Result<Self, Error> {
         let tangent = match tangents {
+            Tangents::Derivatives => Some(full_tangent(&mut model, &eqs)?),
             Tangents::None => None,
             Tangents::Residual => Some(residual_tangent(&mut model, &eqs)?),
             Tangents::WithConstraints => {
@@ -256,9 +278,22 @@ impl Interpreted {
             Some(_) => Some(routine(Role::ConstraintTangent, 3 * m * n)?),
             None => None,
         };
+        let (inverse_dynamics_derivatives, parameter_derivatives) =
+            match routines.get(Role::InverseDynamicsDerivatives) {
+                Some(_) => (
+                    Some(routine(Role::InverseDynamicsDerivatives, 2 * n * n)?),
+                    Some(routine(
+                        Role::ParameterDerivatives,
+                        n * model.parameters.len(),
+                    )?),
+                ),
+                None => (None, None),
+            };
         Ok(Self {
             draw,
             constraint_tangent,
+            inverse_dynamics_derivatives,
+            parameter_derivatives,
             rows: ConstraintRows::new(&routines, &sparsity.jacobian, (m, n))?,
             full,
             sparsity,
@@ -438,6 +473,58 @@ impl System for Interpreted {
             copy_block(v, m, n, &mut out.velocity);
             copy_block(&v[m * n..], m, n, &mut out.stiffness);
             copy_block(&v[2 * m * n..], m, n, &mut out.damping);
+            Some(())
+        })
+    }
+
+    fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut Tangent,
+    ) -> Option<()> {
+        let n = self.info.n();
+        let values = Values {
+            qd,
+            qdd,
+            ..self.at(t, q)
+        };
+        self.inverse_dynamics_derivatives
+            .as_ref()?
+            .run(&values, |v| {
+                if !v.iter().all(|x| x.is_finite()) {
+                    return None;
+                }
+                copy_block(v, n, n, &mut out.stiffness);
+                copy_block(&v[n * n..], n, n, &mut out.damping);
+                Some(())
+            })
+    }
+
+    fn parameter_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        out: &mut DMatrix<f64>,
+    ) -> Option<()> {
+        let (n, p) = (self.info.n(), self.parameters.values().len());
+        if out.shape() != (n, p) {
+            return None;
+        }
+        let values = Values {
+            qd,
+            qdd,
+            ..self.at(t, q)
+        };
+        self.parameter_derivatives.as_ref()?.run(&values, |v| {
+            if !v.iter().all(|x| x.is_finite()) {
+                return None;
+            }
+            copy_block(v, n, p, out);
             Some(())
         })
     }

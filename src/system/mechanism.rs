@@ -380,6 +380,96 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
         None
     }
 
+    /// The derivatives of the inverse dynamics tau_id = M q'' + C q' + g - tau
+    /// ([`Mechanism::inverse_dynamics`]) at (t, q, q', q''): (dtau_id/dq, dtau_id/dq'),
+    /// N x N each (dtau_id/dq'' is M), Pinocchio's `computeRNEADerivatives` for a robot
+    /// without declared forces. Emitted for every declaration, derived symbolically and
+    /// sharing the subexpressions of the dynamics; the default reads
+    /// [`Mechanism::residual_tangent`] at lambda = 0 (the same matrices), or takes central
+    /// differences of [`Mechanism::inverse_dynamics`] where there is none (about 1e-10
+    /// relative).
+    fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
+        crate::fixed::derivatives::inverse_dynamics_derivatives(self, t, q, qd, qdd)
+    }
+
+    /// The derivatives of the inverse dynamics by the declared parameters,
+    /// dtau_id/dp (N x P, P = [`Mechanism::PARAMETERS`]`.len()`, columns in declaration
+    /// order), written column-major into `out` (entry (i, k) at `out[i + k N]`): for
+    /// identification and design. The units of column k are those of tau per unit of
+    /// parameter k. Returns false, writing nothing, when `out` does not hold N P values or
+    /// the impl does not provide it (the default; the code `mechanism!` emits does).
+    fn inverse_dynamics_parameter_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        out: &mut [f64],
+    ) -> bool {
+        let _ = (t, q, qd, qdd, out);
+        false
+    }
+
+    /// The derivatives of the forward dynamics of a mechanism without constraint rows at
+    /// (t, q, q') and the effort u ([`Mechanism::forward_dynamics`]):
+    /// (dq''/dq, dq''/dq', M^-1), with dq''/dx = -M^-1 dtau_id/dx at the q'' of the forward
+    /// dynamics and dq''/du = M^-1 (Carpentier & Mansard 2018; Pinocchio's
+    /// `computeABADerivatives`). No allocation. `None` as for
+    /// [`Mechanism::forward_dynamics`] (constraint rows: see
+    /// [`Mechanism::constrained_dynamics_derivatives`]; M not positive definite at q) or
+    /// where a value is not finite.
+    #[allow(clippy::type_complexity)]
+    fn forward_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        effort: &SVector<f64, N>,
+    ) -> Option<(SMatrix<f64, N, N>, SMatrix<f64, N, N>, SMatrix<f64, N, N>)> {
+        crate::fixed::forward_dynamics_derivatives(self, t, q, qd, effort)
+    }
+
+    /// The derivatives of the constrained forward dynamics at (t, q, q') with the effort
+    /// u added to the declared forces: q'' and lambda of [`crate::fixed::kkt_solve`] and
+    /// their derivatives by q, q' and u, through the augmented system's derivative (see
+    /// [`crate::fixed::KktDerivatives`]; the rows kkt_solve finds redundant keep
+    /// lambda = 0 and dlambda = 0). No allocation; a mechanism without rows gets the
+    /// derivatives of [`Mechanism::forward_dynamics_derivatives`].
+    ///
+    /// # Errors
+    /// As [`crate::fixed::kkt_derivatives`].
+    fn constrained_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        effort: &SVector<f64, N>,
+    ) -> Result<crate::fixed::KktDerivatives<N, M>, crate::fixed::FixedError> {
+        crate::fixed::kkt_derivatives(self, t, q, qd, effort)
+    }
+
+    /// The constraint rows' tangents at (t, q, q', q''): with w = Phi_q q' + Phi_t and
+    /// R = Phi_q q'' - gamma, (dw/dq, dR/dq, dR/dq'), M x N each (see
+    /// [`crate::ConstraintTangent`]); what the constrained dynamics' derivatives read.
+    /// `None` when not provided (the default; the code `mechanism!` emits provides it).
+    #[allow(clippy::type_complexity)]
+    fn constraint_tangent(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+    ) -> Option<(SMatrix<f64, M, N>, SMatrix<f64, M, N>, SMatrix<f64, M, N>)> {
+        let _ = (t, q, qd, qdd);
+        None
+    }
+
     /// K = dF/dq and D = dF/dq' of the residual F = M q'' + C q' + g - tau + Phi_q^T lambda,
     /// derived symbolically (exact Jacobians for implicit integrators); `None` when the
     /// mechanism does not provide them.

@@ -1,6 +1,7 @@
 //! The emitted methods allocate nothing: a counting global allocator sees zero allocations
 //! while every method of every library mechanism runs (and `evaluate`, the one the solver
-//! calls in its step loop; and the robotics methods, every frame of the link declarations).
+//! calls in its step loop; the robotics methods, every frame of the link declarations; and
+//! the derivatives of the dynamics, with and without constraint rows).
 //!
 //! The counter is thread-local so that the test harness's other threads cannot disturb it.
 
@@ -55,6 +56,17 @@ fn count<T: Mechanism<N, M> + Default, const N: usize, const M: usize>() -> usiz
         black_box(mech.frame_placement(frame, &q));
         black_box(mech.frame_jacobian(frame, &q));
     }
+    // The derivatives of the dynamics: by the motion, by the parameters (into a
+    // caller's buffer), the forward dynamics' and the constrained dynamics'.
+    black_box(mech.inverse_dynamics_derivatives(t, &q, &qd, &qd));
+    let mut dp = [0.0; 1024];
+    let dp = &mut dp[..N * T::PARAMETERS.len()];
+    assert!(mech.inverse_dynamics_parameter_derivatives(t, &q, &qd, &qd, dp));
+    black_box(dp);
+    black_box(mech.forward_dynamics_derivatives(t, &q, &qd, &qd));
+    black_box(mech.constraint_tangent(t, &q, &qd, &qd));
+    let solved = mech.constrained_dynamics_derivatives(t, &q, &qd, &qd);
+    assert!(black_box(solved).is_ok(), "the derivatives are computed");
     mechanism_test_support::allocations() - before
 }
 

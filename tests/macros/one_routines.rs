@@ -12,9 +12,7 @@ use mechanism::builtin::{
     SpatialCrankSliderRigid, SpatialFourBar, SpatialFourBarBodies, WhippleBicycle, builtin_names,
     builtin_source,
 };
-use mechanism_codegen::{
-    Role, Source, Tangents, compile, derive, parse_model_str, residual_tangent,
-};
+use mechanism_codegen::{Role, Source, Tangents, compile, derive, full_tangent, parse_model_str};
 
 /// The fingerprint `mechanism!` emitted for each library mechanism, by file stem.
 const EMITTED: [(&str, u64); 16] = [
@@ -58,7 +56,7 @@ fn macro_and_interpreter_come_from_one_routines() {
         let source = builtin_source(name).expect("registered");
         let mut model = parse_model_str(source).expect("parses");
         let eqs = derive(&mut model).expect("derives");
-        let tangent = residual_tangent(&mut model, &eqs).expect("a tangent");
+        let tangent = full_tangent(&mut model, &eqs).expect("every tangent");
         let routines = compile(&mut model, &eqs, &tangent).expect("compiles");
         assert_eq!(routines.fingerprint(), emitted, "{name}: compiled again");
 
@@ -78,6 +76,16 @@ fn macro_and_interpreter_come_from_one_routines() {
                 .fingerprint(),
             "{name}: the interpreter's tapes and the emitted methods come from different routines"
         );
+        // With every derivative (`for_derivatives`), the roles of the macro's tangents.
+        let derivatives =
+            Interpreted::for_derivatives(parse_model_str(source).unwrap()).expect("a library file");
+        assert_eq!(
+            derivatives.routines_fingerprint(),
+            routines
+                .restricted(&Role::interpreted(&model.drawing, Tangents::Derivatives))
+                .fingerprint(),
+            "{name}: the interpreter's routines with the derivatives"
+        );
         // Without the tangent (the command-line tool's explicit runs), a prefix of them.
         let mut again = parse_model_str(source).expect("parses");
         let eqs_again = derive(&mut again).expect("derives");
@@ -91,7 +99,7 @@ fn macro_and_interpreter_come_from_one_routines() {
             "{name}: the interpreter's routines without the tangent"
         );
 
-        let mut roles: Vec<Role> = Role::compiled(&eqs, &model.drawing, with_rows);
+        let mut roles: Vec<Role> = Role::compiled(&eqs, &model.drawing, Tangents::Derivatives);
         roles.extend([Role::ParameterCache, Role::InitialValues]);
         let compiled: Vec<Role> = routines.iter().map(|(role, _)| role).collect();
         assert_eq!(compiled, roles, "{name}: one program per role, in order");

@@ -10,6 +10,7 @@ mod bodies_joints;
 mod bodies_snapshots;
 mod chain_pinocchio;
 mod closed_chain;
+mod derivatives_pinocchio;
 mod drawing;
 mod floating_interpreted;
 mod floating_motion;

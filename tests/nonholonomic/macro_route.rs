@@ -29,7 +29,7 @@ fn emitted_bicycle_is_the_interpreted_one_bit_for_bit() {
     let interpreted = Interpreted::from_source(&source("whipple_bicycle")).unwrap();
     let mut model = mechanism_codegen::parse_model_str(&source("whipple_bicycle")).unwrap();
     let eqs = mechanism_codegen::derive(&mut model).unwrap();
-    let tangent = mechanism_codegen::residual_tangent(&mut model, &eqs).unwrap();
+    let tangent = mechanism_codegen::full_tangent(&mut model, &eqs).unwrap();
     let routines = mechanism_codegen::compile(&mut model, &eqs, &tangent).unwrap();
     assert_eq!(WhippleBicycle::__ROUTINES, routines.fingerprint());
     let roles = mechanism_codegen::Role::interpreted(

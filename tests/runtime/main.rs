@@ -14,6 +14,7 @@ mod batch_rows;
 mod closure;
 mod coordinate_order;
 mod coordinate_singularity;
+mod dynamics_derivatives;
 mod energy;
 mod fail_fast;
 mod fixed;

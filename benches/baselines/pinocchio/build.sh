@@ -6,7 +6,12 @@
 # Usage (from anywhere):
 #   benches/baselines/pinocchio/build.sh            # build only
 #   benches/baselines/pinocchio/build.sh --run      # build, then run once
+# Builds two programs: panda_bench (the Panda's dynamics, panda_bench.cpp) and
+# derivatives_bench (the derivatives of the dynamics on the Panda, the UR5 and Solo12,
+# derivatives_bench.cpp).
 # Environment:
+#   TARGETS      which programs to build (default: "panda_bench derivatives_bench floating_bench";
+#                floating_bench is the floating-base program of benches/floating_robot.py)
 #   PYTHON       python interpreter whose site-packages hold the packages (python3)
 #   CMEEL_PREFIX override the .../site-packages/cmeel.prefix directory
 #   BUILD_DIR    output directory (default: ${TMPDIR:-/tmp}/mechanism-pinocchio-bench)
@@ -34,7 +39,7 @@ for f in "$P/include/pinocchio/parsers/urdf.hpp" \
 done
 
 mkdir -p "$BUILD_DIR"
-BIN="$BUILD_DIR/panda_bench"
+TARGETS="${TARGETS:-panda_bench derivatives_bench floating_bench}"
 
 # Compile definitions:
 #  * BOOST_MPL_* / BOOST_FUSION_*: the INTERFACE_COMPILE_DEFINITIONS of the
@@ -70,16 +75,23 @@ LDFLAGS=(-L"$P/lib" -Wl,-rpath,"$P/lib"
   -lpinocchio_parsers -lpinocchio_default -lurdfdom_model -lconsole_bridge
   -lboost_filesystem -lboost_serialization)
 
-# compile (slow, ~3-4 min on one core) and link as separate steps
-set -x
-"$CXX" "${CXXFLAGS[@]}" -c "$HERE/panda_bench.cpp" -o "$BUILD_DIR/panda_bench.o"
-"$CXX" "$BUILD_DIR/panda_bench.o" -o "$BIN" "${LDFLAGS[@]}"
-# The floating-base program (Solo12, Talos: benches/floating_robot.py).
-"$CXX" "${CXXFLAGS[@]}" -c "$HERE/floating_bench.cpp" -o "$BUILD_DIR/floating_bench.o"
-"$CXX" "$BUILD_DIR/floating_bench.o" -o "$BUILD_DIR/floating_bench" "${LDFLAGS[@]}"
-set +x
-echo "built $BIN" >&2
+# compile (slow, ~3-4 min on one core each) and link as separate steps
+for T in $TARGETS; do
+  set -x
+  "$CXX" "${CXXFLAGS[@]}" -c "$HERE/$T.cpp" -o "$BUILD_DIR/$T.o"
+  "$CXX" "$BUILD_DIR/$T.o" -o "$BUILD_DIR/$T" "${LDFLAGS[@]}"
+  set +x
+  echo "built $BUILD_DIR/$T" >&2
+done
 
 if [[ "${1:-}" == "--run" ]]; then
-  "$BIN" "$ROOT/mechanisms/urdf/panda.urdf"
+  for T in $TARGETS; do
+    case "$T" in
+      panda_bench) "$BUILD_DIR/panda_bench" "$ROOT/mechanisms/urdf/panda.urdf" ;;
+      derivatives_bench)
+        "$BUILD_DIR/derivatives_bench" panda "$ROOT/mechanisms/urdf/panda.urdf"
+        "$BUILD_DIR/derivatives_bench" ur5 "$ROOT/mechanisms/urdf/ur5_robot.urdf"
+        "$BUILD_DIR/derivatives_bench" solo12 "$ROOT/mechanisms/urdf/solo12.urdf" ;;
+    esac
+  done
 fi

@@ -12,6 +12,8 @@
 //! harness robot <rounds>                      the Panda's robotics routines (robot.rs)
 //! harness floating <robot> <rounds>           Solo12's or Talos' floating-base routines
 //!                                             (floating.rs)
+//! harness derivatives <robot> <rounds>        the derivatives of the dynamics of the
+//!                                             Panda, the UR5 or Solo12 (derivatives.rs)
 //! ```
 //!
 //! `<what>` is `evaluate` (the combined evaluation into the caller's buffer) or `five` (M,
@@ -22,6 +24,7 @@
 //! grows by 1e-15 before every call, exactly as in the C loop. The model names are `seed`,
 //! `four_bar`, `rssr`, `chain8`, `chain16` and `chain32`.
 
+mod derivatives;
 mod floating;
 mod models;
 mod robot;
@@ -54,6 +57,19 @@ fn main() -> ExitCode {
         let rounds = number(1).map_or(11, |r| r as usize).max(1);
         println!("{}", robot::robot_json(rounds));
         return ExitCode::SUCCESS;
+    }
+    if arg(0) == "derivatives" {
+        let rounds = number(2).map_or(11, |r| r as usize).max(1);
+        return match derivatives::derivatives_json(arg(1), rounds) {
+            Some(json) => {
+                println!("{json}");
+                ExitCode::SUCCESS
+            }
+            None => {
+                eprintln!("derivatives <panda|ur5|solo12> <rounds>");
+                ExitCode::FAILURE
+            }
+        };
     }
     let result = match (arg(0), models::Model::named(arg(1))) {
         ("state", Some(m)) => Ok(m.state_json()),

@@ -18,6 +18,7 @@
 //!   value checked to be finite (sin and cos from `mechanism_math::sin_cos`, as every route).
 
 pub(crate) mod budget;
+pub(crate) mod cost;
 pub(crate) mod dependencies;
 pub(crate) mod diff;
 pub(crate) mod eval;

@@ -33,6 +33,7 @@ use crate::error::{DerivationError, EvalError, ProgramError};
 use std::hash::{Hash, Hasher};
 
 use crate::algebra::expr::SymbolId;
+use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::link_route::for_links;
@@ -61,7 +62,8 @@ pub struct Routines {
 }
 
 /// Compiles the equations `eqs` of `model`, with their tangent, into [`Routines`] (the
-/// stage's steps in the module docs). The cache slots are new symbols of `model.arena`
+/// stage's steps in the module docs): the roles of [`Role::compiled`] for the tangents
+/// `tangent` carries ([`Tangents::of`]; the macro passes [`crate::full_tangent`]'s). The cache slots are new symbols of `model.arena`
 /// (`cache[k]`), and so is the bias of [`Role::MassAndBias`].
 ///
 /// # Errors
@@ -92,7 +94,7 @@ pub struct Routines {
 /// ```
 pub fn compile(model: &mut Model, eqs: &Equations, tangent: &ResidualTangent) -> Result<Routines> {
     refuse_floating(model, "compiling the `Mechanism` routines")?;
-    let roles = Role::compiled(eqs, &model.drawing, tangent.constraints.is_some());
+    let roles = Role::compiled(eqs, &model.drawing, Tangents::of(tangent));
     compile_roles(model, eqs, Some(tangent), &roles)
 }
 
@@ -113,11 +115,7 @@ pub fn compile_interpreted(
     tangent: Option<&ResidualTangent>,
 ) -> Result<Routines> {
     refuse_floating(model, "the interpreter route")?;
-    let tangents = match tangent {
-        None => Tangents::None,
-        Some(t) if t.constraints.is_some() => Tangents::WithConstraints,
-        Some(_) => Tangents::Residual,
-    };
+    let tangents = tangent.map_or(Tangents::None, Tangents::of);
     let roles = Role::interpreted(&model.drawing, tangents);
     compile_roles(model, eqs, tangent, &roles)
 }
@@ -245,11 +243,21 @@ fn compile_steps(
     };
     // Made for every list of roles, as the multipliers are, so that symbol ids agree.
     let effort = effort_symbols(&mut model.arena, eqs.n);
-    let mut programs = Vec::with_capacity(roles.len());
+    let mut programs: Vec<Program> = Vec::with_capacity(roles.len());
+    // The residual's tangent, kept: without constraint rows the inverse dynamics'
+    // derivatives are the same matrices, and get a copy of its program rather than a
+    // second lowering.
+    let mut tangent_program: Option<(Vec<Matrix>, usize)> = None;
     for &role in roles {
         let outputs = role.outputs(model, eqs, tangent)?;
-        let outputs: Vec<_> = outputs.iter().collect();
-        programs.push(Program::new(&model.arena, &outputs)?);
+        let program = match &tangent_program {
+            Some((o, k)) if *o == outputs => programs[*k].clone(),
+            _ => Program::new(&model.arena, &outputs.iter().collect::<Vec<_>>())?,
+        };
+        if role == Role::Tangent {
+            tangent_program = Some((outputs, programs.len()));
+        }
+        programs.push(program);
     }
     let all: Vec<&Program> = programs.iter().collect();
     let hoisted = hoist_parameters(&mut model.arena, &all)?;

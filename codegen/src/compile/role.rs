@@ -26,6 +26,23 @@ pub enum Tangents {
     /// The residual's tangent and the constraint rows' ([`Role::ConstraintTangent`]), for
     /// linearisation and mechanisms with velocity constraints.
     WithConstraints,
+    /// Both tangents and the derivatives of the inverse dynamics
+    /// ([`Role::InverseDynamicsDerivatives`], [`Role::ParameterDerivatives`]), for control
+    /// and optimisation ([`crate::full_tangent`]); what the macro compiles.
+    Derivatives,
+}
+
+impl Tangents {
+    /// The tangents `tangent` carries: [`Tangents::Derivatives`] with the constraint rows'
+    /// tangent and dtau_id/dp ([`crate::full_tangent`]), [`Tangents::WithConstraints`] with
+    /// the rows' tangent alone, [`Tangents::Residual`] otherwise.
+    pub fn of(tangent: &ResidualTangent) -> Tangents {
+        match (&tangent.constraints, &tangent.dynamics.parameters) {
+            (Some(_), Some(_)) => Tangents::Derivatives,
+            (Some(_), None) => Tangents::WithConstraints,
+            (None, _) => Tangents::Residual,
+        }
+    }
 }
 
 /// One routine of a compiled mechanism: what its program computes. The macro emits one
@@ -79,6 +96,13 @@ pub enum Role {
     /// `forward_dynamics`, which refuses q'' when a pivot is not above 1e-14 of its
     /// diagonal entry. Compiled for a mechanism without constraint rows only.
     ForwardDynamics,
+    /// dtau_id/dq and dtau_id/dq' of the inverse dynamics tau_id = M q'' + C q' + g - tau
+    /// (two n x n outputs, [`crate::InverseDynamicsDerivatives`]): `inverse_dynamics_derivatives`.
+    /// Compiled with [`Tangents::Derivatives`].
+    InverseDynamicsDerivatives,
+    /// dtau_id/dp (n x p, the declared parameters in declaration order):
+    /// `inverse_dynamics_parameter_derivatives`. Compiled with [`Tangents::Derivatives`].
+    ParameterDerivatives,
     /// R (3 x 3) and p (3 x 1) of link frame k: `frame_placement`.
     FramePlacement(usize),
     /// J (6 x n) of link frame k: `frame_jacobian`.
@@ -101,7 +125,8 @@ pub enum Role {
 impl Role {
     /// The roles the interpreter runs, in compilation order: the evaluation, the
     /// constraint rows, the drawing for a model that draws, then the tangents `tangents`
-    /// asks for (the residual's, then the constraint rows'). They are the first roles of
+    /// asks for (the residual's, then the constraint rows', then the inverse dynamics'
+    /// derivatives by the motion and by the parameters). They are the first roles of
     /// [`Role::compiled`] (with the tangents last, so that each shorter list is a prefix of
     /// a longer one), so hoisting numbers their cache slots alike in every list and their
     /// programs are the same (see [`crate::compile_interpreted`]).
@@ -118,8 +143,11 @@ impl Role {
         if tangents != Tangents::None {
             roles.push(Role::Tangent);
         }
-        if tangents == Tangents::WithConstraints {
+        if matches!(tangents, Tangents::WithConstraints | Tangents::Derivatives) {
             roles.push(Role::ConstraintTangent);
+        }
+        if tangents == Tangents::Derivatives {
+            roles.extend([Role::InverseDynamicsDerivatives, Role::ParameterDerivatives]);
         }
         roles
     }
@@ -145,16 +173,16 @@ impl Role {
         roles
     }
 
-    /// Every role compiled for equations `eqs` and a model's `drawing`, in compilation
-    /// order (the order in which hoisting numbers the cache slots): the roles of
-    /// [`Role::interpreted`], then the single outputs the macro alone emits, the robotics
-    /// roles (the forward dynamics for a mechanism without constraint rows only) and the
-    /// frames. The parameter cache, made from all of them, is not in the list.
-    pub fn compiled(eqs: &Equations, drawing: &Drawing, constraint_tangent: bool) -> Vec<Role> {
-        let tangents = if constraint_tangent {
-            Tangents::WithConstraints
-        } else {
-            Tangents::Residual
+    /// Every role compiled for equations `eqs`, a model's `drawing` and the tangents
+    /// `tangents` (at least [`Tangents::Residual`]: [`Tangents::None`] counts as that), in
+    /// compilation order (the order in which hoisting numbers the cache slots): the roles
+    /// of [`Role::interpreted`], then the single outputs the macro alone emits, the
+    /// robotics roles (the forward dynamics for a mechanism without constraint rows only)
+    /// and the frames. The parameter cache, made from all of them, is not in the list.
+    pub fn compiled(eqs: &Equations, drawing: &Drawing, tangents: Tangents) -> Vec<Role> {
+        let tangents = match tangents {
+            Tangents::None => Tangents::Residual,
+            other => other,
         };
         let mut roles = Role::interpreted(drawing, tangents);
         roles.extend([
@@ -204,15 +232,19 @@ impl Role {
 
     /// Whether the routine of this role may read a value from `source`: parameters and
     /// cached values always (the cache itself reads parameters only); t, q and q' in every
-    /// other routine; q'' in the tangent and the inverse dynamics; the multipliers in the
-    /// tangent; the efforts in the forward dynamics.
+    /// other routine; q'' in the tangents, the inverse dynamics and its derivatives; the
+    /// multipliers in the tangent; the efforts in the forward dynamics.
     pub fn provides(self, source: Source) -> bool {
         match (self, source) {
             (Role::ParameterCache | Role::InitialValues, s) => matches!(s, Source::Parameter(_)),
             (_, Source::Parameter(_) | Source::Cache(_)) => true,
             (_, Source::Time | Source::Coordinate(_) | Source::Rate(_)) => true,
             (
-                Role::Tangent | Role::InverseDynamics | Role::ConstraintTangent,
+                Role::Tangent
+                | Role::InverseDynamics
+                | Role::ConstraintTangent
+                | Role::InverseDynamicsDerivatives
+                | Role::ParameterDerivatives,
                 Source::Acceleration(_),
             ) => true,
             (Role::Tangent, Source::Multiplier(_)) => true,
@@ -268,6 +300,14 @@ impl Role {
             Role::Bias => vec![eqs.bias.clone()],
             Role::InverseDynamics => vec![eqs.inverse_dynamics.clone()],
             Role::ForwardDynamics => forward_dynamics_outputs(model, eqs)?,
+            Role::InverseDynamicsDerivatives => {
+                let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;
+                vec![dynamics.position.clone(), dynamics.velocity.clone()]
+            }
+            Role::ParameterDerivatives => {
+                let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;
+                vec![dynamics.parameters.clone().ok_or_else(no_tangent)?]
+            }
             Role::FramePlacement(k) => frame(k)
                 .map(|f| vec![f.rotation.clone(), f.position.clone()])
                 .unwrap_or_default(),

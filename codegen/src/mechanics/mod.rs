@@ -16,7 +16,8 @@
 //! [`build`] (the model), [`body_model`] with [`bodies`], [`body_checks`] and [`joints`]
 //! (energies from rigid bodies and what their mass and inertia must satisfy, joint rows),
 //! [`lagrange`] (the equations, with [`kinetic_form`]: T a positive semi-definite quadratic
-//! form in the rates), [`tangent`] (dF/dq and dF/dq' for implicit integrators).
+//! form in the rates), [`tangent`] (dF/dq and dF/dq' for implicit integrators, and with
+//! [`dynamics_derivatives`] the inverse dynamics' derivatives for control).
 
 pub(crate) mod bodies;
 pub(crate) mod body_checks;
@@ -25,6 +26,7 @@ pub(crate) mod build;
 pub(crate) mod check;
 pub(crate) mod derivation;
 pub(crate) mod drawing;
+pub(crate) mod dynamics_derivatives;
 pub(crate) mod equations;
 pub(crate) mod floating;
 pub(crate) mod forward_dynamics;
@@ -45,4 +47,5 @@ pub(crate) mod rolling;
 pub(crate) mod running_rows;
 pub(crate) mod tangent;
 pub(crate) mod tree;
+pub(crate) mod tree_derivatives;
 pub(crate) mod vectors;

@@ -3,6 +3,8 @@
 //! With F(q, q', q'', lambda, t) = M(q) q'' + C(q, q') q' + g(q) - tau(t, q, q') + Phi_q^T lambda,
 //! the stiffness K = dF/dq and the damping D = dF/dq' are derived symbolically here, so the
 //! Newton iteration of an implicit scheme uses exact Jacobians instead of finite differences.
+//! At lambda = 0, F is the inverse dynamics tau_id: K and D are then its derivatives, which
+//! control and optimisation read (`mechanics::dynamics_derivatives`).
 //! q'' enters through the acceleration symbols `der2(q_i)`, lambda through the symbols
 //! `lambda[1]..lambda[m]` (names the declaration grammar cannot produce, so they never clash
 //! with a user's).
@@ -12,6 +14,9 @@ use crate::algebra::expr::{Arena, FxHashMap, Id, SymbolId, SymbolKind};
 use crate::algebra::matrix::Matrix;
 use crate::error::DerivationError;
 use crate::error::{Error, Result};
+use crate::mechanics::dynamics_derivatives::{
+    InverseDynamicsDerivatives, inverse_dynamics_jacobians, parameter_jacobian,
+};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::link_route::for_links;
 use crate::mechanics::model::Model;
@@ -26,8 +31,13 @@ pub struct ResidualTangent {
     /// The symbols `lambda[1]`..`lambda[m]` the matrices read.
     pub lambda: Vec<SymbolId>,
     /// The tangents of the constraint rows, for linearisation; derived only for a model
-    /// with velocity constraints (`Equations::velocity_rows` > 0).
+    /// with velocity constraints (`Equations::velocity_rows` > 0), or for every model by
+    /// [`full_tangent`].
     pub constraints: Option<ConstraintTangent>,
+    /// The derivatives of the inverse dynamics tau_id = F at lambda = 0: K and D without
+    /// the multipliers' part (the same matrices as K and D without constraint rows), and
+    /// dtau_id/dp when derived ([`full_tangent`]).
+    pub dynamics: InverseDynamicsDerivatives,
 }
 
 /// The tangents of the stacked constraint rows at the velocity and acceleration levels:
@@ -58,51 +68,116 @@ pub(crate) fn multiplier_symbols(arena: &mut Arena, m: usize) -> Vec<SymbolId> {
         .collect()
 }
 
-/// Derives K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau + Phi_q^T lambda.
+/// Derives K = dF/dq and D = dF/dq' of F = M q'' + C q' + g - tau + Phi_q^T lambda: the
+/// derivatives of the inverse dynamics tau_id ([`InverseDynamicsDerivatives`], of the form of
+/// tau_id with the cheaper derivatives, `mechanics::dynamics_derivatives`) plus
+/// d(Phi_q^T lambda)/dq (Phi_q does not depend on q').
 ///
 /// # Errors
 /// A differentiation error (a division by a zero constant in a derivative); a
 /// [`crate::error::BudgetError`] beyond the arena's budget (for a tree of links, with the
 /// remedies that apply to links).
 pub fn residual_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
-    derive_tangent(model, eqs).map_err(|e| for_links(model, e))
+    tangent(model, eqs, false).map_err(|e| for_links(model, e))
 }
 
-/// [`residual_tangent`] itself.
-fn derive_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
+/// [`residual_tangent`] with every derivative the macro emits: the constraint rows' tangent
+/// for every model (an m x n one, empty without rows) and the inverse dynamics'
+/// derivatives by the parameters, dtau_id/dp. What [`crate::compile`] compiles the roles
+/// [`crate::Role::ConstraintTangent`], [`crate::Role::InverseDynamicsDerivatives`] and
+/// [`crate::Role::ParameterDerivatives`] from ([`crate::Tangents::Derivatives`]).
+///
+/// # Errors
+/// As [`residual_tangent`].
+pub fn full_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent> {
+    tangent(model, eqs, true).map_err(|e| for_links(model, e))
+}
+
+/// [`residual_tangent`], or with `full` [`full_tangent`].
+fn tangent(model: &mut Model, eqs: &Equations, full: bool) -> Result<ResidualTangent> {
     let (n, m) = (eqs.n, eqs.m);
+    let parameters = parameter_symbols(model)?;
     let arena = &mut model.arena;
     let lambda = multiplier_symbols(arena, m);
     let lambda_nodes: Vec<Id> = lambda.iter().map(|&s| arena.symbol_node(s)).collect();
     let (q, qd, qdd) = motion_symbols(model)?;
-    let arena = &mut model.arena;
-    let mut residual = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut terms = Vec::with_capacity(2 * n + m + 3);
-        for (j, &a) in qdd.iter().enumerate() {
-            terms.push(arena.mul2(eqs.mass.get(i, j), a));
-        }
-        terms.push(eqs.coriolis_forces.get(i, 0));
-        terms.push(eqs.gravity.get(i, 0));
-        let tau = eqs.forces.get(i, 0);
-        terms.push(arena.neg(tau));
-        for (k, &l) in lambda_nodes.iter().enumerate() {
-            terms.push(arena.mul2(eqs.phi_q.get(k, i), l));
-        }
-        residual.push(arena.add(&terms));
-    }
     let mut d = Differentiator::new();
+    let (rows, [position, velocity]) =
+        inverse_dynamics_jacobians(model, &mut d, eqs, (&q, &qd, &qdd))?;
+    let arena = &mut model.arena;
+    let stiffness = if m == 0 {
+        position.clone()
+    } else {
+        // (Phi_q^T lambda)_i, differentiated by q.
+        let forces: Vec<Id> = (0..n)
+            .map(|i| {
+                let terms: Vec<Id> = (lambda_nodes.iter().enumerate())
+                    .map(|(k, &l)| arena.mul2(eqs.phi_q.get(k, i), l))
+                    .collect();
+                arena.add(&terms)
+            })
+            .collect();
+        let [reaction] = row_jacobians(arena, &mut d, &forces, [&q])?;
+        position.add(arena, &reaction)?
+    };
+    let constraints = if eqs.velocity_rows > 0 || full {
+        Some(rows_tangent(arena, &mut d, eqs, &q, &qd, &qdd)?)
+    } else {
+        None
+    };
+    let parameters = if full {
+        Some(parameter_jacobian(arena, &mut d, &rows, &parameters)?)
+    } else {
+        None
+    };
+    Ok(ResidualTangent {
+        stiffness,
+        damping: velocity.clone(),
+        lambda,
+        constraints,
+        dynamics: InverseDynamicsDerivatives {
+            position,
+            velocity,
+            parameters,
+        },
+    })
+}
+
+/// The parameter symbols of `model`, in declaration order.
+fn parameter_symbols(model: &Model) -> Result<Vec<SymbolId>> {
+    (model.parameters.iter())
+        .map(|p| {
+            model.arena.as_symbol(p.symbol).ok_or_else(|| {
+                Error::Derivation(DerivationError::NotASymbol {
+                    role: format!("parameter `{}`", p.name),
+                })
+            })
+        })
+        .collect()
+}
+
+/// The partial derivatives of each entry of `rows` by each symbol of each list in `by`: one
+/// matrix (rows x list length) per list. Each entry is differentiated only by the symbols
+/// it reads, so the work follows the nonzeros of the result, not its size. Within an entry,
+/// the symbols of the first list come before those of the second (each list in its order),
+/// the order in which the derivative expressions are created.
+///
+/// # Errors
+/// A differentiation error.
+pub(crate) fn row_jacobians<const K: usize>(
+    arena: &mut Arena,
+    d: &mut Differentiator,
+    rows: &[Id],
+    by: [&[SymbolId]; K],
+) -> Result<[Matrix; K]> {
     let zero = arena.int(0);
-    let mut stiffness = vec![zero; n * n];
-    let mut damping = vec![zero; n * n];
-    // Each row is differentiated only by the symbols it reads: the work follows the
-    // nonzeros of K and D, not n^2. Within a row, every q before every q' (each in index
-    // order), the order in which the expressions have always been created.
+    let mut out: [Vec<Id>; K] = std::array::from_fn(|k| vec![zero; rows.len() * by[k].len()]);
     let mut column: FxHashMap<SymbolId, (usize, usize)> = FxHashMap::default();
-    column.extend(q.iter().enumerate().map(|(k, &s)| (s, (0, k))));
-    column.extend(qd.iter().enumerate().map(|(k, &s)| (s, (1, k))));
+    for (kind, list) in by.iter().enumerate() {
+        column.extend(list.iter().enumerate().map(|(k, &s)| (s, (kind, k))));
+    }
     let mut read: Vec<(usize, usize, SymbolId)> = Vec::new();
-    for (i, &f) in residual.iter().enumerate() {
+    for (i, &f) in rows.iter().enumerate() {
         read.clear();
         for s in d.symbols_of(arena, f)? {
             if let Some(&(kind, k)) = column.get(&s) {
@@ -111,37 +186,19 @@ fn derive_tangent(model: &mut Model, eqs: &Equations) -> Result<ResidualTangent>
         }
         read.sort_unstable();
         for &(kind, k, s) in &read {
-            let target = if kind == 0 {
-                &mut stiffness
-            } else {
-                &mut damping
-            };
-            target[i * n + k] = d.diff(arena, f, s)?;
+            out[kind][i * by[kind].len() + k] = d.diff(arena, f, s)?;
         }
     }
-    let constraints = if eqs.velocity_rows > 0 {
-        Some(rows_tangent(arena, &mut d, eqs, &q, &qd, &qdd)?)
-    } else {
-        None
-    };
-    Ok(ResidualTangent {
-        stiffness: Matrix {
-            rows: n,
-            cols: n,
-            data: stiffness,
-        },
-        damping: Matrix {
-            rows: n,
-            cols: n,
-            data: damping,
-        },
-        lambda,
-        constraints,
-    })
+    let mut out = out.into_iter();
+    Ok(std::array::from_fn(|k| Matrix {
+        rows: rows.len(),
+        cols: by[k].len(),
+        data: out.next().unwrap_or_default(),
+    }))
 }
 
 /// The coordinate and rate symbols of `model` and its acceleration nodes.
-fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id>)> {
+pub(crate) fn motion_symbols(model: &Model) -> Result<(Vec<SymbolId>, Vec<SymbolId>, Vec<Id>)> {
     let arena = &model.arena;
     let symbol = |id, what: &str, name: &str| {
         arena.as_symbol(id).ok_or_else(|| {

@@ -6,7 +6,7 @@
 use mechanism_codegen::internals::frame_jacobian;
 use mechanism_codegen::{
     Equations, Matrix, Model, Program, ResidualTangent, Role, Routines, Source, Tangents, Tape,
-    compile, compile_interpreted, derive, parse_model_str, residual_tangent,
+    compile, compile_interpreted, derive, full_tangent, parse_model_str, residual_tangent,
 };
 
 const FIVE_BAR: &str = include_str!("../../../mechanisms/five_bar.mech");
@@ -14,7 +14,7 @@ const FIVE_BAR: &str = include_str!("../../../mechanisms/five_bar.mech");
 fn compiled() -> (Model, Equations, ResidualTangent, Routines) {
     let mut model = parse_model_str(FIVE_BAR).expect("the five-bar parses");
     let eqs = derive(&mut model).expect("derives");
-    let tangent = residual_tangent(&mut model, &eqs).expect("a tangent");
+    let tangent = full_tangent(&mut model, &eqs).expect("a tangent");
     let routines = compile(&mut model, &eqs, &tangent).expect("compiles");
     (model, eqs, tangent, routines)
 }
@@ -74,6 +74,9 @@ fn hoisted_routines_give_the_plain_programs_bits() {
         let n = eqs.n;
         frame_jacobian(&mut model.arena, &model.links, 1, n)
     };
+    let dynamics = &tangent.dynamics;
+    let rows = tangent.constraints.as_ref().expect("every tangent");
+    let parameters = dynamics.parameters.as_ref().expect("dtau/dp");
     let cases: Vec<(Role, Vec<&Matrix>)> = vec![
         (Role::Mass, vec![&eqs.mass]),
         (Role::ConstraintJacobian, vec![&eqs.phi_q]),
@@ -82,6 +85,15 @@ fn hoisted_routines_give_the_plain_programs_bits() {
         (Role::InverseDynamics, vec![&eqs.inverse_dynamics]),
         (Role::Bias, vec![&eqs.bias]),
         (Role::MassAndBias, vec![&eqs.mass, &eqs.bias]),
+        (
+            Role::ConstraintTangent,
+            vec![&rows.velocity, &rows.stiffness, &rows.damping],
+        ),
+        (
+            Role::InverseDynamicsDerivatives,
+            vec![&dynamics.position, &dynamics.velocity],
+        ),
+        (Role::ParameterDerivatives, vec![parameters]),
         (
             Role::FramePlacement(1),
             vec![&frame.rotation, &frame.position],
@@ -115,6 +127,8 @@ fn every_read_has_a_source_its_role_provides() {
     assert!(!Role::Mass.provides(Source::Multiplier(0)));
     assert!(!Role::ParameterCache.provides(Source::Cache(0)));
     assert!(Role::InverseDynamics.provides(Source::Acceleration(0)));
+    assert!(Role::InverseDynamicsDerivatives.provides(Source::Acceleration(0)));
+    assert!(!Role::InverseDynamicsDerivatives.provides(Source::Multiplier(0)));
     assert!(routines.get(Role::FrameJacobian(99)).is_none());
     assert!(routines.program(Role::FrameJacobian(99)).is_err());
 }
@@ -128,8 +142,9 @@ fn compiling_twice_gives_the_same_routines() {
 }
 
 /// The interpreter's routines are the macro's cut down to the roles it runs, for every
-/// library mechanism, with the tangent and without: the same programs role by role, the
-/// same cache instructions for the slots they read, the same sources.
+/// library mechanism, without a tangent, with the residual's and with every derivative: the
+/// same programs role by role, the same cache instructions for the slots they read, the
+/// same sources.
 #[test]
 fn the_interpreted_routines_are_the_compiled_ones_cut_down() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms");
@@ -140,34 +155,43 @@ fn the_interpreted_routines_are_the_compiled_ones_cut_down() {
             continue;
         }
         let source = std::fs::read_to_string(&path).expect("readable");
-        // `None`: the macro's routines; `Some(with_tangent)`: the interpreter's.
-        let routines = |interpreted: Option<bool>| {
+        // `None`: the macro's routines; `Some(tangents)`: the interpreter's.
+        let routines = |interpreted: Option<Tangents>| {
             let mut model = parse_model_str(&source).expect("parses");
             let eqs = derive(&mut model).expect("derives");
-            let tangent = residual_tangent(&mut model, &eqs).expect("a tangent");
-            let tangents = match (interpreted, tangent.constraints.is_some()) {
-                (Some(false), _) => Tangents::None,
-                (_, true) => Tangents::WithConstraints,
-                (_, false) => Tangents::Residual,
+            let tangent = match interpreted {
+                None | Some(Tangents::Derivatives) => full_tangent(&mut model, &eqs),
+                _ => residual_tangent(&mut model, &eqs),
+            };
+            let tangent = tangent.expect("a tangent");
+            let tangents = match interpreted {
+                Some(Tangents::None) => Tangents::None,
+                _ => Tangents::of(&tangent),
             };
             let roles = Role::interpreted(&model.drawing, tangents);
             let routines = match interpreted {
-                Some(true) => compile_interpreted(&mut model, &eqs, Some(&tangent)),
-                Some(false) => compile_interpreted(&mut model, &eqs, None),
+                Some(Tangents::None) => compile_interpreted(&mut model, &eqs, None),
+                Some(_) => compile_interpreted(&mut model, &eqs, Some(&tangent)),
                 None => compile(&mut model, &eqs, &tangent),
             };
             (routines.expect("compiles"), roles)
         };
         let (all, _) = routines(None);
-        for with_tangent in [true, false] {
-            let (interpreted, roles) = routines(Some(with_tangent));
+        for tangents in [Tangents::None, Tangents::Residual, Tangents::Derivatives] {
+            let (interpreted, roles) = routines(Some(tangents));
             let cut = all.restricted(&roles);
             assert_eq!(interpreted, cut, "{}", path.display());
             assert_eq!(interpreted.fingerprint(), cut.fingerprint());
             // The macro-only roles are really left out, and the cache is a proper prefix
             // only where they hoist values of their own.
             assert!(interpreted.get(Role::Mass).is_none());
+            let with_tangent = tangents != Tangents::None;
             assert_eq!(interpreted.get(Role::Tangent).is_some(), with_tangent);
+            let derivatives = tangents == Tangents::Derivatives;
+            assert_eq!(
+                interpreted.get(Role::InverseDynamicsDerivatives).is_some(),
+                derivatives
+            );
             assert!(interpreted.cache_len() <= all.cache_len());
         }
         checked += 1;
