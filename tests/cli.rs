@@ -30,6 +30,8 @@ mod inverse_branch;
 mod joint_limits;
 #[path = "cli/kept_results.rs"]
 mod kept_results;
+#[path = "cli/linearize_scale.rs"]
+mod linearize_scale;
 #[path = "cli/outputs.rs"]
 mod outputs;
 #[path = "cli/ownership.rs"]

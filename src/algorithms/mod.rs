@@ -14,7 +14,8 @@
 //!   free integrated between samples ([`rolling_positions`]);
 //! - [`linearize`]: the tangent dynamics in the independent coordinates;
 //! - [`steady`]: the tangent dynamics about a steady motion in minimal variables (velocity
-//!   constraints too), with exact derivatives;
+//!   constraints too), with exact derivatives; [`structural`]: its structural zeros, told
+//!   from round-off, and the refusal where round-off hides what decides the motion;
 //! - [`stabilization`]: projections onto Phi = 0 and Phi_q q' + Phi_t = 0, and Baumgarte;
 //! - [`mobility`]: the rank of Phi_q, the degrees of freedom and the redundant rows;
 //! - [`coordinate_singularity`]: an undetermined motion that the coordinates cause (angles
@@ -47,4 +48,5 @@ pub(crate) mod reach;
 pub(crate) mod rolling_positions;
 pub(crate) mod stabilization;
 pub(crate) mod steady;
+pub(crate) mod structural;
 pub(crate) mod velocity_rows;

@@ -32,6 +32,19 @@
 //! column or row), and S' may have zero rows or columns of its own (the yaw angle's column
 //! holds only the rates of the ground position). Those are reported apart from the rest.
 //!
+//! S is computed in floating point, so a column that is zero in exact arithmetic (a cyclic
+//! coordinate's) holds round-off: eps times the terms its entries were computed from, which
+//! grow with the entries of their row (the bicycle's yaw column at v = 1e5 m/s holds 1e-6
+//! beside entries of 1e10 that carry v^2). An entry is taken as zero when it is at most
+//! [`SteadyOptions::structural_tolerance`] times the largest entry of its row or of its
+//! column (or 1), a test that follows each row's own scale instead of the whole matrix's
+//! (the lean angle's row, `der(phi)` with coefficient 1, is no zero beside 1e10). Where
+//! round-off of the largest terms reaches the entries that decide the motion (the gravity
+//! terms, 10 1/s^2, beside 1e18 at v = 1e9 m/s), the two cannot be told apart: every
+//! eigenvalue printed is checked to be one of S, and the linearisation is refused where the
+//! structural zeros depend on the tolerance or S spans more scales than double precision
+//! resolves ([`crate::algorithms::structural`]).
+//!
 //! Redundant rows of G (a planar loop closed with spatial joints, a row that the others imply
 //! on the constraint manifold) are dropped first: the rows independent at the state, position
 //! rows before velocity rows, define the same motion, and [M G^T; G 0] is regular with them.
@@ -39,6 +52,7 @@
 use nalgebra::{Complex, DMatrix};
 
 use crate::algorithms::dynamics::Dynamics;
+use crate::algorithms::structural::{check_resolved, kept_variables};
 use crate::error::Error;
 use crate::linalg::{eigenvalues, inf_norm};
 use crate::system::{ConstraintTangent, System, SystemInfo, Tangent};
@@ -48,9 +62,13 @@ use crate::system::{ConstraintTangent, System, SystemInfo, Tangent};
 pub struct SteadyOptions {
     /// The state is steady when |q''|_inf <= this * (1 + |q'|_inf^2).
     pub steady_tolerance: f64,
-    /// A column (of S, or of the equations for a moving coordinate) is zero when its
-    /// largest entry is at most this times (1 + the largest entry of its matrix).
+    /// A column of the equations for a moving coordinate is zero when its largest entry is
+    /// at most this times (1 + the largest entry of its matrix).
     pub zero_tolerance: f64,
+    /// An entry S_ij of the state matrix is zero (round-off) when |S_ij| is at most this
+    /// times max(1, max_k |S_ik|, max_k |S_kj|): the largest entry of its row or column
+    /// (module docs).
+    pub structural_tolerance: f64,
     /// A pivot column is independent when its distance to the span of those before it is
     /// above this times its norm.
     pub rank_tolerance: f64,
@@ -61,6 +79,9 @@ impl Default for SteadyOptions {
         Self {
             steady_tolerance: 1e-9,
             zero_tolerance: 1e-10,
+            // Round-off of the row's terms is eps (2.2e-16) times them, magnified by the
+            // conditioning of the solves that formed S: 1e-12 leaves a factor 4500.
+            structural_tolerance: 1e-12,
             rank_tolerance: 1e-8,
         }
     }
@@ -95,7 +116,8 @@ pub struct SteadyLinearization {
 /// [`Error::NotSteady`] when q'' is not zero or a moving coordinate is not cyclic;
 /// [`Error::Linearization`] when the system provides no exact tangents (a compiled
 /// mechanism without velocity rows: build it with [`crate::Interpreted::for_linearization`]),
-/// or has a non-finite state matrix; the errors of [`Dynamics::solve`]. Dependent
+/// or has a non-finite state matrix, or an eigenvalue that round-off leaves unresolved
+/// (module docs); the errors of [`Dynamics::solve`]. Dependent
 /// constraint rows are dropped (only the independent rows enter the tangent dynamics).
 pub fn linearize_steady(
     system: &dyn System,
@@ -125,18 +147,20 @@ pub fn linearize_steady(
             .iter()
             .map(|&j| format!("der({})", info.coordinates[j])),
     );
-    let kept = kept_variables(&state, options.zero_tolerance);
+    let kept = kept_variables(&state, &variables, options.structural_tolerance)?;
     let structural: Vec<usize> = (0..d).filter(|j| !kept.contains(j)).collect();
     let reduced_matrix = state.select_rows(&kept).select_columns(&kept);
-    Ok(SteadyLinearization {
+    let lin = SteadyLinearization {
+        eigenvalues: eigenvalues(&state, "the state matrix S")?,
+        reduced: eigenvalues(&reduced_matrix, "S without its structural zeros")?,
         variables,
         coordinates: ind_q,
         speeds: ind_u,
-        eigenvalues: eigenvalues(&state, "the state matrix S")?,
-        reduced: eigenvalues(&reduced_matrix, "S without its structural zeros")?,
         state,
         structural,
-    })
+    };
+    check_resolved(&lin)?;
+    Ok(lin)
 }
 
 /// The tangent dynamics at the steady state (module docs): [Q V] (n x 2n, dq'' = Q dq +
@@ -284,26 +308,6 @@ fn minimal_variables(
         positions: top,
         rates: bottom,
     })
-}
-
-/// The variables of S that are not structural: those left when every variable whose
-/// column or row of S is zero (largest entry at most `tolerance` (1 + max |S_ij|)) is
-/// removed. Removing one can make another's row or column zero (psi's column holds the
-/// rates of x and y only): repeated until none is found.
-fn kept_variables(state: &DMatrix<f64>, tolerance: f64) -> Vec<usize> {
-    let zero = tolerance * (1.0 + state.amax());
-    let mut kept: Vec<usize> = (0..state.ncols()).collect();
-    loop {
-        let sub = state.select_rows(&kept).select_columns(&kept);
-        let found: Vec<usize> = (0..kept.len())
-            .filter(|&j| sub.column(j).amax() <= zero || sub.row(j).amax() <= zero)
-            .map(|j| kept[j])
-            .collect();
-        if found.is_empty() {
-            return kept;
-        }
-        kept.retain(|j| !found.contains(j));
-    }
 }
 
 fn no_tangent(what: &str) -> Error {

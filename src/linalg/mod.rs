@@ -20,13 +20,16 @@
 //! - [`numerical_rank`], [`least_squares`] (both from one SVD: [`rank_and_least_squares`]):
 //!   SVD-based, for work outside the step loop; [`conditioned_solve`], the same answer by
 //!   LU for a square system whose condition is certainly small;
-//! - [`eigenvalues`]: of a state matrix, by its real Schur form, as an error (not a panic or
-//!   an endless loop) for an empty, non-finite or non-converging one;
+//! - [`eigenvalues`]: of a state matrix, by its real Schur form after balancing (a diagonal
+//!   similarity that evens out its scales), as an error (not a panic or an endless loop) for
+//!   an empty, non-finite or non-converging one; [`relative_residual`], how far a number is
+//!   from being one of them;
 //! - [`inf_norm`], [`max_nan`]: maximum norms that propagate NaN (every convergence test
 //!   uses them, so a NaN entry is never read as a small residual).
 //!
 //! Invariant: everything used inside an integrator step works in storage allocated once.
 
+mod balance;
 mod band_lu;
 mod band_order;
 mod conditioned_solve;
@@ -47,7 +50,7 @@ pub use band_lu::BandLu;
 pub use band_order::{BandOrder, coordinate_order};
 pub use conditioned_solve::{MAX_CERTIFIED_CONDITION, conditioned_solve};
 pub use dense_cholesky::DenseCholesky;
-pub use eigenvalues::eigenvalues;
+pub use eigenvalues::{eigenvalues, relative_residual};
 pub use envelope::{Envelope, NotPositiveDefinite};
 pub use learnt_band::LearntBand;
 pub use lu::Lu;

@@ -213,13 +213,13 @@ mod tests {
     use super::*;
     use crate::output::{SUMMARY_FORMAT, SUMMARY_FORMAT_VERSION};
 
-    /// A fresh folder for one test under the system's temporary folder.
-    fn folder(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("mechanism-staging-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh folder for one test under the system's temporary folder, removed when the
+    /// guard drops (at the test's end, also when an assertion fails and unwinds).
+    fn folder(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("mechanism-staging-{name}-"))
+            .tempdir()
+            .unwrap()
     }
 
     /// A summary of ours listing `files`, with `tag` to tell two apart.
@@ -247,9 +247,11 @@ mod tests {
     }
 
     /// A folder holding a previous run (a.csv, b.png, its summary) and the user's notes,
-    /// and the staged results of a new run (a.csv, c.png, its summary).
-    fn prepared(name: &str) -> Staging {
-        let dir = folder(name);
+    /// and the staged results of a new run (a.csv, c.png, its summary); the guard removes
+    /// the folder.
+    fn prepared(name: &str) -> (tempfile::TempDir, Staging) {
+        let guard = folder(name);
+        let dir = guard.path().to_path_buf();
         std::fs::write(dir.join("a.csv"), "old a").unwrap();
         std::fs::write(dir.join("b.png"), "old b").unwrap();
         std::fs::write(dir.join("notes.txt"), "the user's").unwrap();
@@ -261,13 +263,13 @@ mod tests {
         std::fs::write(staging.join("c.png"), "new c").unwrap();
         let new = summary(&["a.csv", "summary.json", "c.png"], "new");
         std::fs::write(staging.join(SUMMARY_FILE), new).unwrap();
-        Staging { dir, staging }
+        (guard, Staging { dir, staging })
     }
 
     #[test]
     fn a_swap_that_fails_at_any_rename_leaves_the_previous_results() {
         // The swap that succeeds: count its renames and see its result.
-        let whole = prepared("whole");
+        let (_folder, whole) = prepared("whole");
         let mut renames = 0;
         whole
             .swap_with(&mut |from, to| {
@@ -286,7 +288,7 @@ mod tests {
         // replaced): the folder is byte for byte as before, and the run's files are staged
         // still.
         for fail_at in 0..renames {
-            let staging = prepared(&format!("fail-{fail_at}"));
+            let (_folder, staging) = prepared(&format!("fail-{fail_at}"));
             let before = contents(&staging.dir);
             let mut k = 0;
             let result = staging.swap_with(&mut |from, to| {
@@ -311,7 +313,7 @@ mod tests {
     #[test]
     fn a_target_that_is_not_a_file_stops_the_swap_before_anything_moves() {
         for blocked in ["a.csv", "c.png", SUMMARY_FILE] {
-            let staging = prepared(&format!("blocked-{blocked}"));
+            let (_folder, staging) = prepared(&format!("blocked-{blocked}"));
             let target = staging.dir.join(blocked);
             let _ = std::fs::remove_file(&target);
             std::fs::create_dir(&target).unwrap();
@@ -335,7 +337,7 @@ mod tests {
 
     #[test]
     fn discarded_results_leave_the_folder_as_it_was() {
-        let staging = prepared("discard");
+        let (_folder, staging) = prepared("discard");
         let dir = staging.dir.clone();
         let before = contents(&dir);
         staging.discard().unwrap();

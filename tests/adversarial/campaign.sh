@@ -219,7 +219,7 @@ for a in "v=3" "v=7" "rR=0.5" "v=3 --set rR=0.25"; do
   if [ "$ok" != True ]; then wrong=$((wrong + 1)); finding "SILENT WRONG" "whipple --set $a: der(thR)(0) is not v/rR"; fi
 done
 # linearize: the eigenvalues printed are those of the state matrix written (item 2).
-for a in "--set v=5" "--set v=1e3" "--set v=1e4" "--set v=1e5" "--set v=1e6" "--set v=1e9" "--init der(thR)=1e9"; do
+for a in "--set v=5" "--set v=1e3" "--set v=1e4" "--set v=1e5" "--set v=1e6" "--set v=1e7" "--set v=1e8" "--set v=1e9" "--init der(thR)=1e9"; do
   one linearize whipple_bicycle $a
   [ "$code" = 0 ] || continue
   ok=$(python3 - "$dir/linearization.json" <<'PY'

@@ -109,8 +109,12 @@ fn independent_velocity_rows_still_assemble() {
 
 #[test]
 fn the_command_line_refuses_a_contradicting_row_in_one_line() {
-    let dir = std::env::temp_dir().join(format!("contradicting-row-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    // Removed when the guard drops, also when an assertion fails.
+    let guard = tempfile::Builder::new()
+        .prefix("contradicting-row-")
+        .tempdir()
+        .unwrap();
+    let dir = guard.path();
     let file = dir.join("on_a_line.mech");
     std::fs::write(&file, on_a_line("der(y) - der(x) + 0.5;")).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechanism"))
@@ -127,7 +131,6 @@ fn the_command_line_refuses_a_contradicting_row_in_one_line() {
         stderr.contains("the velocity row `velocity constraint 1` contradicts constraint 1"),
         "{stderr}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A velocity row whose coefficients all vanish at the assembled configuration (sin(x) = 0

@@ -81,7 +81,12 @@ fn the_command_line_linearises_and_refuses_in_one_line() {
         "{}/mechanisms/whipple_bicycle.mech",
         env!("CARGO_MANIFEST_DIR")
     );
-    let out = std::env::temp_dir().join(format!("nonholonomic-cli-{}", std::process::id()));
+    // Removed when the guard drops, also when an assertion fails.
+    let guard = tempfile::Builder::new()
+        .prefix("nonholonomic-cli-")
+        .tempdir()
+        .unwrap();
+    let out = guard.path().join("out");
     let run = |extra: &[&str]| {
         std::process::Command::new(exe)
             .args(["linearize", &file, "--out"])
@@ -114,5 +119,4 @@ fn the_command_line_linearises_and_refuses_in_one_line() {
     assert_eq!(bad.status.code(), Some(1));
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(stderr.contains("not a steady motion"), "{stderr}");
-    let _ = std::fs::remove_dir_all(&out);
 }
