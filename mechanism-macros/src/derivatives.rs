@@ -9,26 +9,7 @@ use proc_macro2::TokenStream;
 use quote::quote;
 
 use crate::dispatch::Method;
-use crate::generate::{Bodies, TANGENT_INSTRUCTIONS_MAX};
-
-/// The bodies of the derivative methods; `None` for a program past
-/// [`TANGENT_INSTRUCTIONS_MAX`] (as the residual's tangent: code rustc could not compile in
-/// a laptop's memory), whose method is then the trait's default (central differences of
-/// the inverse dynamics, `false`, `None`).
-#[derive(Default)]
-pub struct DerivativeBodies {
-    /// `inverse_dynamics_derivatives(&self, t, q, qd, qdd)`: (dtau/dq, dtau/dq').
-    pub inverse_dynamics: Option<TokenStream>,
-    /// `inverse_dynamics_parameter_derivatives(&self, t, q, qd, qdd, out)`: dtau/dp into
-    /// the column-major slice `out`.
-    pub parameters: Option<TokenStream>,
-    /// `constraint_tangent(&self, t, q, qd, qdd)`: (D, R_q, R_q').
-    pub constraint_tangent: Option<TokenStream>,
-    /// Whether the residual's tangent is the same program (a mechanism without constraint
-    /// rows): `residual_tangent` then calls `inverse_dynamics_derivatives` instead of
-    /// repeating its body.
-    pub tangent_is_inverse_dynamics: bool,
-}
+use crate::generate::{Bodies, DerivativeBodies, TANGENT_INSTRUCTIONS_MAX};
 
 impl Bodies<'_> {
     /// `(dtau/dq, dtau/dq')`, n x n each, one program; q'' read from `qdd`.
@@ -144,7 +125,7 @@ pub fn methods(krate: &TokenStream, n: usize, m: usize, d: &DerivativeBodies) ->
 
 /// The body of `residual_tangent`: `tangent` (its own program), or a call of the body of
 /// `inverse_dynamics_derivatives` (same instruction set) where the two programs are one.
-pub fn residual_tangent(tangent: &TokenStream, d: &DerivativeBodies) -> TokenStream {
+pub fn residual_tangent_body(tangent: &TokenStream, d: &DerivativeBodies) -> TokenStream {
     if d.tangent_is_inverse_dynamics && d.inverse_dynamics.is_some() {
         quote! {
             let _ = lambda;

@@ -9,20 +9,15 @@ use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
 use syn::Ident;
 
-use crate::ast::{self, Declaration, Source};
-use crate::check;
+use crate::ast::{Declaration, Source};
 use crate::dispatch::{self, Method};
 use crate::generate::{self, Generated};
 
-/// Parses, checks, derives and expands one `mechanism!` invocation.
-pub fn expand(input: TokenStream) -> syn::Result<TokenStream> {
-    let mut decl = ast::parse(input)?;
-    check::check(&decl)?;
-    if decl.model.floating_root().is_some() {
-        return crate::floating::expand(&mut decl);
-    }
-    let generated = generate::generate(&mut decl)?;
-    Ok(expand_declaration(&decl, &generated))
+/// Derives and expands one parsed and checked `mechanism!` declaration of a mechanism whose
+/// q' is the rate of q (a floating base is [`crate::floating`]'s).
+pub fn expand(decl: &mut Declaration) -> syn::Result<TokenStream> {
+    let generated = generate::generate(decl)?;
+    Ok(expand_declaration(decl, &generated))
 }
 
 /// An `f64` constant for the generated code: codegen's literal form, which names the
@@ -688,7 +683,7 @@ fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) ->
             ("lambda", sv(m)),
         ],
         quote!(-> ::core::option::Option<(#sm, #sm)>),
-        crate::derivatives::residual_tangent(&g.residual_tangent, &g.derivatives),
+        crate::derivatives::residual_tangent_body(&g.residual_tangent, &g.derivatives),
     ));
     methods.push(Method::new(
         "draw_points",

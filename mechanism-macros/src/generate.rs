@@ -38,6 +38,25 @@ pub const TANGENT_INSTRUCTIONS_MAX: usize = 100_000;
 /// (row, column) pairs of a matrix's structural nonzeros, row-major.
 pub type Pattern = Vec<(usize, usize)>;
 
+/// The bodies of the derivative methods; `None` for a program past
+/// [`TANGENT_INSTRUCTIONS_MAX`] (as the residual's tangent: code rustc could not compile in
+/// a laptop's memory), whose method is then the trait's default (central differences of
+/// the inverse dynamics, `false`, `None`).
+#[derive(Default)]
+pub struct DerivativeBodies {
+    /// `inverse_dynamics_derivatives(&self, t, q, qd, qdd)`: (dtau/dq, dtau/dq').
+    pub inverse_dynamics: Option<TokenStream>,
+    /// `inverse_dynamics_parameter_derivatives(&self, t, q, qd, qdd, out)`: dtau/dp into
+    /// the column-major slice `out`.
+    pub parameters: Option<TokenStream>,
+    /// `constraint_tangent(&self, t, q, qd, qdd)`: (D, R_q, R_q').
+    pub constraint_tangent: Option<TokenStream>,
+    /// Whether the residual's tangent is the same program (a mechanism without constraint
+    /// rows): `residual_tangent` then calls `inverse_dynamics_derivatives` instead of
+    /// repeating its body.
+    pub tangent_is_inverse_dynamics: bool,
+}
+
 /// The bodies of the trait methods and the equations text.
 #[derive(Default)]
 pub struct Generated {
@@ -77,7 +96,7 @@ pub struct Generated {
     /// `residual_tangent(&self, t, q, qd, qdd, lambda)`: dF/dq and dF/dq' of the residual.
     pub residual_tangent: TokenStream,
     /// The bodies of the derivative methods (`crate::derivatives`).
-    pub derivatives: crate::derivatives::DerivativeBodies,
+    pub derivatives: DerivativeBodies,
     /// `draw_points(&self, t, q, out)`: the drawn points' world positions (empty without a
     /// drawing).
     pub draw_points: TokenStream,
@@ -145,7 +164,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
                 routines.sparsity(EvaluationOutput::PhiQ)?.entries,
             ),
             residual_tangent: b.tangent(eqs.n)?,
-            derivatives: crate::derivatives::DerivativeBodies {
+            derivatives: DerivativeBodies {
                 inverse_dynamics: b.inverse_dynamics_derivatives(eqs.n)?,
                 parameters: b.parameter_derivatives()?,
                 constraint_tangent: b.constraint_tangent(eqs.n, eqs.m)?,

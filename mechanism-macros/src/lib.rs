@@ -51,7 +51,19 @@ use proc_macro::TokenStream;
 /// ```
 #[proc_macro]
 pub fn mechanism(input: TokenStream) -> TokenStream {
-    expand::expand(input.into())
+    parse_and_expand(input.into())
         .unwrap_or_else(syn::Error::into_compile_error)
         .into()
+}
+
+/// Parses, checks, derives and expands one `mechanism!` invocation: a floating base through
+/// [`floating::expand`] (the `FloatingBase` trait), every other through [`expand::expand`].
+fn parse_and_expand(input: proc_macro2::TokenStream) -> syn::Result<proc_macro2::TokenStream> {
+    let mut decl = ast::parse(input)?;
+    check::check(&decl)?;
+    if decl.model.floating_root().is_some() {
+        floating::expand(&mut decl)
+    } else {
+        expand::expand(&mut decl)
+    }
 }

@@ -159,7 +159,12 @@ pub fn linearize_steady(
         state,
         structural,
     };
-    check_resolved(&lin)?;
+    check_resolved(
+        &lin.state,
+        &lin.eigenvalues,
+        &lin.reduced,
+        !lin.structural.is_empty(),
+    )?;
     Ok(lin)
 }
 

@@ -30,7 +30,6 @@
 
 use nalgebra::{Complex, DMatrix};
 
-use crate::algorithms::steady::SteadyLinearization;
 use crate::error::Error;
 use crate::linalg::relative_residual;
 
@@ -114,26 +113,27 @@ fn peel(state: &DMatrix<f64>, tolerance: f64) -> Vec<usize> {
     }
 }
 
-/// Every eigenvalue, those without the structural zeros and 0 if there are structural
-/// zeros, must be an eigenvalue of S within [`RESOLVED`] (module docs).
+/// Every eigenvalue of the state matrix `state` found (`eigenvalues`, and `reduced`, those
+/// without the structural zeros), and 0 if there are structural zeros (`structural`), must
+/// be an eigenvalue of S within [`RESOLVED`] (module docs).
 ///
 /// # Errors
 /// [`Error::Linearization`] naming the eigenvalue and its residual otherwise.
-pub fn check_resolved(lin: &SteadyLinearization) -> Result<(), Error> {
+pub fn check_resolved(
+    state: &DMatrix<f64>,
+    eigenvalues: &[Complex<f64>],
+    reduced: &[Complex<f64>],
+    structural: bool,
+) -> Result<(), Error> {
     let zero = [Complex::new(0.0, 0.0)];
-    let zero = if lin.structural.is_empty() {
-        &[][..]
-    } else {
-        &zero[..]
-    };
-    let candidates: Vec<Complex<f64>> = lin
-        .reduced
+    let zero = if structural { &zero[..] } else { &[][..] };
+    let candidates: Vec<Complex<f64>> = reduced
         .iter()
-        .chain(&lin.eigenvalues)
+        .chain(eigenvalues)
         .chain(zero)
         .copied()
         .collect();
-    let residuals = relative_residual(&lin.state, &candidates);
+    let residuals = relative_residual(state, &candidates);
     let worst = residuals
         .iter()
         .copied()

@@ -26,26 +26,11 @@
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{Arena, Id, SymbolId, Vec3};
 use crate::algebra::matrix::Matrix;
-use crate::algebra::rotation::Orientation;
 use crate::error::{AlgebraError, DerivationError};
 use crate::error::{Error, Result};
 use crate::mechanics::model::Model;
 
-/// A rigid body or a point mass.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Body {
-    /// Name, as declared.
-    pub name: String,
-    /// Mass m.
-    pub mass: Id,
-    /// Centre of mass r(q, t), world.
-    pub position: Vec3,
-    /// Orientation R(q, t) (body to world); `None` for a point mass.
-    pub orientation: Option<Orientation>,
-    /// Inertia tensor about the centre of mass in body axes (3x3); `None`: zero (a point
-    /// mass, or a body that carries points and axes only).
-    pub inertia: Option<Matrix>,
-}
+pub use crate::mechanics::rigid_body::Body;
 
 /// A linear spring between two points: Pi = 1/2 k (|P - Q| - L_0)^2.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -32,7 +32,7 @@ use crate::algebra::matrix::Matrix;
 use crate::error::Result;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
-use crate::mechanics::tangent::{motion_symbols, row_jacobians};
+use crate::mechanics::motion_jacobians::{motion_symbols, row_jacobians};
 use crate::mechanics::tree_derivatives::tree_derivatives;
 use crate::program::cse::Program;
 

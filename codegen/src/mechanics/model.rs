@@ -3,8 +3,8 @@
 use crate::algebra::expr::{Arena, Id};
 use crate::algebra::rotation::{Orientation, RotationFactor};
 use crate::error::Location;
-use crate::mechanics::bodies::Body;
 use crate::mechanics::drawing::Drawing;
+use crate::mechanics::rigid_body::Body;
 use crate::mechanics::tree::Link;
 pub use crate::syntax::parameter_range::ParameterRange;
 

@@ -562,7 +562,7 @@ mod tests {
     use crate::algebra::diff::Differentiator;
     use crate::algebra::eval::eval_matrix;
     use crate::algebra::expr::{SymbolId, SymbolKind};
-    use crate::mechanics::tangent::row_jacobians;
+    use crate::mechanics::motion_jacobians::row_jacobians;
     use crate::urdf::{UrdfOptions, urdf_to_mech};
 
     /// The recursion's derivatives equal those of the traced inverse dynamics (the
