@@ -93,7 +93,7 @@ pub struct BandedKkt {
     lambda: Vec<f64>,
     /// Solves that left rows out (rank below m).
     pub rank_deficient_solves: usize,
-    /// Multiply-adds of the rank factorisations ([`RowBasis::work`]) of all solves.
+    /// Multiply-adds of the rank factorisations (the rank basis's own count) of all solves.
     pub factor_work: u64,
 }
 

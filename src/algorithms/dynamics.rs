@@ -147,7 +147,7 @@ impl Dynamics {
         }
     }
 
-    /// Multiply-adds of every rank factorisation of Phi_q so far ([`RowBasis::work`]), the
+    /// Multiply-adds of every rank factorisation of Phi_q so far (the rank basis's own count), the
     /// banded route's included: the counted work that depends on the coordinate order.
     pub fn factor_work(&self) -> u64 {
         self.factor_work + self.banded.as_ref().map_or(0, |b| b.factor_work)

@@ -86,7 +86,7 @@ mod runtime {
         pub jacobian: Vec<(usize, usize)>,
         /// The solvers' order of the coordinates: the coordinate at each position, a
         /// fill-reducing order of the pattern of M + Phi_q^T Phi_q
-        /// ([`crate::linalg::coordinate_order`]), computed once with the pattern. Every
+        /// (the reverse Cuthill-McKee order of `linalg::band_order`), computed once with the pattern. Every
         /// run-time structure that works on ranges of coordinates (row spans, the rank
         /// basis, the projections' Gram matrices) works in this order; inputs and outputs
         /// stay in the declaration's.
