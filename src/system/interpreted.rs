@@ -333,6 +333,18 @@ impl Interpreted {
     }
 }
 
+/// The two n x n blocks of a tangent program's output `v` (row-major: d/dq, then d/dq')
+/// into `out`'s stiffness and damping; `None` where an entry is not finite, on which the
+/// caller falls back to finite differences (the residual's tangent) or says it has none.
+fn copy_tangent(v: &[f64], n: usize, out: &mut Tangent) -> Option<()> {
+    if !v.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    copy_block(v, n, n, &mut out.stiffness);
+    copy_block(&v[n * n..], n, n, &mut out.damping);
+    Some(())
+}
+
 /// Copies a row-major block of `rows x cols` values into `dst`.
 fn copy_block(src: &[f64], rows: usize, cols: usize, dst: &mut DMatrix<f64>) {
     for i in 0..rows {
@@ -441,15 +453,9 @@ impl System for Interpreted {
             lambda,
             ..self.at(t, q)
         };
-        self.tangent.as_ref()?.run(&values, |v| {
-            // On a non-finite tangent the caller falls back to finite differences.
-            if !v.iter().all(|x| x.is_finite()) {
-                return None;
-            }
-            copy_block(v, n, n, &mut out.stiffness);
-            copy_block(&v[n * n..], n, n, &mut out.damping);
-            Some(())
-        })
+        self.tangent
+            .as_ref()?
+            .run(&values, |v| copy_tangent(v, n, out))
     }
 
     fn constraint_tangent(
@@ -493,14 +499,7 @@ impl System for Interpreted {
         };
         self.inverse_dynamics_derivatives
             .as_ref()?
-            .run(&values, |v| {
-                if !v.iter().all(|x| x.is_finite()) {
-                    return None;
-                }
-                copy_block(v, n, n, &mut out.stiffness);
-                copy_block(&v[n * n..], n, n, &mut out.damping);
-                Some(())
-            })
+            .run(&values, |v| copy_tangent(v, n, out))
     }
 
     fn parameter_derivatives(
