@@ -12,5 +12,7 @@
 //! the form that costs rustc least per instruction (no annotations, each symbol read once,
 //! matrices assigned whole: [`OutputTarget::Columns`](crate::OutputTarget::Columns)).
 
+pub(crate) mod bindings;
 pub(crate) mod body;
 pub(crate) mod lanes;
+pub(crate) mod target;
