@@ -254,16 +254,18 @@ pub enum Error {
     },
     /// The adaptive step size collapsed (below the minimum, or as
     /// [`Error::StepSizeCollapse`]) next to a singular position of the constraints: the
-    /// weakest row independence w of Phi_q (`simulation/singular.rs`) was below 0.3 at the
-    /// last accepted step. Near one, an error eps in Phi (the drift left by the
+    /// weakest row independence w of Phi_q (a row's distance to the span of the rows
+    /// before it, over the largest norm that row has had in the run:
+    /// `simulation/singular.rs`) was below 0.3 at the last accepted step. Near one, an error eps in Phi (the drift left by the
     /// stabilisation, or a stage's truncation error) changes q'' by about eps / w^3, and a
     /// step whose stages come that close measures that noise instead of its truncation
     /// error. `remedy` names what passes it for the run's settings.
     #[error(
         "the step size collapsed to h = {h:.3e} s at t = {t} s next to a singular position \
-         of the constraints (Phi_q loses rank{}; weakest row independence {independence:.1e}; \
+         of the constraints (Phi_q loses rank{}{}; weakest row independence {independence:.1e}; \
          {passages} singular position(s) recorded so far): {remedy}",
-        match t_singular { Some(s) => format!(" at t = {s:.6} s"), None => String::new() }
+        match t_singular { Some(s) => format!(" at t = {s:.6} s"), None => String::new() },
+        if rows.is_empty() { String::new() } else { format!(" in {rows}") }
     )]
     StuckAtSingularPosition {
         /// Time reached (s).
@@ -272,13 +274,16 @@ pub enum Error {
         h: f64,
         /// The predicted time of the singular position (s), when w was still falling.
         t_singular: Option<f64>,
+        /// The rows of Phi that lose rank there, by their joint and component (`; `
+        /// between rows; `Box<str>` like `remedy`, to keep `Error` small).
+        rows: Box<str>,
         /// The weakest row independence at the last accepted step.
         independence: f64,
         /// Singular positions recorded so far in this run (the one it stopped at among them
         /// when it was recorded on the way in).
         passages: usize,
         /// What passes it with these settings.
-        remedy: String,
+        remedy: Box<str>,
     },
     /// The integrator reached its step limit before the end time.
     #[error("too many steps: {max_steps} steps reached at t = {t} s before the end time")]

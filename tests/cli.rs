@@ -42,6 +42,8 @@ mod parameter_values;
 mod run_values;
 #[path = "cli/scale.rs"]
 mod scale;
+#[path = "cli/singular_passages.rs"]
+mod singular_passages;
 #[path = "cli/streams.rs"]
 mod streams;
 

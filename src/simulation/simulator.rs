@@ -38,7 +38,7 @@ use crate::simulation::singular::SingularWatch;
 use crate::simulation::start::{check_options, initial_state, output_count};
 use crate::simulation::stepper::{Stepper, stepper_for};
 use crate::simulation::trajectory::Trajectory;
-use crate::system::System;
+use crate::system::{ConstraintRow, System};
 
 /// The result of [`simulate_with_events`].
 #[derive(Clone, Debug)]
@@ -329,13 +329,20 @@ impl<'a> Simulator<'a> {
             Some((t_singular, independence)),
         ) = (&e, stuck)
         {
+            let rows = self
+                .watch
+                .as_ref()
+                .map_or_else(Vec::new, SingularWatch::weak_rows);
+            let rows = row_names(&self.system().info().constraint_rows, &rows).into();
             return Error::StuckAtSingularPosition {
                 t: *t,
                 h: *h,
                 t_singular,
+                rows,
                 independence,
                 passages: self.trajectory.singular_passages.len(),
-                remedy: singular_remedy(self.options.stabilization, self.options.integrator.method),
+                remedy: singular_remedy(self.options.stabilization, self.options.integrator.method)
+                    .into(),
             };
         }
         match (e, self.options.integrator.method) {
@@ -457,6 +464,26 @@ impl<'a> Simulator<'a> {
         }
         Ok(())
     }
+}
+
+/// The rows `rows` of Phi by their joint and component (`joint (x)`), `; ` between them;
+/// four at most, then how many more (A02 lying flat loses 40 rows at once).
+fn row_names(named: &[ConstraintRow], rows: &[usize]) -> String {
+    const NAMED: usize = 4;
+    let mut names = rows
+        .iter()
+        .take(NAMED)
+        .map(|&r| match named.get(r) {
+            Some(c) if !c.component.is_empty() => format!("{} ({})", c.joint, c.component),
+            Some(c) => c.joint.clone(),
+            None => format!("row {}", r + 1),
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    if rows.len() > NAMED {
+        names.push_str(&format!(" and {} more rows", rows.len() - NAMED));
+    }
+    names
 }
 
 /// What passes a singular position where an adaptive run with `stabilization` stopped

@@ -6,9 +6,13 @@
 //!
 //! The test is the one [`crate::mobility()`] uses for the rank: the independence of each row
 //! (its distance to the span of the rows before it, relative to its norm;
-//! [`crate::linalg::RowBasis`]). Rows redundant at the start are left out; the **weakest**
-//! independence w of the others measures the distance to a singular configuration (w = 0
-//! at one, w ~ |t - t*| near a simple passage). After every accepted step with an end point
+//! [`crate::linalg::RowBasis`]), here times the row's norm over the largest norm it has had
+//! in the run, so that a row whose gradient vanishes counts as losing rank as much as one
+//! that turns into the others' span (a five-bar lying flat: every point on one line, and
+//! the closure row across that line has gradient zero; its independence alone stays 1).
+//! Rows redundant at the start are left out; the **weakest** value w of the others
+//! measures the distance to a singular configuration (w = 0 at one, w ~ |t - t*| near a
+//! simple passage). After every accepted step with an end point
 //! within [`COARSE`] of singular, the minimum of w inside the step is located on the
 //! integrator's dense output by golden-section search (24 evaluations, to 1e-5 of the step;
 //! w is unimodal on a step that short). A
@@ -48,6 +52,8 @@ pub(crate) struct SingularWatch {
     phi_t: Vec<f64>,
     /// Rows redundant at the start, left out of the weakest independence.
     redundant: Vec<bool>,
+    /// The largest norm |a_r| each row of Phi_q has had so far (see [`SingularWatch::measure`]).
+    scale: Vec<f64>,
     /// Row independences at the last measurement, and at the lowest w of the current search.
     current: Vec<f64>,
     best: Vec<f64>,
@@ -75,6 +81,7 @@ impl SingularWatch {
             phi_q: DMatrix::zeros(m, n),
             phi_t: vec![0.0; m],
             redundant: vec![false; m],
+            scale: vec![0.0; m],
             current: vec![1.0; m],
             best: vec![1.0; m],
             last: 1.0,
@@ -96,12 +103,26 @@ impl SingularWatch {
     }
 
     /// The weakest independence at (t, q); the row values stay in `current`.
+    ///
+    /// Row r's value is its independence (distance to the span of the rows before it over
+    /// its norm) times |a_r| / s_r, s_r the largest |a_r| seen so far in the run: the
+    /// distance of a_r to the span of the others relative to the row's own scale. A row
+    /// can lose rank by turning into the others' span or by vanishing (a five-bar lying
+    /// flat: every point on one line, so the row of the loop's closure across that line
+    /// has gradient zero); the independence alone sees only the first.
     pub(crate) fn measure(&mut self, system: &dyn System, t: f64, q: &[f64]) -> f64 {
         system.constraint_jacobian(t, q, &mut self.phi_q, &mut self.phi_t);
         self.basis.factor(&self.phi_q);
         let mut weakest = 1.0f64;
         for r in 0..self.current.len() {
-            self.current[r] = self.basis.independence(r);
+            let norm = self.phi_q.row(r).norm();
+            self.scale[r] = self.scale[r].max(norm);
+            let shrink = if self.scale[r] > 0.0 {
+                norm / self.scale[r]
+            } else {
+                1.0
+            };
+            self.current[r] = self.basis.independence(r) * shrink;
             if !self.redundant[r] {
                 weakest = weakest.min(self.current[r]);
             }
@@ -197,6 +218,16 @@ impl SingularWatch {
     /// that w is below [`COARSE`]; `None` farther away.
     pub(crate) fn stuck(&self) -> Option<(Option<f64>, f64)> {
         (self.last < COARSE).then_some((self.crossing, self.last))
+    }
+
+    /// The rows losing rank at the closest approach of the last accepted step (the rows
+    /// of the weakest independence, w, and those within max(sqrt(w), threshold) of zero,
+    /// as for a passage). Allocates: for a failure's message.
+    pub(crate) fn weak_rows(&self) -> Vec<usize> {
+        let rows = || (0..self.best.len()).filter(|&r| !self.redundant[r]);
+        let weakest = rows().map(|r| self.best[r]).fold(1.0f64, f64::min);
+        let cut = weakest.sqrt().max(self.threshold);
+        rows().filter(|&r| self.best[r] <= cut).collect()
     }
 
     fn keep(&mut self, theta: f64, w: f64, best_theta: &mut f64, best_w: &mut f64) {

@@ -49,11 +49,14 @@ fn error_against(run: &Simulation, reference: &Simulation, until: f64) -> (f64, 
 }
 
 /// A stop this sweep accepts: the step size collapsed (a singular passage the tolerance
-/// cannot be held through), named as such; never a non-finite value or a divergence.
+/// cannot be held through, named as one where the watch sees it), named as such; never a
+/// non-finite value or a divergence.
 fn named_stop(e: &Error) -> bool {
     matches!(
         e,
-        Error::StepSizeCollapse { .. } | Error::SpanTooLong { .. }
+        Error::StepSizeCollapse { .. }
+            | Error::StuckAtSingularPosition { .. }
+            | Error::SpanTooLong { .. }
     )
 }
 
