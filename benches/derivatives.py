@@ -3,6 +3,7 @@
 (docs/drafts/derivatives-benchmarks.md):
 
     python3 benches/derivatives.py [--rounds 5] [--robots panda,solo12,ur5] [--no-build]
+                                   [--builds portable,native]
 
 With CASADI_VENV naming a virtual environment with `cmeel-casadi-kin-dyn` (as
 benches/baselines/casadi/run.sh makes one), CasADi's automatic differentiation joins:
@@ -23,7 +24,8 @@ thread's CPU time per call (CLOCK_THREAD_CPUTIME_ID on both sides), and reports 
 table gives the median over the rounds and each ratio ours / Pinocchio. Pairs:
 inverse_dynamics_derivatives / computeRNEADerivatives (dtau/dq, dtau/dq'; Pinocchio's also fills
 M as dtau/dq''), forward_dynamics_derivatives / computeABADerivatives (dq''/dq, dq''/dq', M^-1;
-ours computes q'' first), and for scale inverse_dynamics / rnea, forward_dynamics / aba.
+ours computes q'' first; a second row times the trait's default for the same, which forms M and
+b and factors M densely at run time), and for scale inverse_dynamics / rnea, forward_dynamics / aba.
 """
 
 import argparse
@@ -45,6 +47,7 @@ URDFS = {"panda": "panda.urdf", "ur5": "ur5_robot.urdf", "solo12": "solo12.urdf"
 ROWS = [
     ("dtau/dq, dtau/dq'", "computeRNEADerivatives", "inverse_dynamics_derivatives"),
     ("dq''/dq, dq''/dq', M^-1", "computeABADerivatives", "forward_dynamics_derivatives"),
+    ("the same, dense at run time", "computeABADerivatives", "forward_dynamics_derivatives_dense"),
     ("tau (for scale)", "rnea", "inverse_dynamics"),
     ("q'' (for scale)", "aba", "forward_dynamics"),
 ]
@@ -97,13 +100,12 @@ def our_ops(robot):
                                      text=True).stdout)
 
 
-def programs(robot, exe):
-    """The three programs of one robot."""
-    return {
-        "portable": [os.path.join(TARGET, "release", "harness"), "derivatives", robot, "11"],
-        "native": [os.path.join(TARGET, "native", "release", "harness"), "derivatives", robot, "11"],
-        "pinocchio": [exe, robot, os.path.join(ROOT, "mechanisms", "urdf", URDFS[robot])],
-    }
+def programs(robot, exe, builds):
+    """The programs of one robot: Pinocchio's and our harness in each of `builds`."""
+    dirs = {"portable": os.path.join(TARGET, "release"), "native": os.path.join(TARGET, "native", "release")}
+    out = {b: [os.path.join(dirs[b], "harness"), "derivatives", robot, "11"] for b in builds}
+    out["pinocchio"] = [exe, robot, os.path.join(ROOT, "mechanisms", "urdf", URDFS[robot])]
+    return out
 
 
 CASADI = {"computeRNEADerivatives": "rnea_derivatives", "computeABADerivatives": "aba_derivatives"}
@@ -111,13 +113,17 @@ CASADI = {"computeRNEADerivatives": "rnea_derivatives", "computeABADerivatives":
 
 def table(robot, medians):
     """The markdown rows of one robot."""
-    pin, port, nat = medians["pinocchio"], medians["portable"], medians["native"]
+    pin = medians["pinocchio"]
     cas = medians.get("casadi")
     lines = []
     for label, theirs, ours in ROWS:
-        p, a, b = pin[theirs], port[ours], nat[ours]
-        c = f"{cas[CASADI[theirs]]:.0f}" if cas and theirs in CASADI else "-"
-        lines.append(f"| {robot} | {label} | {p:.0f} | {c} | {a:.0f} | {a / p:.2f}x | {b:.0f} | {b / p:.2f}x |")
+        p = pin[theirs]
+        c = f"{cas[CASADI[theirs]]:.0f}" if cas and theirs in CASADI and "dense" not in ours else "-"
+        cells = []
+        for build in ("portable", "native"):
+            t = medians.get(build, {}).get(ours)
+            cells += [f"{t:.0f}", f"{t / p:.2f}x"] if t is not None else ["-", "-"]
+        lines.append(f"| {robot} | {label} | {p:.0f} | {c} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -126,6 +132,7 @@ def main():
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--robots", default="panda,solo12,ur5")
     p.add_argument("--no-build", action="store_true", help="use the harness builds as they are")
+    p.add_argument("--builds", default="portable,native", help="our harness builds to time")
     args = p.parse_args()
     if not args.no_build:
         build()
@@ -138,7 +145,7 @@ def main():
     robots = args.robots.split(",")
     subjects, ops = [], {}
     for robot in robots:
-        progs = programs(robot, exe)
+        progs = programs(robot, exe, args.builds.split(","))
         cas, cas_ops = casadi(robot)
         if cas:
             progs["casadi"] = [cas]
@@ -163,14 +170,16 @@ def main():
         lines += table(robot, medians)
     lines += ["", "Operations per call (additions, multiplications, divisions, calls):", "",
               "| robot | n | tau | M + C q' + g | dtau/dq, dtau/dq' (emitted) | M q'' + C q' + g - tau | traced "
-              "recursion | analytical recursion | CasADi AD: rnea's | CasADi AD: aba's |",
-              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+              "recursion | analytical recursion | CasADi AD: rnea's | CasADi AD: aba's | dq''/dx, M^-1 (emitted) "
+              "| dq''/dx, M^-1 (dense default) |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for robot in robots:
         o, c = ops[robot]
         f = o["forms"]
         cells = [f"{f[k]:,}" if k in f else "-" for k in ("M q'' + C q' + g - tau", "traced recursion",
                                                           "analytical recursion")]
         cc = [f"{c[k]:,}" if c else "-" for k in ("rnea_derivatives", "aba_derivatives")]
+        cc += [f"{o[k]:,}" for k in ("forward_dynamics_derivatives", "dense_route")]
         lines.append(f"| {robot} | {o['n']} | {o['inverse_dynamics']:,} | {o['mass_and_bias']:,} | "
                      f"{o['inverse_dynamics_derivatives']:,} | " + " | ".join(cells + cc) + " |")
     print("\n".join(lines))

@@ -9,7 +9,13 @@
 //!   routines' programs (additions, multiplications, divisions and calls per call);
 //! - `forms`: {form: operations} of each form compiled alone (without the hoisting of
 //!   parameter-only values into the cache, which the emitted routine has: the emitted
-//!   count can be lower than its form's).
+//!   count can be lower than its form's);
+//! - `forward_dynamics`, `forward_dynamics_derivatives`: the emitted q'' and the one
+//!   program of dq''/dq, dq''/dq', M^-1 (q'' and the factorisation over M's pattern inside);
+//! - `dense_route`: what the trait's default (`mechanism::fixed::forward_dynamics_derivatives`)
+//!   runs for the same: `mass_and_bias`, `inverse_dynamics_derivatives` and its dense loops
+//!   at run time (Cholesky, q'', M^-1 = L^-T L^-1, two n-column solves, their negation),
+//!   the loops counted by formula ([`dense_ops`]).
 
 use mechanism_codegen::{
     Program, Role, UrdfOptions, compile, derive, full_tangent, inverse_dynamics_derivative_forms,
@@ -58,12 +64,34 @@ fn main() {
             format!("\"{name}\": {}", program.op_counts().total())
         })
         .collect();
+    let dense = ops(Role::MassAndBias) + emitted + dense_ops(eqs.n);
     println!(
         "{{\"n\": {}, \"inverse_dynamics\": {}, \"mass_and_bias\": {}, \
-         \"inverse_dynamics_derivatives\": {emitted}, \"forms\": {{{}}}}}",
+         \"inverse_dynamics_derivatives\": {emitted}, \"forms\": {{{}}}, \
+         \"forward_dynamics\": {}, \"forward_dynamics_derivatives\": {}, \
+         \"dense_route\": {dense}}}",
         eqs.n,
         ops(Role::InverseDynamics),
         ops(Role::MassAndBias),
-        counted.join(", ")
+        counted.join(", "),
+        ops(Role::ForwardDynamics),
+        ops(Role::ForwardDynamicsDerivatives),
     );
+}
+
+/// The floating-point operations of the dense loops of `mechanism::fixed`'s
+/// `forward_dynamics_derivatives` for n coordinates (a multiply-add counted as two, a
+/// square root or division as one, no entry skipped as zero): the Cholesky factor
+/// L L^T = M, q'' = M^-1 (u - b) (n subtractions, two triangular solves), M^-1 = W^T W with
+/// W = L^-1, and -M^-1 B for two n-column B (two triangular solves per column, the
+/// reciprocal pivots once per row, n^2 negations each).
+fn dense_ops(n: usize) -> usize {
+    let cholesky: usize = (0..n).map(|j| 2 * j + 1 + (n - 1 - j) * (2 * j + 1)).sum();
+    let solve = n + 2 * (n * (n - 1) + n);
+    let w: usize = (0..n)
+        .map(|j| 1 + (j + 1..n).map(|i| 2 * (i - j) + 1).sum::<usize>())
+        .sum();
+    let product: usize = (0..n).map(|i| (i + 1) * 2 * (n - i)).sum();
+    let columns = 2 * (n * (n - 1) * n + n * n + n) + n * n;
+    cholesky + solve + w + product + 2 * columns
 }

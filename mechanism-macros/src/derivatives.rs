@@ -1,8 +1,10 @@
 //! The derivative methods of the emitted `impl Mechanism`: the inverse dynamics'
 //! derivatives by the motion (`inverse_dynamics_derivatives`) and by the parameters
 //! (`inverse_dynamics_parameter_derivatives`), and the constraint rows' tangent
-//! (`constraint_tangent`), each from its role's program. The trait's defaults build the
-//! forward dynamics' and the constrained dynamics' derivatives on them.
+//! (`constraint_tangent`), and the forward dynamics' derivatives
+//! (`forward_dynamics_derivatives`, one program with q'' and M's factorisation inside), each
+//! from its role's program. The trait's defaults build the constrained dynamics'
+//! derivatives on them.
 
 use mechanism_codegen::{OutputTarget, Role, emit_body};
 use proc_macro2::TokenStream;
@@ -25,6 +27,55 @@ impl Bodies<'_> {
             &[(quote!(position), n, n), (quote!(velocity), n, n)],
         )
         .map(Some)
+    }
+
+    /// `Some((dq''/dq, dq''/dq', M^-1))` from one program (q'' and the factorisation of M
+    /// over its pattern inside it) when every pivot of M = L^T D L is finite and above
+    /// 1e-14 of its diagonal entry (as `forward_dynamics`) and every entry is finite, else
+    /// `None`; no body (the trait's default, a dense factorisation at run time) for a
+    /// mechanism without the routine or past [`TANGENT_INSTRUCTIONS_MAX`].
+    pub(crate) fn forward_dynamics_derivatives(
+        &self,
+        n: usize,
+    ) -> mechanism_codegen::Result<Option<TokenStream>> {
+        let role = Role::ForwardDynamicsDerivatives;
+        if self.routines.get(role).is_none() || self.too_large(role)? {
+            return Ok(None);
+        }
+        let (program, bindings) = self.routine(role)?;
+        let names = [
+            quote!(dq),
+            quote!(dqd),
+            quote!(inverse),
+            quote!(pivots),
+            quote!(diagonal),
+        ];
+        let targets: Vec<_> = names
+            .iter()
+            .map(|x| Self::place(program, x.clone()))
+            .collect();
+        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        let m = quote!(#krate::__private::SMatrix::<f64, #n, #n>);
+        let v = quote!(#krate::__private::SVector::<f64, #n>);
+        Ok(Some(quote! {
+            let _ = t;
+            #cache
+            let mut dq = #m::zeros();
+            let mut dqd = #m::zeros();
+            let mut inverse = #m::zeros();
+            let mut pivots = #v::zeros();
+            let mut diagonal = #v::zeros();
+            #body
+            let definite = pivots
+                .iter()
+                .zip(diagonal.iter())
+                .all(|(d, m)| d.is_finite() && *d > 1e-14 * *m);
+            let finite = [&dq, &dqd, &inverse]
+                .iter()
+                .all(|x| x.iter().fold(true, |ok, v| ok & v.is_finite()));
+            (definite && finite).then_some((dq, dqd, inverse))
+        }))
     }
 
     /// Whether the program of `role` is past [`TANGENT_INSTRUCTIONS_MAX`].
@@ -91,7 +142,7 @@ pub fn methods(krate: &TokenStream, n: usize, m: usize, d: &DerivativeBodies) ->
         ("t", quote!(f64)),
         ("q", sv.clone()),
         ("qd", sv.clone()),
-        ("qdd", sv),
+        ("qdd", sv.clone()),
     ];
     let mut with_out = motion.to_vec();
     with_out.push(("out", quote!(&mut [f64])));
@@ -101,6 +152,20 @@ pub fn methods(krate: &TokenStream, n: usize, m: usize, d: &DerivativeBodies) ->
             "inverse_dynamics_derivatives",
             &motion,
             quote!(-> (#smn, #smn)),
+            body.clone(),
+        ));
+    }
+    if let Some(body) = &d.forward_dynamics {
+        let effort = [
+            ("t", quote!(f64)),
+            ("q", sv.clone()),
+            ("qd", sv.clone()),
+            ("effort", sv.clone()),
+        ];
+        methods.push(Method::new(
+            "forward_dynamics_derivatives",
+            &effort,
+            quote!(-> ::core::option::Option<(#smn, #smn, #smn)>),
             body.clone(),
         ));
     }

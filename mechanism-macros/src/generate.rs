@@ -53,6 +53,9 @@ pub struct DerivativeBodies {
     pub parameters: Option<TokenStream>,
     /// `constraint_tangent(&self, t, q, qd, qdd)`: (D, R_q, R_q').
     pub constraint_tangent: Option<TokenStream>,
+    /// `forward_dynamics_derivatives(&self, t, q, qd, effort)`: (dq''/dq, dq''/dq', M^-1)
+    /// (a mechanism without constraint rows).
+    pub forward_dynamics: Option<TokenStream>,
     /// Whether the residual's tangent is the same program (a mechanism without constraint
     /// rows): `residual_tangent` then calls `inverse_dynamics_derivatives` instead of
     /// repeating its body.
@@ -170,6 +173,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
                 inverse_dynamics: b.inverse_dynamics_derivatives(eqs.n)?,
                 parameters: b.parameter_derivatives()?,
                 constraint_tangent: b.constraint_tangent(eqs.n, eqs.m)?,
+                forward_dynamics: b.forward_dynamics_derivatives(eqs.n)?,
                 tangent_is_inverse_dynamics: routines.program(Role::Tangent)?
                     == routines.program(Role::InverseDynamicsDerivatives)?,
             },
@@ -290,7 +294,7 @@ impl Bodies<'_> {
     /// Where an output matrix `name` (a nalgebra matrix starting at zero) is written: entry
     /// by entry, zeros skipped; in a body of more than [`LEAN_ABOVE`] instructions, all at
     /// once into its storage (one statement instead of one indexed store per entry).
-    fn place(program: &Program, name: TokenStream) -> OutputTarget {
+    pub(crate) fn place(program: &Program, name: TokenStream) -> OutputTarget {
         if program.instructions().len() > LEAN_ABOVE {
             OutputTarget::Columns {
                 name: quote!(#name.data.0),

@@ -118,6 +118,16 @@ fn json<T: Mechanism<N, 0> + Default, const N: usize>(rounds: usize) -> String {
                 black_box(r.forward_dynamics_derivatives(0.0, &s.q, &s.qd, &s.tau));
             }),
         ),
+        (
+            // The trait's default for the same (M and b, then a dense factorisation and
+            // solves at run time): the route the emitted program replaces, for comparison.
+            "forward_dynamics_derivatives_dense",
+            Box::new(|s: &State<N>| {
+                black_box(mechanism::fixed::forward_dynamics_derivatives(
+                    r, 0.0, &s.q, &s.qd, &s.tau,
+                ));
+            }),
+        ),
     ];
     // One warm-up round, then the timed ones.
     for (_, f) in routines.iter_mut() {

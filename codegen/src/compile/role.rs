@@ -6,6 +6,7 @@ use crate::compile::sources::Source;
 use crate::error::{Error, ProgramError, Result};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
+use crate::mechanics::forward_derivatives::forward_dynamics_derivatives;
 use crate::mechanics::forward_dynamics::forward_dynamics;
 use crate::mechanics::lagrange::coriolis_matrix_of;
 use crate::mechanics::model::Model;
@@ -100,6 +101,12 @@ pub enum Role {
     /// (two n x n outputs, [`crate::InverseDynamicsDerivatives`]): `inverse_dynamics_derivatives`.
     /// Compiled with [`Tangents::Derivatives`].
     InverseDynamicsDerivatives,
+    /// dq''/dq, dq''/dq' and M^-1 (three n x n outputs) at the effort u (read from
+    /// `effort`), then the pivots D of M = L^T D L and M's diagonal in the same order (two
+    /// n x 1 outputs), in one program through the factorisation that follows M's pattern
+    /// (`mechanics::forward_derivatives`): `forward_dynamics_derivatives`. Compiled with
+    /// [`Tangents::Derivatives`] for a mechanism without constraint rows only.
+    ForwardDynamicsDerivatives,
     /// dtau_id/dp (n x p, the declared parameters in declaration order):
     /// `inverse_dynamics_parameter_derivatives`. Compiled with [`Tangents::Derivatives`].
     ParameterDerivatives,
@@ -200,6 +207,9 @@ impl Role {
         ]);
         if eqs.m == 0 {
             roles.push(Role::ForwardDynamics);
+            if tangents == Tangents::Derivatives {
+                roles.push(Role::ForwardDynamicsDerivatives);
+            }
         }
         roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
         roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
@@ -248,7 +258,7 @@ impl Role {
                 Source::Acceleration(_),
             ) => true,
             (Role::Tangent, Source::Multiplier(_)) => true,
-            (Role::ForwardDynamics, Source::Effort(_)) => true,
+            (Role::ForwardDynamics | Role::ForwardDynamicsDerivatives, Source::Effort(_)) => true,
             _ => false,
         }
     }
@@ -303,6 +313,15 @@ impl Role {
             Role::InverseDynamicsDerivatives => {
                 let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;
                 vec![dynamics.position.clone(), dynamics.velocity.clone()]
+            }
+            Role::ForwardDynamicsDerivatives => {
+                let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;
+                let effort: Vec<_> = effort_symbols(&mut model.arena, eqs.n)
+                    .into_iter()
+                    .map(|s| model.arena.symbol_node(s))
+                    .collect();
+                let order = elimination_order(model);
+                forward_dynamics_derivatives(model, eqs, dynamics, &effort, &order)?
             }
             Role::ParameterDerivatives => {
                 let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;

@@ -48,6 +48,151 @@ fn elimination_parents(lower: &[Vec<usize>]) -> Vec<Option<usize>> {
     parent
 }
 
+/// M = L^T D L over M's pattern (module docs), in elimination order: what a solve with M
+/// and M^-1 read.
+pub(crate) struct Factor {
+    /// Coordinate of each position.
+    order: Vec<usize>,
+    /// Elimination parent of each position (`None` for a root).
+    parent: Vec<Option<usize>>,
+    /// Row k: L_kj for j on k's chain below k (0 elsewhere below), D_kk at j = k.
+    h: Vec<Vec<Id>>,
+    /// 1/D_kk, or 0 where D_kk is identically 0.
+    inverse: Vec<Id>,
+}
+
+impl Factor {
+    /// The factorisation of `mass` with the coordinates taken in `order` (a permutation of
+    /// 0..n, parents before children).
+    pub(crate) fn new(a: &mut Arena, mass: &Matrix, order: &[usize]) -> Result<Factor> {
+        let n = order.len();
+        // H in elimination order, lower triangle (row >= column).
+        let mut h: Vec<Vec<Id>> = (0..n)
+            .map(|k| (0..=k).map(|j| mass.get(order[k], order[j])).collect())
+            .collect();
+        let lower: Vec<Vec<usize>> = (0..n)
+            .map(|k| (0..k).filter(|&j| !a.is_zero(h[k][j])).collect())
+            .collect();
+        let parent = elimination_parents(&lower);
+        let mut factor = Factor {
+            order: order.to_vec(),
+            parent,
+            h: Vec::new(),
+            inverse: vec![a.int(0); n],
+        };
+        // 1/D_kk, or 0 where D_kk is identically 0 (M singular at every q: the pivot, an
+        // output, makes the caller refuse q'').
+        for k in (0..n).rev() {
+            if !a.is_zero(h[k][k]) {
+                factor.inverse[k] = a.powi(h[k][k], -1)?;
+            }
+            let inverse = factor.inverse[k];
+            for i in factor.chain(factor.parent[k]) {
+                let hki = a.mul2(h[k][i], inverse);
+                let l = a.named(hki);
+                for j in factor.chain(Some(i)) {
+                    let t = a.mul2(l, h[k][j]);
+                    let d = a.sub(h[i][j], t);
+                    h[i][j] = a.named(d);
+                }
+                h[k][i] = l;
+            }
+        }
+        factor.h = h;
+        Ok(factor)
+    }
+
+    /// The positions from `i` down its elimination chain (empty for `None`).
+    fn chain(&self, mut i: Option<usize>) -> Vec<usize> {
+        let mut out = Vec::new();
+        while let Some(x) = i {
+            out.push(x);
+            i = self.parent[x];
+        }
+        out
+    }
+
+    /// The pivots D_kk, in elimination order.
+    pub(crate) fn pivots(&self) -> Matrix {
+        Matrix::column((0..self.order.len()).map(|k| self.h[k][k]).collect())
+    }
+
+    /// The multiplications of one [`Factor::solve`]: two per entry of L below the diagonal
+    /// (one per sweep), one per pivot.
+    pub(crate) fn solve_multiplications(&self) -> usize {
+        let below: usize = (0..self.order.len())
+            .map(|k| self.chain(self.parent[k]).len())
+            .sum();
+        2 * below + self.order.len()
+    }
+
+    /// M^-1 x for `x` in elimination order (the result too), by the sweeps of the module
+    /// docs; -M^-1 x with `negate` (the sign taken at the pivots' scaling, which costs no
+    /// operation there).
+    pub(crate) fn solve(&self, a: &mut Arena, mut x: Vec<Id>, negate: bool) -> Vec<Id> {
+        let n = x.len();
+        for i in (0..n).rev() {
+            for j in self.chain(self.parent[i]) {
+                let t = a.mul2(self.h[i][j], x[i]);
+                let d = a.sub(x[j], t);
+                x[j] = a.named(d);
+            }
+        }
+        // Made only when asked: a new node here would renumber the q'' program's.
+        let minus_one = negate.then(|| a.int(-1));
+        for (xi, &inverse) in x.iter_mut().zip(&self.inverse) {
+            *xi = match minus_one {
+                Some(m) => a.mul(&[m, *xi, inverse]),
+                None => a.mul2(*xi, inverse),
+            };
+        }
+        for i in 0..n {
+            let mut terms = vec![x[i]];
+            for j in self.chain(self.parent[i]) {
+                let t = a.mul2(self.h[i][j], x[j]);
+                terms.push(a.neg(t));
+            }
+            let s = a.add(&terms);
+            x[i] = a.named(s);
+        }
+        x
+    }
+
+    /// M^-1 (n x n, by coordinate), its lower triangle in elimination order from
+    /// L M^-1 = D^-1 L^-T: for i >= j, (M^-1)_ij = [i = j] / D_ii - sum_k L_ik (M^-1)_kj
+    /// over k on i's chain, where (M^-1)_kj for k < j is the entry (j, k) found before
+    /// (M^-1 is symmetric); the upper triangle mirrored. Entries where i's and j's chains
+    /// never meet are 0 (no operation): M^-1 of a forest is block diagonal as M is.
+    #[allow(clippy::needless_range_loop)] // (i, j) index two triangles, read both ways.
+    pub(crate) fn inverse(&self, a: &mut Arena) -> Matrix {
+        let n = self.order.len();
+        let mut lower: Vec<Vec<Id>> = (0..n).map(|i| vec![a.int(0); i + 1]).collect();
+        for j in 0..n {
+            for i in j..n {
+                let mut terms = Vec::new();
+                if i == j {
+                    terms.push(self.inverse[i]);
+                }
+                for k in self.chain(self.parent[i]) {
+                    let x = if k >= j { lower[k][j] } else { lower[j][k] };
+                    let t = a.mul2(self.h[i][k], x);
+                    terms.push(a.neg(t));
+                }
+                let s = a.add(&terms);
+                lower[i][j] = a.named(s);
+            }
+        }
+        let mut out = Matrix::zeros(a, n, n);
+        for (row, &r) in lower.iter().zip(&self.order) {
+            for (&x, &c) in row.iter().zip(&self.order) {
+                out.set(r, c, x);
+                out.set(c, r, x);
+            }
+        }
+        out
+    }
+}
+
 /// q'' = M^-1 (u - b) and the pivots of M = L^T D L (module docs), with the coordinates
 /// taken in `order` (a permutation of 0..n, parents before children).
 pub(crate) fn forward_dynamics(
@@ -57,75 +202,23 @@ pub(crate) fn forward_dynamics(
     effort: &[Id],
     order: &[usize],
 ) -> Result<ForwardDynamics> {
-    let n = order.len();
-    // H in elimination order, lower triangle (row >= column).
-    let mut h: Vec<Vec<Id>> = (0..n)
-        .map(|k| (0..=k).map(|j| mass.get(order[k], order[j])).collect())
-        .collect();
-    let lower: Vec<Vec<usize>> = (0..n)
-        .map(|k| (0..k).filter(|&j| !a.is_zero(h[k][j])).collect())
-        .collect();
-    let parent = elimination_parents(&lower);
-    let chain = |mut i: Option<usize>| {
-        let mut out = Vec::new();
-        while let Some(x) = i {
-            out.push(x);
-            i = parent[x];
-        }
-        out
-    };
-    // 1/D_kk, or 0 where D_kk is identically 0 (M singular at every q: the pivot, an
-    // output, makes the caller refuse q'').
-    let mut inverse = vec![a.int(0); n];
-    for k in (0..n).rev() {
-        if !a.is_zero(h[k][k]) {
-            inverse[k] = a.powi(h[k][k], -1)?;
-        }
-        let inverse = inverse[k];
-        for i in chain(parent[k]) {
-            let hki = a.mul2(h[k][i], inverse);
-            let l = a.named(hki);
-            for j in chain(Some(i)) {
-                let t = a.mul2(l, h[k][j]);
-                let d = a.sub(h[i][j], t);
-                h[i][j] = a.named(d);
-            }
-            h[k][i] = l;
-        }
-    }
-    let mut x: Vec<Id> = order
+    let factor = Factor::new(a, mass, order)?;
+    let x: Vec<Id> = order
         .iter()
         .map(|&c| {
             let d = a.sub(effort[c], bias.get(c, 0));
             a.named(d)
         })
         .collect();
-    for i in (0..n).rev() {
-        for j in chain(parent[i]) {
-            let t = a.mul2(h[i][j], x[i]);
-            let d = a.sub(x[j], t);
-            x[j] = a.named(d);
-        }
-    }
-    for (xi, &inverse) in x.iter_mut().zip(&inverse) {
-        *xi = a.mul2(*xi, inverse);
-    }
-    for i in 0..n {
-        let mut terms = vec![x[i]];
-        for j in chain(parent[i]) {
-            let t = a.mul2(h[i][j], x[j]);
-            terms.push(a.neg(t));
-        }
-        let s = a.add(&terms);
-        x[i] = a.named(s);
-    }
+    let x = factor.solve(a, x, false);
+    let n = order.len();
     let mut accelerations = vec![a.int(0); n];
     for (k, &c) in order.iter().enumerate() {
         accelerations[c] = x[k];
     }
     Ok(ForwardDynamics {
         accelerations: Matrix::column(accelerations),
-        pivots: Matrix::column((0..n).map(|k| h[k][k]).collect()),
+        pivots: factor.pivots(),
     })
 }
 
