@@ -160,6 +160,29 @@ pub trait System: Kinematic {
         None
     }
 
+    /// Forward dynamics of a mechanism without constraint rows by its own generated routine:
+    /// q'' = M(q)^-1 (u - b) for the effort `effort` u (n values; b = C q' + g - tau) into
+    /// `qdd`, and tau into `forces` (n values each), without evaluating the dense M: for a
+    /// tree of links the articulated-body recursion or the factorisation M = L^T D L over
+    /// M's pattern, whichever counts fewer operations (the macro's
+    /// [`crate::Mechanism::forward_dynamics`]). `Some(false)` when M is not positive
+    /// definite at q beyond round-off (a pivot not above 1e-14 of its reference) or a
+    /// result is not finite: the caller then solves from [`System::evaluate`], which
+    /// reports why. `None` when not provided (the default, and for a mechanism with
+    /// constraint rows); [`crate::Interpreted`] provides it.
+    fn forward_dynamics(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        effort: &[f64],
+        qdd: &mut [f64],
+        forces: &mut [f64],
+    ) -> Option<bool> {
+        let _ = (t, q, qd, effort, qdd, forces);
+        None
+    }
+
     /// The placement of link frame `frame` (an index into [`SystemInfo::frames`]) at q:
     /// `rotation` R, the link axes in world axes, and `position` p, the frame's origin in
     /// the world, so that a point with link coordinates r is at p + R r. `None` for an

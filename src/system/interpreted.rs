@@ -22,6 +22,7 @@ use mechanism_codegen::{
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use crate::system::constraint_rows::ConstraintRows;
+use crate::system::forward_routine::ForwardRoutine;
 use crate::system::model_info::system_info;
 use crate::system::parameters::Parameters;
 use crate::system::robotics::Robotics;
@@ -70,6 +71,10 @@ pub struct Interpreted {
     /// The inverse dynamics and the link frames' placements and Jacobians, with their own
     /// parameter cache, when asked for ([`Interpreted::from_model_with`]).
     robotics: Option<Box<Robotics>>,
+    /// The generated forward dynamics and tau, with their own parameter cache, for a
+    /// mechanism without constraint rows whose forward dynamics is within the budget
+    /// ([`System::forward_dynamics`]).
+    forward: Option<Box<ForwardRoutine>>,
 }
 
 impl std::fmt::Debug for Interpreted {
@@ -238,6 +243,7 @@ impl Interpreted {
             true => Some(Box::new(Robotics::new(&mut model, &eqs)?)),
             false => None,
         };
+        let forward = ForwardRoutine::new(&mut model, &eqs)?.map(Box::new);
         let (n, m) = (model.coordinates.len(), eqs.m);
         let full_len = EvaluationOutput::ORDER
             .iter()
@@ -307,6 +313,7 @@ impl Interpreted {
             routines: routines.fingerprint(),
             info: system_info(&model, m),
             robotics,
+            forward,
         }
         .with_initial_values())
     }
@@ -383,6 +390,9 @@ impl System for Interpreted {
             // The same value the check above accepted, for the routines' own cache.
             robotics.set_parameter(index, value)?;
         }
+        if let Some(forward) = &mut self.forward {
+            forward.set_parameter(index, value)?;
+        }
         Ok(())
     }
 
@@ -419,6 +429,19 @@ impl System for Interpreted {
     ) -> Option<()> {
         self.robotics.as_ref()?.inverse_dynamics(t, q, qd, qdd, out);
         Some(())
+    }
+
+    fn forward_dynamics(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        effort: &[f64],
+        qdd: &mut [f64],
+        forces: &mut [f64],
+    ) -> Option<bool> {
+        let forward = self.forward.as_ref()?;
+        Some(forward.solve(t, q, qd, effort, qdd, forces))
     }
 
     fn frame_placement(

@@ -23,6 +23,8 @@ mod drawing;
 #[cfg(feature = "std")]
 mod dynamic;
 pub(crate) mod floating;
+#[cfg(feature = "interpreter")]
+mod forward_routine;
 #[cfg(feature = "std")]
 mod info;
 #[cfg(feature = "interpreter")]

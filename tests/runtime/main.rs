@@ -21,6 +21,7 @@ mod fixed;
 mod integrators;
 mod interpreted_constraints;
 mod interpreted_errors;
+mod interpreted_forward;
 mod interpreted_tangent;
 mod interpreted_threads;
 mod inverse;

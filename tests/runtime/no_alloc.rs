@@ -135,9 +135,14 @@ fn step_loop_allocates_nothing() {
     // power lambda . Phi_t that W integrates.
     let driven: &dyn System =
         &Interpreted::from_source(&crate::common::driven_slider_crank_source()).unwrap();
+    // No constraint rows: every stage's q'' by the generated forward dynamics' tape
+    // (`System::forward_dynamics`), the samples by the evaluation.
+    let panda_interpreted: &dyn System =
+        &Interpreted::from_source(builtin_source("panda").unwrap()).unwrap();
     let cases: Vec<(&dyn System, Method, Stabilization)> = cases
         .into_iter()
         .chain([
+            (panda_interpreted, Method::Dop853, Stabilization::None),
             (bicycle.as_ref(), Method::Dop853, Stabilization::Projection),
             (
                 bicycle_interpreted,

@@ -219,6 +219,42 @@ fn refuse_floating(model: &Model, what: &str) -> Result<()> {
     }))
 }
 
+/// The routines of the generated forward dynamics alone ([`Role::ForwardDynamics`]: q'',
+/// the pivots and their references, for a mechanism without constraint rows) and tau
+/// ([`Role::Forces`], for the power tau . q' an integration also needs), with their
+/// parameter cache: what the interpreter's right-hand side runs instead of evaluating the
+/// dense M and factoring it. `None` for a mechanism with constraint rows. As for
+/// [`compile_robotics`], the cache slots are numbered among these roles only, so the
+/// programs equal [`compile`]'s for the same roles up to the slot numbers.
+///
+/// # Errors
+/// As [`compile`].
+///
+/// # Example
+/// ```
+/// use mechanism_codegen::{Role, compile_forward_dynamics, derive, parse_model_str};
+///
+/// let mut model = parse_model_str(
+///     "pub struct Arm;
+///      parameters { m = 1.0; l = 0.5; }
+///      link upper {
+///          joint = revolute(th, [0, 0, 1]);
+///          mass = m; com = [l/2, 0, 0]; inertia = diag(0, m*l^2/12, m*l^2/12);
+///      }",
+/// )?;
+/// let eqs = derive(&mut model)?;
+/// let routines = compile_forward_dynamics(&mut model, &eqs)?.expect("no constraint rows");
+/// assert!(routines.get(Role::ForwardDynamics).is_some());
+/// assert!(routines.get(Role::Evaluation).is_none());
+/// # Ok::<(), mechanism_codegen::Error>(())
+/// ```
+pub fn compile_forward_dynamics(model: &mut Model, eqs: &Equations) -> Result<Option<Routines>> {
+    if eqs.m > 0 {
+        return Ok(None);
+    }
+    compile_roles(model, eqs, None, &[Role::ForwardDynamics, Role::Forces]).map(Some)
+}
+
 /// The stage's steps (module docs) for `roles`, in their order; a budget error of a tree
 /// of links says what applies to links.
 fn compile_roles(
