@@ -609,6 +609,7 @@ mod tests {
     use super::*;
     use crate::Interpreted;
     use crate::builtin::builtin_source;
+    use crate::system::Kinematic;
 
     /// An integrator's stage of an unconstrained mechanism takes the generated forward
     /// dynamics, with the q'' of the dense route (the Panda's cond(M) < 1e3: 1e-12).
