@@ -220,6 +220,9 @@ pub struct Summary {
     pub augmented_solves: usize,
     /// Right-hand sides solved by the banded direct route instead of LU.
     pub banded_solves: usize,
+    /// Right-hand sides solved by the mechanism's generated forward dynamics (no constraint
+    /// rows: q'' without evaluating or factoring M).
+    pub generated_solves: usize,
     /// Mobility at the assembled configuration.
     pub mobility: MobilityReport,
     /// Singular configurations the motion passed through, in time order.
@@ -280,6 +283,7 @@ impl Summary {
             stabilization: settings.stabilization.clone(),
             augmented_solves: stats.augmented_solves,
             banded_solves: stats.banded_solves,
+            generated_solves: stats.generated_solves,
             mobility: trajectory
                 .mobility
                 .as_ref()
@@ -323,6 +327,7 @@ impl Summary {
             stabilization: settings.stabilization.clone(),
             augmented_solves: 0,
             banded_solves: 0,
+            generated_solves: 0,
             mobility: MobilityReport::default(),
             singular_passages: Vec::new(),
             joint_limit_excursions: Vec::new(),

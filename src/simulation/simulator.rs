@@ -287,6 +287,7 @@ impl<'a> Simulator<'a> {
         stats.rhs_evaluations = self.rhs.dynamics.evaluations;
         stats.augmented_solves = self.rhs.dynamics.augmented_solves;
         stats.banded_solves = self.rhs.dynamics.banded_solves;
+        stats.generated_solves = self.rhs.dynamics.generated_solves;
         stats.factor_work = self.rhs.dynamics.factor_work() + self.rhs.projector.factor_work;
         stats.rhs_evaluations += self.stepper.own_evaluations();
         Simulation {

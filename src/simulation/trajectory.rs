@@ -49,6 +49,9 @@ pub struct SolverStats {
     /// Right-hand sides solved by the banded direct route (chains and windows whose rows
     /// order into a narrow band).
     pub banded_solves: usize,
+    /// Right-hand sides solved by the system's generated forward dynamics (a mechanism
+    /// without constraint rows: no M evaluated or factored).
+    pub generated_solves: usize,
     /// Multiply-adds of the run's rank factorisations of Phi_q (`RowBasis`) and of its
     /// projections' Gram matrices Phi_q Phi_q^T: the counted work of the structures whose
     /// cost depends on the solvers' coordinate order (a count, the same on every machine).

@@ -117,3 +117,48 @@ fn a_run_stuck_at_a_singular_position_names_it_and_what_passes_it() {
     assert!(line.contains("--stabilization projection"), "{line}");
     assert!(line.contains("t = 0.72"), "{line}");
 }
+
+/// A serial chain of 45 revolute links (no constraint rows, n past the dense LU routes'
+/// 40): `simulate` solves every integration stage by the mechanism's generated forward
+/// dynamics and says so in summary.json; only the start and the output samples (which
+/// record T and Pi from the evaluation) take the dense route, one solve each.
+#[test]
+fn a_long_chain_is_integrated_by_its_generated_forward_dynamics() {
+    let cwd = fresh_cwd();
+    let axes = ["[0, 0, 1]", "[0, 1, 0]", "[1, 0, 0]"];
+    let mut text =
+        String::from("pub struct Chain45;\nparameters { g = 9.81; }\ngravity = [0, 0, -g];\n");
+    for i in 1..=45 {
+        let parent = match i {
+            1 => String::new(),
+            _ => format!("parent = l{}; xyz = [0, 0, 0.1]; ", i - 1),
+        };
+        text += &format!(
+            "link l{i} {{ {parent}joint = revolute(q{i}, {}); mass = 1; com = [0.01, 0, 0.05]; \
+             inertia = [[0.0042, 0.0001, -0.0002], [0.0001, 0.0041, 0.0003], [-0.0002, 0.0003, 0.0008]]; }}\n",
+            axes[(i - 1) % 3]
+        );
+    }
+    std::fs::write(cwd.join("chain45.mech"), text).unwrap();
+    let o = mechanism_in(
+        &cwd,
+        &[
+            "simulate",
+            "chain45.mech",
+            "--t-end",
+            "0.05",
+            "--figures",
+            "none",
+            "--no-animation",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(cwd.join("out").join("chain45").join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    let count = |k: &str| summary[k].as_u64().unwrap_or_else(|| panic!("{k}"));
+    // 0.05 s at 100 samples a second: 6 samples, t = 0 included.
+    assert!(count("generated_solves") > 0);
+    assert_eq!(count("generated_solves") + 6 + 1, count("rhs_evaluations"));
+}

@@ -122,6 +122,7 @@ fn summary_json_has_every_key_with_its_value() {
         "stabilization",
         "augmented_solves",
         "banded_solves",
+        "generated_solves",
         "mobility",
         "singular_passages",
         "joint_limit_excursions",

@@ -86,6 +86,7 @@ pub fn trajectory(name: &str) -> Trajectory {
         wall_time_s: 0.125,
         augmented_solves: 0,
         banded_solves: 0,
+        generated_solves: 0,
         factor_work: 0,
     };
     tr

@@ -425,3 +425,23 @@ pub fn driven_slider_crank_source() -> String {
         .replace("independent { th = pi/4; der(th) = 0.0; }", "")
         .replace("forces { th: tau0 - c*der(th); }", "")
 }
+
+/// The chain of `n` revolute links of `benches/scale/serial_chain.py`: axes alternating z,
+/// y, x, each joint 0.1 m above the last, 1 kg links with a full inertia tensor.
+pub fn chain_source(n: usize) -> String {
+    let mut text =
+        String::from("pub struct Chain;\nparameters { g = 9.81; }\ngravity = [0, 0, -g];\n");
+    let axes = ["[0, 0, 1]", "[0, 1, 0]", "[1, 0, 0]"];
+    for i in 1..=n {
+        let parent = match i {
+            1 => String::new(),
+            _ => format!("parent = l{}; xyz = [0, 0, 0.1]; ", i - 1),
+        };
+        text += &format!(
+            "link l{i} {{ {parent}joint = revolute(q{i}, {}); mass = 1; com = [0.01, 0, 0.05];
+             inertia = [[0.0042, 0.0001, -0.0002], [0.0001, 0.0041, 0.0003], [-0.0002, 0.0003, 0.0008]]; }}\n",
+            axes[(i - 1) % 3]
+        );
+    }
+    text
+}

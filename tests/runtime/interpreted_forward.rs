@@ -4,6 +4,7 @@
 //! Panda (the factorisation M = L^T D L chosen) and on a 40-link chain (the articulated-body
 //! recursion chosen), at random states with random efforts.
 
+use crate::common::chain_source;
 use mechanism::builtin::{Panda, builtin_source};
 use mechanism::{Evaluation, Interpreted, Kinematic, Mechanism, System};
 use mechanism_codegen::{Role, compile_forward_dynamics, derive, parse_model_str};
@@ -24,26 +25,6 @@ impl Random {
     fn vector(&mut self, n: usize, scale: f64) -> Vec<f64> {
         (0..n).map(|_| scale * self.next()).collect()
     }
-}
-
-/// The chain of `n` revolute links of `benches/scale/serial_chain.py`: axes alternating z,
-/// y, x, each joint 0.1 m above the last, 1 kg links with a full inertia tensor.
-fn chain_source(n: usize) -> String {
-    let mut text =
-        String::from("pub struct Chain;\nparameters { g = 9.81; }\ngravity = [0, 0, -g];\n");
-    let axes = ["[0, 0, 1]", "[0, 1, 0]", "[1, 0, 0]"];
-    for i in 1..=n {
-        let parent = match i {
-            1 => String::new(),
-            _ => format!("parent = l{}; xyz = [0, 0, 0.1]; ", i - 1),
-        };
-        text += &format!(
-            "link l{i} {{ {parent}joint = revolute(q{i}, {}); mass = 1; com = [0.01, 0, 0.05];
-             inertia = [[0.0042, 0.0001, -0.0002], [0.0001, 0.0041, 0.0003], [-0.0002, 0.0003, 0.0008]]; }}\n",
-            axes[(i - 1) % 3]
-        );
-    }
-    text
 }
 
 /// Checks the generated q'' of `system` at `states` random states with random efforts: its
@@ -186,4 +167,28 @@ fn a_singular_mass_matrix_is_refused_and_the_run_stops_with_the_dense_routes_err
         }
         other => panic!("expected an undetermined motion, got {other:?}"),
     }
+}
+
+/// A run of a 45-link chain (n past the 40 coordinates the dense LU routes serve) solves
+/// every integration stage by the generated forward dynamics: only the start and the output
+/// samples (which record T and Pi from the evaluation) take the dense route, one solve each.
+/// The Panda (n = 7) stays on the dense routes, which cost as little at that size.
+#[test]
+fn a_long_chains_run_takes_the_generated_forward_dynamics_at_every_stage() {
+    let chain = Interpreted::from_source(&chain_source(45)).unwrap();
+    let options = mechanism::SimulationOptions {
+        t_end: 0.05,
+        ..Default::default()
+    };
+    let tr = mechanism::simulate(&chain, &options).unwrap();
+    let samples = tr.len();
+    assert!(tr.stats.generated_solves > 0);
+    assert_eq!(
+        tr.stats.generated_solves + samples + 1,
+        tr.stats.rhs_evaluations,
+        "{samples} samples"
+    );
+    let panda = Interpreted::from_source(builtin_source("panda").unwrap()).unwrap();
+    let tr = mechanism::simulate(&panda, &options).unwrap();
+    assert_eq!(tr.stats.generated_solves, 0);
 }

@@ -7,7 +7,7 @@ use crate::error::{Error, ProgramError, Result};
 use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::forward_derivatives::forward_dynamics_derivatives;
-use crate::mechanics::forward_dynamics::forward_dynamics;
+use crate::mechanics::forward_dynamics::{factorisation_updates, forward_dynamics};
 use crate::mechanics::lagrange::coriolis_matrix_of;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{articulated_forward_dynamics, frame_jacobian};
@@ -385,13 +385,15 @@ fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Ma
         .map(|s| model.arena.symbol_node(s))
         .collect();
     let order = elimination_order(model);
-    let a = &mut model.arena;
-    let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
-    let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
-    let factored = vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)];
+    let factored = |model: &mut Model| -> Result<Vec<Matrix>> {
+        let a = &mut model.arena;
+        let fd = forward_dynamics(a, &eqs.mass, &eqs.bias, &effort, &order)?;
+        let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
+        Ok(vec![fd.accelerations, fd.pivots, Matrix::column(diagonal)])
+    };
     // The recursion is written for one-coordinate joints: a floating root factors M.
     if !model.kinetic_from_links || model.floating_root().is_some() {
-        return Ok(factored);
+        return factored(model);
     }
     let (qdd, pivots) = articulated_forward_dynamics(model, &effort)?;
     let zeros = Matrix::zeros(&mut model.arena, eqs.n, 1);
@@ -400,7 +402,15 @@ fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Ma
         let outputs: Vec<&Matrix> = outputs.iter().collect();
         Ok(Program::new(&model.arena, &outputs)?.op_counts().total())
     };
-    let recursive_is_leaner = ops(model, &recursive)? < ops(model, &factored)?;
+    let recursive_ops = ops(model, &recursive)?;
+    // The factorisation's updates alone (a lower bound of its operations, about n^3 / 6
+    // on a chain) already cost more than the whole recursion: writing them out (their
+    // expressions grow as n^3, past the size budget at 200 links) cannot change the choice.
+    if factorisation_updates(&model.arena, &eqs.mass, &order) >= recursive_ops {
+        return Ok(recursive);
+    }
+    let factored = factored(model)?;
+    let recursive_is_leaner = recursive_ops < ops(model, &factored)?;
     Ok(if recursive_is_leaner {
         recursive
     } else {
