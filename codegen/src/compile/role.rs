@@ -405,8 +405,9 @@ fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Ma
     let recursive_ops = ops(model, &recursive)?;
     // The factorisation's updates alone (a lower bound of its operations, about n^3 / 6
     // on a chain) already cost more than the whole recursion: writing them out (their
-    // expressions grow as n^3, past the size budget at 200 links) cannot change the choice.
-    if factorisation_updates(&model.arena, &eqs.mass, &order) >= recursive_ops {
+    // expressions grow as n^3, past the size budget at 200 links) cannot change the
+    // choice, which keeps the recursion only when it is strictly leaner.
+    if factorisation_updates(&model.arena, &eqs.mass, &order) > recursive_ops {
         return Ok(recursive);
     }
     let factored = factored(model)?;

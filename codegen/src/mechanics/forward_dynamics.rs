@@ -194,18 +194,20 @@ impl Factor {
 }
 
 /// The updates H_ij -= L_ki H_kj that [`forward_dynamics`] writes for `mass` with the
-/// coordinates in `order`, counted from M's structural pattern without building them:
-/// the sum over k of, for each i on k's elimination chain, the length of i's chain. Each
-/// update is at least one operation of the compiled program (a product and a difference,
-/// fused), so the count bounds the factorisation's cost from below: on a chain of n links
-/// it is about n^3 / 6, which the caller compares with the articulated-body recursion's
+/// coordinates in `order`, counted without building them over the pattern of M's entries
+/// that are not numbers: the sum over k of, for each i on k's elimination chain, the length
+/// of i's chain. Each such update multiplies and subtracts entries that are not numbers,
+/// at least one operation of the compiled program (fused), so the count bounds the
+/// factorisation's cost from below (up to a cancellation to an exact zero); entries that
+/// are numbers fold at build time and are left out. On a chain of n links it is about
+/// n^3 / 6, which the caller compares with the articulated-body recursion's operations
 /// before writing the factorisation out.
 pub(crate) fn factorisation_updates(a: &Arena, mass: &Matrix, order: &[usize]) -> usize {
     let n = order.len();
     let lower: Vec<Vec<usize>> = (0..n)
         .map(|k| {
             (0..k)
-                .filter(|&j| !a.is_zero(mass.get(order[k], order[j])))
+                .filter(|&j| a.as_number(mass.get(order[k], order[j])).is_none())
                 .collect()
         })
         .collect();
@@ -272,8 +274,8 @@ mod tests {
 
     /// The counted updates equal those [`forward_dynamics`] performs, counted by hand: a
     /// full 4 x 4 pattern (a chain of four links) eliminates k = 3 over i = 2, 1, 0 with
-    /// chains of 3, 2, 1 (6), k = 2 over 3 (3), k = 1 over 1: 10 = sum of j (j + 1) / 2.
-    /// A diagonal pattern has none.
+    /// chains of 3, 2, 1 (6), k = 2 over i = 1, 0 (3), k = 1 over i = 0 (1): 10 = sum of j (j + 1) / 2.
+    /// A diagonal pattern has none, nor one whose off-diagonal entries are numbers.
     #[test]
     fn the_counted_updates_follow_the_elimination_chains() {
         let mut a = Arena::new();
@@ -283,5 +285,9 @@ mod tests {
         let zero = a.int(0);
         let diagonal = Matrix::from_fn(4, 4, |i, j| if i == j { x } else { zero });
         assert_eq!(factorisation_updates(&a, &diagonal, &[0, 1, 2, 3]), 0);
+        // Entries that are numbers fold when built: no operation, not counted.
+        let two = a.int(2);
+        let numbers = Matrix::from_fn(4, 4, |i, j| if i == j { x } else { two });
+        assert_eq!(factorisation_updates(&a, &numbers, &[0, 1, 2, 3]), 0);
     }
 }
