@@ -228,7 +228,8 @@ fn refuse_floating(model: &Model, what: &str) -> Result<()> {
 /// programs equal [`compile`]'s for the same roles up to the slot numbers.
 ///
 /// # Errors
-/// As [`compile`].
+/// As [`compile`]; [`crate::error::DerivationError::FloatingBase`] for a floating-base
+/// model (its q' is not dq/dt: [`compile_floating`] has its forward dynamics).
 ///
 /// # Example
 /// ```
@@ -249,6 +250,7 @@ fn refuse_floating(model: &Model, what: &str) -> Result<()> {
 /// # Ok::<(), mechanism_codegen::Error>(())
 /// ```
 pub fn compile_forward_dynamics(model: &mut Model, eqs: &Equations) -> Result<Option<Routines>> {
+    refuse_floating(model, "the run-time forward dynamics")?;
     if eqs.m > 0 {
         return Ok(None);
     }
