@@ -247,6 +247,7 @@ mod book {
 /// Not API: what generated code names.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::fixed::{FixedError, KktSolution, kkt_solve, kkt_tree_solve};
     pub use crate::system::check_parameter;
     pub use nalgebra::ArrayStorage;
     pub use nalgebra::{SMatrix, SVector};

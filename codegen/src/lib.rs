@@ -91,6 +91,7 @@ pub use algebra::matrix::Matrix;
 pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
     compile_floating, compile_forward_dynamics, compile_interpreted, compile_robotics,
+    dense_kkt_operations,
 };
 pub use emit::body::{EmitBindings, EmittedBody, LEAN_ABOVE, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};

@@ -691,7 +691,7 @@ fn dispatched_methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) ->
         quote!(),
         c(&g.draw_points),
     ));
-    methods.extend(crate::robotics::methods(krate, n, g));
+    methods.extend(crate::robotics::methods(krate, n, m, g));
     methods.extend(crate::derivatives::methods(krate, n, m, &g.derivatives));
     methods
 }

@@ -117,6 +117,10 @@ pub struct Generated {
     /// factorisation that follows M's pattern; `None` (the trait's default, for a mechanism
     /// with constraint rows) when no such routine is compiled.
     pub forward_dynamics: Option<TokenStream>,
+    /// `constrained_dynamics(&self, t, q, qd)`: q'' and lambda of the KKT system by the
+    /// factorisation that follows M's pattern; `None` (the trait's default, the dense
+    /// solve) when no such routine is compiled or it has no outputs.
+    pub constrained_dynamics: Option<TokenStream>,
     /// Per link frame: the body of one arm of `frame_placement`'s match, giving `(R, p)`.
     pub frame_placements: Vec<TokenStream>,
     /// Per link frame: the body of one arm of `frame_jacobian`'s match, giving J (6 x n).
@@ -183,6 +187,7 @@ pub fn generate(decl: &mut Declaration) -> syn::Result<Generated> {
             inverse_dynamics: b.inverse_dynamics()?,
             bias: b.matrix(Role::Bias)?,
             forward_dynamics: b.forward_dynamics(eqs.n)?,
+            constrained_dynamics: b.constrained_dynamics(eqs.n, eqs.m)?,
             frame_placements: (0..frames)
                 .map(|k| b.placement(Role::FramePlacement(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
@@ -404,6 +409,63 @@ impl Bodies<'_> {
                 .zip(diagonal.iter())
                 .all(|(d, m)| d.is_finite() && *d > 1e-14 * *m);
             (definite && qdd.iter().all(|x| x.is_finite())).then_some(qdd)
+        }))
+    }
+
+    /// `Ok(solution)` from `kkt_tree_solve` on the emitted u, Y, S and c when every pivot of
+    /// M = L^T D L is finite and above 1e-12 of its diagonal entry (the dense solve's
+    /// threshold for M~) and the result is finite, else what the dense `kkt_solve` gives on
+    /// `evaluate` (the same semantics and errors); `None` overall for a mechanism without
+    /// the routine.
+    pub(crate) fn constrained_dynamics(
+        &self,
+        n: usize,
+        m: usize,
+    ) -> mechanism_codegen::Result<Option<TokenStream>> {
+        let Some(program) = self.routines.get(Role::ConstrainedDynamics) else {
+            return Ok(None);
+        };
+        if program.outputs().is_empty() {
+            return Ok(None);
+        }
+        let bindings = self.bindings(Role::ConstrainedDynamics);
+        let names = [
+            quote!(u),
+            quote!(y),
+            quote!(s),
+            quote!(c),
+            quote!(pivots),
+            quote!(diagonal),
+        ];
+        let targets: Vec<_> = names
+            .iter()
+            .map(|x| Self::place(program, x.clone()))
+            .collect();
+        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let (krate, cache) = (self.krate, self.cache_read(program));
+        let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix::<f64, #r, #c>);
+        let (vn, mnm, mmm, vm) = (sm(n, 1), sm(n, m), sm(m, m), sm(m, 1));
+        Ok(Some(quote! {
+            #cache
+            let mut u = #vn::zeros();
+            let mut y = #mnm::zeros();
+            let mut s = #mmm::zeros();
+            let mut c = #vm::zeros();
+            let mut pivots = #vn::zeros();
+            let mut diagonal = #vn::zeros();
+            #body
+            let definite = pivots
+                .iter()
+                .zip(diagonal.iter())
+                .all(|(d, m)| d.is_finite() && *d > 1e-12 * *m);
+            if definite {
+                if let ::core::option::Option::Some(solution) =
+                    #krate::__private::kkt_tree_solve(&u, &y, &s, &c)
+                {
+                    return ::core::result::Result::Ok(solution);
+                }
+            }
+            #krate::__private::kkt_solve(&#krate::Mechanism::<#n, #m>::evaluate(self, t, q, qd), t)
         }))
     }
 

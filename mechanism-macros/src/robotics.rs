@@ -14,7 +14,7 @@ use crate::generate::Generated;
 /// `mass_and_bias`, `bias`, `inverse_dynamics`, `forward_dynamics` (where its routine is
 /// compiled), `frame_placement` and `frame_jacobian` (the frames' names, `FRAMES`, are a
 /// constant of the impl).
-pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
+pub fn methods(krate: &TokenStream, n: usize, m: usize, g: &Generated) -> Vec<Method> {
     let sv = |k: usize| quote!(#krate::__private::SVector<f64, #k>);
     let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix<f64, #r, #c>);
     let Generated {
@@ -22,6 +22,7 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
         bias,
         inverse_dynamics,
         forward_dynamics,
+        constrained_dynamics,
         frame_placements,
         frame_jacobians,
         frame_names,
@@ -80,8 +81,17 @@ pub fn methods(krate: &TokenStream, n: usize, g: &Generated) -> Vec<Method> {
     if let Some(body) = forward_dynamics {
         methods.push(Method::new(
             "forward_dynamics",
-            &[t, q, qd, ("effort", quote!(&#svn))],
+            &[t.clone(), q.clone(), qd.clone(), ("effort", quote!(&#svn))],
             quote!(-> ::core::option::Option<#svn>),
+            body.clone(),
+        ));
+    }
+    if let Some(body) = constrained_dynamics {
+        let solution = quote!(#krate::__private::KktSolution<#n, #m>);
+        methods.push(Method::new(
+            "constrained_dynamics",
+            &[t, q, qd],
+            quote!(-> ::core::result::Result<#solution, #krate::__private::FixedError>),
             body.clone(),
         ));
     }

@@ -149,3 +149,29 @@ impl<'a, const N: usize, const M: usize> KktFactors<'a, N, M> {
         (x, mu)
     }
 }
+
+/// The run-time finish of the KKT solve that follows M's pattern (the emitted
+/// [`crate::Mechanism::constrained_dynamics`] of a mechanism with constraint rows): from
+/// u = M^-1 Q, Y = M^-1 Phi_q^T, S = Phi_q M^-1 Phi_q^T and c = Phi_q u - gamma, all
+/// computed by the generated factorisation M = L^T D L,
+///
+/// ```text
+/// S lambda = c,   q'' = u - Y lambda
+/// ```
+///
+/// S is positive semi-definite; its rows redundant with earlier ones drop out of its
+/// Cholesky factor at the threshold of [`kkt_solve`] and get lambda = 0, as there. Cost:
+/// one M x M Cholesky and 2 N M. `None` when an input or the result is not finite (the
+/// caller then takes [`kkt_solve`], which reports why). Allocation-free, no std.
+pub fn kkt_tree_solve<const N: usize, const M: usize>(
+    u: &SVector<f64, N>,
+    y: &SMatrix<f64, N, M>,
+    s: &SMatrix<f64, M, M>,
+    c: &SVector<f64, M>,
+) -> Option<KktSolution<N, M>> {
+    let s_fac = Cholesky::new(*s, REDUNDANT);
+    let lambda = s_fac.solve(c);
+    let qdd = u - y * lambda;
+    let finite = qdd.iter().chain(lambda.iter()).all(|x| x.is_finite());
+    finite.then_some(KktSolution { qdd, lambda })
+}

@@ -4,7 +4,6 @@ use nalgebra::{SMatrix, SVector};
 
 use super::FixedError;
 use super::cholesky::Cholesky;
-use super::kkt::kkt_solve;
 use crate::Mechanism;
 
 /// The rows of Phi_q Phi_q^T whose pivot falls below this fraction are redundant (the same
@@ -23,7 +22,9 @@ pub struct State<const N: usize> {
 }
 
 /// The classical fourth-order Runge–Kutta step of y = (q, q'), y' = (q', q''(t, q, q')) with
-/// q'' from [`kkt_solve`], followed by projection back onto the constraint manifold:
+/// q'' from [`Mechanism::constrained_dynamics`] (the dense [`kkt_solve`](super::kkt_solve),
+/// or the solve that follows M's pattern), followed by projection back onto the constraint
+/// manifold:
 ///
 /// ```text
 /// q  <- q - Phi_q^T (Phi_q Phi_q^T)^-1 Phi(q, t)        (Newton, to `tolerance`)
@@ -58,7 +59,7 @@ impl FixedStep {
     /// Advances `state` by one step of h. On error `state` is left as it was.
     ///
     /// # Errors
-    /// Those of [`kkt_solve`] at a stage, and [`FixedError::ProjectionDidNotConverge`].
+    /// Those of [`kkt_solve`](super::kkt_solve) at a stage, and [`FixedError::ProjectionDidNotConverge`].
     pub fn step<S, const N: usize, const M: usize>(
         &self,
         mechanism: &S,
@@ -69,7 +70,7 @@ impl FixedStep {
     {
         let (t, h) = (state.t, self.h);
         let accel = |t: f64, q: &SVector<f64, N>, qd: &SVector<f64, N>| {
-            kkt_solve(&mechanism.evaluate(t, q, qd), t).map(|s| s.qdd)
+            mechanism.constrained_dynamics(t, q, qd).map(|s| s.qdd)
         };
         let (q, qd) = (state.q, state.qd);
         let a1 = accel(t, &q, &qd)?;

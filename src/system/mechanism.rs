@@ -352,6 +352,28 @@ pub trait Mechanism<const N: usize, const M: usize>: Clone + Send + Sync + 'stat
         qdd.iter().all(|x| x.is_finite()).then_some(qdd)
     }
 
+    /// Forward dynamics with the constraint rows: q'' and lambda of the augmented (KKT)
+    /// system M q'' + Phi_q^T lambda = tau - C q' - g, Phi_q q'' = gamma at (t, q, q'),
+    /// with the semantics and errors of [`crate::fixed::kkt_solve`] (which this default
+    /// calls on [`Mechanism::evaluate`]). Emitted for a mechanism with constraint rows
+    /// where it counts fewer operations: M = L^T D L over M's pattern as the forward
+    /// dynamics factors it, u = M^-1 Q, Y = M^-1 Phi_q^T and S = Phi_q M^-1 Phi_q^T in
+    /// straight-line code, then [`crate::fixed::kkt_tree_solve`] (S lambda = Phi_q u -
+    /// gamma, q'' = u - Y lambda, redundant rows dropped as `kkt_solve` drops them); where
+    /// a pivot is not above 1e-12 of its diagonal entry (M singular off the constraint
+    /// manifold) or a value is not finite, it returns what `kkt_solve` returns.
+    ///
+    /// # Errors
+    /// Those of [`crate::fixed::kkt_solve`].
+    fn constrained_dynamics(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        qd: &SVector<f64, N>,
+    ) -> Result<crate::fixed::KktSolution<N, M>, crate::fixed::FixedError> {
+        crate::fixed::kkt_solve(&self.evaluate(t, q, qd), t)
+    }
+
     /// The link frames (`link` sections) in declaration order; empty without links.
     const FRAMES: &'static [&'static str] = &[];
 

@@ -26,6 +26,7 @@ mod interpreted_tangent;
 mod interpreted_threads;
 mod inverse;
 mod joint_limits;
+mod kkt_tree;
 mod linearize;
 mod linearize_redundant;
 mod no_alloc;

@@ -43,7 +43,7 @@ use crate::program::cse::Program;
 use crate::program::hoist::hoist_parameters;
 use role::effort_symbols;
 
-pub use role::{Role, Tangents};
+pub use role::{Role, Tangents, dense_kkt_operations};
 pub use sources::{Source, Sources};
 pub use sparsity::Sparsity;
 pub(crate) use sparsity::structural_zero;

@@ -8,6 +8,7 @@ use crate::mechanics::drawing::Drawing;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::forward_derivatives::forward_dynamics_derivatives;
 use crate::mechanics::forward_dynamics::{factorisation_updates, forward_dynamics};
+use crate::mechanics::kkt_tree::kkt_parts;
 use crate::mechanics::lagrange::coriolis_matrix_of;
 use crate::mechanics::model::Model;
 use crate::mechanics::recursive::{articulated_forward_dynamics, frame_jacobian};
@@ -97,6 +98,14 @@ pub enum Role {
     /// `forward_dynamics`, which refuses q'' when a pivot is not above 1e-14 of its
     /// diagonal entry. Compiled for a mechanism without constraint rows only.
     ForwardDynamics,
+    /// The parts of the KKT solve that follow M's pattern (`mechanics::kkt_tree`):
+    /// u = M^-1 Q (n x 1), Y = M^-1 Phi_q^T (n x m), S = Phi_q M^-1 Phi_q^T (m x m),
+    /// c = Phi_q u - gamma (m x 1), the pivots D of M = L^T D L and M's diagonal in the
+    /// same order (n x 1 each): `constrained_dynamics`, which finishes S lambda = c,
+    /// q'' = u - Y lambda at run time. Compiled for a mechanism with constraint rows;
+    /// without outputs (and no method emitted) where the dense solve counts fewer
+    /// operations or a pivot is identically 0 ([`constrained_dynamics_outputs`]).
+    ConstrainedDynamics,
     /// dtau_id/dq and dtau_id/dq' of the inverse dynamics tau_id = M q'' + C q' + g - tau
     /// (two n x n outputs, [`crate::InverseDynamicsDerivatives`]): `inverse_dynamics_derivatives`.
     /// Compiled with [`Tangents::Derivatives`].
@@ -210,6 +219,8 @@ impl Role {
             if tangents == Tangents::Derivatives {
                 roles.push(Role::ForwardDynamicsDerivatives);
             }
+        } else {
+            roles.push(Role::ConstrainedDynamics);
         }
         roles.extend((0..eqs.frames.len()).map(Role::FramePlacement));
         roles.extend((0..eqs.frames.len()).map(Role::FrameJacobian));
@@ -310,6 +321,7 @@ impl Role {
             Role::Bias => vec![eqs.bias.clone()],
             Role::InverseDynamics => vec![eqs.inverse_dynamics.clone()],
             Role::ForwardDynamics => forward_dynamics_outputs(model, eqs)?,
+            Role::ConstrainedDynamics => constrained_dynamics_outputs(model, eqs)?,
             Role::InverseDynamicsDerivatives => {
                 let dynamics = &tangent.ok_or_else(no_tangent)?.dynamics;
                 vec![dynamics.position.clone(), dynamics.velocity.clone()]
@@ -417,4 +429,52 @@ fn forward_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Ma
     } else {
         factored
     })
+}
+
+/// The operations of the dense KKT solve at run time for n coordinates and m rows
+/// (`mechanism::fixed::kkt_solve`, multiplications and additions of its loops as written):
+/// Phi_q^T Phi_q twice (the augmented M~ and the refinement's residual, 2 n^2 m each), the
+/// Cholesky factor of M~ (n^3 / 3) and of Phi_q Y (m^3 / 3), Y = M~^-1 Phi_q^T
+/// (2 m n^2), Phi_q Y (2 m^2 n), and the two solves with their products (about
+/// 8 n^2 + 12 n m + 4 m^2).
+pub fn dense_kkt_operations(n: usize, m: usize) -> usize {
+    4 * n * n * m
+        + n * n * n / 3
+        + m * m * m / 3
+        + 2 * m * n * n
+        + 2 * m * m * n
+        + 8 * n * n
+        + 12 * n * m
+        + 4 * m * m
+}
+
+/// The outputs of [`Role::ConstrainedDynamics`] (u, Y, S, c, the pivots, M's diagonal in
+/// elimination order), or none, leaving the dense solve, where that counts fewer
+/// operations (the evaluation's program plus [`dense_kkt_operations`], against this
+/// program plus the m x m finish: m^3 / 3 + 2 m^2 + 2 n m) or where a pivot is
+/// identically 0 (M singular at every q, as for coordinates that carry no mass).
+fn constrained_dynamics_outputs(model: &mut Model, eqs: &Equations) -> Result<Vec<Matrix>> {
+    let order = elimination_order(model);
+    let a = &mut model.arena;
+    let parts = kkt_parts(a, &eqs.mass, &eqs.bias, &eqs.phi_q, &eqs.gamma, &order)?;
+    if parts.pivots.data().iter().any(|&d| a.is_zero(d)) {
+        return Ok(vec![]);
+    }
+    let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
+    let outputs = vec![
+        parts.u,
+        parts.y,
+        parts.s,
+        parts.c,
+        parts.pivots,
+        Matrix::column(diagonal),
+    ];
+    let ops = |outputs: &[Matrix]| -> Result<usize> {
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
+        Ok(Program::new(&model.arena, &outputs)?.op_counts().total())
+    };
+    let (n, m) = (eqs.n, eqs.m);
+    let tree = ops(&outputs)? + m * m * m / 3 + 2 * m * m + 2 * n * m;
+    let dense = ops(&eqs.evaluation_outputs())? + dense_kkt_operations(n, m);
+    Ok(if tree < dense { outputs } else { vec![] })
 }

@@ -158,6 +158,53 @@ impl Factor {
         x
     }
 
+    /// 1/D (in elimination order; 0 where D is identically 0).
+    pub(crate) fn inverse_pivots(&self) -> &[Id] {
+        &self.inverse
+    }
+
+    /// w = L^-T r for `r` by coordinate, w in elimination order: for i = n..1,
+    /// w_j -= L_ij w_i along i's chain. A right-hand side that is zero outside a few
+    /// coordinates (a constraint row) fills only their chains.
+    pub(crate) fn upward(&self, a: &mut Arena, r: &[Id]) -> Vec<Id> {
+        let mut x: Vec<Id> = self.order.iter().map(|&c| r[c]).collect();
+        for i in (0..x.len()).rev() {
+            if a.is_zero(x[i]) {
+                continue;
+            }
+            for j in self.chain(self.parent[i]) {
+                let t = a.mul2(self.h[i][j], x[i]);
+                let d = a.sub(x[j], t);
+                x[j] = a.named(d);
+            }
+        }
+        x
+    }
+
+    /// x = L^-1 D^-1 w for `w` in elimination order, x by coordinate: w_i /= D_ii, then for
+    /// i = 1..n, x_i -= L_ij x_j along i's chain.
+    pub(crate) fn downward(&self, a: &mut Arena, w: &[Id]) -> Vec<Id> {
+        let mut x: Vec<Id> = w
+            .iter()
+            .zip(&self.inverse)
+            .map(|(&w, &inverse)| a.mul2(w, inverse))
+            .collect();
+        for i in 0..x.len() {
+            let mut terms = vec![x[i]];
+            for j in self.chain(self.parent[i]) {
+                let t = a.mul2(self.h[i][j], x[j]);
+                terms.push(a.neg(t));
+            }
+            let s = a.add(&terms);
+            x[i] = a.named(s);
+        }
+        let mut out = vec![a.int(0); x.len()];
+        for (k, &c) in self.order.iter().enumerate() {
+            out[c] = x[k];
+        }
+        out
+    }
+
     /// M^-1 (n x n, by coordinate), its lower triangle in elimination order from
     /// L M^-1 = D^-1 L^-T: for i >= j, (M^-1)_ij = [i = j] / D_ii - sum_k L_ik (M^-1)_kj
     /// over k on i's chain, where (M^-1)_kj for k < j is the entry (j, k) found before

@@ -33,6 +33,7 @@ pub(crate) mod forward_derivatives;
 pub(crate) mod forward_dynamics;
 pub(crate) mod joints;
 pub(crate) mod kinetic_form;
+pub(crate) mod kkt_tree;
 pub(crate) mod lagrange;
 pub(crate) mod linear_form;
 pub(crate) mod link_route;
