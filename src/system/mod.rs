@@ -23,6 +23,7 @@ mod drawing;
 #[cfg(feature = "std")]
 mod dynamic;
 pub(crate) mod floating;
+mod floating_derivatives;
 #[cfg(feature = "std")]
 mod info;
 #[cfg(feature = "interpreter")]
