@@ -200,6 +200,13 @@ pub fn integrate<const NQ: usize, const NV: usize>(
     if NQ < 7 || NV < 6 || NQ != NV + 1 {
         return out;
     }
+    integrate_slices(q.as_slice(), v.as_slice(), dt, out.as_mut_slice());
+    out
+}
+
+/// [`integrate`] on slices: q (nq = nv + 1 entries, at least 7) and v (nv) into `out` (nq).
+pub(crate) fn integrate_slices(q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {
+    let nv = v.len();
     let u = [v[0] * dt, v[1] * dt, v[2] * dt];
     let phi = [v[3] * dt, v[4] * dt, v[5] * dt];
     let t2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
@@ -237,10 +244,9 @@ pub fn integrate<const NQ: usize, const NV: usize>(
     for k in 0..4 {
         out[3 + k] = p[k];
     }
-    for j in 6..NV {
+    for j in 6..nv {
         out[j + 1] = q[j + 1] + v[j] * dt;
     }
-    out
 }
 
 fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {

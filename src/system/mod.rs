@@ -32,6 +32,8 @@ mod interpreted;
 mod interpreted_constraints;
 #[cfg(feature = "interpreter")]
 mod interpreted_floating;
+#[cfg(feature = "interpreter")]
+mod interpreted_floating_derivatives;
 mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
@@ -67,6 +69,8 @@ pub use interpreted::Interpreted;
 pub use interpreted_constraints::InterpretedConstraints;
 #[cfg(feature = "interpreter")]
 pub use interpreted_floating::{InterpretedFloating, Momentum};
+#[cfg(feature = "interpreter")]
+pub use interpreted_floating_derivatives::FloatingDerivatives;
 pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,

@@ -143,3 +143,72 @@ fn solo12_floating_derivatives_match_central_differences_on_the_manifold() {
     assert_eq!(dq.fixed_columns::<3>(0).amax(), 0.0);
     assert!(dq.fixed_columns::<3>(3).amax() > 1.0);
 }
+
+/// The run-time route: `InterpretedFloating::for_derivatives` and `FloatingDerivatives` on
+/// Solo12 imported with `floating = true`, against the same fixture and tolerance.
+#[test]
+fn interpreted_solo12_floating_derivatives_match_pinocchio() {
+    let options = mechanism_codegen::UrdfOptions {
+        file_name: "solo12.urdf".into(),
+        floating: true,
+        ..Default::default()
+    };
+    let urdf = include_str!("../../mechanisms/urdf/solo12.urdf");
+    let text = mechanism_codegen::urdf_to_mech(urdf, &options).unwrap();
+    let model = mechanism_codegen::parse_model_str(&text).unwrap();
+    let robot = mechanism::InterpretedFloating::for_derivatives(model).unwrap();
+    let data: Value =
+        serde_json::from_str(include_str!("../fixtures/solo12_floating_derivatives.json")).unwrap();
+    let joints: Vec<&str> = (data["joints"].as_array().unwrap().iter())
+        .map(|j| j.as_str().unwrap())
+        .collect();
+    let ours = |j: &str| robot.velocities().iter().position(|v| v == j).unwrap();
+    let v_of: Vec<usize> = (0..6).chain(joints.iter().map(|j| ours(j))).collect();
+    let q_of: Vec<usize> = (0..7).chain(joints.iter().map(|j| ours(j) + 1)).collect();
+    let mut d = mechanism::FloatingDerivatives::new(&robot);
+    let (mut dq, mut dv) = (vec![0.0; 18 * 18], vec![0.0; 18 * 18]);
+    for (k, s) in data["states"].as_array().unwrap().iter().enumerate() {
+        let mut q = vec![0.0; 19];
+        for (j, x) in numbers(&s["q"]).into_iter().enumerate() {
+            q[q_of[j]] = x;
+        }
+        let in_v = |name: &str| {
+            let mut out = vec![0.0; 18];
+            for (j, x) in numbers(&s[name]).into_iter().enumerate() {
+                out[v_of[j]] = x;
+            }
+            out
+        };
+        let (v, a, tau) = (in_v("v"), in_v("a"), in_v("tau"));
+        let theirs = |m: &[f64]| DMatrix::from_fn(18, 18, |r, c| m[v_of[r] * 18 + v_of[c]]);
+        assert!(robot.inverse_dynamics_derivatives(0.0, &q, &v, &a, (&mut dq, &mut dv)));
+        d.compute(&robot, 0.0, &q, &v, &tau).unwrap();
+        let pairs = [
+            ("dtau/dq", &dq[..], "dtau_dq"),
+            ("dtau/dv", &dv[..], "dtau_dv"),
+            ("da/dq", d.da_dq(), "ddq_dq"),
+            ("da/dv", d.da_dv(), "ddq_dv"),
+            ("M^-1", d.m_inverse(), "minv"),
+        ];
+        for (what, ours, key) in pairs {
+            check(what, k, &theirs(ours), &rows(&s[key]), 1e-10);
+        }
+    }
+    // Built without them, the robot says so.
+    let plain = mechanism::InterpretedFloating::from_text(&text).unwrap();
+    assert!(!plain.inverse_dynamics_derivatives(
+        0.0,
+        &plain.neutral(),
+        &[0.0; 18],
+        &[0.0; 18],
+        (&mut dq, &mut dv)
+    ));
+    let e = mechanism::FloatingDerivatives::new(&plain)
+        .compute(&plain, 0.0, &plain.neutral(), &[0.0; 18], &[0.0; 18])
+        .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("InterpretedFloating::for_derivatives"),
+        "{e}"
+    );
+}
