@@ -207,7 +207,7 @@ fn methods(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Vec
         ),
         Method::new(
             "frame_jacobian",
-            &[frame, q.clone()],
+            &[frame, q],
             quote!(-> ::core::option::Option<#sm6>),
             quote! {
                 match frame {
@@ -217,15 +217,30 @@ fn methods(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Vec
             },
         ),
     ];
-    if let Some(body) = &b.inverse_dynamics_derivatives {
-        methods.push(Method::new(
-            "inverse_dynamics_derivatives",
-            &[t, q, qd, ("qdd", quote!(&#svv))],
-            quote!(-> (#smv, #smv)),
-            body.clone(),
-        ));
-    }
+    methods.extend(derivatives(krate, nq, nv, b));
     methods
+}
+
+/// `inverse_dynamics_derivatives` (dtau/dq by the manifold's tangent, dtau/dv), unless its
+/// program is past the cap.
+fn derivatives(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Option<Method> {
+    let body = b.inverse_dynamics_derivatives.as_ref()?;
+    let (svq, svv) = (
+        quote!(#krate::__private::SVector<f64, #nq>),
+        quote!(#krate::__private::SVector<f64, #nv>),
+    );
+    let smv = quote!(#krate::__private::SMatrix<f64, #nv, #nv>);
+    Some(Method::new(
+        "inverse_dynamics_derivatives",
+        &[
+            ("t", quote!(f64)),
+            ("q", quote!(&#svq)),
+            ("qd", quote!(&#svv)),
+            ("qdd", quote!(&#svv)),
+        ],
+        quote!(-> (#smv, #smv)),
+        body.clone(),
+    ))
 }
 
 /// `impl FloatingBase<NQ, NV>` and the inherent functions behind its methods.

@@ -301,14 +301,14 @@ pub fn load(
 /// A model of either kind, before it is handed to Python.
 enum Built {
     Fixed(Model),
-    Floating(crate::floating::FloatingModel),
+    Floating(Box<crate::floating::FloatingModel>),
 }
 
 impl Built {
     fn into_py(self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         Ok(match self {
             Built::Fixed(m) => Py::new(py, m)?.into_any(),
-            Built::Floating(m) => Py::new(py, m)?.into_any(),
+            Built::Floating(m) => Py::new(py, *m)?.into_any(),
         })
     }
 }
@@ -316,7 +316,7 @@ impl Built {
 /// `source` as a `FloatingModel` when its root floats, else as a `Model`.
 fn either(source: String, shown: String, set: &[(String, f64)]) -> PyResult<Built> {
     if crate::floating::is_floating(&source) {
-        crate::floating::build(&source, &shown, set).map(Built::Floating)
+        crate::floating::build(&source, &shown, set).map(|m| Built::Floating(Box::new(m)))
     } else {
         Model::build(source, shown, set).map(Built::Fixed)
     }

@@ -241,9 +241,7 @@ pub(crate) fn integrate_slices(q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {
     for x in &mut p {
         *x /= norm;
     }
-    for k in 0..4 {
-        out[3 + k] = p[k];
-    }
+    out[3..7].copy_from_slice(&p);
     for j in 6..nv {
         out[j + 1] = q[j + 1] + v[j] * dt;
     }

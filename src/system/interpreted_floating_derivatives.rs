@@ -142,7 +142,8 @@ fn cholesky(m: &mut [f64], n: usize) -> bool {
         for k in 0..j {
             d -= m[j * n + k] * m[j * n + k];
         }
-        if !(d > SINGULAR * largest) {
+        // Also false for a NaN pivot.
+        if d.is_nan() || d <= SINGULAR * largest {
             return false;
         }
         let d = d.sqrt();
