@@ -14,7 +14,8 @@ the table gives the median over the runs and each ratio ours / Pinocchio. Pinocc
 routines: crba + nonLinearEffects (against our mass_and_bias), nonLinearEffects (bias),
 crba (mass_matrix), rnea (inverse_dynamics), aba (forward_dynamics), ccrba
 (centroidal_momentum_matrix; Pinocchio's also computes the centroidal momentum and the
-centre of mass).
+centre of mass), computeRNEADerivatives (inverse_dynamics_derivatives; Pinocchio's also
+computes dtau/da = M), computeABADerivatives (forward_dynamics_derivatives).
 """
 
 import argparse
@@ -40,6 +41,8 @@ ROWS = [
     ("tau = M a + C v + g", "rnea", "inverse_dynamics"),
     ("forward dynamics a", "aba", "forward_dynamics"),
     ("centroidal momentum matrix", "ccrba", "centroidal_momentum_matrix"),
+    ("dtau/dq, dtau/dv", "computeRNEADerivatives", "inverse_dynamics_derivatives"),
+    ("da/dq, da/dv, M^-1", "computeABADerivatives", "forward_dynamics_derivatives"),
 ]
 
 

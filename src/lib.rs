@@ -176,7 +176,9 @@ pub use crate::system::{
     Kinematic, Sparsity, System, SystemInfo, Tangent,
 };
 #[cfg(feature = "interpreter")]
-pub use crate::system::{Interpreted, InterpretedConstraints, InterpretedFloating, Momentum};
+pub use crate::system::{
+    FloatingDerivatives, Interpreted, InterpretedConstraints, InterpretedFloating, Momentum,
+};
 /// The declaration language is documented in [`language`]; what the expansion implements
 /// is [`Mechanism`].
 pub use mechanism_macros::mechanism;

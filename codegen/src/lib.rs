@@ -90,8 +90,8 @@ pub use algebra::expr::{Arena, Func, Id, Node, Operands, Symbol, SymbolId, Symbo
 pub use algebra::matrix::Matrix;
 pub use compile::{
     Role, Routines, Source, Sources, Sparsity, Tangents, compile, compile_constraints,
-    compile_floating, compile_forward_dynamics, compile_interpreted, compile_robotics,
-    dense_kkt_operations,
+    compile_floating, compile_floating_with_derivatives, compile_forward_dynamics,
+    compile_interpreted, compile_robotics, dense_kkt_operations,
 };
 pub use emit::body::{EmitBindings, EmittedBody, LEAN_ABOVE, OutputTarget, emit_body, f64_tokens};
 pub use error::{Error, Location, Result};

@@ -3,7 +3,8 @@
 //! `impl FloatingBase<NQ, NV>` instead of `impl Mechanism<N, M>` (why: the runtime's
 //! `system/floating.rs`). The bodies come from `mechanism_codegen::compile_floating`'s
 //! routines, q read in the configuration's layout (NQ entries), v, a and the efforts in
-//! the velocities' (NV). The neutral configuration takes the joints' declared guesses (the
+//! the velocities' (NV), and `inverse_dynamics_derivatives` from
+//! `compile_floating_with_derivatives` (by the tangent of the configuration manifold). The neutral configuration takes the joints' declared guesses (the
 //! inherent `initial_values` gives them at other parameters).
 
 use mechanism_codegen::Role;
@@ -27,6 +28,8 @@ struct FloatingBodies {
     bias: TokenStream,
     inverse_dynamics: TokenStream,
     forward_dynamics: TokenStream,
+    /// `(dtau/dq, dtau/dv)`; `None` past the derivative programs' cap.
+    inverse_dynamics_derivatives: Option<TokenStream>,
     frame_placements: Vec<TokenStream>,
     frame_jacobians: Vec<TokenStream>,
     frame_names: Vec<String>,
@@ -35,7 +38,7 @@ struct FloatingBodies {
 /// Derives, compiles and expands a floating-base declaration.
 pub fn expand(decl: &mut Declaration) -> syn::Result<TokenStream> {
     let eqs = mechanism_codegen::derive(&mut decl.model).map_err(|e| codegen_error(decl, &e))?;
-    let routines = mechanism_codegen::compile_floating(&mut decl.model, &eqs)
+    let routines = mechanism_codegen::compile_floating_with_derivatives(&mut decl.model, &eqs)
         .map_err(|e| codegen_error(decl, &e))?;
     let b = Bodies {
         model: &decl.model,
@@ -57,6 +60,7 @@ pub fn expand(decl: &mut Declaration) -> syn::Result<TokenStream> {
             bias: b.matrix(Role::Bias)?,
             inverse_dynamics: b.inverse_dynamics()?,
             forward_dynamics: forward,
+            inverse_dynamics_derivatives: b.inverse_dynamics_derivatives(nv)?,
             frame_placements: (0..frames)
                 .map(|k| b.placement(Role::FramePlacement(k)))
                 .collect::<mechanism_codegen::Result<_>>()?,
@@ -134,7 +138,7 @@ fn methods(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Vec
     let frames: Vec<usize> = (0..b.frame_names.len()).collect();
     let (placements, jacobians) = (&b.frame_placements, &b.frame_jacobians);
     let tq = || [t.clone(), q.clone(), qd.clone()];
-    vec![
+    let mut methods = vec![
         Method::new(
             "mass_matrix",
             std::slice::from_ref(&q),
@@ -212,7 +216,31 @@ fn methods(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Vec
                 }
             },
         ),
-    ]
+    ];
+    methods.extend(derivatives(krate, nq, nv, b));
+    methods
+}
+
+/// `inverse_dynamics_derivatives` (dtau/dq by the manifold's tangent, dtau/dv), unless its
+/// program is past the cap.
+fn derivatives(krate: &TokenStream, nq: usize, nv: usize, b: &FloatingBodies) -> Option<Method> {
+    let body = b.inverse_dynamics_derivatives.as_ref()?;
+    let (svq, svv) = (
+        quote!(#krate::__private::SVector<f64, #nq>),
+        quote!(#krate::__private::SVector<f64, #nv>),
+    );
+    let smv = quote!(#krate::__private::SMatrix<f64, #nv, #nv>);
+    Some(Method::new(
+        "inverse_dynamics_derivatives",
+        &[
+            ("t", quote!(f64)),
+            ("q", quote!(&#svq)),
+            ("qd", quote!(&#svv)),
+            ("qdd", quote!(&#svv)),
+        ],
+        quote!(-> (#smv, #smv)),
+        body.clone(),
+    ))
 }
 
 /// `impl FloatingBase<NQ, NV>` and the inherent functions behind its methods.

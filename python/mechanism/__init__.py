@@ -15,6 +15,7 @@ it, and evaluates a robot's dynamics, frames and Jacobians for one state or a ba
 from ._native import (
     AssemblyError,
     DeclarationError,
+    FloatingModel,
     InputError,
     IntegrationError,
     MechanismError,
@@ -31,6 +32,7 @@ from ._results import InverseResult, Linearization, Trajectory
 __all__ = [
     "AssemblyError",
     "DeclarationError",
+    "FloatingModel",
     "InputError",
     "IntegrationError",
     "InverseResult",

@@ -1,7 +1,7 @@
 """Type stubs of the `mechanism` package (the native module `mechanism._native` and the
 result classes of `mechanism._results`), so that editors complete the API."""
 
-from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -147,21 +147,85 @@ class Model:
         """The linearisation about the equilibrium or steady motion the independent
         coordinates give, in minimal variables, as `mechanism linearize` computes it."""
 
+@overload
 def load(
     name_or_path: str,
     *,
     lock: Optional[Sequence[str]] = None,
     set: Optional[Mapping[str, float]] = None,
     damping: bool = False,
-) -> Model:
+    floating: Literal[True],
+) -> FloatingModel: ...
+@overload
+def load(
+    name_or_path: str,
+    *,
+    lock: Optional[Sequence[str]] = None,
+    set: Optional[Mapping[str, float]] = None,
+    damping: bool = False,
+    floating: bool = False,
+) -> Union[Model, FloatingModel]:
     """A built-in name (`builtin_names()`), a `.mech` file or a URDF (`.urdf`, with the
-    joints `lock` fixed at 0 and, when `damping`, its joints' damping), derived at run
-    time; `set` changes parameters from their declared values."""
+    joints `lock` fixed at 0, when `damping` its joints' damping, when `floating` its root
+    link free), derived at run time; `set` changes parameters from their declared values.
+    A declaration whose root link floats gives a `FloatingModel`, any other a `Model`."""
 
 def from_source(
     text: str, *, name: str = "<text>", set: Optional[Mapping[str, float]] = None
-) -> Model:
-    """The model of a declaration text given directly."""
+) -> Union[Model, FloatingModel]:
+    """The model of a declaration text given directly (a `FloatingModel` when its root
+    floats)."""
+
+class FloatingModel:
+    """A robot whose root link floats, in Pinocchio's free-flyer layout: q = [position (3),
+    quaternion x, y, z, w, joints] (nq = 7 + joints), v = [velocity, angular velocity (both
+    in the root's axes), joint rates] (nv = 6 + joints)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def nq(self) -> int: ...
+    @property
+    def nv(self) -> int: ...
+    @property
+    def configuration(self) -> List[str]:
+        """The names of q's entries."""
+    @property
+    def velocities(self) -> List[str]:
+        """The names of v's entries."""
+    @property
+    def parameters(self) -> List[Tuple[str, float]]: ...
+    def neutral(self) -> npt.NDArray[np.float64]:
+        """The root at the origin, quaternion (0, 0, 0, 1), the joints at their guesses."""
+    def mass_matrix(self, q: ArrayLike) -> npt.NDArray[np.float64]:
+        """M(q), nv x nv (Pinocchio's crba)."""
+    def bias(self, q: ArrayLike, v: ArrayLike, t: float = 0.0) -> npt.NDArray[np.float64]:
+        """C(q, v) v + g(q) - tau (Pinocchio's nonLinearEffects)."""
+    def gravity(self, q: ArrayLike) -> npt.NDArray[np.float64]:
+        """g(q) (Pinocchio's computeGeneralizedGravity)."""
+    def inverse_dynamics(
+        self, q: ArrayLike, v: ArrayLike, a: ArrayLike, t: float = 0.0
+    ) -> npt.NDArray[np.float64]:
+        """M a + C v + g - tau (Pinocchio's rnea)."""
+    def forward_dynamics(
+        self, q: ArrayLike, v: ArrayLike, tau: Optional[ArrayLike] = None, t: float = 0.0
+    ) -> npt.NDArray[np.float64]:
+        """a = M^-1 (tau - b) (Pinocchio's aba); SingularError where M is singular."""
+    def integrate(self, q: ArrayLike, v: ArrayLike, dt: float) -> npt.NDArray[np.float64]:
+        """q moved by v for dt on SE(3) x R^joints (Pinocchio's integrate(q, v dt))."""
+    def kinetic_energy(self, q: ArrayLike, v: ArrayLike) -> float: ...
+    def potential_energy(self, q: ArrayLike) -> float: ...
+    def simulate(
+        self,
+        t_end: float,
+        *,
+        q0: Optional[ArrayLike] = None,
+        v0: Optional[ArrayLike] = None,
+        step: float = 1e-3,
+        every: int = 10,
+    ) -> Dict[str, Any]:
+        """Fixed RK4 steps with the quaternion projected onto unit norm; a dict of `t`,
+        `q` (k x nq), `v` (k x nv), `configuration` and `velocities`."""
 
 def builtin_names() -> List[str]:
     """The names `load` takes without a path."""

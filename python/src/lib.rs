@@ -8,6 +8,7 @@
 //!   pickling;
 //! - `methods.rs`: `Model`'s methods and `sweep`; `derivatives.rs`: the derivatives of the
 //!   dynamics;
+//! - `floating.rs`: `FloatingModel`, a robot whose root link floats;
 //! - `batch.rs`: one state or a batch for every per-state function;
 //! - `runs.rs`: simulate, inverse, linearize, sweep as the command-line tool runs them;
 //! - `errors.rs`: the exception classes; `effort.rs`, `sources.rs`: helpers.
@@ -16,6 +17,7 @@ mod batch;
 mod derivatives;
 mod effort;
 mod errors;
+mod floating;
 mod methods;
 mod model;
 mod rows;
@@ -28,6 +30,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::Model>()?;
+    m.add_class::<floating::FloatingModel>()?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
     m.add_function(wrap_pyfunction!(model::from_source, m)?)?;
     m.add_function(wrap_pyfunction!(model::builtin_names, m)?)?;

@@ -51,13 +51,14 @@ pub(crate) fn derive(
 }
 
 /// The declaration text `spec` names and how messages show it: a URDF file (`.urdf`,
-/// imported with `lock` and `damping`), a `.mech` file, or a built-in name.
-fn read(spec: &str, lock: &[String], damping: bool) -> PyResult<(String, String)> {
+/// imported with `lock`, `damping` and `floating`), a `.mech` file, or a built-in name.
+fn read(spec: &str, lock: &[String], damping: bool, floating: bool) -> PyResult<(String, String)> {
     let path = std::path::Path::new(spec);
     let urdf = spec.ends_with(".urdf");
-    if !urdf && (!lock.is_empty() || damping) {
+    if !urdf && (!lock.is_empty() || damping || floating) {
         return Err(input(format!(
-            "load {spec}: `lock` and `damping` apply to a URDF file (a path ending in .urdf)"
+            "load {spec}: `lock`, `damping` and `floating` apply to a URDF file (a path ending \
+             in .urdf)"
         )));
     }
     let is_file = urdf || spec.ends_with(".mech") || spec.contains('/') || path.is_file();
@@ -87,6 +88,7 @@ fn read(spec: &str, lock: &[String], damping: bool) -> PyResult<(String, String)
         file_name: spec.to_string(),
         lock: lock.to_vec(),
         damping,
+        floating,
         ..UrdfOptions::default()
     };
     let mech = urdf_to_mech(&text, &options)
@@ -271,28 +273,57 @@ pub(crate) fn pairs(set: Option<HashMap<String, f64>>) -> Vec<(String, f64)> {
 }
 
 /// Loads a mechanism: a built-in name (`mechanism.builtin_names()`), a `.mech` file, or a
-/// URDF file (`.urdf`) imported at run time with the joints `lock` fixed at 0 and, when
-/// `damping`, its joints' damping as viscous forces. `set` changes parameters from their
-/// declared values. The declaration is derived at once (a declaration error is raised
-/// here) and the derivation runs without the GIL.
+/// URDF file (`.urdf`) imported at run time with the joints `lock` fixed at 0, when
+/// `damping` its joints' damping as viscous forces, and when `floating` its root link free
+/// (a free flyer). `set` changes parameters from their declared values. The declaration is
+/// derived at once (a declaration error is raised here) and the derivation runs without
+/// the GIL. A declaration with a floating root gives a `FloatingModel`, any other a
+/// `Model`.
 #[pyfunction]
-#[pyo3(signature = (name_or_path, *, lock = None, set = None, damping = false))]
+#[pyo3(signature = (name_or_path, *, lock = None, set = None, damping = false, floating = false))]
 pub fn load(
     py: Python<'_>,
     name_or_path: &str,
     lock: Option<Vec<String>>,
     set: Option<HashMap<String, f64>>,
     damping: bool,
-) -> PyResult<Model> {
+    floating: bool,
+) -> PyResult<Py<PyAny>> {
     let lock = lock.unwrap_or_default();
     let set = pairs(set);
-    py.detach(|| {
-        let (source, shown) = read(name_or_path, &lock, damping)?;
-        Model::build(source, shown, &set)
-    })
+    let built = py.detach(|| {
+        let (source, shown) = read(name_or_path, &lock, damping, floating)?;
+        either(source, shown, &set)
+    })?;
+    built.into_py(py)
 }
 
-/// The model of a declaration text given directly; `name` shows it in messages.
+/// A model of either kind, before it is handed to Python.
+enum Built {
+    Fixed(Model),
+    Floating(Box<crate::floating::FloatingModel>),
+}
+
+impl Built {
+    fn into_py(self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        Ok(match self {
+            Built::Fixed(m) => Py::new(py, m)?.into_any(),
+            Built::Floating(m) => Py::new(py, *m)?.into_any(),
+        })
+    }
+}
+
+/// `source` as a `FloatingModel` when its root floats, else as a `Model`.
+fn either(source: String, shown: String, set: &[(String, f64)]) -> PyResult<Built> {
+    if crate::floating::is_floating(&source) {
+        crate::floating::build(&source, &shown, set).map(|m| Built::Floating(Box::new(m)))
+    } else {
+        Model::build(source, shown, set).map(Built::Fixed)
+    }
+}
+
+/// The model of a declaration text given directly; `name` shows it in messages (a
+/// `FloatingModel` when its root floats).
 #[pyfunction]
 #[pyo3(signature = (text, *, name = "<text>", set = None))]
 pub fn from_source(
@@ -300,10 +331,11 @@ pub fn from_source(
     text: String,
     name: &str,
     set: Option<HashMap<String, f64>>,
-) -> PyResult<Model> {
+) -> PyResult<Py<PyAny>> {
     let set = pairs(set);
     let name = name.to_string();
-    py.detach(|| Model::build(text, name, &set))
+    let built = py.detach(|| either(text, name, &set))?;
+    built.into_py(py)
 }
 
 /// What unpickling calls: the model of `source` with every parameter at `values`.

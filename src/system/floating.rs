@@ -102,6 +102,47 @@ pub trait FloatingBase<const NQ: usize, const NV: usize>: Clone + Send + Sync + 
         effort: &SVector<f64, NV>,
     ) -> Option<SVector<f64, NV>>;
 
+    /// The derivatives of the inverse dynamics tau_id = M a + C v + g - tau
+    /// ([`FloatingBase::inverse_dynamics`]) at (t, q, v, a): (dtau_id/dq, dtau_id/dv), NV x NV
+    /// each (dtau_id/da is M), Pinocchio's `computeRNEADerivatives` with its free flyer when
+    /// no force is declared. Column k of dtau_id/dq is the rate along q (+) e e_k
+    /// ([`integrate`]: the root moved by the twist e_k in its own axes, a joint by
+    /// addition), so the root's first three columns are zero (the dynamics in the root's
+    /// axes do not see its position) and the next three turn gravity in the root's axes.
+    /// Emitted by `mechanism!` (derived symbolically, `mechanics::floating_derivatives` in
+    /// codegen); the default takes central differences on the manifold (about 1e-10
+    /// relative).
+    fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, NQ>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+    ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>) {
+        super::floating_derivatives::inverse_dynamics_differences(self, t, q, v, a)
+    }
+
+    /// The derivatives of the forward dynamics at (t, q, v) and `effort`
+    /// ([`FloatingBase::forward_dynamics`]): (da/dq, da/dv, M^-1), with
+    /// da/dx = -M^-1 dtau_id/dx at the a of the forward dynamics and da/d(effort) = M^-1
+    /// (Pinocchio's `computeABADerivatives`), q's direction as in
+    /// [`FloatingBase::inverse_dynamics_derivatives`]. No allocation. `None` where M is not
+    /// positive definite at q or a value is not finite.
+    #[allow(clippy::type_complexity)]
+    fn forward_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &SVector<f64, NQ>,
+        v: &SVector<f64, NV>,
+        effort: &SVector<f64, NV>,
+    ) -> Option<(
+        SMatrix<f64, NV, NV>,
+        SMatrix<f64, NV, NV>,
+        SMatrix<f64, NV, NV>,
+    )> {
+        super::floating_derivatives::forward_dynamics_derivatives(self, t, q, v, effort)
+    }
+
     /// The index of the frame `name` in [`FloatingBase::FRAMES`].
     fn frame_index(name: &str) -> Option<usize> {
         Self::FRAMES.iter().position(|f| *f == name)
@@ -159,6 +200,13 @@ pub fn integrate<const NQ: usize, const NV: usize>(
     if NQ < 7 || NV < 6 || NQ != NV + 1 {
         return out;
     }
+    integrate_slices(q.as_slice(), v.as_slice(), dt, out.as_mut_slice());
+    out
+}
+
+/// [`integrate`] on slices: q (nq = nv + 1 entries, at least 7) and v (nv) into `out` (nq).
+pub(crate) fn integrate_slices(q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {
+    let nv = v.len();
     let u = [v[0] * dt, v[1] * dt, v[2] * dt];
     let phi = [v[3] * dt, v[4] * dt, v[5] * dt];
     let t2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
@@ -193,13 +241,10 @@ pub fn integrate<const NQ: usize, const NV: usize>(
     for x in &mut p {
         *x /= norm;
     }
-    for k in 0..4 {
-        out[3 + k] = p[k];
-    }
-    for j in 6..NV {
+    out[3..7].copy_from_slice(&p);
+    for j in 6..nv {
         out[j + 1] = q[j + 1] + v[j] * dt;
     }
-    out
 }
 
 fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {

@@ -6,7 +6,9 @@
 //! `mechanism simulate robot.mech` runs for a floating declaration, with
 //! [`crate::simulate_interpreted_floating`].
 
-use mechanism_codegen::{Equations, Error, Model, Role, compile_floating};
+use mechanism_codegen::{
+    Equations, Error, Model, Role, compile_floating, compile_floating_with_derivatives,
+};
 
 use crate::system::floating::rotation;
 use crate::system::parameters::Parameters;
@@ -28,12 +30,19 @@ pub struct InterpretedFloating {
     gravity: Routine,
     /// The declared efforts tau(t, q, v) (nv).
     forces: Routine,
+    /// b = C v + g - tau (nv).
+    bias: Routine,
+    /// M a + C v + g - tau (nv).
+    inverse_dynamics: Routine,
     /// T and Pi.
     kinetic: Routine,
     potential: Routine,
     /// q'' (nv), the pivots of M = L^T D L (nv) and the diagonal entries they are
     /// compared with (nv).
     forward: Routine,
+    /// dtau/dq and dtau/dv (nv x nv each, row-major, one after the other), compiled by
+    /// [`InterpretedFloating::for_derivatives`] only.
+    derivatives: Option<Routine>,
 }
 
 impl InterpretedFloating {
@@ -62,8 +71,29 @@ impl InterpretedFloating {
     ///
     /// # Errors
     /// As [`InterpretedFloating::from_text`].
-    pub fn from_equations(mut model: Model, eqs: Equations) -> Result<Self, Error> {
-        let routines = compile_floating(&mut model, &eqs)?;
+    pub fn from_equations(model: Model, eqs: Equations) -> Result<Self, Error> {
+        Self::compiled(model, eqs, false)
+    }
+
+    /// [`InterpretedFloating::from_model`] with the derivatives of the dynamics
+    /// (`compile_floating_with_derivatives`): what
+    /// [`InterpretedFloating::inverse_dynamics_derivatives`] and
+    /// [`crate::FloatingDerivatives`] read. Deriving them costs about as much again as the
+    /// rest, so the other constructors leave them out.
+    ///
+    /// # Errors
+    /// As [`InterpretedFloating::from_text`].
+    pub fn for_derivatives(mut model: Model) -> Result<Self, Error> {
+        let eqs = mechanism_codegen::derive(&mut model)?;
+        Self::compiled(model, eqs, true)
+    }
+
+    /// The routines of `model`, with the derivatives when `derivatives`.
+    fn compiled(mut model: Model, eqs: Equations, derivatives: bool) -> Result<Self, Error> {
+        let routines = match derivatives {
+            true => compile_floating_with_derivatives(&mut model, &eqs)?,
+            false => compile_floating(&mut model, &eqs)?,
+        };
         let nv = model.coordinates.len();
         let routine = |role: Role, outputs: usize| {
             Routine::new(routines.program(role)?, routines.sources(), outputs)
@@ -90,9 +120,15 @@ impl InterpretedFloating {
             mass: routine(Role::Mass, nv * nv)?,
             gravity: routine(Role::Gravity, nv)?,
             forces: routine(Role::Forces, nv)?,
+            bias: routine(Role::Bias, nv)?,
+            inverse_dynamics: routine(Role::InverseDynamics, nv)?,
             kinetic: routine(Role::Kinetic, 1)?,
             potential: routine(Role::Potential, 1)?,
             forward: routine(Role::ForwardDynamics, 3 * nv)?,
+            derivatives: match derivatives {
+                true => Some(routine(Role::InverseDynamicsDerivatives, 2 * nv * nv)?),
+                false => None,
+            },
             parameters: Parameters::new(&model, &routines)?,
         })
     }
@@ -180,6 +216,68 @@ impl InterpretedFloating {
     pub fn generalized_forces(&self, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
         self.forces
             .run(&self.at(t, q, v), |f| out.copy_from_slice(f));
+    }
+
+    /// The bias b = C(q, v) v + g(q) - tau(t, q, v) into `out` (nv), one Newton-Euler pass
+    /// (Pinocchio's `nonLinearEffects` when no force is declared).
+    pub fn bias(&self, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        self.bias.run(&self.at(t, q, v), |b| out.copy_from_slice(b));
+    }
+
+    /// The inverse dynamics M a + C v + g - tau into `out` (nv): the effort that gives the
+    /// acceleration `a` (Pinocchio's `rnea` when no force is declared).
+    pub fn inverse_dynamics(&self, t: f64, q: &[f64], v: &[f64], a: &[f64], out: &mut [f64]) {
+        let values = Values {
+            qdd: a,
+            ..self.at(t, q, v)
+        };
+        self.inverse_dynamics
+            .run(&values, |x| out.copy_from_slice(x));
+    }
+
+    /// dtau/dq and dtau/dv (nv x nv each, row-major) of the inverse dynamics at (t, q, v, a)
+    /// into `dq` and `dv`, by the tangent of the configuration manifold (as
+    /// [`super::FloatingBase::inverse_dynamics_derivatives`]); false, nothing written, when
+    /// the robot was built without them ([`InterpretedFloating::for_derivatives`]) or a
+    /// slice is not nv x nv.
+    pub fn inverse_dynamics_derivatives(
+        &self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        (dq, dv): (&mut [f64], &mut [f64]),
+    ) -> bool {
+        let n = self.nv();
+        let Some(routine) = &self.derivatives else {
+            return false;
+        };
+        if dq.len() != n * n || dv.len() != n * n {
+            return false;
+        }
+        let values = Values {
+            qdd: a,
+            ..self.at(t, q, v)
+        };
+        routine.run(&values, |out| {
+            dq.copy_from_slice(&out[..n * n]);
+            dv.copy_from_slice(&out[n * n..]);
+        });
+        true
+    }
+
+    /// Whether [`InterpretedFloating::inverse_dynamics_derivatives`] answers.
+    pub fn has_derivatives(&self) -> bool {
+        self.derivatives.is_some()
+    }
+
+    /// q (+) v dt into `out` (nq), on the configuration manifold
+    /// ([`crate::integrate_floating`]'s exponential map); `out` is left alone when q, v or
+    /// `out` is not of this robot's sizes.
+    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {
+        if q.len() == self.nq() && v.len() == self.nv() && out.len() == self.nq() {
+            crate::system::floating::integrate_slices(q, v, dt, out);
+        }
     }
 
     /// T = 1/2 v^T M(q) v.

@@ -23,6 +23,7 @@ mod drawing;
 #[cfg(feature = "std")]
 mod dynamic;
 pub(crate) mod floating;
+mod floating_derivatives;
 #[cfg(feature = "interpreter")]
 mod forward_routine;
 #[cfg(feature = "std")]
@@ -33,6 +34,8 @@ mod interpreted;
 mod interpreted_constraints;
 #[cfg(feature = "interpreter")]
 mod interpreted_floating;
+#[cfg(feature = "interpreter")]
+mod interpreted_floating_derivatives;
 mod joint_limits;
 mod mechanism;
 #[cfg(feature = "interpreter")]
@@ -68,6 +71,8 @@ pub use interpreted::Interpreted;
 pub use interpreted_constraints::InterpretedConstraints;
 #[cfg(feature = "interpreter")]
 pub use interpreted_floating::{InterpretedFloating, Momentum};
+#[cfg(feature = "interpreter")]
+pub use interpreted_floating_derivatives::FloatingDerivatives;
 pub use joint_limits::JointLimits;
 pub use mechanism::{
     Accelerations, Coordinates, Independent, Mechanism, Multipliers, StaticEvaluation, Velocities,

@@ -384,26 +384,29 @@ fn snap_angles_writes_rounded_quarter_turns_as_multiples_of_pi() {
 }
 
 /// `--floating` gives the root link the free-flyer joint; the bad inputs are one line each:
-/// a robot fixed by a `world` link, a URDF whose root has a parent (the joints form a
-/// cycle), and the floating arm given to `simulate`, whose massless base makes M singular
-/// (the floating runs themselves: tests/cli/floating.rs).
+/// an arm whose massless base would make M singular, a robot fixed by a `world` link, and a
+/// URDF whose root has a parent (the joints form a cycle) (the floating runs themselves:
+/// tests/cli/floating.rs).
 #[test]
 fn floating_import_and_its_bad_inputs() {
-    let o = mechanism(&["import", ARM, "--floating"]);
+    let solo = concat!(env!("CARGO_MANIFEST_DIR"), "/mechanisms/urdf/solo12.urdf");
+    let o = mechanism(&["import", solo, "--floating"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8(o.stdout).expect("UTF-8");
     assert!(text.contains("joint = floating(root_joint);"), "{text}");
     assert!(text.contains("floats: q = [position, quaternion (x, y, z, w), joints]"));
     let dir = out_dir("import-floating");
     std::fs::create_dir_all(&dir).unwrap();
-    let mech = dir.join("floating.mech");
-    std::fs::write(&mech, &text).unwrap();
-    // The arm's massless base turns about z with nothing but the shoulder's axis: M is
-    // singular there, which the floating run reports at its first step.
+    // The arm's massless base turns about z with nothing but the shoulder's axis: M would
+    // be singular at every q, so the import refuses it, naming the base.
     assert_one_line_error(
-        &mechanism(&["simulate", mech.to_str().unwrap(), "--t-end", "0.1"]),
-        "the forward dynamics (M not positive definite or a non-finite a) at t = 0 s",
+        &mechanism(&["import", ARM, "--floating"]),
+        "arm.urdf:7:3: <link name=\"base_link\">: the floating base `base_link` is massless \
+         (no <inertial> with a mass, on it or on a link fixed to it) and one joint, \
+         \"shoulder\", moves from it",
     );
+    // Fixed, it imports as before.
+    assert!(mechanism(&["import", ARM]).status.success());
     let world = dir.join("world.urdf");
     std::fs::write(
         &world,

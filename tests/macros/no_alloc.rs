@@ -112,7 +112,7 @@ mechanism::mechanism! {
 }
 
 /// The floating-base methods, the provided ones (centre of mass, centroidal momentum
-/// matrix, integrate) included, allocate nothing either.
+/// matrix, integrate, the forward dynamics' derivatives) included, allocate nothing either.
 #[test]
 fn floating_base_methods_do_not_allocate() {
     use mechanism::FloatingBase;
@@ -134,6 +134,8 @@ fn floating_base_methods_do_not_allocate() {
     black_box(robot.center_of_mass(&q));
     black_box(robot.centroidal_momentum_matrix(&q));
     black_box(FloatingArm::integrate(&q, &v, 0.01));
+    black_box(robot.inverse_dynamics_derivatives(t, &q, &v, &v));
+    black_box(robot.forward_dynamics_derivatives(t, &q, &v, &v));
     for frame in 0..FloatingArm::FRAMES.len() {
         black_box(robot.frame_placement(frame, &q));
         black_box(robot.frame_jacobian(frame, &q));

@@ -12,6 +12,7 @@ mod chain_pinocchio;
 mod closed_chain;
 mod derivatives_pinocchio;
 mod drawing;
+mod floating_derivatives;
 mod floating_interpreted;
 mod floating_motion;
 mod floating_pinocchio;

@@ -15,7 +15,8 @@ Models (the same as `mechanism import` writes them, and as derivatives_bench.cpp
   panda_finger_joint2`);
 - ur5: mechanisms/urdf/ur5_robot.urdf -> 6 dof (the URDF's root link `world` is the world);
 - solo12: mechanisms/urdf/solo12.urdf without a root joint: `base_link` fixed to the world,
-  as `mechanism import` fixes the root link (a floating base is not imported) -> 12 dof.
+  as `mechanism import` fixes the root link without `--floating` -> 12 dof
+  (the free-flyer Solo12 is floating_derivatives_fixture.py's).
 Fixed joints are merged into their parents by both. Gravity: (0, 0, -9.81) on both sides.
 
 Per state (24, numpy.random.default_rng(SEED) drawn in this order: q uniform inside the

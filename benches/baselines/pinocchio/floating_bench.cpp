@@ -1,6 +1,7 @@
 // Pinocchio's side of the floating-base benchmark (benches/floating_robot.py): a URDF
 // loaded with JointModelFreeFlyer, the joints named after it locked at q = 0, then crba,
-// nonLinearEffects, crba + nonLinearEffects, rnea, aba and ccrba timed over 1000 random
+// nonLinearEffects, crba + nonLinearEffects, rnea, aba, ccrba, computeRNEADerivatives and
+// computeABADerivatives timed over 1000 random
 // states (random unit quaternion and position, joints uniform in their limits, v in
 // (-2, 2), a in (-5, 5), tau in (-20, 20)) in 11 rounds; prints {routine: {median_ns,
 // min_ns}} as JSON. Built by build.sh next to panda_bench.
@@ -8,11 +9,13 @@
 // Usage: floating_bench ROBOT.urdf [LOCKED_JOINT ...]
 #include <pinocchio/parsers/urdf.hpp>
 
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
 #include <pinocchio/algorithm/model.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
@@ -136,6 +139,14 @@ int main(int argc, char ** argv)
     pinocchio::ccrba(model, data, Q[k], V[k]);
     return data.Ag(0, last) + data.Ag(5, last);
   };
+  auto rnea_derivatives = [&](std::size_t k) {
+    pinocchio::computeRNEADerivatives(model, data, Q[k], V[k], A[k]);
+    return data.dtau_dq(0, last) + data.dtau_dv(last, 0);
+  };
+  auto aba_derivatives = [&](std::size_t k) {
+    pinocchio::computeABADerivatives(model, data, Q[k], V[k], T[k]);
+    return data.ddq_dq(0, last) + data.ddq_dv(last, 0) + data.Minv(0, last);
+  };
   struct Routine
   {
     const char * name;
@@ -143,7 +154,8 @@ int main(int argc, char ** argv)
   };
   std::vector<Routine> routines = {
     {"crba", crba}, {"nonLinearEffects", nle}, {"crba+nonLinearEffects", crba_nle},
-    {"rnea", rnea}, {"aba", aba},               {"ccrba", ccrba}};
+    {"rnea", rnea}, {"aba", aba},               {"ccrba", ccrba},
+    {"computeRNEADerivatives", rnea_derivatives}, {"computeABADerivatives", aba_derivatives}};
   for (auto & r : routines)
     time_loop(r.f, N);
   std::printf("{");

@@ -129,6 +129,18 @@ fn json<R: FloatingBase<NQ, NV> + Default, const NQ: usize, const NV: usize>(
                 black_box(r.centroidal_momentum_matrix(&s.q));
             }),
         ),
+        (
+            "inverse_dynamics_derivatives",
+            Box::new(|s| {
+                black_box(r.inverse_dynamics_derivatives(0.0, &s.q, &s.v, &s.a));
+            }),
+        ),
+        (
+            "forward_dynamics_derivatives",
+            Box::new(|s| {
+                black_box(r.forward_dynamics_derivatives(0.0, &s.q, &s.v, &s.tau));
+            }),
+        ),
     ];
     for (_, f) in routines.iter_mut() {
         round(&st, f);

@@ -36,6 +36,7 @@ use crate::algebra::expr::SymbolId;
 use crate::algebra::matrix::Matrix;
 use crate::error::{Error, Result};
 use crate::mechanics::equations::Equations;
+use crate::mechanics::floating_derivatives::floating_tangent;
 use crate::mechanics::link_route::for_links;
 use crate::mechanics::model::Model;
 use crate::mechanics::tangent::{ResidualTangent, multiplier_symbols};
@@ -204,6 +205,19 @@ pub fn compile_floating(model: &mut Model, eqs: &Equations) -> Result<Routines> 
         }));
     }
     compile_roles(model, eqs, None, &Role::floating(eqs, &model.drawing))
+}
+
+/// [`compile_floating`]'s routines and [`Role::InverseDynamicsDerivatives`]: dtau_id/dq by
+/// the tangent of the configuration manifold and dtau_id/dv (NV x NV each,
+/// `mechanics::floating_derivatives`), q'' read as a.
+///
+/// # Errors
+/// As [`compile_floating`].
+pub fn compile_floating_with_derivatives(model: &mut Model, eqs: &Equations) -> Result<Routines> {
+    let tangent = floating_tangent(model, eqs).map_err(|e| for_links(model, e))?;
+    let mut roles = Role::floating(eqs, &model.drawing);
+    roles.push(Role::InverseDynamicsDerivatives);
+    compile_roles(model, eqs, Some(&tangent), &roles)
 }
 
 /// Refuses a floating-base model where `what` assumes q' = dq/dt.

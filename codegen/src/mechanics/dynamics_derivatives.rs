@@ -62,7 +62,14 @@ pub(crate) fn inverse_dynamics_jacobians(
     motion: (&[SymbolId], &[SymbolId], &[Id]),
 ) -> Result<(Vec<Id>, [Matrix; 2])> {
     let (recursion, forms) = forms(model, d, eqs, motion)?;
-    let arena = &model.arena;
+    Ok((recursion, leanest(&model.arena, forms)?))
+}
+
+/// The pair of `forms` with the fewest operations per call once compiled (module docs).
+///
+/// # Errors
+/// A compile error of a form's program.
+pub(crate) fn leanest(arena: &Arena, forms: Vec<Form>) -> Result<[Matrix; 2]> {
     let estimates: Vec<usize> = (forms.iter())
         .map(|(_, m)| graph_ops(arena, &[&m[0], &m[1]]))
         .collect();
@@ -85,7 +92,7 @@ pub(crate) fn inverse_dynamics_jacobians(
             }
         }
     }
-    Ok((recursion, running.swap_remove(best)))
+    Ok(running.swap_remove(best))
 }
 
 /// Forms whose estimate is within this ratio of the least are compiled and counted; the
@@ -97,7 +104,7 @@ pub(crate) fn inverse_dynamics_jacobians(
 const CLOSE: (usize, usize) = (3, 2);
 
 /// One form of dtau_id/dq, dtau_id/dq': its name and the two matrices.
-type Form = (&'static str, [Matrix; 2]);
+pub(crate) type Form = (&'static str, [Matrix; 2]);
 
 /// The recursion's entries of tau_id, and each form's Jacobians by `q` and `qd` with its
 /// name: M q'' + C q' + g - tau, the traced recursion where it is another expression, and
@@ -108,21 +115,9 @@ fn forms(
     eqs: &Equations,
     (q, qd, qdd): (&[SymbolId], &[SymbolId], &[Id]),
 ) -> Result<(Vec<Id>, Vec<Form>)> {
-    let n = eqs.n;
     let arena = &mut model.arena;
-    let mut residual = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut terms = Vec::with_capacity(n + 3);
-        for (j, &a) in qdd.iter().enumerate() {
-            terms.push(arena.mul2(eqs.mass.get(i, j), a));
-        }
-        terms.push(eqs.coriolis_forces.get(i, 0));
-        terms.push(eqs.gravity.get(i, 0));
-        let tau = eqs.forces.get(i, 0);
-        terms.push(arena.neg(tau));
-        residual.push(arena.add(&terms));
-    }
-    let recursion: Vec<Id> = (0..n).map(|i| eqs.inverse_dynamics.get(i, 0)).collect();
+    let residual = residual_rows(arena, eqs, qdd);
+    let recursion: Vec<Id> = (0..eqs.n).map(|i| eqs.inverse_dynamics.get(i, 0)).collect();
     let mut forms = vec![(
         "M q'' + C q' + g - tau",
         row_jacobians(arena, d, &residual, [q, qd])?,
@@ -140,6 +135,24 @@ fn forms(
         ));
     }
     Ok((recursion, forms))
+}
+
+/// The entries of M q'' + C q' + g - tau, `qdd` the acceleration nodes.
+pub(crate) fn residual_rows(arena: &mut Arena, eqs: &Equations, qdd: &[Id]) -> Vec<Id> {
+    let n = eqs.n;
+    (0..n)
+        .map(|i| {
+            let mut terms = Vec::with_capacity(n + 3);
+            for (j, &a) in qdd.iter().enumerate() {
+                terms.push(arena.mul2(eqs.mass.get(i, j), a));
+            }
+            terms.push(eqs.coriolis_forces.get(i, 0));
+            terms.push(eqs.gravity.get(i, 0));
+            let tau = eqs.forces.get(i, 0);
+            terms.push(arena.neg(tau));
+            arena.add(&terms)
+        })
+        .collect()
 }
 
 /// Each form of dtau_id/dq and dtau_id/dq' the compile stage chooses among (module docs),

@@ -29,6 +29,7 @@ pub(crate) mod drawing;
 pub(crate) mod dynamics_derivatives;
 pub(crate) mod equations;
 pub(crate) mod floating;
+pub(crate) mod floating_derivatives;
 pub(crate) mod forward_derivatives;
 pub(crate) mod forward_dynamics;
 pub(crate) mod joints;

@@ -123,7 +123,8 @@ pub const FLOATING_ROOT: &str = "root_joint";
 /// round-off (others no rigid body has are adjusted: [`UrdfImport::notes`]); two joints,
 /// or two links, written alike; a `lock` name that is not a movable joint, or whose limits
 /// exclude 0; a `struct_name` that is not an identifier, or is a Rust keyword; `floating`
-/// for a robot whose root link is `world`.
+/// for a robot whose root link is `world`, or whose root (with the links fixed to it) is
+/// massless with at most one joint moving from it (M would be singular).
 pub fn urdf_to_mech(xml: &str, options: &UrdfOptions) -> Result<String, UrdfError> {
     urdf_import(xml, options).map(|import| import.text)
 }
@@ -183,6 +184,9 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
                        its joint, or import it fixed";
         return Err(root.error(file, message));
     }
+    if options.floating {
+        check_floating_mass(&robot, &tree, file)?;
+    }
     if options.damping {
         check_damping(&robot, &tree, file)?;
     }
@@ -206,6 +210,57 @@ pub fn urdf_import(xml: &str, options: &UrdfOptions) -> Result<UrdfImport, UrdfE
         notes,
         snapped,
     })
+}
+
+/// Refuses a floating root that carries no mass (nor does any link fixed to it) with at
+/// most one joint moving from it: the base turning with that joint's motion while the joint
+/// moves back moves nothing, so M is singular at every q (an arm's empty `base_link`
+/// imported with `--floating`).
+fn check_floating_mass(
+    robot: &robot::Robot,
+    tree: &check::Tree,
+    file: &str,
+) -> Result<(), UrdfError> {
+    let Some(&root) = tree.order.first() else {
+        return Ok(());
+    };
+    // The root's rigid group: the links joined to it by fixed or locked joints (parents
+    // come before their children in `order`).
+    let mut rigid = vec![false; robot.links.len()];
+    rigid[root] = true;
+    let mut moving = Vec::new();
+    for &link in &tree.order[1..] {
+        if let (Some(parent), Some(joint)) = (tree.parent_link[link], tree.parent_joint[link])
+            && rigid[parent]
+        {
+            match tree.coordinates[joint] {
+                None => rigid[link] = true,
+                Some(_) => moving.push(joint),
+            }
+        }
+    }
+    let mass: f64 = (robot.links.iter().zip(&rigid))
+        .filter(|(_, r)| **r)
+        .filter_map(|(l, _)| l.inertial.as_ref().map(|i| i.mass))
+        .sum();
+    if mass > 0.0 || moving.len() > 1 {
+        return Ok(());
+    }
+    let name = &robot.links[root].name;
+    let how = match moving.first() {
+        Some(&j) => format!(
+            "one joint, \"{}\", moves from it: the base turning with that joint while the \
+             joint turns back moves nothing",
+            robot.joints[j].name
+        ),
+        None => "no joint moves from it".to_string(),
+    };
+    let message = format!(
+        "the floating base `{name}` is massless (no <inertial> with a mass, on it or on a link \
+         fixed to it) and {how}, so M is singular: give `{name}` an <inertial>, or import \
+         the robot fixed (without --floating, `floating = true`)"
+    );
+    Err(robot.links[root].place.error(file, message))
 }
 
 /// Refuses a damping to be imported that is negative (or not finite): such a damper would

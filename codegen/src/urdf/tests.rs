@@ -718,3 +718,52 @@ fn assert_one_line(case: &str, e: &UrdfError, line: usize, element: &str, phrase
         assert!(text.contains(&format!(": {element}: ")), "{case}: {text}");
     }
 }
+
+/// A floating root with neither mass nor a link fixed to it that has some, and a single
+/// joint moving from it, makes M singular: refused at the root's `<link>`. With a mass on
+/// a link fixed to it, or two joints moving from it, the base's six motions are not
+/// redundant and the import goes on.
+#[test]
+fn a_massless_floating_base_is_refused_where_m_would_be_singular() {
+    let floating = UrdfOptions {
+        floating: true,
+        ..options(&[])
+    };
+    let mass = "<inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>";
+    let joint = |name: &str, parent: &str, child: &str, kind: &str| {
+        format!(
+            "<joint name=\"{name}\" type=\"{kind}\"><parent link=\"{parent}\"/><child link=\"{child}\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>"
+        )
+    };
+    let one_leg = robot(&format!(
+        "<link name=\"a\"/>\n<link name=\"b\">{mass}</link>\n{}",
+        joint("j", "a", "b", "revolute")
+    ));
+    let e = urdf_to_mech(&one_leg, &floating).expect_err("refused");
+    assert_eq!(
+        e.to_string(),
+        "t.urdf:2:1: <link name=\"a\">: the floating base `a` is massless (no <inertial> with \
+         a mass, on it or on a link fixed to it) and one joint, \"j\", moves from it: the base \
+         turning with that joint while the joint turns back moves nothing, so M is singular: \
+         give `a` an <inertial>, or import the robot fixed (without --floating, `floating = \
+         true`)"
+    );
+    assert!(
+        urdf_to_mech(&one_leg, &options(&[])).is_ok(),
+        "fixed, it imports"
+    );
+    // A mass fixed to the base.
+    let weighted = robot(&format!(
+        "<link name=\"a\"/>\n<link name=\"w\">{mass}</link>\n<link name=\"b\">{mass}</link>\n{}\n{}",
+        joint("f", "a", "w", "fixed"),
+        joint("j", "a", "b", "revolute")
+    ));
+    assert!(urdf_to_mech(&weighted, &floating).is_ok());
+    // Two legs.
+    let two_legs = robot(&format!(
+        "<link name=\"a\"/>\n<link name=\"b\">{mass}</link>\n<link name=\"c\">{mass}</link>\n{}\n{}",
+        joint("j", "a", "b", "revolute"),
+        joint("k", "a", "c", "revolute")
+    ));
+    assert!(urdf_to_mech(&two_legs, &floating).is_ok());
+}

@@ -252,10 +252,10 @@ fn header(robot: &Robot, tree: &Tree, file: &str, damping: bool, floating: bool)
             tree.link_names[root]
         );
     } else if let Some(&root) = tree.order.first() {
-        // A legged robot or humanoid is fixed where a floating base would be: say so.
+        // A legged robot or humanoid is fixed unless asked to float: say so, and how.
         let _ = writeln!(
             out,
-            "/// The root link `{}` is fixed to the world (a floating base is not imported).",
+            "/// The root link `{}` is fixed to the world (`--floating`, or `floating = true` in mechanism!, imports it free).",
             tree.link_names[root]
         );
     }
