@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The derivatives of the dynamics against Pinocchio's, in interleaved rounds
-(docs/drafts/derivatives-benchmarks.md):
+(BENCHMARKS.md, "Derivatives of the dynamics"):
 
     python3 benches/derivatives.py [--rounds 5] [--robots panda,solo12,ur5] [--no-build]
                                    [--builds portable,native]
