@@ -416,7 +416,7 @@ impl Bodies<'_> {
     /// M = L^T D L is finite and above 1e-12 of its diagonal entry (the dense solve's
     /// threshold for M~) and the result is finite, else what the dense `kkt_solve` gives on
     /// `evaluate` (the same semantics and errors); `None` overall for a mechanism without
-    /// the routine.
+    /// the routine or whose program is past [`TANGENT_INSTRUCTIONS_MAX`].
     pub(crate) fn constrained_dynamics(
         &self,
         n: usize,
@@ -425,7 +425,10 @@ impl Bodies<'_> {
         let Some(program) = self.routines.get(Role::ConstrainedDynamics) else {
             return Ok(None);
         };
-        if program.outputs().is_empty() {
+        // Past the cap the trait's default (the dense `kkt_solve` on `evaluate`) answers:
+        // A02 with N = 80 (162 coordinates, 161 rows) writes 1.9 million operations here,
+        // which rustc cannot compile within issue 50's build budget.
+        if program.outputs().is_empty() || program.instructions().len() > TANGENT_INSTRUCTIONS_MAX {
             return Ok(None);
         }
         let bindings = self.bindings(Role::ConstrainedDynamics);
