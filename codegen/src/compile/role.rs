@@ -103,8 +103,9 @@ pub enum Role {
     /// c = Phi_q u - gamma (m x 1), the pivots D of M = L^T D L and M's diagonal in the
     /// same order (n x 1 each): `constrained_dynamics`, which finishes S lambda = c,
     /// q'' = u - Y lambda at run time. Compiled for a mechanism with constraint rows;
-    /// without outputs (and no method emitted) where the dense solve counts fewer
-    /// operations or a pivot is identically 0 ([`constrained_dynamics_outputs`]).
+    /// without outputs (and no method emitted) where the dense solve
+    /// ([`dense_kkt_operations`] with the evaluation) counts fewer operations or a pivot is
+    /// identically 0.
     ConstrainedDynamics,
     /// dtau_id/dq and dtau_id/dq' of the inverse dynamics tau_id = M q'' + C q' + g - tau
     /// (two n x n outputs, [`crate::InverseDynamicsDerivatives`]): `inverse_dynamics_derivatives`.
