@@ -164,7 +164,7 @@ pub use crate::simulation::singular::SingularPassage;
 pub use crate::simulation::sweep::{ParameterSet, sweep};
 #[cfg(feature = "std")]
 pub use crate::simulation::trajectory::{Sample, SolverStats, Trajectory};
-pub use crate::system::floating::integrate as integrate_floating;
+pub use crate::system::free_flyer::integrate as integrate_floating;
 pub use crate::system::{
     Accelerations, Coordinates, EvaluationSlices, FloatingBase, Independent, JointLimits,
     Mechanism, Multipliers, ParameterError, ParameterRange, RotationFactor, StaticEvaluation,

@@ -20,7 +20,7 @@ use nalgebra::SVector;
 
 use crate::error::Error;
 use crate::system::FloatingBase;
-use crate::system::floating::integrate;
+use crate::system::free_flyer::integrate;
 
 /// How [`simulate_floating`] steps (module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -175,7 +175,7 @@ fn rate<const NQ: usize, const NV: usize>(
 /// [`rate`] on slices (q of nq = nv + 1 entries, v of nv, the rate into `d`, nq).
 pub(crate) fn configuration_rate(q: &[f64], v: &[f64], d: &mut [f64]) {
     let quat = [q[3], q[4], q[5], q[6]];
-    let r = crate::system::floating::rotation(&quat);
+    let r = crate::system::free_flyer::rotation(&quat);
     for i in 0..3 {
         d[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
     }

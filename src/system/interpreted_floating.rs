@@ -10,7 +10,7 @@ use mechanism_codegen::{
     Equations, Error, Model, Role, compile_floating, compile_floating_with_derivatives,
 };
 
-use crate::system::floating::rotation;
+use crate::system::free_flyer::rotation;
 use crate::system::parameters::Parameters;
 use crate::system::routine::{Routine, Values};
 use crate::system::{ParameterError, ParameterRange};
@@ -276,7 +276,7 @@ impl InterpretedFloating {
     /// `out` is not of this robot's sizes.
     pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {
         if q.len() == self.nq() && v.len() == self.nv() && out.len() == self.nq() {
-            crate::system::floating::integrate_slices(q, v, dt, out);
+            crate::system::free_flyer::integrate_slices(q, v, dt, out);
         }
     }
 

@@ -26,6 +26,7 @@ pub(crate) mod floating;
 mod floating_derivatives;
 #[cfg(feature = "interpreter")]
 mod forward_routine;
+pub(crate) mod free_flyer;
 #[cfg(feature = "std")]
 mod info;
 #[cfg(feature = "interpreter")]
