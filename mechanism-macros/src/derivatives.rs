@@ -42,7 +42,7 @@ impl Bodies<'_> {
         if self.routines.get(role).is_none() || self.too_large(role)? {
             return Ok(None);
         }
-        let (program, bindings) = self.routine(role)?;
+        let program = self.routines.program(role)?;
         let names = [
             quote!(dq),
             quote!(dqd),
@@ -50,14 +50,11 @@ impl Bodies<'_> {
             quote!(pivots),
             quote!(diagonal),
         ];
-        let targets: Vec<_> = names
-            .iter()
-            .map(|x| Self::place(program, x.clone()))
-            .collect();
-        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let body = self.named_outputs(role, program, &names)?;
         let (krate, cache) = (self.krate, self.cache_read(program));
         let m = quote!(#krate::__private::SMatrix::<f64, #n, #n>);
         let v = quote!(#krate::__private::SVector::<f64, #n>);
+        let definite = Self::definite_pivots(quote!(1e-14));
         Ok(Some(quote! {
             let _ = t;
             #cache
@@ -67,10 +64,7 @@ impl Bodies<'_> {
             let mut pivots = #v::zeros();
             let mut diagonal = #v::zeros();
             #body
-            let definite = pivots
-                .iter()
-                .zip(diagonal.iter())
-                .all(|(d, m)| d.is_finite() && *d > 1e-14 * *m);
+            #definite
             let finite = [&dq, &dqd, &inverse]
                 .iter()
                 .all(|x| x.iter().fold(true, |ok, v| ok & v.is_finite()));

@@ -418,7 +418,8 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
         velocity_rows,
         ..
     } = t;
-    let indices: Vec<usize> = (0..*p).collect();
+    let parameter_methods =
+        parameter_methods(krate, &quote!(#krate::Mechanism<#n, #m>), *p, fields);
     let entries: Vec<usize> = (0..independent.len()).collect();
     let dispatched = dispatched_methods(krate, *n, *m, g);
     let bodies = dispatch::bodies(krate, &dispatched);
@@ -447,30 +448,7 @@ fn expand_trait_impl(decl: &Declaration, t: &Tables, g: &Generated) -> TokenStre
             #joint_limits
             #orientations
 
-            fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
-                match index {
-                    #(#indices => ::core::option::Option::Some(self.__parameters.#fields),)*
-                    _ => ::core::option::Option::None,
-                }
-            }
-            fn set_parameter(
-                &mut self,
-                index: usize,
-                value: f64,
-            ) -> ::core::result::Result<(), #krate::ParameterError> {
-                #krate::__private::check_parameter(
-                    index,
-                    value,
-                    #p,
-                    <Self as #krate::Mechanism<#n, #m>>::PARAMETER_RANGES,
-                )?;
-                match index {
-                    #(#indices => self.__parameters.#fields = value,)*
-                    _ => {}
-                }
-                self.refresh();
-                ::core::result::Result::Ok(())
-            }
+            #parameter_methods
             fn initial_guess(&self) -> [f64; #n] {
                 #name::initial_values(&self.__parameters).0
             }
@@ -773,5 +751,44 @@ fn expand_evaluation_methods(
             mass: &[#((#mass_rows, #mass_cols)),*],
             jacobian: &[#((#jac_rows, #jac_cols)),*],
         });
+    }
+}
+
+/// `parameter(index)` and `set_parameter(index, value)` of the trait `trait_path` (the
+/// `p` parameters are the fields `fields` of `self.__parameters`): set_parameter checks the
+/// value against the trait's `PARAMETER_RANGES`, stores it and refreshes the cached
+/// parameter-only values.
+pub(crate) fn parameter_methods(
+    krate: &TokenStream,
+    trait_path: &TokenStream,
+    p: usize,
+    fields: &[Ident],
+) -> TokenStream {
+    let indices: Vec<usize> = (0..p).collect();
+    quote! {
+        fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
+            match index {
+                #(#indices => ::core::option::Option::Some(self.__parameters.#fields),)*
+                _ => ::core::option::Option::None,
+            }
+        }
+        fn set_parameter(
+            &mut self,
+            index: usize,
+            value: f64,
+        ) -> ::core::result::Result<(), #krate::ParameterError> {
+            #krate::__private::check_parameter(
+                index,
+                value,
+                #p,
+                <Self as #trait_path>::PARAMETER_RANGES,
+            )?;
+            match index {
+                #(#indices => self.__parameters.#fields = value,)*
+                _ => {}
+            }
+            Self::refresh(self);
+            ::core::result::Result::Ok(())
+        }
     }
 }

@@ -266,7 +266,12 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
         .into_iter()
         .cloned()
         .chain(guesses.iter().skip(6).cloned());
-    let indices: Vec<usize> = (0..*p).collect();
+    let parameter_methods = crate::expand::parameter_methods(
+        krate,
+        &quote!(#krate::FloatingBase<#nq, #nv>),
+        *p,
+        fields,
+    );
     let frame_names = &b.frame_names;
     let dispatched = methods(krate, nq, *nv, b);
     let bodies = dispatch::bodies(krate, &dispatched);
@@ -287,30 +292,7 @@ fn trait_impl(decl: &Declaration, t: &Tables, b: &FloatingBodies) -> TokenStream
             const FRAMES: &'static [&'static str] = &[#(#frame_names),*];
             const PARAMETER_RANGES: &'static [#krate::ParameterRange] = &[#(#ranges),*];
 
-            fn parameter(&self, index: usize) -> ::core::option::Option<f64> {
-                match index {
-                    #(#indices => ::core::option::Option::Some(self.__parameters.#fields),)*
-                    _ => ::core::option::Option::None,
-                }
-            }
-            fn set_parameter(
-                &mut self,
-                index: usize,
-                value: f64,
-            ) -> ::core::result::Result<(), #krate::ParameterError> {
-                #krate::__private::check_parameter(
-                    index,
-                    value,
-                    #p,
-                    <Self as #krate::FloatingBase<#nq, #nv>>::PARAMETER_RANGES,
-                )?;
-                match index {
-                    #(#indices => self.__parameters.#fields = value,)*
-                    _ => {}
-                }
-                #name::refresh(self);
-                ::core::result::Result::Ok(())
-            }
+            #parameter_methods
             #trait_methods
         }
     }

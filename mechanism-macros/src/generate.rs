@@ -309,6 +309,32 @@ impl Bodies<'_> {
         }
     }
 
+    /// The statements of `role`'s program writing its output k into the local matrix
+    /// `names[k]` (each placed as [`Bodies::place`]).
+    pub(crate) fn named_outputs(
+        &self,
+        role: Role,
+        program: &Program,
+        names: &[TokenStream],
+    ) -> mechanism_codegen::Result<TokenStream> {
+        let targets: Vec<_> = names
+            .iter()
+            .map(|x| Self::place(program, x.clone()))
+            .collect();
+        Ok(emit_body(program, &self.bindings(role), &targets)?.tokens)
+    }
+
+    /// `let definite = ..;`: every pivot of M = L^T D L (the local `pivots`, in elimination
+    /// order) finite and above `ratio` of M's diagonal entry there (the local `diagonal`).
+    pub(crate) fn definite_pivots(ratio: TokenStream) -> TokenStream {
+        quote! {
+            let definite = pivots
+                .iter()
+                .zip(diagonal.iter())
+                .all(|(d, m)| d.is_finite() && *d > #ratio * *m);
+        }
+    }
+
     /// A body returning one nalgebra matrix (or vector) of the shape of `role`'s output.
     pub(crate) fn matrix(&self, role: Role) -> mechanism_codegen::Result<TokenStream> {
         let (program, bindings) = self.routine(role)?;
@@ -388,15 +414,11 @@ impl Bodies<'_> {
         let Some(program) = self.routines.get(Role::ForwardDynamics) else {
             return Ok(None);
         };
-        let bindings = self.bindings(Role::ForwardDynamics);
-        let targets = [
-            Self::place(program, quote!(qdd)),
-            Self::place(program, quote!(pivots)),
-            Self::place(program, quote!(diagonal)),
-        ];
-        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let names = [quote!(qdd), quote!(pivots), quote!(diagonal)];
+        let body = self.named_outputs(Role::ForwardDynamics, program, &names)?;
         let (krate, cache) = (self.krate, self.cache_read(program));
         let v = quote!(#krate::__private::SVector::<f64, #n>);
+        let definite = Self::definite_pivots(quote!(1e-14));
         Ok(Some(quote! {
             let _ = t;
             #cache
@@ -404,10 +426,7 @@ impl Bodies<'_> {
             let mut pivots = #v::zeros();
             let mut diagonal = #v::zeros();
             #body
-            let definite = pivots
-                .iter()
-                .zip(diagonal.iter())
-                .all(|(d, m)| d.is_finite() && *d > 1e-14 * *m);
+            #definite
             (definite && qdd.iter().all(|x| x.is_finite())).then_some(qdd)
         }))
     }
@@ -431,7 +450,6 @@ impl Bodies<'_> {
         if program.outputs().is_empty() || program.instructions().len() > TANGENT_INSTRUCTIONS_MAX {
             return Ok(None);
         }
-        let bindings = self.bindings(Role::ConstrainedDynamics);
         let names = [
             quote!(u),
             quote!(y),
@@ -440,11 +458,8 @@ impl Bodies<'_> {
             quote!(pivots),
             quote!(diagonal),
         ];
-        let targets: Vec<_> = names
-            .iter()
-            .map(|x| Self::place(program, x.clone()))
-            .collect();
-        let body = emit_body(program, &bindings, &targets)?.tokens;
+        let body = self.named_outputs(Role::ConstrainedDynamics, program, &names)?;
+        let definite = Self::definite_pivots(quote!(1e-12));
         let (krate, cache) = (self.krate, self.cache_read(program));
         let sm = |r: usize, c: usize| quote!(#krate::__private::SMatrix::<f64, #r, #c>);
         let (vn, mnm, mmm, vm) = (sm(n, 1), sm(n, m), sm(m, m), sm(m, 1));
@@ -457,10 +472,7 @@ impl Bodies<'_> {
             let mut pivots = #vn::zeros();
             let mut diagonal = #vn::zeros();
             #body
-            let definite = pivots
-                .iter()
-                .zip(diagonal.iter())
-                .all(|(d, m)| d.is_finite() && *d > 1e-12 * *m);
+            #definite
             if definite {
                 if let ::core::option::Option::Some(solution) =
                     #krate::__private::kkt_tree_solve(&u, &y, &s, &c)
