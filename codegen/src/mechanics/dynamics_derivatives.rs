@@ -21,9 +21,9 @@
 //!
 //! | robot | M q'' + C q' + g | traced recursion | analytical recursion | kept |
 //! |---|---:|---:|---:|---|
-//! | Panda (7) | 9,477 | 7,349 | 6,956 | analytical recursion |
-//! | UR5 (6) | 3,105 | 2,336 | 3,084 | traced recursion |
-//! | Solo12, base fixed (12) | 2,984 | 3,162 | 3,524 | M q'' + C q' + g |
+//! | Panda (7) | 9,477 | 7,349 | 3,812 | analytical recursion |
+//! | UR5 (6) | 3,105 | 2,336 | 2,212 | analytical recursion |
+//! | Solo12, base fixed (12) | 2,984 | 3,162 | 2,998 | M q'' + C q' + g |
 
 use crate::algebra::cost::graph_ops;
 use crate::algebra::diff::Differentiator;
@@ -33,7 +33,7 @@ use crate::error::Result;
 use crate::mechanics::equations::Equations;
 use crate::mechanics::model::Model;
 use crate::mechanics::motion_jacobians::{motion_symbols, row_jacobians};
-use crate::mechanics::tree_derivatives::tree_derivatives;
+use crate::mechanics::tree_derivatives::{TreeDynamics, tree_derivatives, tree_dynamics};
 use crate::program::cse::Program;
 
 /// The derivatives of the inverse dynamics tau_id (module docs).
@@ -174,10 +174,44 @@ fn recursion_derivatives(
     model: &mut Model,
     d: &mut Differentiator,
     eqs: &Equations,
-    (q, qd): (&[SymbolId], &[SymbolId]),
+    motion: (&[SymbolId], &[SymbolId]),
 ) -> Result<[Matrix; 2]> {
+    Ok(recursion_with(model, d, eqs, motion, false)?.derivatives)
+}
+
+/// The analytical recursion's dtau_id/dq and dtau_id/dq' (in the acceleration symbols) with
+/// M and the bias b = C q' + g - tau from the same recursion (`tree_derivatives::tree_dynamics`):
+/// what the forward dynamics' derivatives read when q'' is to share the derivatives'
+/// kinematics (`mechanics::forward_derivatives`). For a model whose links carry all of T.
+///
+/// # Errors
+/// A coordinate or rate that is not a symbol; a differentiation error.
+pub(crate) fn recursion_dynamics(model: &mut Model, eqs: &Equations) -> Result<TreeDynamics> {
+    let (q, qd, _) = motion_symbols(model)?;
+    let mut d = Differentiator::new();
+    recursion_with(model, &mut d, eqs, (&q, &qd), true)
+}
+
+/// [`recursion_derivatives`], with M and the bias `with_dynamics` ([`recursion_dynamics`]).
+fn recursion_with(
+    model: &mut Model,
+    d: &mut Differentiator,
+    eqs: &Equations,
+    (q, qd): (&[SymbolId], &[SymbolId]),
+    with_dynamics: bool,
+) -> Result<TreeDynamics> {
     let gravity = model.gravity.filter(|_| model.potential_from_links);
-    let [dq, dqd] = tree_derivatives(model, gravity)?;
+    let tree = if with_dynamics {
+        tree_dynamics(model, gravity)?
+    } else {
+        let derivatives = tree_derivatives(model, gravity)?;
+        let zero = Matrix::zeros(&mut model.arena, 0, 0);
+        TreeDynamics {
+            derivatives,
+            mass: zero.clone(),
+            bias: zero,
+        }
+    };
     let arena = &mut model.arena;
     let rest: Vec<Id> = (0..eqs.n)
         .map(|i| {
@@ -190,7 +224,17 @@ fn recursion_derivatives(
         })
         .collect();
     let [rq, rqd] = row_jacobians(arena, d, &rest, [q, qd])?;
-    Ok([dq.add(arena, &rq)?, dqd.add(arena, &rqd)?])
+    let [dq, dqd] = &tree.derivatives;
+    let bias = if with_dynamics {
+        tree.bias.add(arena, &Matrix::column(rest))?
+    } else {
+        tree.bias
+    };
+    Ok(TreeDynamics {
+        derivatives: [dq.add(arena, &rq)?, dqd.add(arena, &rqd)?],
+        mass: tree.mass,
+        bias,
+    })
 }
 
 /// dtau_id/dp of the entries `rows` of tau_id (n x p) by the `parameters` symbols.

@@ -21,25 +21,47 @@
 //! no more multiplications (counted on the structure: the nonzeros of M^-1 against the
 //! solve's): on a chain whose M is dense and on a forest of such chains (Solo12's
 //! fixed-base legs) the two tie, and compiled, the product's independent dot products
-//! count fewer operations (the whole program: the Panda 10,100 against 10,550 by the
-//! solves, Solo12 4,390 against 4,408). Where M has structural zeros L is sparser than
+//! count fewer operations (measured when this rule was set: the Panda 10,100 against 10,550
+//! by the solves, Solo12 4,390 against 4,408). Where M has structural zeros L is sparser than
 //! M^-1 (a branching tree; the UR5, whose M has structural zeros) and the solves are
-//! kept: 3,976 on the UR5, where the product would compile to 3,899, a rule
-//! on the structure that is 2 % off there but needs no second compilation.
-
+//! kept, a rule on the structure that needs no second compilation.
+//!
+//! Two routes to M, b and dtau_id, compiled both where the second applies and the one with
+//! fewer operations per call kept (the first on a tie):
+//!
+//! - *apart*: M and b of the dynamics ([`Equations`], for a tree of links the recursive
+//!   route's composite bodies and Newton-Euler, in frames turned so that each axis is z)
+//!   and the form of dtau_id the inverse dynamics' derivatives kept;
+//! - *shared*, for a tree of links with one-coordinate joints: M, b and dtau_id all from
+//!   the analytical recursion (`tree_derivatives::tree_dynamics`): M_ij = S_i . alpha_j
+//!   from the alpha_j = Ic_j S_j the derivatives carry up anyway, b = S . F0 from a
+//!   Newton-Euler pass at q'' = 0 over the derivatives' own velocities and psi, so q'' and
+//!   its derivatives share the bodies' kinematics, subtree inertias and momenta.
+//!
+//! | robot | apart | shared | kept |
+//! |---|---:|---:|---|
+//! | Panda (7) | 6,702 | 6,340 | shared |
+//! | UR5 (6) | 3,813 | 3,838 | apart |
+//! | Solo12, base fixed (12) | 4,390 | 4,420 | apart |
+//!
+//! (the whole program's operations per call, `cargo run --release -p mechanism-codegen
+//! --example derivative_ops`). On the Panda the shared q'' costs 919 operations beyond the
+//! derivatives it feeds, the separate one 1,283.
 use super::forward_dynamics::Factor;
 use crate::algebra::diff::Differentiator;
 use crate::algebra::expr::{FxHashMap, Id};
 use crate::algebra::matrix::Matrix;
 use crate::error::Result;
-use crate::mechanics::dynamics_derivatives::InverseDynamicsDerivatives;
+use crate::mechanics::dynamics_derivatives::{InverseDynamicsDerivatives, recursion_dynamics};
 use crate::mechanics::equations::Equations;
 use crate::mechanics::lagrange::substitute_all;
 use crate::mechanics::model::Model;
+use crate::program::cse::Program;
 
 /// dq''/dq, dq''/dq', M^-1 (n x n each, by coordinate), the pivots D (elimination order)
 /// and M's diagonal in the same order (module docs), for the efforts `effort` and the
-/// elimination order `order` (parents before children).
+/// elimination order `order` (parents before children): by whichever of the two routes
+/// (module docs) counts fewer operations once compiled.
 pub(crate) fn forward_dynamics_derivatives(
     model: &mut Model,
     eqs: &Equations,
@@ -47,13 +69,62 @@ pub(crate) fn forward_dynamics_derivatives(
     effort: &[Id],
     order: &[usize],
 ) -> Result<Vec<Matrix>> {
+    let separate = Parts {
+        mass: &eqs.mass,
+        bias: &eqs.bias,
+        position: &dynamics.position,
+        velocity: &dynamics.velocity,
+    };
+    let apart = outputs(model, separate, effort, order)?;
+    // The shared route is written for one-coordinate joints of a tree of links.
+    if !model.kinetic_from_links || model.floating_root().is_some() {
+        return Ok(apart);
+    }
+    let tree = recursion_dynamics(model, eqs)?;
+    let [position, velocity] = &tree.derivatives;
+    let shared = Parts {
+        mass: &tree.mass,
+        bias: &tree.bias,
+        position,
+        velocity,
+    };
+    let shared = outputs(model, shared, effort, order)?;
+    let ops = |outputs: &[Matrix]| -> Result<usize> {
+        let outputs: Vec<&Matrix> = outputs.iter().collect();
+        Ok(Program::new(&model.arena, &outputs)?.ops_per_call(&model.arena))
+    };
+    // The first of equal counts wins: the route by M and b of the dynamics.
+    Ok(if ops(&shared)? < ops(&apart)? {
+        shared
+    } else {
+        apart
+    })
+}
+
+/// What one route reads: M, the bias b = C q' + g - tau, dtau_id/dq (in the acceleration
+/// symbols) and dtau_id/dq'.
+#[derive(Clone, Copy)]
+struct Parts<'a> {
+    mass: &'a Matrix,
+    bias: &'a Matrix,
+    position: &'a Matrix,
+    velocity: &'a Matrix,
+}
+
+/// [`forward_dynamics_derivatives`]' outputs from one route's `parts`.
+fn outputs(
+    model: &mut Model,
+    parts: Parts<'_>,
+    effort: &[Id],
+    order: &[usize],
+) -> Result<Vec<Matrix>> {
     let n = order.len();
     let a = &mut model.arena;
-    let factor = Factor::new(a, &eqs.mass, order)?;
+    let factor = Factor::new(a, parts.mass, order)?;
     let rhs: Vec<Id> = order
         .iter()
         .map(|&c| {
-            let d = a.sub(effort[c], eqs.bias.get(c, 0));
+            let d = a.sub(effort[c], parts.bias.get(c, 0));
             a.named(d)
         })
         .collect();
@@ -66,12 +137,7 @@ pub(crate) fn forward_dynamics_derivatives(
             map.insert(s, qdd[k]);
         }
     }
-    let entries = substitute_all(
-        a,
-        &mut Differentiator::new(),
-        dynamics.position.data(),
-        &map,
-    )?;
+    let entries = substitute_all(a, &mut Differentiator::new(), parts.position.data(), &map)?;
     let position = Matrix::new(n, n, entries)?;
     let inverse = factor.inverse(a);
     // The product where M^-1 has no more structural nonzeros than a solve's multiplications
@@ -112,8 +178,8 @@ pub(crate) fn forward_dynamics_derivatives(
         Ok(out)
     };
     let dq = solved(&position)?;
-    let dqd = solved(&dynamics.velocity)?;
-    let diagonal = order.iter().map(|&c| eqs.mass.get(c, c)).collect();
+    let dqd = solved(parts.velocity)?;
+    let diagonal = order.iter().map(|&c| parts.mass.get(c, c)).collect();
     Ok(vec![
         dq,
         dqd,
