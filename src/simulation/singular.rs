@@ -282,14 +282,14 @@ fn predict(t1: f64, h: f64, w0: f64, w1: f64) -> Option<f64> {
 mod tests {
     use super::*;
 
-    /// On a w that is a parabola in t (w = 0.4 - 2 (t - 1) - 3 (t - 1)^2, zero at
-    /// t* = 1 + (sqrt(4 + 4.8) - 2) / 6 ~ 1.16107), the curved prediction from the step
-    /// [1 - h, 1] is t* to round-off, where the secant misses it by 0.074 (h = 0.1): the
+    /// On a w that is a parabola in t (w = 0.25 - 2 (t - 1) - 3 (t - 1)^2, zero at
+    /// t* = 1 + (sqrt(7) - 2) / 6 ~ 1.10763), the curved prediction from the step
+    /// [1 - h, 1] is t* to round-off, where the secant misses it by 0.04 (h = 0.1): the
     /// curvature the secant leaves out.
     #[test]
     fn the_curved_prediction_follows_the_curvature_of_w() {
-        let w = |t: f64| 0.4 - 2.0 * (t - 1.0) - 3.0 * (t - 1.0) * (t - 1.0);
-        let exact = 1.0 + ((4.0f64 + 4.8).sqrt() - 2.0) / 6.0;
+        let w = |t: f64| 0.25 - 2.0 * (t - 1.0) - 3.0 * (t - 1.0) * (t - 1.0);
+        let exact = 1.0 + (7.0f64.sqrt() - 2.0) / 6.0;
         let h = 0.1;
         let (w0, wm, w1) = (w(1.0 - h), w(1.0 - h / 2.0), w(1.0));
         let curved = predict_curved(1.0 - h, h, w0, wm, w1).unwrap();
