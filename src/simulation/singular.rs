@@ -251,7 +251,7 @@ impl SingularWatch {
 /// start, middle and end (`w0`, `wm`, `w1`), when w falls over the step's second half;
 /// `None` when it has none there.
 fn predict_curved(t0: f64, h: f64, w0: f64, wm: f64, w1: f64) -> Option<f64> {
-    if !(wm > w1) || !wm.is_finite() {
+    if !wm.is_finite() || wm <= w1 {
         return None;
     }
     // w(theta) = w0 + b theta + c theta^2 on theta = (t - t0) / h.
@@ -269,7 +269,7 @@ fn predict_curved(t0: f64, h: f64, w0: f64, wm: f64, w1: f64) -> Option<f64> {
         let (lo, hi) = (x1.min(x2), x1.max(x2));
         if lo >= 1.0 { lo } else { hi }
     };
-    (theta >= 1.0 && theta.is_finite()).then(|| t0 + theta * h)
+    (theta >= 1.0 && theta.is_finite()).then_some(t0 + theta * h)
 }
 
 /// The zero of the line through (t1 - h, w0) and (t1, w1) when w falls to below
