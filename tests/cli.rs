@@ -6,6 +6,8 @@ use std::process::Output;
 
 use assert_cmd::Command;
 
+#[path = "cli/a02_passages.rs"]
+mod a02_passages;
 #[path = "cli/conventions.rs"]
 mod conventions;
 #[path = "cli/declarations.rs"]

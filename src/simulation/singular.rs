@@ -143,9 +143,6 @@ impl SingularWatch {
     ) -> Result<Option<SingularPassage>, E> {
         let w0 = self.last;
         self.last = w1;
-        let ahead = predict(t0 + h, h, w0, w1);
-        self.near = ahead.is_some() || self.crossing.is_some();
-        self.crossing = ahead;
         self.best.copy_from_slice(&self.current);
         let (mut best_theta, mut best_w) = (1.0, w1);
         if w0.min(w1) < COARSE {
@@ -178,6 +175,17 @@ impl SingularWatch {
                 }
             }
         }
+        let mut ahead = predict(t0 + h, h, w0, w1);
+        if ahead.is_some() {
+            // The secant over the whole step misses the curvature of w (A02 in angles: by
+            // a third of the next step, which put t* on one of its nodes); the parabola
+            // through w at the step's start, middle and end does not.
+            let wm = at(self, 0.5)?;
+            self.keep(0.5, wm, &mut best_theta, &mut best_w);
+            ahead = predict_curved(t0, h, w0, wm, w1).or(ahead);
+        }
+        self.near = ahead.is_some() || self.crossing.is_some();
+        self.crossing = ahead;
         if !self.armed {
             self.armed = w1 > COARSE;
             return Ok(None);
@@ -239,8 +247,57 @@ impl SingularWatch {
     }
 }
 
+/// The first zero after the step's end t0 + h of the parabola through w at the step's
+/// start, middle and end (`w0`, `wm`, `w1`), when w falls over the step's second half;
+/// `None` when it has none there.
+fn predict_curved(t0: f64, h: f64, w0: f64, wm: f64, w1: f64) -> Option<f64> {
+    if !wm.is_finite() || wm <= w1 {
+        return None;
+    }
+    // w(theta) = w0 + b theta + c theta^2 on theta = (t - t0) / h.
+    let c = 2.0 * (w1 - 2.0 * wm + w0);
+    let b = w1 - w0 - c;
+    let theta = if c.abs() <= 1e-12 * (w0.abs() + w1.abs()) {
+        -w0 / b
+    } else {
+        let disc = b * b - 4.0 * c * w0;
+        if disc < 0.0 {
+            return None;
+        }
+        let r = disc.sqrt();
+        let (x1, x2) = ((-b - r) / (2.0 * c), (-b + r) / (2.0 * c));
+        let (lo, hi) = (x1.min(x2), x1.max(x2));
+        if lo >= 1.0 { lo } else { hi }
+    };
+    (theta >= 1.0 && theta.is_finite()).then_some(t0 + theta * h)
+}
+
 /// The zero of the line through (t1 - h, w0) and (t1, w1) when w falls to below
 /// [`COARSE`] (w1 < w0, w1 < COARSE), else `None`.
 fn predict(t1: f64, h: f64, w0: f64, w1: f64) -> Option<f64> {
     (w1 < w0 && w1 < COARSE && h > 0.0).then(|| t1 + w1 * h / (w0 - w1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a w that is a parabola in t (w = 0.25 - 2 (t - 1) - 3 (t - 1)^2, zero at
+    /// t* = 1 + (sqrt(7) - 2) / 6 ~ 1.10763), the curved prediction from the step
+    /// [1 - h, 1] is t* to round-off, where the secant misses it by 0.04 (h = 0.1): the
+    /// curvature the secant leaves out.
+    #[test]
+    fn the_curved_prediction_follows_the_curvature_of_w() {
+        let w = |t: f64| 0.25 - 2.0 * (t - 1.0) - 3.0 * (t - 1.0) * (t - 1.0);
+        let exact = 1.0 + (7.0f64.sqrt() - 2.0) / 6.0;
+        let h = 0.1;
+        let (w0, wm, w1) = (w(1.0 - h), w(1.0 - h / 2.0), w(1.0));
+        let curved = predict_curved(1.0 - h, h, w0, wm, w1).unwrap();
+        assert!((curved - exact).abs() < 1e-12, "{curved} vs {exact}");
+        let secant = predict(1.0, h, w0, w1).unwrap();
+        assert!((secant - exact).abs() > 1e-2, "{secant} vs {exact}");
+        // Rising w, or a parabola that turns up before reaching zero: no prediction.
+        assert_eq!(predict_curved(0.0, h, 0.1, 0.2, 0.3), None);
+        assert_eq!(predict_curved(0.0, h, 0.3, 0.2, 0.19), None);
+    }
 }
