@@ -57,3 +57,44 @@ pub fn crossings(n: usize, t_end: f64) -> Vec<f64> {
     }
     out
 }
+
+/// The `.mech` text of A02 in rocker and coupler angles with `n` windows (1 m, 1 kg bars,
+/// every window a rhombus; `benches/scale/a02_angles.py` writes the same), its coordinates
+/// declared window by window (th0, ps1, th1, ...) or, with `grouped`, by kind (all rockers,
+/// then all couplers); released with every rocker vertical and th0' = 1 rad/s.
+pub fn angles_declaration(n: usize, grouped: bool) -> String {
+    let names: Vec<String> = if grouped {
+        let th = (0..=n).map(|i| format!("th{i}"));
+        th.chain((1..=n).map(|i| format!("ps{i}"))).collect()
+    } else {
+        let pairs = (1..=n).flat_map(|i| [format!("ps{i}"), format!("th{i}")]);
+        std::iter::once("th0".to_string()).chain(pairs).collect()
+    };
+    let start = |x: &str| {
+        if x.starts_with("th") {
+            "1.5707963267948966"
+        } else {
+            "0.0"
+        }
+    };
+    let mut s = format!("pub struct A02Angles{n};\nparameters {{ g = {G}; }}\ncoordinates {{\n");
+    for x in &names {
+        s += &format!("    {x} = {};\n", start(x));
+    }
+    s += "}\nindependent { th0 = 1.5707963267948966; der(th0) = 1.0; }\n";
+    let mut kinetic: Vec<String> = (0..=n).map(|i| format!("der(th{i})^2/6")).collect();
+    let mut potential: Vec<String> = (0..=n).map(|i| format!("g*sin(th{i})/2")).collect();
+    let mut rows = String::new();
+    for i in 1..=n {
+        let (t, p, t1) = (format!("th{}", i - 1), format!("ps{i}"), format!("th{i}"));
+        kinetic.push(format!(
+            "der({t})^2/2 + cos({t} - {p})*der({t})*der({p})/2 + der({p})^2/6"
+        ));
+        potential.push(format!("g*(sin({t}) + sin({p})/2)"));
+        rows += &format!("    cos({t}) + cos({p}) - 1 - cos({t1});\n");
+        rows += &format!("    sin({t}) + sin({p}) - sin({t1});\n");
+    }
+    s += &format!("kinetic = {};\n", kinetic.join(" + "));
+    s += &format!("potential = {};\n", potential.join(" + "));
+    s + &format!("constraints {{\n{rows}}}\n")
+}

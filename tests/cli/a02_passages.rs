@@ -1,5 +1,5 @@
 //! IFToMM A02 in rocker and coupler angles (`benches/scale/a02_angles.py`, here written
-//! by [`a02_angles`]) through its singular positions, against its exact motion.
+//! by `mechanism_test_support::a02::angles_declaration`) through its singular positions, against its exact motion.
 //!
 //! Every window is a rhombus (bars of 1 m), so all of them lie flat together when the
 //! rockers pass the horizontal (th = k pi): each window's x closure row has gradient zero
@@ -24,56 +24,9 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
+use mechanism_test_support::a02::{G, angles_declaration};
+
 use super::{mechanism, out_dir, stderr};
-
-const G: f64 = 9.81;
-
-/// The `.mech` text of A02 in angles with `n` windows, declared window by window
-/// (th0, ps1, th1, ...) or grouped by kind (all rockers, then all couplers).
-fn a02_angles(n: usize, interleaved: bool) -> String {
-    let names: Vec<String> = if interleaved {
-        std::iter::once("th0".to_string())
-            .chain((1..=n).flat_map(|i| [format!("ps{i}"), format!("th{i}")]))
-            .collect()
-    } else {
-        (0..=n)
-            .map(|i| format!("th{i}"))
-            .chain((1..=n).map(|i| format!("ps{i}")))
-            .collect()
-    };
-    let start = |x: &str| {
-        if x.starts_with("th") {
-            "1.5707963267948966"
-        } else {
-            "0.0"
-        }
-    };
-    let coords: Vec<String> = names
-        .iter()
-        .map(|x| format!("    {x} = {};", start(x)))
-        .collect();
-    let mut kin: Vec<String> = (0..=n).map(|i| format!("der(th{i})^2/6")).collect();
-    let mut pot: Vec<String> = (0..=n).map(|i| format!("g*sin(th{i})/2")).collect();
-    let mut rows = Vec::new();
-    for i in 1..=n {
-        let (t, p, t1) = (format!("th{}", i - 1), format!("ps{i}"), format!("th{i}"));
-        kin.push(format!(
-            "der({t})^2/2 + cos({t} - {p})*der({t})*der({p})/2 + der({p})^2/6"
-        ));
-        pot.push(format!("g*(sin({t}) + sin({p})/2)"));
-        rows.push(format!("    cos({t}) + cos({p}) - 1 - cos({t1});"));
-        rows.push(format!("    sin({t}) + sin({p}) - sin({t1});"));
-    }
-    format!(
-        "pub struct A02Angles{n};\nparameters {{ g = {G}; }}\ncoordinates {{\n{}\n}}\n\
-         independent {{ th0 = 1.5707963267948966; der(th0) = 1.0; }}\n\
-         kinetic = {};\npotential = {};\nconstraints {{\n{}\n}}\n",
-        coords.join("\n"),
-        kin.join("\n    + "),
-        pot.join("\n    + "),
-        rows.join("\n")
-    )
-}
 
 /// The exact motion on the parallelogram branch (module docs).
 struct Exact {
@@ -192,7 +145,7 @@ fn a02_in_angles_passes_its_flat_positions_on_the_exact_branch() {
         let dir = out_dir(&format!("a02_passages/{name}"));
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("a02.mech");
-        std::fs::write(&file, a02_angles(n, interleaved)).unwrap();
+        std::fs::write(&file, angles_declaration(n, !interleaved)).unwrap();
         let out = dir.join("run");
         let o = mechanism(&[
             "simulate",

@@ -6,50 +6,12 @@
 //! both, and so is the motion. The generator is `benches/scale/a02_angles.py`'s.
 
 use mechanism::{IntegratorOptions, Interpreted, Method, SimulationOptions, simulate};
-
-/// A02 in angles with `n` windows, its coordinates interleaved or grouped by kind (the
-/// declaration of `benches/scale/a02_angles.py`).
-fn a02_angles(n: usize, grouped: bool) -> String {
-    let names: Vec<String> = if grouped {
-        let th = (0..=n).map(|i| format!("th{i}"));
-        th.chain((1..=n).map(|i| format!("ps{i}"))).collect()
-    } else {
-        let pairs = (1..=n).flat_map(|i| [format!("ps{i}"), format!("th{i}")]);
-        std::iter::once("th0".to_string()).chain(pairs).collect()
-    };
-    let start = |x: &str| {
-        if x.starts_with("th") {
-            "1.5707963267948966"
-        } else {
-            "0.0"
-        }
-    };
-    let mut s = format!("pub struct A02Angles{n};\nparameters {{ g = 9.81; }}\ncoordinates {{\n");
-    for x in &names {
-        s += &format!("    {x} = {};\n", start(x));
-    }
-    s += "}\nindependent { th0 = 1.5707963267948966; der(th0) = 1.0; }\n";
-    let mut kinetic: Vec<String> = (0..=n).map(|i| format!("der(th{i})^2/6")).collect();
-    let mut potential: Vec<String> = (0..=n).map(|i| format!("g*sin(th{i})/2")).collect();
-    let mut rows = String::new();
-    for i in 1..=n {
-        let (t, p, t1) = (format!("th{}", i - 1), format!("ps{i}"), format!("th{i}"));
-        kinetic.push(format!(
-            "der({t})^2/2 + cos({t} - {p})*der({t})*der({p})/2 + der({p})^2/6"
-        ));
-        potential.push(format!("g*(sin({t}) + sin({p})/2)"));
-        rows += &format!("    cos({t}) + cos({p}) - 1 - cos({t1});\n");
-        rows += &format!("    sin({t}) + sin({p}) - sin({t1});\n");
-    }
-    s += &format!("kinetic = {};\n", kinetic.join(" + "));
-    s += &format!("potential = {};\n", potential.join(" + "));
-    s + &format!("constraints {{\n{rows}}}\n")
-}
+use mechanism_test_support::a02::angles_declaration;
 
 /// One second of the motion (before the first singular position, at 3.2 s), DOP853 at
 /// rtol 1e-7: the final state by coordinate name, and the counted work per right-hand side.
 fn run(grouped: bool) -> (Vec<(String, f64)>, f64, f64) {
-    let system = Interpreted::from_source(&a02_angles(200, grouped)).unwrap();
+    let system = Interpreted::from_source(&angles_declaration(200, grouped)).unwrap();
     let options = SimulationOptions {
         t_end: 1.0,
         integrator: IntegratorOptions {
