@@ -18,32 +18,8 @@ use mechanism::{FloatingBase, integrate_floating};
 use nalgebra::{DMatrix, SMatrix, SVector};
 use serde_json::Value;
 
-use crate::floating_pinocchio::Solo;
-
-fn numbers(v: &Value) -> Vec<f64> {
-    (v.as_array().unwrap().iter())
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
-/// The row-major rows of `v`.
-fn rows(v: &Value) -> DMatrix<f64> {
-    let rows: Vec<Vec<f64>> = v.as_array().unwrap().iter().map(numbers).collect();
-    DMatrix::from_fn(rows.len(), rows[0].len(), |i, j| rows[i][j])
-}
-
-/// The largest |ours - theirs| against `tol` times the largest |theirs| (at least 1); the
-/// relative error.
-fn check(what: &str, k: usize, ours: &DMatrix<f64>, theirs: &DMatrix<f64>, tol: f64) -> f64 {
-    assert_eq!(ours.shape(), theirs.shape(), "{what}");
-    let scale = theirs.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    let err = (ours - theirs).abs().max();
-    assert!(
-        err <= tol * scale,
-        "{what} at state {k}: max |ours - reference| = {err:e} (scale {scale}, tolerance {tol:e})"
-    );
-    err / scale
-}
+use crate::floating_interpreted::solo12_floating_text;
+use crate::floating_pinocchio::{Solo, check, numbers, rows};
 
 #[test]
 fn solo12_floating_derivatives_match_pinocchio() {
@@ -148,13 +124,7 @@ fn solo12_floating_derivatives_match_central_differences_on_the_manifold() {
 /// Solo12 imported with `floating = true`, against the same fixture and tolerance.
 #[test]
 fn interpreted_solo12_floating_derivatives_match_pinocchio() {
-    let options = mechanism_codegen::UrdfOptions {
-        file_name: "solo12.urdf".into(),
-        floating: true,
-        ..Default::default()
-    };
-    let urdf = include_str!("../../mechanisms/urdf/solo12.urdf");
-    let text = mechanism_codegen::urdf_to_mech(urdf, &options).unwrap();
+    let text = solo12_floating_text();
     let model = mechanism_codegen::parse_model_str(&text).unwrap();
     let robot = mechanism::InterpretedFloating::for_derivatives(model).unwrap();
     let data: Value =

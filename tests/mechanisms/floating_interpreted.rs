@@ -88,19 +88,24 @@ fn the_interpreted_brick_moves_as_the_macros() {
     }
 }
 
-/// Solo12 (imported with `floating = true`) by both routes at 8 random states: M, a,
-/// T, Pi, the weight and the momentum (against the macro's centroidal momentum matrix
-/// times v and centre of mass) to 1e-12 of each quantity's largest entry.
-#[test]
-fn interpreted_solo12_agrees_with_the_macro() {
+/// The `.mech` text of Solo12 imported from mechanisms/urdf/solo12.urdf on a floating base
+/// (`UrdfOptions::floating`).
+pub(crate) fn solo12_floating_text() -> String {
     let options = mechanism_codegen::UrdfOptions {
         file_name: "solo12.urdf".into(),
         floating: true,
         ..Default::default()
     };
     let urdf = include_str!("../../mechanisms/urdf/solo12.urdf");
-    let text = mechanism_codegen::urdf_to_mech(urdf, &options).unwrap();
-    let robot = InterpretedFloating::from_text(&text).unwrap();
+    mechanism_codegen::urdf_to_mech(urdf, &options).unwrap()
+}
+
+/// Solo12 (imported with `floating = true`) by both routes at 8 random states: M, a,
+/// T, Pi, the weight and the momentum (against the macro's centroidal momentum matrix
+/// times v and centre of mass) to 1e-12 of each quantity's largest entry.
+#[test]
+fn interpreted_solo12_agrees_with_the_macro() {
+    let robot = InterpretedFloating::from_text(&solo12_floating_text()).unwrap();
     assert_eq!(robot.configuration(), Solo::CONFIGURATION);
     assert_eq!(robot.neutral(), Solo::NEUTRAL);
     let solo = Solo::default();

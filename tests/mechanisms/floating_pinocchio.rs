@@ -281,7 +281,8 @@ impl<const NQ: usize, const NV: usize> Route<NQ, NV> for Tapes {
     }
 }
 
-fn numbers(v: &Value) -> Vec<f64> {
+/// The numbers of the JSON array `v`.
+pub(crate) fn numbers(v: &Value) -> Vec<f64> {
     v.as_array()
         .unwrap()
         .iter()
@@ -289,19 +290,27 @@ fn numbers(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-fn rows(v: &Value) -> DMatrix<f64> {
+/// The row-major rows of `v`.
+pub(crate) fn rows(v: &Value) -> DMatrix<f64> {
     let rows: Vec<Vec<f64>> = v.as_array().unwrap().iter().map(numbers).collect();
     DMatrix::from_fn(rows.len(), rows[0].len(), |i, j| rows[i][j])
 }
 
-/// The largest |ours - theirs| against `tol` times the largest |theirs| (at least 1).
-fn check(what: &str, k: usize, ours: &DMatrix<f64>, theirs: &DMatrix<f64>, tol: f64) -> f64 {
+/// The largest |ours - theirs| against `tol` times the largest |theirs| (at least 1); the
+/// relative error.
+pub(crate) fn check(
+    what: &str,
+    k: usize,
+    ours: &DMatrix<f64>,
+    theirs: &DMatrix<f64>,
+    tol: f64,
+) -> f64 {
     assert_eq!(ours.shape(), theirs.shape(), "{what}");
     let scale = theirs.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
     let err = (ours - theirs).abs().max();
     assert!(
         err <= tol * scale,
-        "{what} at state {k}: max |ours - Pinocchio| = {err:e} (scale {scale}, tolerance {tol:e})"
+        "{what} at state {k}: max |ours - reference| = {err:e} (scale {scale}, tolerance {tol:e})"
     );
     err / scale
 }
