@@ -301,6 +301,13 @@ fn numbers_are_written_as_rust_display_writes_them() {
     }
     // A tie: 1758940400194218.25 lies halfway between the two shortest decimals; zmij alone
     // writes the even ...218.2, Display ...218.3, and the file keeps Display's.
-    assert_eq!(format_f64(1758940400194218.25), "1758940400194218.3");
-    assert_eq!(format_f64(-124226754900347.125), "-124226754900347.13");
+    // (Both values exact: the integers are below 2^53 and the divisions by powers of two.)
+    assert_eq!(
+        format_f64(7_035_761_600_776_873.0 / 4.0),
+        "1758940400194218.3"
+    );
+    assert_eq!(
+        format_f64(-993_814_039_202_777.0 / 8.0),
+        "-124226754900347.13"
+    );
 }
