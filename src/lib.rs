@@ -151,6 +151,8 @@ pub use crate::integrators::{IntegratorOptions, Method, StepController};
 #[cfg(feature = "std")]
 pub use crate::limits::{MAX_OUTPUT_BYTES, MAX_OUTPUT_SAMPLES};
 #[cfg(feature = "std")]
+pub use crate::simulation::apex::PassageGeometry;
+#[cfg(feature = "std")]
 pub use crate::simulation::events::{Event, EventAction, EventFn, EventHit};
 #[cfg(feature = "std")]
 pub use crate::simulation::options::{InitialState, SimulationOptions};
@@ -158,7 +160,6 @@ pub use crate::simulation::options::{InitialState, SimulationOptions};
 pub use crate::simulation::simulator::{
     Simulation, Simulator, simulate, simulate_recording, simulate_with_events,
 };
-#[cfg(feature = "std")]
 pub use crate::simulation::singular::SingularPassage;
 #[cfg(feature = "std")]
 pub use crate::simulation::sweep::{ParameterSet, sweep};

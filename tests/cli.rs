@@ -40,6 +40,8 @@ mod outputs;
 mod ownership;
 #[path = "cli/parameter_values.rs"]
 mod parameter_values;
+#[path = "cli/passage_geometry.rs"]
+mod passage_geometry;
 #[path = "cli/run_values.rs"]
 mod run_values;
 #[path = "cli/scale.rs"]

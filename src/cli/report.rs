@@ -3,7 +3,9 @@
 
 use std::fmt::Write as _;
 
+use mechanism::PassageGeometry;
 use mechanism::System;
+use mechanism::output::summary::PassageReport;
 use mechanism::output::{Summary, excursion_lines};
 
 use super::seed::{SEED_PRINTED, is_seed};
@@ -149,6 +151,7 @@ fn run_lines(s: &mut String, summary: &Summary) {
             summary.singular_passages.len(),
             times.join(", ")
         );
+        apex_warning(s, &summary.singular_passages);
     }
     let passed = &summary.joint_limit_excursions;
     if !passed.is_empty() {
@@ -164,5 +167,45 @@ fn run_lines(s: &mut String, summary: &Summary) {
     }
     if let Some(e) = &summary.outcome.error {
         let _ = writeln!(*s, "stopped at t = {} s: {e}", summary.outcome.t_last);
+    }
+}
+
+/// The lines for passages through an apex ([`PassageGeometry::Apex`]): a warning for those
+/// a step went over (the run's straight continuation holds only for an exact hit), a note
+/// for those whose turn the steps followed (the motion past them is sensitive).
+fn apex_warning(s: &mut String, passages: &[PassageReport]) {
+    let times = |over: bool| -> Option<String> {
+        let t: Vec<String> = passages
+            .iter()
+            .filter(|p| p.geometry == PassageGeometry::Apex && p.stepped_over == over)
+            .map(|p| format!("{:.4} s", p.t))
+            .collect();
+        let more = match t.len().saturating_sub(4) {
+            0 => String::new(),
+            k => format!(" and {k} more"),
+        };
+        (!t.is_empty()).then(|| format!("{}{more}", t[..t.len().min(4)].join(", ")))
+    };
+    if let Some(t) = times(true) {
+        let _ = writeln!(
+            s,
+            "warning: a step went straight over an apex at {t}: a point where the mechanism \
+             keeps 2 or more degrees of freedom and its branches meet like the nappes of a \
+             cone. That is the continuation of a motion that hits the point exactly (by \
+             symmetry, say); a motion that misses it, by however little, turns around it onto \
+             another branch within about (miss) / (speed), a turn shorter than that step. So \
+             the motion past it is not determined at this tolerance: compare two tolerances, \
+             or a start moved by more than the tolerance (summary.json: \
+             singular_passages[].geometry, .stepped_over)"
+        );
+    }
+    if let Some(t) = times(false) {
+        let _ = writeln!(
+            s,
+            "note: the motion turned around an apex within its steps at {t} (a point where \
+             the branches meet like the nappes of a cone; closest approach in summary.json, \
+             singular_passages[].independence): a near-miss amplifies the state's errors, so \
+             the motion past it may move with the tolerance; compare two tolerances"
+        );
     }
 }

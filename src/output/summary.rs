@@ -12,6 +12,7 @@ use super::outcome::Outcome;
 use super::{OutputError, ensure_dir, write_atomically};
 use crate::algorithms::mobility::Mobility;
 use crate::linalg::max_nan;
+use crate::simulation::apex::PassageGeometry;
 use crate::simulation::singular::SingularPassage;
 use crate::simulation::trajectory::Trajectory;
 use crate::system::SystemInfo;
@@ -160,6 +161,10 @@ pub struct PassageReport {
     pub independence: f64,
     /// The joints of those rows.
     pub joints: Vec<String>,
+    /// `crossing`, `apex` or `unclassified` ([`crate::PassageGeometry`]).
+    pub geometry: PassageGeometry,
+    /// One step went over the closest approach ([`SingularPassage::stepped_over`]).
+    pub stepped_over: bool,
 }
 
 impl PassageReport {
@@ -169,6 +174,8 @@ impl PassageReport {
             rank_drop: p.rank_drop,
             independence: p.independence,
             joints: info.joints_of(&p.rows),
+            geometry: p.geometry,
+            stepped_over: p.stepped_over,
         }
     }
 }

@@ -11,8 +11,10 @@
 //!
 //! The parts: [`simulator`] orchestrates; [`start`] checks what a run starts from; [`rhs`]
 //! is y' = f(t, y), built once per run; [`stepper`] holds the method with its step control
-//! and dense output; [`events`], [`singular`] and [`fail_fast`] watch the steps.
+//! and dense output; [`events`], [`singular`] and [`fail_fast`] watch the steps;
+//! [`apex`] tells the singular positions a nearby motion passes through from those it can miss.
 
+pub(crate) mod apex;
 pub(crate) mod events;
 pub(crate) mod fail_fast;
 pub(crate) mod options;

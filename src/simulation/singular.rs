@@ -25,6 +25,7 @@
 use nalgebra::DMatrix;
 
 use crate::linalg::RowBasis;
+use crate::simulation::apex::PassageGeometry;
 use crate::system::System;
 
 /// One passage through or near a singular configuration.
@@ -38,7 +39,20 @@ pub struct SingularPassage {
     pub rows: Vec<usize>,
     /// The weakest row independence at the nearest accepted step (0 exactly singular).
     pub independence: f64,
+    /// Whether a nearby motion passes through this singular position or can miss it (see
+    /// [`PassageGeometry`]); an [`PassageGeometry::Apex`] passed straight through holds only
+    /// for a motion that hits it exactly.
+    pub geometry: PassageGeometry,
+    /// Whether one step went over the closest approach: w at both its ends at least 8
+    /// times w there (a straddle placed around t*: ends at 1e-2 to 1e-1,
+    /// the minimum at 1e-9 to 1e-6), rather than steps that follow w through its minimum
+    /// (ends within a few times it: a turn around an apex resolved by the steps).
+    pub stepped_over: bool,
 }
+
+/// The ratio of w at a step's ends to w at the closest approach inside it above which the
+/// step went over a passage ([`SingularPassage::stepped_over`]).
+pub(crate) const STEPPED_OVER: f64 = 8.0;
 
 /// Above this weakest independence a step is not searched for a passage, and a new passage
 /// can be recorded only after w has been above it.
@@ -225,6 +239,8 @@ impl SingularWatch {
             rank_drop: rows.len().max(1),
             rows,
             independence: best_w,
+            geometry: PassageGeometry::Unclassified,
+            stepped_over: best_w * STEPPED_OVER < w0.min(w1),
         }))
     }
 
@@ -247,6 +263,11 @@ impl SingularWatch {
     /// that w is below [`COARSE`]; `None` farther away.
     pub(crate) fn stuck(&self) -> Option<(Option<f64>, f64)> {
         (self.last < COARSE).then_some((self.crossing, self.last))
+    }
+
+    /// The rank of Phi_q at regular points: its rows less those redundant at the start.
+    pub(crate) fn rank(&self) -> usize {
+        self.redundant.iter().filter(|&&r| !r).count()
     }
 
     /// The rows losing rank at the closest approach of the last accepted step (the rows

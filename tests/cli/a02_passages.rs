@@ -198,6 +198,8 @@ fn a02_in_angles_passes_its_flat_positions_on_the_exact_branch() {
             assert!(!seen[k], "{name}: passage {k} twice");
             seen[k] = true;
             assert_eq!(p["rank_drop"], n, "{name}: {p}");
+            // Mobility 1: every branch through the flat pose is a line, a crossing.
+            assert_eq!(p["geometry"], "crossing", "{name}: {p}");
         }
     }
 }

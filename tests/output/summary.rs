@@ -264,7 +264,7 @@ fn the_inverse_summary_holds_the_peak_driving_forces() {
 /// redundant four-bar (rows named by their joints) would write them.
 #[test]
 fn summary_names_redundant_rows_passages_and_failures() {
-    use mechanism::{SingularPassage, mobility};
+    use mechanism::{PassageGeometry, SingularPassage, mobility};
     let system = mechanism::builtin::builtin("planar_four_bar_bodies").unwrap();
     let start =
         mechanism::assemble(system.as_ref(), 0.0, &mechanism::AssemblyOptions::default()).unwrap();
@@ -288,6 +288,8 @@ fn summary_names_redundant_rows_passages_and_failures() {
         rank_drop: 2,
         rows: vec![0, 5],
         independence: 1e-7,
+        geometry: PassageGeometry::Apex,
+        stepped_over: true,
     });
     let params = vec![0.0; system.info().parameters.len()];
     let mut summary = Summary::new(&tr, &params, &settings()).expect("summary");
@@ -322,6 +324,8 @@ fn summary_names_redundant_rows_passages_and_failures() {
         (Some(0.25), Some(2))
     );
     assert_eq!(p["joints"].as_array().unwrap().len(), 2, "{p}");
+    assert_eq!(p["geometry"], "apex", "{p}");
+    assert_eq!(p["stepped_over"], true, "{p}");
     assert_eq!(json["status"], "failed");
     assert_eq!(json["t_last"].as_f64(), Some(0.5));
     assert_eq!(json["error"], "step size underflow at t = 0.5 s");

@@ -4,6 +4,7 @@
 use super::Simulator;
 use crate::algorithms::stabilization::Stabilization;
 use crate::error::Error;
+use crate::simulation::apex::classify;
 
 impl Simulator<'_> {
     /// Records the output samples that fall inside (t, t_stop] of the step of size h (before
@@ -40,8 +41,13 @@ impl Simulator<'_> {
         });
         self.stepper.steer(watch.crossing());
         self.rhs.near_singular(watch.near());
+        let rank = watch.rank();
         self.watch = Some(watch);
-        if let Some(p) = found? {
+        if let Some(mut p) = found? {
+            // The closest approach's state, for the passage's geometry.
+            self.dense_at(((p.t - t0) / h).clamp(0.0, 1.0))?;
+            let q = &self.state.y_dense[..n];
+            p.geometry = classify(system, p.t, q, rank, p.rank_drop, p.independence);
             self.trajectory.singular_passages.push(p);
         }
         Ok(())
