@@ -93,6 +93,25 @@ fn scratch(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// `mechanism simulate TARGET --t-end T --figures none --no-animation --out DIR EXTRA...`:
+/// a run that writes only trajectory.csv and summary.json.
+fn simulate_to(target: &str, dir: &Path, t_end: &str, extra: &[&str]) -> Output {
+    let d = dir.to_str().unwrap();
+    let mut args = vec![
+        "simulate",
+        target,
+        "--t-end",
+        t_end,
+        "--figures",
+        "none",
+        "--no-animation",
+        "--out",
+        d,
+    ];
+    args.extend_from_slice(extra);
+    mechanism(&args)
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use mechanism_test_support::a02::angles_declaration;
 
-use super::{mechanism, out_dir, stderr};
+use super::{out_dir, simulate_to, stderr};
 
 /// Runs `target` (a built-in name or a file) to `t_end` into `dir` with `extra` settings;
 /// returns the process output and the parsed summary.json.
@@ -17,20 +17,7 @@ fn run(
     t_end: &str,
     extra: &[&str],
 ) -> (std::process::Output, serde_json::Value) {
-    let d = dir.to_str().unwrap();
-    let mut args = vec![
-        "simulate",
-        target,
-        "--t-end",
-        t_end,
-        "--figures",
-        "none",
-        "--no-animation",
-        "--out",
-        d,
-    ];
-    args.extend_from_slice(extra);
-    let o = mechanism(&args);
+    let o = simulate_to(target, dir, t_end, extra);
     assert!(o.status.success(), "{target}: {}", stderr(&o));
     let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     (o, serde_json::from_str(&text).unwrap())

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use super::{mechanism, out_dir, stderr};
+use super::{out_dir, simulate_to, stderr};
 
 fn exact() -> serde_json::Value {
     let text = include_str!("../fixtures/five_bar_flat_exact.json");
@@ -38,20 +38,7 @@ fn summary(dir: &Path) -> serde_json::Value {
 
 /// Runs the five-bar to `t_end` with `extra` settings into `dir`.
 fn run(dir: &Path, t_end: &str, extra: &[&str]) -> std::process::Output {
-    let d = dir.to_str().unwrap();
-    let mut args = vec![
-        "simulate",
-        "five_bar",
-        "--t-end",
-        t_end,
-        "--figures",
-        "none",
-        "--no-animation",
-        "--out",
-        d,
-    ];
-    args.extend_from_slice(extra);
-    mechanism(&args)
+    simulate_to("five_bar", dir, t_end, extra)
 }
 
 /// At the default tolerance and at 1e-12 the run passes the flat configuration on the
