@@ -160,6 +160,7 @@ pub use crate::simulation::options::{InitialState, SimulationOptions};
 pub use crate::simulation::simulator::{
     Simulation, Simulator, simulate, simulate_recording, simulate_with_events,
 };
+#[cfg(feature = "std")]
 pub use crate::simulation::singular::SingularPassage;
 #[cfg(feature = "std")]
 pub use crate::simulation::sweep::{ParameterSet, sweep};
