@@ -49,7 +49,7 @@ pub fn format_f64(x: f64) -> String {
 /// number left out, as `Display` does) for 1e-5 <= |x| < 1e16, the range where `zmij`
 /// writes decimals too, and in its exponent form without a `+` (`1.5e-13`, `1e16`, as
 /// `{:e}`) otherwise; `0`, `-0`, `NaN`, `inf` and `-inf` as `Display` writes them. Where two
-/// shortest decimals are equally close to x ([`may_tie`]), `zmij` takes the even last digit
+/// shortest decimals are equally close to x (`may_tie`), `zmij` takes the even last digit
 /// and `Display` the one above: those values go through `Display` itself, so the text is
 /// `Display`'s for every double.
 pub fn push_f64(out: &mut Vec<u8>, x: f64) {
