@@ -151,7 +151,7 @@ fn run_lines(s: &mut String, summary: &Summary) {
             summary.singular_passages.len(),
             times.join(", ")
         );
-        apex_warning(s, &summary.singular_passages);
+        apex_lines(s, &summary.singular_passages);
     }
     let passed = &summary.joint_limit_excursions;
     if !passed.is_empty() {
@@ -173,7 +173,7 @@ fn run_lines(s: &mut String, summary: &Summary) {
 /// The lines for passages through an apex ([`PassageGeometry::Apex`]): a warning for those
 /// a step went over (the run's straight continuation holds only for an exact hit), a note
 /// for those whose turn the steps followed (the motion past them is sensitive).
-fn apex_warning(s: &mut String, passages: &[PassageReport]) {
+fn apex_lines(s: &mut String, passages: &[PassageReport]) {
     let times = |over: bool| -> Option<String> {
         let t: Vec<String> = passages
             .iter()

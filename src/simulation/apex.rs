@@ -28,8 +28,15 @@ use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::system::System;
 
-/// The geometry of a singular position passed (see the module docs of
-/// `simulation/apex.rs`).
+/// The geometry of a singular position passed: whether a nearby motion must pass through
+/// it or can miss it.
+///
+/// With r the rank of Phi_q at regular points, d the rows that lose rank there, B a basis
+/// of the k = n - r + d directions the other rows leave free and u_j the weak rows'
+/// directions, the configurations nearby are to second order the x with
+/// x^T B^T H_j B x = 0, H_j = sum_i u_ji d^2 Phi_i / dq^2: a cone of dimension n - r (the
+/// mobility). The rank drop persists on the singular set, of dimension
+/// s = k - rank[B^T H_1 B; ...; B^T H_d B]. n - r - s <= 1 is a crossing, >= 2 an apex.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "files", derive(serde::Serialize))]
 #[cfg_attr(feature = "files", serde(rename_all = "lowercase"))]
@@ -40,9 +47,9 @@ pub enum PassageGeometry {
     Crossing,
     /// An apex: the singular set is at least two dimensions smaller than the set the motion
     /// moves on (the five-bar lying flat), so a nearby motion can miss it and then turns
-    /// around it onto another branch. The run passed straight through, which is the motion
-    /// only if it hits the apex exactly (by symmetry, say); a miss shorter than the step
-    /// over it is not resolved.
+    /// around it onto another branch, within about (miss) / (speed). A step that went over
+    /// it ([`crate::SingularPassage::stepped_over`]) continues straight on, the motion only
+    /// of an exact hit (by symmetry, say); a miss shorter than that step is not resolved.
     Apex,
     /// Not classified: more than 256 coordinates with a mobility above 1 (the test costs 2 k
     /// evaluations of Phi_q and dense eigen decompositions of order n).

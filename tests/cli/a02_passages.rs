@@ -26,7 +26,7 @@ use std::path::Path;
 
 use mechanism_test_support::a02::{G, angles_declaration};
 
-use super::{mechanism, out_dir, stderr};
+use super::{out_dir, simulate_to, stderr};
 
 /// The exact motion on the parallelogram branch (module docs).
 struct Exact {
@@ -147,19 +147,7 @@ fn a02_in_angles_passes_its_flat_positions_on_the_exact_branch() {
         let file = dir.join("a02.mech");
         std::fs::write(&file, angles_declaration(n, !interleaved)).unwrap();
         let out = dir.join("run");
-        let o = mechanism(&[
-            "simulate",
-            file.to_str().unwrap(),
-            "--t-end",
-            "3.5",
-            "--rtol",
-            "1e-7",
-            "--figures",
-            "none",
-            "--no-animation",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = simulate_to(file.to_str().unwrap(), &out, "3.5", &["--rtol", "1e-7"]);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         let (header, rows) = trajectory(&out);
         assert!(rows.len() > 300, "{name}: {} samples", rows.len());
