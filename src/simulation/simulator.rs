@@ -382,17 +382,29 @@ impl<'a> Simulator<'a> {
                 max_steps,
             });
         }
-        let state = &mut self.state;
-        let h = self.stepper.advance(
-            &mut self.rhs,
-            self.t,
-            self.options.t_end,
-            &state.y,
-            &mut state.y_new,
-            &mut self.trajectory.stats.rejected_steps,
-        )?;
+        // A step that ends just before a singular position predicted only after it is
+        // taken again, steered (once: the retaken step's own prediction is the better one).
+        let mut retaken = false;
+        let (h, w1) = loop {
+            let state = &mut self.state;
+            let h = self.stepper.advance(
+                &mut self.rhs,
+                self.t,
+                self.options.t_end,
+                &state.y,
+                &mut state.y_new,
+                &mut self.trajectory.stats.rejected_steps,
+            )?;
+            self.check_new_state(self.t + h)?;
+            let w1 = self.measure_end(h);
+            if !retaken && self.retake_before_singular(h, w1)? {
+                retaken = true;
+                self.trajectory.stats.rejected_steps += 1;
+                continue;
+            }
+            break (h, w1);
+        };
         let t_new = self.t + h;
-        self.check_new_state(t_new)?;
         // Events: earliest sign change inside the step, located on the dense output.
         let mut t_stop = t_new;
         let mut stop_event = None;
@@ -409,7 +421,7 @@ impl<'a> Simulator<'a> {
             self.t = t_stop;
             return Ok(false);
         }
-        self.watch_singular(h)?;
+        self.watch_singular(h, w1)?;
         self.accept(t_new)?;
         if !self.finished {
             let steps = self.trajectory.stats.steps;

@@ -21,6 +21,11 @@
 //! above [`COARSE`] again. Its rank drop is the number of rows whose independence is below
 //! max(sqrt(w), threshold) at the minimum (the rows that fall together; the others stay
 //! near 1).
+//!
+//! The prediction of the singular position ahead ([`SingularWatch::crossing`]) steers the
+//! explicit steps (`stepper/passage.rs`). [`SingularWatch::ahead_of_step`] gives it for a
+//! step before the driver accepts it, so that a step found to end just before t* can be
+//! taken again, steered.
 
 use nalgebra::DMatrix;
 
@@ -76,6 +81,9 @@ pub(crate) struct SingularWatch {
     /// Row independences at the last measurement, and at the lowest w of the current search.
     current: Vec<f64>,
     best: Vec<f64>,
+    /// The rows of a step's end, kept while [`SingularWatch::ahead_of_step`] measures inside
+    /// it.
+    end: Vec<f64>,
     /// w at the end of the last accepted step.
     last: f64,
     /// False after a passage until w rises above [`COARSE`].
@@ -105,6 +113,7 @@ impl SingularWatch {
             scale: vec![0.0; m],
             current: vec![1.0; m],
             best: vec![1.0; m],
+            end: vec![1.0; m],
             last: 1.0,
             armed: true,
             crossing: None,
@@ -210,14 +219,9 @@ impl SingularWatch {
                 }
             }
         }
-        let mut ahead = predict(t0 + h, h, w0, w1);
-        if ahead.is_some() {
-            // The secant over the whole step misses the curvature of w (A02 in angles: by
-            // a third of the next step, which put t* on one of its nodes); the parabola
-            // through w at the step's start, middle and end does not.
-            let wm = at(self, 0.5)?;
+        let (ahead, wm) = self.predict_ahead(t0, h, w0, w1, &mut at)?;
+        if let Some(wm) = wm {
             self.keep(0.5, wm, &mut best_theta, &mut best_w);
-            ahead = predict_curved(t0, h, w0, wm, w1).or(ahead);
         }
         self.near = ahead.is_some() || self.crossing.is_some();
         self.crossing = ahead;
@@ -242,6 +246,45 @@ impl SingularWatch {
             geometry: PassageGeometry::Unclassified,
             stepped_over: best_w * STEPPED_OVER < w0.min(w1),
         }))
+    }
+
+    /// The singular position predicted after a step from t0 to t0 + h with w = `w0` at its
+    /// start and `w1` at its end (`at` as for [`SingularWatch::observe_step`]), and w at
+    /// the step's middle when it was evaluated. The secant over the whole step misses the
+    /// curvature of w (A02 in angles: by a third of the next step, which put t* on one of
+    /// its nodes); the parabola through w at the step's start, middle and end does not.
+    fn predict_ahead<E>(
+        &mut self,
+        t0: f64,
+        h: f64,
+        w0: f64,
+        w1: f64,
+        at: &mut impl FnMut(&mut Self, f64) -> Result<f64, E>,
+    ) -> Result<(Option<f64>, Option<f64>), E> {
+        let ahead = predict(t0 + h, h, w0, w1);
+        if ahead.is_none() {
+            return Ok((None, None));
+        }
+        let wm = at(self, 0.5)?;
+        Ok((predict_curved(t0, h, w0, wm, w1).or(ahead), Some(wm)))
+    }
+
+    /// The singular position [`SingularWatch::observe_step`] would predict after a step
+    /// from t0 to t0 + h that is not yet accepted, `w1` its end's
+    /// [`SingularWatch::measure`]: for the driver to decide whether the step ends too near
+    /// it and is to be retaken. Leaves the watch as it was (with the end's rows in
+    /// `current`, as `observe_step` expects them).
+    pub(crate) fn ahead_of_step<E>(
+        &mut self,
+        t0: f64,
+        h: f64,
+        w1: f64,
+        mut at: impl FnMut(&mut Self, f64) -> Result<f64, E>,
+    ) -> Result<Option<f64>, E> {
+        self.end.copy_from_slice(&self.current);
+        let ahead = self.predict_ahead(t0, h, self.last, w1, &mut at);
+        self.current.copy_from_slice(&self.end);
+        Ok(ahead?.0)
     }
 
     /// The time t* at which w is predicted to reach zero after the last accepted step,

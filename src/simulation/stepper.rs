@@ -75,6 +75,22 @@ pub(crate) trait Stepper {
     /// (`stepper/passage.rs`); a fixed-step method ignores it.
     fn steer(&mut self, _crossing: Option<f64>) {}
 
+    /// Whether the step just taken from t, of size `h`, is to be taken again because a
+    /// singular position predicted only after it, at `crossing`, lies just after its end
+    /// (`stepper/passage.rs`: no step ends just before t*). If so the stepper restores its
+    /// step control to what it was before the step and steers the next [`Stepper::advance`]
+    /// from the same (t, y) by `crossing`; the driver has not accepted the step. A
+    /// fixed-step method never retakes.
+    fn retake(&mut self, _t: f64, _h: f64, _crossing: f64) -> bool {
+        false
+    }
+
+    /// Whether [`Stepper::retake`] can ever be true (an adaptive explicit method): the
+    /// driver predicts nothing for it otherwise.
+    fn retakes(&self) -> bool {
+        false
+    }
+
     /// Right-hand sides evaluated outside `rhs` (HHT's Newton iterations), for the run's
     /// counters.
     fn own_evaluations(&self) -> usize;

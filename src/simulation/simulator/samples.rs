@@ -27,14 +27,48 @@ impl Simulator<'_> {
         Ok(())
     }
 
+    /// The singular watch's w at the end of the step just taken (self.t + h, y_new), NaN
+    /// without a watch.
+    pub(super) fn measure_end(&mut self, h: f64) -> f64 {
+        let (n, t1, system) = (self.n, self.t + h, self.system());
+        match self.watch.as_mut() {
+            Some(watch) => watch.measure(system, t1, &self.state.y_new[..n]),
+            None => f64::NAN,
+        }
+    }
+
+    /// Whether the step just taken (from self.t to self.t + h, w1 its end's
+    /// [`Simulator::measure_end`]) ends just before a singular position that the watch
+    /// predicts only now; if so the stepper has been told to take it again, steered
+    /// ([`crate::simulation::stepper::Stepper::retake`]), with its stages projected.
+    pub(super) fn retake_before_singular(&mut self, h: f64, w1: f64) -> Result<bool, Error> {
+        if !self.stepper.retakes() {
+            return Ok(false);
+        }
+        let Some(mut watch) = self.watch.take() else {
+            return Ok(false);
+        };
+        let (n, t0, system) = (self.n, self.t, self.system());
+        let ahead = watch.ahead_of_step(t0, h, w1, |w, theta| {
+            self.dense_at(theta)?;
+            Ok::<f64, Error>(w.measure(system, t0 + theta * h, &self.state.y_dense[..n]))
+        });
+        self.watch = Some(watch);
+        let retake = ahead?.is_some_and(|ts| self.stepper.retake(t0, h, ts));
+        if retake {
+            self.rhs.near_singular(true);
+        }
+        Ok(retake)
+    }
+
     /// Records the singular configurations passed inside the step just taken (from self.t
-    /// to self.t + h, before it is accepted): see [`crate::SingularPassage`].
-    pub(super) fn watch_singular(&mut self, h: f64) -> Result<(), Error> {
+    /// to self.t + h, before it is accepted, w1 its end's [`Simulator::measure_end`]): see
+    /// [`crate::SingularPassage`].
+    pub(super) fn watch_singular(&mut self, h: f64, w1: f64) -> Result<(), Error> {
         let Some(mut watch) = self.watch.take() else {
             return Ok(());
         };
         let (n, t0, system) = (self.n, self.t, self.system());
-        let w1 = watch.measure(system, t0 + h, &self.state.y_new[..n]);
         let found = watch.observe_step(t0, h, w1, |w, theta| {
             self.dense_at(theta)?;
             Ok::<f64, Error>(w.measure(system, t0 + theta * h, &self.state.y_dense[..n]))
