@@ -18,8 +18,9 @@
 //! just before t*.
 //!
 //! Why a straddle must not be small: the noise is that of the level set. The projection
-//! leaves |Phi| ~ 1e-14, and near a crossing of two branches the level set Phi = eps is a
-//! hyperbola (x y = eps, x along the branch, y across it) whose offset y ~ eps / x, rate
+//! leaves |Phi| ~ 1e-15 to 1e-14, and near a crossing of two branches the level set
+//! Phi = eps is a hyperbola (x y = eps, x along the branch, y across it) whose offset
+//! y ~ eps / x, rate
 //! y' ~ eps / x^2 and acceleration y'' ~ eps / x^3 grow as a stage comes nearer to t*
 //! (A02, N = 200, rtol 1e-7: the couplers' ps'' at the stages, exactly 0 on the branch, are
 //! 1e-7 to 2e-6 rad/s^2 between 1e-3 and 4e-4 s before t*). Measured against the absolute
@@ -32,7 +33,19 @@
 //! taken with no prediction can end just before t* (A02 grouped by kind: 2.8e-3 s before,
 //! after a step of 0.106 s). The driver then retakes it ([`ends_too_near`], the step
 //! counted as rejected) from its start with t* known, and [`steer`] ends it far enough
-//! before t* for a straddle of at least h / (1 + c).
+//! before t* for a straddle of at least h / (1 + c); again while the retaken step's own
+//! prediction, made nearer to t*, says it still ends too near (a prediction from w near
+//! [`crate::simulation::singular::COARSE`] can be late by most of the distance).
+//!
+//! A straddle placed by a prediction made far from t* can put t* on a node (A02 in angles:
+//! predicted 0.013 to 0.018 s early, so at theta = 0.60 to 0.64 of a 0.1 s step, beside
+//! DOP853's nodes 0.6 and 0.651) and is rejected. That rejection says nothing about the
+//! size the smooth motion allows, so the first one of a passage leaves the control's size
+//! as it was: the approach step ends before t*, predicts it from nearer, and the straddle
+//! that follows has the size the control wanted. Shrinking it instead left straddles short
+//! enough to fail on the noise alone, each shorter than the last, until the step size
+//! collapsed or a step jumped onto the other branch (A02 N = 15 at rtol 1e-6: an energy
+//! jump of 8.2 J).
 
 /// The widest open interval of (0, 1) that holds none of `nodes` (each in [0, 1]).
 pub(crate) fn widest_gap(nodes: &[f64]) -> (f64, f64) {
@@ -76,15 +89,19 @@ pub(crate) fn steer(h: f64, d: f64, gap: (f64, f64), straddle_rejected: bool) ->
 }
 
 /// Whether a step of size `h` that ends `d` (> 0) before a singular position predicted only
-/// after it was taken must be taken again, steered: when d < c h (c the centre of `gap`),
-/// the step that would then straddle t* is smaller than this one, d / c; its stages fall
-/// nearer to t* than this step's size allows for. Retaken from its start with t* known,
-/// [`steer`] ends it c (d + h) / (1 + c) before t*, and the straddle that follows has
-/// size (d + h) / (1 + c), at least h / (1 + c).
+/// after it was taken must be taken again, steered: when d < 0.75 c h (c the centre of
+/// `gap`; the margin keeps a step that was steered to end c h before t* from being retaken
+/// for a small change in its prediction), the step that would then straddle t* is smaller
+/// than this one, d / c; its stages fall nearer to t* than this step's size allows for.
+/// Retaken from its start with t* known, [`steer`] ends it c (d + h) / (1 + c) before t*,
+/// and the straddle that follows has size (d + h) / (1 + c), at least h / (1 + c).
 pub(crate) fn ends_too_near(h: f64, d: f64, gap: (f64, f64)) -> bool {
     let c = 0.5 * (gap.0 + gap.1);
-    d > 0.0 && d < c * h
+    d > 0.0 && d < RETAKE_MARGIN * c * h
 }
+
+/// The fraction of c h (see [`ends_too_near`]) nearer than which a step's end is retaken.
+pub(crate) const RETAKE_MARGIN: f64 = 0.75;
 
 /// Whether a step of size `h` from t straddles a singular position at t + `d`.
 pub(crate) fn straddles(h: f64, d: f64) -> bool {
@@ -155,7 +172,7 @@ mod tests {
         }
     }
 
-    /// A step that ends d < c h before t* is retaken; retaken from its start with t*
+    /// A step that ends d < 0.75 c h before t* is retaken; retaken from its start with t*
     /// known, its steered size ends c times the next step's size before t*, and that next
     /// step (the control still asking for h) straddles t* with at least h / (1 + c), where
     /// without the retake it would straddle with d / c, as small as the distance left. A
@@ -168,7 +185,7 @@ mod tests {
             for k in 1..400 {
                 let d = k as f64 * 1e-3 * h;
                 let retake = ends_too_near(h, d, gap);
-                assert_eq!(retake, d < c * h, "h {h} d {d}");
+                assert_eq!(retake, d < RETAKE_MARGIN * c * h, "h {h} d {d}");
                 if !retake {
                     continue;
                 }
