@@ -70,6 +70,10 @@ pub(crate) trait Stepper {
         out: &mut [f64],
     ) -> Result<(), Error>;
 
+    /// Whether [`Stepper::dense`] inside the last accepted step evaluates no right-hand
+    /// side now (its continuous extension is built, or costs none).
+    fn dense_built(&self) -> bool;
+
     /// The singular position predicted ahead of the accepted state, t* (s), or `None`:
     /// an adaptive explicit method places its next steps so that no stage falls near it
     /// (`stepper/passage.rs`); a fixed-step method ignores it.

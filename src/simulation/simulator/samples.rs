@@ -69,7 +69,8 @@ impl Simulator<'_> {
             return Ok(());
         };
         let (n, t0, system) = (self.n, self.t, self.system());
-        let found = watch.observe_step(t0, h, w1, |w, theta| {
+        let probe = self.stepper.dense_built();
+        let found = watch.observe_step(t0, h, w1, probe, |w, theta| {
             self.dense_at(theta)?;
             Ok::<f64, Error>(w.measure(system, t0 + theta * h, &self.state.y_dense[..n]))
         });

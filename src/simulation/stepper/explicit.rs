@@ -355,6 +355,10 @@ impl Stepper for Explicit {
         Ok(())
     }
 
+    fn dense_built(&self) -> bool {
+        self.dense_ready
+    }
+
     fn steer(&mut self, crossing: Option<f64>) {
         self.crossing = crossing;
         if crossing.is_none() {

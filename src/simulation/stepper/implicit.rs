@@ -107,6 +107,11 @@ impl Stepper for HhtStepper {
         Ok(())
     }
 
+    fn dense_built(&self) -> bool {
+        // The cubic Hermite extension takes no right-hand side.
+        true
+    }
+
     fn dense(
         &mut self,
         _: &mut Rhs<'_>,
