@@ -374,8 +374,10 @@ impl Stepper for Explicit {
         if !self.rk.adaptive() || !ends_too_near(h, crossing - (t + h), self.gap) {
             return false;
         }
-        // The first stage f(y) is untouched by the trials and the accepted step (they
-        // write the other stages and y_new), so the step restarts from (t, y) as it was.
+        // The first stage f(y) is untouched by the trials, the accepted step and its dense
+        // output (they write the other stages and y_new), so the step restarts from (t, y)
+        // as it was. The retaken step projects its stages (the driver sets that); y, the
+        // accepted state, is projected already, so f(y) is f(P(y)) to round-off.
         self.control = self.control_before;
         self.crossing = Some(crossing);
         true
